@@ -1,0 +1,966 @@
+//! The job file: TOML schema, validation, and the resolved [`Job`].
+//!
+//! This is the input serialization boundary. [`Job::from_toml`] takes the file's text and
+//! its name (no IO here), checks every key, and returns either a [`Job`] in mm and radians
+//! or a [`JobError`] that names the file, the key, its line and column, and what was
+//! expected. Unknown keys are errors. The format is documented in `docs/job-format.md`.
+
+use crate::helix::{Hand, Helix, LeadLaw, Spindle};
+use crate::pass::Pass;
+use crate::process::{self, Process};
+use crate::thread::{Side, ThreadSpec, WidthRule};
+use crate::tool::{Edge, Reference, Tool};
+use serde::Deserialize;
+use std::fmt;
+
+/// A job that could not be read.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum JobError {
+    /// The text is not valid TOML or does not fit the schema (unknown or missing key,
+    /// wrong type).
+    #[error("{}", render(file, *line, *col, "", message, snippet))]
+    Syntax {
+        /// File name as given.
+        file: String,
+        /// 1-based line (0 when unknown).
+        line: usize,
+        /// 1-based column.
+        col: usize,
+        /// What is wrong.
+        message: String,
+        /// The offending source line.
+        snippet: String,
+    },
+    /// A key has a value that makes no sense (negative lead, tooth wider than the pitch...).
+    #[error("{}", render(file, *line, *col, key, message, snippet))]
+    Invalid {
+        /// File name as given.
+        file: String,
+        /// Dotted key path, e.g. `thread.pitch.first` or `tool[1].width`.
+        key: String,
+        /// 1-based line (0 when unknown).
+        line: usize,
+        /// 1-based column.
+        col: usize,
+        /// What was expected.
+        message: String,
+        /// The offending source line.
+        snippet: String,
+    },
+}
+
+fn render(file: &str, line: usize, col: usize, key: &str, message: &str, snippet: &str) -> String {
+    let mut s = String::new();
+    if line > 0 {
+        s.push_str(&format!("{file}:{line}:{col}: "));
+    } else {
+        s.push_str(&format!("{file}: "));
+    }
+    if !key.is_empty() {
+        s.push_str(&format!("`{key}`: "));
+    }
+    s.push_str(message);
+    if line > 0 && !snippet.is_empty() {
+        let num = line.to_string();
+        let pad = " ".repeat(num.len());
+        s.push_str(&format!(
+            "\n{pad} |\n{num} | {snippet}\n{pad} | {}^",
+            " ".repeat(col.saturating_sub(1))
+        ));
+    }
+    s
+}
+
+/// The blank.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blank {
+    /// Outer diameter (mm).
+    pub diameter: f64,
+    /// Bore diameter (mm), 0 = solid.
+    pub bore: f64,
+    /// Length (mm).
+    pub length: f64,
+    /// z of the right (front) face; the bar extends toward -z.
+    pub z_front: f64,
+}
+
+/// Machine data for the checks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Machine {
+    /// Spindle speed during threading (rev/min).
+    pub spindle_rpm: f64,
+    /// Maximum axis feed (mm/min), if known.
+    pub max_feed: Option<f64>,
+    /// Axis acceleration (mm/s^2), if known.
+    pub acceleration: Option<f64>,
+    /// Spindle direction.
+    pub spindle: Spindle,
+}
+
+/// Simulation settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimConfig {
+    /// Axial dexel spacing (mm).
+    pub axial_spacing: f64,
+    /// Number of angular columns.
+    pub angular_cells: usize,
+    /// Deviation tolerance (mm).
+    pub tolerance: f64,
+    /// Axial window of interest; the grid covers the blank clipped to it.
+    pub z_range: Option<(f64, f64)>,
+    /// Dexel budget (both surfaces).
+    pub max_dexels: u64,
+    /// Axial spacing of the measurement generators (mm).
+    pub measure_spacing: f64,
+    /// Number of measurement generators.
+    pub measure_generators: usize,
+}
+
+/// Default dexel budget: about 0.8 GB of f32 radii.
+pub const DEFAULT_MAX_DEXELS: u64 = 200_000_000;
+
+/// The thread form's name, as written in the job.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FormName {
+    /// Rectangular / square thread.
+    Square,
+    /// ISO 2904 trapezoidal, 30 degrees.
+    Trapezoidal,
+    /// ISO 68-1 metric, 60 degrees.
+    IsoMetric,
+    /// Unified (UN), 60 degrees.
+    Unified,
+    /// ACME, 29 degrees.
+    Acme,
+    /// Buttress (sawtooth): asymmetric flanks.
+    Buttress,
+    /// Any V or trapezoid with explicit flank angles.
+    V,
+}
+
+impl FormName {
+    /// The name as written in a job.
+    pub fn name(self) -> &'static str {
+        match self {
+            FormName::Square => "square",
+            FormName::Trapezoidal => "trapezoidal",
+            FormName::IsoMetric => "iso-metric",
+            FormName::Unified => "unified",
+            FormName::Acme => "acme",
+            FormName::Buttress => "buttress",
+            FormName::V => "v",
+        }
+    }
+}
+
+/// A resolved job.
+#[derive(Clone, Debug)]
+pub struct Job {
+    /// Name (from the file, or empty).
+    pub name: String,
+    /// The blank.
+    pub blank: Blank,
+    /// The form's name.
+    pub form: FormName,
+    /// The thread wanted.
+    pub thread: ThreadSpec,
+    /// Tools; passes refer to them by index.
+    pub tools: Vec<Tool>,
+    /// Threading passes, explicit ones first, then generated ones.
+    pub passes: Vec<Pass>,
+    /// Machine data.
+    pub machine: Machine,
+    /// Simulation settings.
+    pub sim: SimConfig,
+}
+
+// ---------------------------------------------------------------------------------------
+// Raw schema.
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawJob {
+    name: Option<String>,
+    blank: RawBlank,
+    thread: RawThread,
+    #[serde(default)]
+    tool: Vec<RawTool>,
+    #[serde(default)]
+    pass: Vec<RawPass>,
+    process: Option<RawProcess>,
+    #[serde(default)]
+    machine: RawMachine,
+    #[serde(default)]
+    simulation: RawSimulation,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBlank {
+    diameter: f64,
+    #[serde(default)]
+    bore: f64,
+    length: f64,
+    #[serde(default)]
+    z_front: f64,
+}
+
+#[derive(Deserialize, Clone, Copy, Default, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+enum SideName {
+    #[default]
+    External,
+    Internal,
+}
+
+#[derive(Deserialize, Clone, Copy, Default, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+enum HandName {
+    #[default]
+    Right,
+    Left,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawPitch {
+    Constant(f64),
+    Series(RawSeries),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSeries {
+    first: f64,
+    increment: f64,
+    last: Option<f64>,
+    turns: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawWidth {
+    groove: Option<f64>,
+    tooth: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawThread {
+    #[serde(default)]
+    side: SideName,
+    form: FormName,
+    flank_angle: Option<f64>,
+    flank_angles: Option<[f64; 2]>,
+    major_diameter: f64,
+    minor_diameter: Option<f64>,
+    pitch_diameter: Option<f64>,
+    #[serde(default)]
+    hand: HandName,
+    #[serde(default = "one")]
+    starts: u32,
+    #[serde(default)]
+    z_start: f64,
+    #[serde(default)]
+    start_angle: f64,
+    pitch: RawPitch,
+    length: Option<f64>,
+    turns: Option<f64>,
+    width: Option<RawWidth>,
+}
+
+fn one() -> u32 {
+    1
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+enum ToolKind {
+    Grooving,
+    Threading,
+    Trapezoidal,
+}
+
+#[derive(Deserialize, Clone, Copy, Default, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+enum RefName {
+    #[default]
+    Center,
+    Left,
+    Right,
+    Tip,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTool {
+    id: u32,
+    kind: ToolKind,
+    width: Option<f64>,
+    angle: Option<f64>,
+    tip_flat: Option<f64>,
+    nose_radius: Option<f64>,
+    tip_width: Option<f64>,
+    flank_angle: Option<f64>,
+    flank_angles: Option<[f64; 2]>,
+    #[serde(default)]
+    reference: RefName,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPass {
+    tool: u32,
+    x: f64,
+    x_end: Option<f64>,
+    z_start: f64,
+    z_end: f64,
+    lead: f64,
+    #[serde(default)]
+    lead_change: f64,
+    #[serde(default)]
+    start_angle: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawProcess {
+    kind: process::Kind,
+    tool: u32,
+    layers: Option<u32>,
+    depths: Option<Vec<f64>>,
+    #[serde(default)]
+    schedule: process::Schedule,
+    layer_depth: Option<f64>,
+    #[serde(default)]
+    method: process::AxialMethod,
+    z_from: Option<f64>,
+    z_to: Option<f64>,
+    origin_z: Option<f64>,
+    root_width: Option<f64>,
+}
+
+#[derive(Deserialize, Clone, Copy, Default, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+enum SpindleName {
+    #[default]
+    Cw,
+    Ccw,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMachine {
+    #[serde(default = "default_rpm")]
+    spindle_rpm: f64,
+    max_feed: Option<f64>,
+    acceleration: Option<f64>,
+    #[serde(default)]
+    spindle: SpindleName,
+}
+
+fn default_rpm() -> f64 {
+    200.0
+}
+
+impl Default for RawMachine {
+    fn default() -> Self {
+        RawMachine {
+            spindle_rpm: default_rpm(),
+            max_feed: None,
+            acceleration: None,
+            spindle: SpindleName::Cw,
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSimulation {
+    #[serde(default = "default_spacing")]
+    axial_spacing: f64,
+    #[serde(default = "default_cells")]
+    angular_cells: usize,
+    #[serde(default = "default_tolerance")]
+    tolerance: f64,
+    z_range: Option<[f64; 2]>,
+    max_dexels: Option<u64>,
+    #[serde(default = "default_measure_spacing")]
+    measure_spacing: f64,
+    #[serde(default = "default_generators")]
+    measure_generators: usize,
+}
+
+fn default_spacing() -> f64 {
+    0.01
+}
+fn default_cells() -> usize {
+    3600
+}
+fn default_tolerance() -> f64 {
+    0.01
+}
+fn default_measure_spacing() -> f64 {
+    0.0005
+}
+fn default_generators() -> usize {
+    12
+}
+
+impl Default for RawSimulation {
+    fn default() -> Self {
+        RawSimulation {
+            axial_spacing: default_spacing(),
+            angular_cells: default_cells(),
+            tolerance: default_tolerance(),
+            z_range: None,
+            max_dexels: None,
+            measure_spacing: default_measure_spacing(),
+            measure_generators: default_generators(),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Locating keys in the source.
+
+/// Byte offset to 1-based line and column.
+fn line_col(src: &str, offset: usize) -> (usize, usize) {
+    let offset = offset.min(src.len());
+    let before = &src[..offset];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+fn source_line(src: &str, line: usize) -> String {
+    src.lines()
+        .nth(line.saturating_sub(1))
+        .unwrap_or("")
+        .to_string()
+}
+
+/// Find the span of a dotted key path (`tool[1].width`, `thread.pitch.first`) in `src`.
+/// Falls back to the nearest existing parent.
+fn locate(src: &str, key: &str) -> Option<std::ops::Range<usize>> {
+    let doc = toml_edit::ImDocument::parse(src).ok()?;
+    let mut item: &toml_edit::Item = doc.as_item();
+    let mut best = None;
+    for part in key.split('.') {
+        let (name, index) = match part.split_once('[') {
+            Some((n, rest)) => (n, rest.trim_end_matches(']').parse::<usize>().ok()),
+            None => (part, None),
+        };
+        if let Some(s) = key_span(item, name) {
+            best = Some(s);
+        }
+        let Some(mut next) = item.get(name) else {
+            break;
+        };
+        if let Some(i) = index {
+            let Some(n) = next.get(i) else {
+                break;
+            };
+            next = n;
+        }
+        if let Some(s) = next.span() {
+            best = Some(s);
+        }
+        item = next;
+    }
+    best
+}
+
+fn key_span(item: &toml_edit::Item, name: &str) -> Option<std::ops::Range<usize>> {
+    match item {
+        toml_edit::Item::Table(t) => t.key(name).and_then(|k| k.span()),
+        toml_edit::Item::Value(toml_edit::Value::InlineTable(t)) => {
+            t.key(name).and_then(|k| k.span())
+        }
+        _ => None,
+    }
+}
+
+/// Collects the context for validation errors.
+struct Ctx<'a> {
+    src: &'a str,
+    file: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, key: &str, message: impl fmt::Display) -> JobError {
+        let (line, col) = locate(self.src, key)
+            .map(|r| line_col(self.src, r.start))
+            .unwrap_or((0, 0));
+        JobError::Invalid {
+            file: self.file.to_string(),
+            key: key.to_string(),
+            line,
+            col,
+            message: message.to_string(),
+            snippet: source_line(self.src, line),
+        }
+    }
+
+    fn finite(&self, key: &str, v: f64) -> Result<f64, JobError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("expected a finite number, got {v}")))
+        }
+    }
+
+    fn positive(&self, key: &str, v: f64) -> Result<f64, JobError> {
+        self.finite(key, v)?;
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("expected a number > 0, got {v}")))
+        }
+    }
+
+    fn non_negative(&self, key: &str, v: f64) -> Result<f64, JobError> {
+        self.finite(key, v)?;
+        if v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("expected a number >= 0, got {v}")))
+        }
+    }
+
+    fn angle(&self, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, JobError> {
+        self.finite(key, v)?;
+        if v >= lo && v < hi {
+            Ok(v.to_radians())
+        } else {
+            Err(self.err(
+                key,
+                format!("expected an angle in [{lo}, {hi}) degrees, got {v}"),
+            ))
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Resolution.
+
+impl Job {
+    /// Parse and validate a job. `file` is only used in messages.
+    pub fn from_toml(src: &str, file: &str) -> Result<Job, JobError> {
+        let raw: RawJob = toml::from_str(src).map_err(|e| {
+            let (line, col) = e
+                .span()
+                .map(|r| line_col(src, r.start))
+                .unwrap_or((0, 0));
+            JobError::Syntax {
+                file: file.to_string(),
+                line,
+                col,
+                message: e.message().trim().to_string(),
+                snippet: source_line(src, line),
+            }
+        })?;
+        let cx = Ctx { src, file };
+        resolve(raw, &cx)
+    }
+}
+
+fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
+    let b = &raw.blank;
+    let blank = Blank {
+        diameter: cx.positive("blank.diameter", b.diameter)?,
+        bore: cx.non_negative("blank.bore", b.bore)?,
+        length: cx.positive("blank.length", b.length)?,
+        z_front: cx.finite("blank.z_front", b.z_front)?,
+    };
+    if blank.bore >= blank.diameter {
+        return Err(cx.err("blank.bore", "expected a bore smaller than the diameter"));
+    }
+    let machine = Machine {
+        spindle_rpm: cx.positive("machine.spindle_rpm", raw.machine.spindle_rpm)?,
+        max_feed: raw
+            .machine
+            .max_feed
+            .map(|v| cx.positive("machine.max_feed", v))
+            .transpose()?,
+        acceleration: raw
+            .machine
+            .acceleration
+            .map(|v| cx.positive("machine.acceleration", v))
+            .transpose()?,
+        spindle: match raw.machine.spindle {
+            SpindleName::Cw => Spindle::Cw,
+            SpindleName::Ccw => Spindle::Ccw,
+        },
+    };
+    let s = &raw.simulation;
+    let sim = SimConfig {
+        axial_spacing: cx.positive("simulation.axial_spacing", s.axial_spacing)?,
+        angular_cells: if s.angular_cells >= 4 {
+            s.angular_cells
+        } else {
+            return Err(cx.err("simulation.angular_cells", "expected at least 4 cells"));
+        },
+        tolerance: cx.positive("simulation.tolerance", s.tolerance)?,
+        z_range: match s.z_range {
+            None => None,
+            Some([a, b]) => {
+                cx.finite("simulation.z_range", a)?;
+                cx.finite("simulation.z_range", b)?;
+                if a >= b {
+                    return Err(cx.err("simulation.z_range", "expected [z_min, z_max] with z_min < z_max"));
+                }
+                Some((a, b))
+            }
+        },
+        max_dexels: s.max_dexels.unwrap_or(DEFAULT_MAX_DEXELS),
+        measure_spacing: cx.positive("simulation.measure_spacing", s.measure_spacing)?,
+        measure_generators: if (1..=3600).contains(&s.measure_generators) {
+            s.measure_generators
+        } else {
+            return Err(cx.err("simulation.measure_generators", "expected 1 to 3600 generators"));
+        },
+    };
+    let (thread, form) = resolve_thread(&raw.thread, &blank, cx)?;
+    let mut tools = Vec::with_capacity(raw.tool.len());
+    for (i, t) in raw.tool.iter().enumerate() {
+        if raw.tool[..i].iter().any(|o| o.id == t.id) {
+            return Err(cx.err(&format!("tool[{i}].id"), format!("tool id {} is used twice", t.id)));
+        }
+        tools.push(resolve_tool(t, i, cx)?);
+    }
+    let tool_index = |id: u32, key: &str| -> Result<usize, JobError> {
+        tools.iter().position(|t| t.id == id).ok_or_else(|| {
+            let ids: Vec<String> = tools.iter().map(|t| t.id.to_string()).collect();
+            cx.err(
+                key,
+                format!("no [[tool]] with id {id} (defined: {})", if ids.is_empty() { "none".into() } else { ids.join(", ") }),
+            )
+        })
+    };
+    let mut passes = Vec::new();
+    for (i, p) in raw.pass.iter().enumerate() {
+        let key = |k: &str| format!("pass[{i}].{k}");
+        let pass = Pass {
+            tool: tool_index(p.tool, &key("tool"))?,
+            x_start: cx.positive(&key("x"), p.x)?,
+            x_end: cx.positive(&key("x_end"), p.x_end.unwrap_or(p.x))?,
+            z_start: cx.finite(&key("z_start"), p.z_start)?,
+            z_end: cx.finite(&key("z_end"), p.z_end)?,
+            lead: cx.positive(&key("lead"), p.lead)?,
+            lead_change: cx.finite(&key("lead_change"), p.lead_change)?,
+            start_angle: cx.finite(&key("start_angle"), p.start_angle)?.to_radians(),
+            spindle: machine.spindle,
+        };
+        check_pass(&pass, &key, cx)?;
+        passes.push(pass);
+    }
+    if let Some(pr) = &raw.process {
+        let process = Process {
+            kind: pr.kind,
+            tool: tool_index(pr.tool, "process.tool")?,
+            layers: pr.layers,
+            depths: pr.depths.clone(),
+            schedule: pr.schedule,
+            layer_depth: pr.layer_depth,
+            method: pr.method,
+            z_from: pr.z_from,
+            z_to: pr.z_to,
+            origin_z: pr.origin_z,
+            root_width: pr.root_width,
+        };
+        let generated = process::generate(&process, &thread, &tools, &blank, machine.spindle)
+            .map_err(|e| cx.err(&format!("process.{}", e.key), e.message))?;
+        for (i, p) in generated.iter().enumerate() {
+            check_pass(p, &|k: &str| format!("process (generated pass {i}, {k})"), cx)?;
+        }
+        passes.extend(generated);
+    }
+    if passes.is_empty() {
+        return Err(cx.err("pass", "expected at least one [[pass]] or a [process] section"));
+    }
+    Ok(Job {
+        name: raw.name.unwrap_or_default(),
+        blank,
+        form,
+        thread,
+        tools,
+        passes,
+        machine,
+        sim,
+    })
+}
+
+fn check_pass(p: &Pass, key: &dyn Fn(&str) -> String, cx: &Ctx) -> Result<(), JobError> {
+    if p.z_start == p.z_end {
+        return Err(cx.err(&key("z_end"), "expected z_end different from z_start"));
+    }
+    if p.revolutions().is_none() {
+        let law = p.helix().law;
+        let at = law
+            .zero_lead_revs()
+            .map(|t| format!(" after {t:.3} revolutions ({:.3} mm of travel)", law.travel(t)))
+            .unwrap_or_default();
+        return Err(cx.err(
+            &key("lead_change"),
+            format!(
+                "the lead would reach zero{at} before z_end = {}; a real control alarms here",
+                p.z_end
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Standard depth data of a form for a constant pitch `p`: (included angle, minor
+/// diameter from major `d`, pitch diameter from `d`).
+fn form_defaults(form: FormName, side: Side, d: f64, p: Option<f64>) -> (Option<f64>, Option<f64>, Option<f64>) {
+    match (form, p) {
+        (FormName::Square, _) => (Some(0.0), None, None),
+        (FormName::Trapezoidal, Some(p)) => {
+            // ISO 2904: h3 = 0.5P + ac, d2 = d - 0.5P.
+            let ac = if p <= 1.5 {
+                0.15
+            } else if p <= 5.0 {
+                0.25
+            } else if p <= 12.0 {
+                0.5
+            } else {
+                1.0
+            };
+            (Some(30.0), Some(d - 2.0 * (0.5 * p + ac)), Some(d - 0.5 * p))
+        }
+        (FormName::Trapezoidal, None) => (Some(30.0), None, None),
+        (FormName::IsoMetric | FormName::Unified, Some(p)) => {
+            // ISO 68-1: d2 = d - 0.649519P; external design root d3 = d - 1.226869P,
+            // internal minor D1 = D - 1.082532P.
+            let minor = match side {
+                Side::External => d - 1.226_869 * p,
+                Side::Internal => d - 1.082_532 * p,
+            };
+            (Some(60.0), Some(minor), Some(d - 0.649_519 * p))
+        }
+        (FormName::IsoMetric | FormName::Unified, None) => (Some(60.0), None, None),
+        (FormName::Acme, Some(p)) => (Some(29.0), Some(d - 2.0 * (0.5 * p + 0.254)), Some(d - 0.5 * p)),
+        (FormName::Acme, None) => (Some(29.0), None, None),
+        (FormName::Buttress | FormName::V, _) => (None, None, None),
+    }
+}
+
+fn resolve_thread(t: &RawThread, blank: &Blank, cx: &Ctx) -> Result<(ThreadSpec, FormName), JobError> {
+    let side = match t.side {
+        SideName::External => Side::External,
+        SideName::Internal => Side::Internal,
+    };
+    let major = cx.positive("thread.major_diameter", t.major_diameter)?;
+    let starts = t.starts;
+    if starts == 0 || starts > 64 {
+        return Err(cx.err("thread.starts", "expected 1 to 64 starts"));
+    }
+    // Pitch law: F = P1 - dP/2, K = dP gives P_n = P1 + (n-1) dP between whole turns.
+    let (p1, dp, series_turns, constant) = match &t.pitch {
+        RawPitch::Constant(p) => (cx.positive("thread.pitch", *p)?, 0.0, None, Some(*p)),
+        RawPitch::Series(s) => {
+            let p1 = cx.positive("thread.pitch.first", s.first)?;
+            let dp = cx.finite("thread.pitch.increment", s.increment)?;
+            let turns = match (s.last, s.turns) {
+                (Some(last), None) => {
+                    cx.positive("thread.pitch.last", last)?;
+                    if dp == 0.0 {
+                        return Err(cx.err("thread.pitch.increment", "expected a non-zero increment with `last` (use a number for constant pitch)"));
+                    }
+                    let n = (last - p1) / dp + 1.0;
+                    if n < 1.0 - 1e-9 || (n - n.round()).abs() > 1e-6 {
+                        return Err(cx.err("thread.pitch.last", format!("expected first + (n-1)*increment for a whole number of turns n; (last - first)/increment + 1 = {n}")));
+                    }
+                    n.round()
+                }
+                (None, Some(n)) => cx.positive("thread.pitch.turns", n)?,
+                _ => return Err(cx.err("thread.pitch", "expected exactly one of `last` or `turns`")),
+            };
+            (p1, dp, Some(turns), None)
+        }
+    };
+    let turns = match (series_turns, t.length, t.turns) {
+        (Some(n), None, None) => n,
+        (Some(_), _, _) => return Err(cx.err("thread.turns", "the pitch series already gives the number of turns")),
+        (None, Some(len), None) => cx.positive("thread.length", len)? / p1,
+        (None, None, Some(n)) => cx.positive("thread.turns", n)?,
+        (None, Some(_), Some(_)) => return Err(cx.err("thread.turns", "expected `length` or `turns`, not both")),
+        (None, None, None) => return Err(cx.err("thread", "expected `length` (mm) or `turns` for a constant pitch")),
+    };
+    let law = LeadLaw {
+        f: starts as f64 * (p1 - dp / 2.0),
+        k: starts as f64 * dp,
+    };
+    for (n, key) in [(0.0, "thread.pitch.first"), (turns, "thread.pitch.increment")] {
+        if law.lead(n) <= 0.0 {
+            return Err(cx.err(key, format!("the lead law F + K*t = {} + {}*t is not positive at t = {n}", law.f, law.k)));
+        }
+    }
+    let (std_angle, std_minor, std_pitch) = form_defaults(t.form, side, major, constant);
+    let (left, right) = match (t.flank_angles, t.flank_angle, std_angle, t.form) {
+        (Some([l, r]), None, _, FormName::V | FormName::Buttress) => (l, r),
+        (Some(_), _, _, _) => return Err(cx.err("thread.flank_angles", "`flank_angles` is for the `v` and `buttress` forms; use `flank_angle` (included) for symmetric forms")),
+        (None, Some(a), _, FormName::Trapezoidal | FormName::V | FormName::Acme) => (a / 2.0, a / 2.0),
+        (None, Some(_), _, _) => return Err(cx.err("thread.flank_angle", "this form has a fixed flank angle")),
+        (None, None, Some(a), _) => (a / 2.0, a / 2.0),
+        (None, None, None, FormName::Buttress) => (3.0, 30.0),
+        (None, None, None, _) => return Err(cx.err("thread.flank_angles", "expected [left, right] flank angles in degrees from the radial direction")),
+    };
+    let left_angle = cx.angle("thread.flank_angles", left, 0.0, 80.0)?;
+    let right_angle = cx.angle("thread.flank_angles", right, 0.0, 80.0)?;
+    let minor = match (t.minor_diameter, std_minor) {
+        (Some(m), _) => cx.positive("thread.minor_diameter", m)?,
+        (None, Some(m)) => m,
+        (None, None) => return Err(cx.err("thread.minor_diameter", "expected a minor diameter (no standard depth for this form and pitch)")),
+    };
+    if minor >= major {
+        return Err(cx.err("thread.minor_diameter", format!("expected less than major_diameter = {major}")));
+    }
+    let pitch_d = match (t.pitch_diameter, std_pitch) {
+        (Some(p), _) => cx.positive("thread.pitch_diameter", p)?,
+        (None, Some(p)) => p,
+        (None, None) => 0.5 * (major + minor),
+    };
+    if pitch_d <= minor || pitch_d >= major {
+        return Err(cx.err("thread.pitch_diameter", format!("expected between the minor ({minor}) and major ({major}) diameters")));
+    }
+    match side {
+        Side::External if major > blank.diameter + 1e-9 => {
+            return Err(cx.err("thread.major_diameter", format!("an external thread must fit the blank: major {major} > blank diameter {}", blank.diameter)));
+        }
+        Side::Internal if minor < blank.bore - 1e-9 || blank.bore == 0.0 => {
+            return Err(cx.err("thread.minor_diameter", format!("an internal thread needs a bore no larger than its minor diameter (blank.bore = {})", blank.bore)));
+        }
+        Side::Internal if major >= blank.diameter => {
+            return Err(cx.err("thread.major_diameter", "an internal thread must stay inside the blank's outer diameter"));
+        }
+        _ => {}
+    }
+    let (root_radius, crest_radius) = match side {
+        Side::External => (minor / 2.0, major / 2.0),
+        Side::Internal => (major / 2.0, minor / 2.0),
+    };
+    let width = match (&t.width, constant) {
+        (Some(RawWidth { groove: Some(w), tooth: None }), _) => WidthRule::Groove(cx.positive("thread.width.groove", *w)?),
+        (Some(RawWidth { groove: None, tooth: Some(w) }), _) => WidthRule::Tooth(cx.positive("thread.width.tooth", *w)?),
+        (Some(_), _) => return Err(cx.err("thread.width", "expected exactly one of { groove = .. } or { tooth = .. }")),
+        (None, Some(p)) => WidthRule::Groove(p / 2.0),
+        (None, None) => return Err(cx.err("thread.width", "a variable pitch needs `width = { groove = .. }` or `{ tooth = .. }`")),
+    };
+    let helix = Helix {
+        z0: cx.finite("thread.z_start", t.z_start)?,
+        dir: -1.0,
+        law,
+        theta0: cx.finite("thread.start_angle", t.start_angle)?.to_radians(),
+        spin: match t.hand {
+            HandName::Right => 1.0,
+            HandName::Left => -1.0,
+        },
+    };
+    let spec = ThreadSpec {
+        side,
+        root_radius,
+        crest_radius,
+        pitch_radius: pitch_d / 2.0,
+        left_angle,
+        right_angle,
+        width,
+        starts,
+        helix,
+        turns,
+    };
+    debug_assert_eq!(spec.hand(), if t.hand == HandName::Right { Hand::Right } else { Hand::Left });
+    // Shapes that cannot exist.
+    let hp = spec.pitch_height();
+    let widen = spec.widening();
+    let depth = spec.depth();
+    let pitches = [spec.pitch_of_turn(1), spec.pitch_of_turn(turns.ceil().max(1.0) as i64)];
+    let (p_min, p_max) = (pitches[0].min(pitches[1]), pitches[0].max(pitches[1]));
+    match width {
+        WidthRule::Groove(w) => {
+            if w - hp * widen < -1e-9 {
+                return Err(cx.err("thread.width.groove", format!("the groove closes before the root: width {w} at the pitch line leaves {:.4} mm at the root", w - hp * widen)));
+            }
+            if w - hp * widen >= p_min {
+                return Err(cx.err("thread.width.groove", format!("the groove's root ({:.4} mm) is wider than the smallest pitch ({p_min:.4} mm): no tooth is left", w - hp * widen)));
+            }
+        }
+        WidthRule::Tooth(tw) => {
+            if tw >= p_min {
+                return Err(cx.err("thread.width.tooth", format!("expected a tooth narrower than the first pitch ({p_min:.4} mm), got {tw}")));
+            }
+            if tw - (depth - hp) * widen < -1e-9 {
+                return Err(cx.err("thread.width.tooth", "the tooth comes to a point below the crest: widen it or use a smaller flank angle"));
+            }
+            if p_min - tw - hp * widen < -1e-9 {
+                return Err(cx.err("thread.width.tooth", "the groove between the first teeth closes before the root"));
+            }
+        }
+    }
+    let _ = p_max;
+    Ok((spec, t.form))
+}
+
+fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
+    let key = |k: &str| format!("tool[{i}].{k}");
+    let reference = match t.reference {
+        RefName::Center => Reference::Center,
+        RefName::Left => Reference::Left,
+        RefName::Right => Reference::Right,
+        RefName::Tip => Reference::Tip,
+    };
+    let edge = match t.kind {
+        ToolKind::Grooving => Edge::Trapezoid {
+            tip: cx.positive(&key("width"), t.width.ok_or_else(|| cx.err(&key("kind"), "a grooving tool needs `width` (mm)"))?)?,
+            left_angle: 0.0,
+            right_angle: 0.0,
+        },
+        ToolKind::Threading => {
+            let angle = t.angle.ok_or_else(|| cx.err(&key("kind"), "a threading tool needs `angle` (included, degrees)"))?;
+            let half = cx.angle(&key("angle"), angle, 1.0, 160.0)? / 2.0;
+            match (t.tip_flat, t.nose_radius) {
+                (Some(_), Some(_)) => return Err(cx.err(&key("nose_radius"), "give `tip_flat` or `nose_radius`, not both")),
+                (None, Some(r)) => Edge::RoundV {
+                    radius: cx.positive(&key("nose_radius"), r)?,
+                    half_angle: half,
+                },
+                (flat, None) => Edge::Trapezoid {
+                    tip: cx.non_negative(&key("tip_flat"), flat.unwrap_or(0.0))?,
+                    left_angle: half,
+                    right_angle: half,
+                },
+            }
+        }
+        ToolKind::Trapezoidal => {
+            let tip = cx.positive(&key("tip_width"), t.tip_width.ok_or_else(|| cx.err(&key("kind"), "a trapezoidal tool needs `tip_width` (mm)"))?)?;
+            let (l, r) = match (t.flank_angles, t.flank_angle) {
+                (Some([l, r]), None) => (l, r),
+                (None, Some(a)) => (a / 2.0, a / 2.0),
+                (None, None) => (15.0, 15.0),
+                (Some(_), Some(_)) => return Err(cx.err(&key("flank_angle"), "give `flank_angle` (included) or `flank_angles` ([left, right]), not both")),
+            };
+            Edge::Trapezoid {
+                tip,
+                left_angle: cx.angle(&key("flank_angles"), l, 0.0, 80.0)?,
+                right_angle: cx.angle(&key("flank_angles"), r, 0.0, 80.0)?,
+            }
+        }
+    };
+    let unused: &[(&str, bool)] = match t.kind {
+        ToolKind::Grooving => &[("angle", t.angle.is_some()), ("tip_flat", t.tip_flat.is_some()), ("nose_radius", t.nose_radius.is_some()), ("tip_width", t.tip_width.is_some()), ("flank_angle", t.flank_angle.is_some()), ("flank_angles", t.flank_angles.is_some())],
+        ToolKind::Threading => &[("width", t.width.is_some()), ("tip_width", t.tip_width.is_some()), ("flank_angle", t.flank_angle.is_some()), ("flank_angles", t.flank_angles.is_some())],
+        ToolKind::Trapezoidal => &[("width", t.width.is_some()), ("angle", t.angle.is_some()), ("tip_flat", t.tip_flat.is_some()), ("nose_radius", t.nose_radius.is_some())],
+    };
+    if let Some((k, _)) = unused.iter().find(|(_, set)| *set) {
+        return Err(cx.err(&key(k), "this key does not apply to this kind of tool"));
+    }
+    Ok(Tool {
+        id: t.id,
+        edge,
+        reference,
+    })
+}

@@ -1,0 +1,516 @@
+//! vpcut simulates CNC thread machining on a radial-dexel stock and tells whether the
+//! passes cut the thread the drawing asks for.
+//!
+//! The pipeline, in reading order:
+//!
+//! 1. [`Job::from_toml`] reads a job (blank, thread, tools, passes or a pass generator,
+//!    machine, simulation settings) into mm and radians.
+//! 2. [`simulate`] builds the blank as a [`Stock`] of radial dexels, sweeps every pass
+//!    through it ([`sweep`]), compares the cut with the closed-form ideal thread
+//!    ([`compare`]), measures leads and widths along generators ([`measure`]), runs the
+//!    machine checks, and returns a [`Report`] with the stock.
+//!
+//! ```
+//! let job = vpcut::Job::from_toml(r#"
+//!     [blank]
+//!     diameter = 20.0
+//!     length = 30.0
+//!     [thread]
+//!     form = "iso-metric"
+//!     major_diameter = 20.0
+//!     pitch = 2.5
+//!     length = 20.0
+//!     [[tool]]
+//!     id = 1
+//!     kind = "threading"
+//!     angle = 60.0
+//!     tip_flat = 0.41666667
+//!     [process]
+//!     kind = "radial"
+//!     tool = 1
+//!     layers = 4
+//!     [simulation]
+//!     angular_cells = 90
+//!     axial_spacing = 0.02
+//!     measure_generators = 2
+//! "#, "inline.toml").unwrap();
+//! let out = vpcut::simulate(&job, &vpcut::Options::default()).unwrap();
+//! assert!(out.report.deviation.max_gouge_mm < 0.01);
+//! ```
+
+mod compare;
+mod helix;
+mod job;
+mod machine;
+mod measure;
+mod pass;
+mod process;
+mod report;
+mod stock;
+mod sweep;
+mod thread;
+mod tool;
+
+pub use compare::{compare, Deviation, Extreme, TurnDeviation};
+pub use helix::{Hand, Helix, LeadLaw, Spindle};
+pub use job::{Blank, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
+pub use measure::{measure, MeasureConfig, TurnMeasure};
+pub use pass::Pass;
+pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
+pub use stock::{Grid, Stock, Surface};
+pub use sweep::{sweep, sweep_column, SweepStats};
+pub use thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};
+pub use tool::{Edge, Reference, Tool};
+
+use report::{r4, r6};
+use std::time::Instant;
+
+/// Run-time options that are not part of the job.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Options {
+    /// Overrides the job's dexel budget.
+    pub max_dexels: Option<u64>,
+}
+
+/// A simulation that could not run.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SimError {
+    /// The grid would need more dexels than allowed.
+    #[error("the stock needs {requested} dexels ({angular} angular x {axial} axial x {surfaces} surface(s)), over the budget of {limit}; coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels")]
+    DexelBudget {
+        /// Dexels the grid needs.
+        requested: u64,
+        /// The budget.
+        limit: u64,
+        /// Angular cells.
+        angular: usize,
+        /// Axial cells.
+        axial: usize,
+        /// Surfaces.
+        surfaces: u32,
+    },
+    /// The axial window holds no cell.
+    #[error("the axial window [{lo}, {hi}] mm holds no cell of the blank")]
+    EmptyWindow {
+        /// Low end.
+        lo: f64,
+        /// High end.
+        hi: f64,
+    },
+}
+
+/// The result of a simulation.
+#[derive(Debug)]
+pub struct Outcome {
+    /// The report.
+    pub report: Report,
+    /// The cut stock.
+    pub stock: Stock,
+}
+
+/// The grid a job will use, and the number of dexels it stores.
+pub fn plan_grid(job: &Job) -> Result<(Grid, u64), SimError> {
+    let b = &job.blank;
+    let (mut lo, mut hi) = (b.z_front - b.length, b.z_front);
+    if let Some((a, c)) = job.sim.z_range {
+        lo = lo.max(a);
+        hi = hi.min(c);
+    }
+    let dz = job.sim.axial_spacing;
+    let n_z = if hi > lo { ((hi - lo) / dz).floor() } else { 0.0 };
+    if n_z < 1.0 {
+        return Err(SimError::EmptyWindow { lo, hi });
+    }
+    let surfaces: u32 = if b.bore > 0.0 { 2 } else { 1 };
+    let requested = (job.sim.angular_cells as f64 * n_z * surfaces as f64).min(u64::MAX as f64) as u64;
+    let grid = Grid {
+        n_theta: job.sim.angular_cells,
+        n_z: n_z.min(usize::MAX as f64) as usize,
+        theta0: job.thread.helix.theta0,
+        z0: lo + 0.5 * dz,
+        dz,
+    };
+    Ok((grid, requested))
+}
+
+/// Simulate a job: sweep, compare, measure, check, report.
+pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
+    let t_start = Instant::now();
+    let (grid, requested) = plan_grid(job)?;
+    let limit = opts.max_dexels.unwrap_or(job.sim.max_dexels);
+    if requested > limit {
+        return Err(SimError::DexelBudget {
+            requested,
+            limit,
+            angular: grid.n_theta,
+            axial: grid.n_z,
+            surfaces: if job.blank.bore > 0.0 { 2 } else { 1 },
+        });
+    }
+    let thread = &job.thread;
+    let surface = match thread.side {
+        Side::External => Surface::Outer,
+        Side::Internal => Surface::Inner,
+    };
+    let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+    let t_setup = t_start.elapsed().as_secs_f64();
+
+    let t0 = Instant::now();
+    let stats = sweep(&mut stock, surface, &job.passes, &job.tools);
+    let t_sweep = t0.elapsed().as_secs_f64();
+
+    let t0 = Instant::now();
+    let window = (grid.z(0) - 0.5 * grid.dz, grid.z(grid.n_z - 1) + 0.5 * grid.dz);
+    let dev = compare(&stock, thread, window);
+    let t_compare = t0.elapsed().as_secs_f64();
+
+    let t0 = Instant::now();
+    let law = thread.helix.law;
+    let reach = 2.0 * law.lead(0.0).max(law.lead(thread.turns)) + thread.depth();
+    let z_a = thread.helix.z(thread.turns);
+    let z_b = thread.helix.z0;
+    let m_lo = window.0.max(z_a.min(z_b) - reach);
+    let m_hi = window.1.min(z_a.max(z_b) + reach);
+    // Keep a measurement column under 8M cells.
+    let spacing = job.sim.measure_spacing.max((m_hi - m_lo) / 8.0e6);
+    let measures = if m_hi > m_lo {
+        measure(
+            thread,
+            &job.passes,
+            &job.tools,
+            stock.blank_q(surface),
+            (m_lo, m_hi),
+            MeasureConfig {
+                spacing,
+                generators: job.sim.measure_generators,
+            },
+        )
+    } else {
+        Vec::new()
+    };
+    let t_measure = t0.elapsed().as_secs_f64();
+
+    let machine_issues = machine::check(&job.passes, &job.machine, &job.blank);
+    let mut report = build_report(job, &stock, stats, &dev, &measures, spacing, &machine_issues);
+    report.timing_s = report::Timing {
+        setup: t_setup,
+        sweep: t_sweep,
+        compare: t_compare,
+        measure: t_measure,
+        total: t_start.elapsed().as_secs_f64(),
+    };
+    Ok(Outcome { report, stock })
+}
+
+fn location(e: &Extreme) -> report::Location {
+    report::Location {
+        turn: e.turn,
+        start: e.start,
+        flank: e.flank.name(),
+        angle_deg: r4(e.theta.to_degrees().rem_euclid(360.0)),
+        z_mm: r6(e.z),
+    }
+}
+
+fn build_report(
+    job: &Job,
+    stock: &Stock,
+    stats: SweepStats,
+    dev: &Deviation,
+    measures: &[Vec<TurnMeasure>],
+    spacing: f64,
+    machine_issues: &[machine::MachineIssue],
+) -> Report {
+    let thread = &job.thread;
+    let tol = job.sim.tolerance;
+    let grid = stock.grid;
+    let (major, minor) = match thread.side {
+        Side::External => (2.0 * thread.crest_radius, 2.0 * thread.root_radius),
+        Side::Internal => (2.0 * thread.root_radius, 2.0 * thread.crest_radius),
+    };
+    let mut findings: Vec<Finding> = Vec::new();
+    let mut turns = Vec::new();
+    let reference: &[TurnMeasure] = measures.first().map_or(&[], Vec::as_slice);
+    for s in 0..thread.starts {
+        for n in 1..=thread.whole_turns() {
+            let m = reference.iter().find(|m| m.start == s && m.turn == n);
+            let all: Vec<&TurnMeasure> = measures
+                .iter()
+                .flat_map(|g| g.iter().filter(|m| m.start == s && m.turn == n))
+                .collect();
+            let td = dev.turns.get(&(s, n)).cloned().unwrap_or_default();
+            let flank = |f: Flank| report::FlankRow {
+                max_gouge_mm: r6(td.gouge[f.index()].map_or(0.0, |e| e.value)),
+                max_leftover_mm: r6(td.leftover[f.index()].map_or(0.0, |e| e.value)),
+            };
+            let fold = |v: &mut Option<(f64, f64)>, x: f64| {
+                *v = Some(v.map_or((x, x), |(a, b)| (a.min(x), b.max(x))));
+            };
+            let (mut ideal_rng, mut meas_rng, mut max_err) = (None, None, None::<f64>);
+            for g in &all {
+                if let Some(i) = g.ideal_lead {
+                    fold(&mut ideal_rng, i);
+                }
+                if let Some(x) = g.lead {
+                    fold(&mut meas_rng, x);
+                }
+                if let (Some(i), Some(x)) = (g.ideal_lead, g.lead) {
+                    max_err = Some(max_err.map_or((x - i).abs(), |e: f64| e.max((x - i).abs())));
+                }
+            }
+            let diam = m.and_then(|m| m.cut_heights).map(|(a, b)| {
+                let (ra, rb) = (thread.radius(a), thread.radius(b));
+                (2.0 * ra.min(rb), 2.0 * ra.max(rb))
+            });
+            let lead_mid = thread.helix.law.lead(n as f64 - 0.5);
+            let psi = (lead_mid / (std::f64::consts::PI * 2.0 * thread.pitch_radius)).atan();
+            let row = TurnRow {
+                turn: n,
+                start: s,
+                ideal_lead_mm: m.and_then(|m| m.ideal_lead).map(r6),
+                measured_lead_mm: m.and_then(|m| m.lead).map(r6),
+                lead_spread: report::LeadSpread {
+                    ideal_min_mm: r6(ideal_rng.map_or(0.0, |r| r.0)),
+                    ideal_max_mm: r6(ideal_rng.map_or(0.0, |r| r.1)),
+                    measured_min_mm: meas_rng.map(|r| r6(r.0)),
+                    measured_max_mm: meas_rng.map(|r| r6(r.1)),
+                    max_error_mm: max_err.map(r6),
+                },
+                ideal_groove_width_mm: m.and_then(|m| m.ideal_groove).map(r6),
+                groove_width_mm: m.and_then(|m| m.groove).map(r6),
+                ideal_tooth_width_mm: m.and_then(|m| m.ideal_tooth).map(r6),
+                tooth_width_mm: m.and_then(|m| m.tooth).map(r6),
+                min_diameter_mm: diam.map(|d| r6(d.0)),
+                max_diameter_mm: diam.map(|d| r6(d.1)),
+                helix_angle_deg: r4(psi.to_degrees()),
+                max_gouge_mm: r6(td.max_gouge().map_or(0.0, |e| e.value)),
+                max_leftover_mm: r6(td.max_leftover().map_or(0.0, |e| e.value)),
+                gouge_volume_mm3: r6(td.gouge_volume),
+                leftover_volume_mm3: r6(td.leftover_volume),
+                flanks: report::Flanks {
+                    left: flank(Flank::Left),
+                    right: flank(Flank::Right),
+                    root: flank(Flank::Root),
+                    crest: flank(Flank::Crest),
+                },
+            };
+            turn_findings(&row, &td, &all, tol, &mut findings);
+            turns.push(row);
+        }
+    }
+    for mi in machine_issues {
+        findings.push(Finding {
+            kind: mi.kind,
+            severity: if mi.error { "error" } else { "warning" },
+            turn: None,
+            start: None,
+            flank: None,
+            pass: Some(mi.pass + 1),
+            angle_deg: None,
+            z_mm: Some(r6(mi.z)),
+            value: r6(mi.value),
+            unit: match mi.kind {
+                "feed_limit" => "mm/min",
+                "axis_acceleration" => "mm/s^2",
+                _ => "mm",
+            },
+            message: mi.message.clone(),
+        });
+    }
+    let rank = |f: &Finding| {
+        (
+            (f.severity != "error") as u8,
+            KINDS.iter().position(|k| *k == f.kind).unwrap_or(KINDS.len()),
+        )
+    };
+    findings.sort_by(|a, b| rank(a).cmp(&rank(b)));
+    let verdict = if findings.iter().any(|f| f.severity == "error") {
+        Verdict::Fail
+    } else {
+        Verdict::Pass
+    };
+    let gouge = dev.max_gouge();
+    let leftover = dev.max_leftover();
+    Report {
+        schema: SCHEMA,
+        job: job.name.clone(),
+        verdict,
+        tolerance_mm: r6(tol),
+        thread: report::ThreadInfo {
+            side: match thread.side {
+                Side::External => "external",
+                Side::Internal => "internal",
+            },
+            form: job.form.name(),
+            hand: match thread.hand() {
+                Hand::Right => "right",
+                Hand::Left => "left",
+            },
+            starts: thread.starts,
+            major_diameter_mm: r6(major),
+            minor_diameter_mm: r6(minor),
+            pitch_diameter_mm: r6(2.0 * thread.pitch_radius),
+            constant_width: match thread.width {
+                WidthRule::Groove(_) => "groove",
+                WidthRule::Tooth(_) => "tooth",
+            },
+            width_mm: r6(match thread.width {
+                WidthRule::Groove(w) | WidthRule::Tooth(w) => w,
+            }),
+            lead_at_start_mm: r6(thread.helix.law.f),
+            lead_change_mm: r6(thread.helix.law.k),
+            turns: r6(thread.turns),
+        },
+        stock: report::StockInfo {
+            angular_cells: grid.n_theta,
+            axial_cells: grid.n_z,
+            axial_spacing_mm: r6(grid.dz),
+            dexels: stock.stored_dexels() as u64,
+            surfaces: if stock.inner.is_some() {
+                vec!["outer", "inner"]
+            } else {
+                vec!["outer"]
+            },
+            bytes_per_dexel: 4,
+            z_min_mm: r6(grid.z(0)),
+            z_max_mm: r6(grid.z(grid.n_z - 1)),
+        },
+        passes: job.passes.len(),
+        kernel: report::KernelInfo {
+            placements: stats.placements,
+            dexel_updates: stats.dexel_updates,
+        },
+        measurement: report::MeasurementInfo {
+            axial_spacing_mm: r6(spacing),
+            generators: measures.len(),
+            reference_angle_deg: r4(thread.helix.theta0.to_degrees()),
+        },
+        deviation: report::DeviationInfo {
+            max_gouge_mm: r6(gouge.map_or(0.0, |e| e.value)),
+            max_gouge_at: gouge.filter(|e| r6(e.value) > 0.0).as_ref().map(location),
+            max_leftover_mm: r6(leftover.map_or(0.0, |e| e.value)),
+            max_leftover_at: leftover.filter(|e| r6(e.value) > 0.0).as_ref().map(location),
+            gouge_volume_mm3: r6(dev.gouge_volume()),
+            leftover_volume_mm3: r6(dev.leftover_volume()),
+            removed_volume_mm3: r6(dev.removed_volume),
+            ideal_removed_volume_mm3: r6(dev.ideal_removed_volume),
+            total_removed_volume_mm3: r6(dev.total_removed_volume),
+            compared_dexels: dev.compared_dexels,
+        },
+        turns,
+        findings,
+        timing_s: report::Timing::default(),
+    }
+}
+
+/// Finding kinds in report order.
+const KINDS: [&str; 10] = [
+    "gouge",
+    "leftover",
+    "missing_feature",
+    "lead",
+    "groove_width",
+    "tooth_width",
+    "feed_limit",
+    "split_feature",
+    "run_in",
+    "axis_acceleration",
+];
+
+fn turn_findings(row: &TurnRow, td: &TurnDeviation, all: &[&TurnMeasure], tol: f64, out: &mut Vec<Finding>) {
+    let base = |kind, severity, value: f64, message: String| Finding {
+        kind,
+        severity,
+        turn: Some(row.turn),
+        start: Some(row.start),
+        flank: None,
+        pass: None,
+        angle_deg: None,
+        z_mm: None,
+        value: r6(value),
+        unit: "mm",
+        message,
+    };
+    for (kind, slots) in [("gouge", &td.gouge), ("leftover", &td.leftover)] {
+        for f in Flank::ALL {
+            let Some(e) = slots[f.index()] else { continue };
+            if e.value <= tol {
+                continue;
+            }
+            let l = location(&e);
+            out.push(Finding {
+                flank: Some(f.name()),
+                angle_deg: Some(l.angle_deg),
+                z_mm: Some(l.z_mm),
+                ..base(
+                    kind,
+                    "error",
+                    e.value,
+                    format!(
+                        "turn {} {} flank: {kind} {:.4} mm at {:.1} deg, z {:.3}",
+                        row.turn, l.flank, e.value, l.angle_deg, l.z_mm
+                    ),
+                )
+            });
+        }
+    }
+    let pairs = [
+        ("groove_width", row.ideal_groove_width_mm, row.groove_width_mm, "groove"),
+        ("tooth_width", row.ideal_tooth_width_mm, row.tooth_width_mm, "tooth"),
+    ];
+    if all.iter().any(|m| {
+        (m.ideal_groove.is_some() && m.groove.is_none()) || (m.ideal_tooth.is_some() && m.tooth.is_none())
+    }) {
+        out.push(base(
+            "missing_feature",
+            "error",
+            0.0,
+            format!(
+                "turn {}: a groove or tooth the drawing has is not found at the pitch diameter on some generator",
+                row.turn
+            ),
+        ));
+    }
+    if let Some(err) = row.lead_spread.max_error_mm {
+        if err > tol {
+            out.push(base(
+                "lead",
+                "error",
+                err,
+                format!(
+                    "turn {}: lead off by up to {:.4} mm (reference generator: measured {} vs ideal {})",
+                    row.turn,
+                    err,
+                    fmt_opt(row.measured_lead_mm),
+                    fmt_opt(row.ideal_lead_mm)
+                ),
+            ));
+        }
+    }
+    for (kind, ideal, got, what) in pairs {
+        if let (Some(i), Some(g)) = (ideal, got) {
+            if (g - i).abs() > tol {
+                out.push(base(
+                    kind,
+                    "error",
+                    g - i,
+                    format!("turn {}: {what} width {g:.4} mm, drawing {i:.4} mm", row.turn),
+                ));
+            }
+        }
+    }
+    if all.iter().any(|m| m.split) {
+        out.push(base(
+            "split_feature",
+            "warning",
+            0.0,
+            format!("turn {}: a ridge or notch crosses the pitch diameter inside one feature", row.turn),
+        ));
+    }
+}
+
+fn fmt_opt(v: Option<f64>) -> String {
+    v.map_or("-".to_string(), |x| format!("{x:.4}"))
+}
+

@@ -1,0 +1,385 @@
+//! The report: what `report.json` holds, and the short summary for a person.
+//!
+//! This is the output serialization boundary (`docs/report-format.md`). Every length is in
+//! mm rounded to 1e-6 mm (volumes to 1e-6 mm^3), angles in degrees rounded to 1e-4, so the
+//! file is byte-identical between runs and thread counts; only `timing_s` changes.
+
+use serde::Serialize;
+use std::fmt::Write as _;
+
+/// The schema tag.
+pub const SCHEMA: &str = "vpcut.report/1";
+
+/// Round to 1e-6 (and turn -0 into 0).
+pub(crate) fn r6(x: f64) -> f64 {
+    let v = (x * 1e6).round() / 1e6;
+    if v == 0.0 {
+        0.0
+    } else {
+        v
+    }
+}
+
+/// Round to 1e-4.
+pub(crate) fn r4(x: f64) -> f64 {
+    let v = (x * 1e4).round() / 1e4;
+    if v == 0.0 {
+        0.0
+    } else {
+        v
+    }
+}
+
+/// pass / fail.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// Within tolerance, no error findings.
+    Pass,
+    /// At least one error finding.
+    Fail,
+}
+
+/// The whole report.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Report {
+    /// Always [`SCHEMA`].
+    pub schema: &'static str,
+    /// The job's name.
+    pub job: String,
+    /// pass / fail.
+    pub verdict: Verdict,
+    /// Deviation tolerance (mm).
+    pub tolerance_mm: f64,
+    /// The thread wanted.
+    pub thread: ThreadInfo,
+    /// The dexel grid.
+    pub stock: StockInfo,
+    /// Number of threading passes.
+    pub passes: usize,
+    /// What the sweep kernel did.
+    pub kernel: KernelInfo,
+    /// How leads and widths were measured.
+    pub measurement: MeasurementInfo,
+    /// Deviation totals.
+    pub deviation: DeviationInfo,
+    /// Per turn (and start).
+    pub turns: Vec<TurnRow>,
+    /// Findings, errors first.
+    pub findings: Vec<Finding>,
+    /// Wall-clock times (s): the one part that changes between runs.
+    pub timing_s: Timing,
+}
+
+/// The thread wanted, as resolved.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ThreadInfo {
+    /// `external` / `internal`.
+    pub side: &'static str,
+    /// Form name.
+    pub form: &'static str,
+    /// `right` / `left`.
+    pub hand: &'static str,
+    /// Number of starts.
+    pub starts: u32,
+    /// Major diameter (mm).
+    pub major_diameter_mm: f64,
+    /// Minor diameter (mm).
+    pub minor_diameter_mm: f64,
+    /// Pitch diameter where widths and leads are measured (mm).
+    pub pitch_diameter_mm: f64,
+    /// `groove` or `tooth`: which width is constant.
+    pub constant_width: &'static str,
+    /// That width at the pitch line (mm).
+    pub width_mm: f64,
+    /// Lead law of start 0: lead at t = 0 (mm/rev).
+    pub lead_at_start_mm: f64,
+    /// Lead change per revolution (mm/rev^2).
+    pub lead_change_mm: f64,
+    /// Number of turns.
+    pub turns: f64,
+}
+
+/// The stock grid.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StockInfo {
+    /// Angular columns.
+    pub angular_cells: usize,
+    /// Axial cells per column.
+    pub axial_cells: usize,
+    /// Axial spacing (mm).
+    pub axial_spacing_mm: f64,
+    /// Stored dexels (all surfaces).
+    pub dexels: u64,
+    /// Surfaces stored (`outer`, `inner`).
+    pub surfaces: Vec<&'static str>,
+    /// Bytes per stored dexel.
+    pub bytes_per_dexel: u32,
+    /// z of the first cell centre (mm).
+    pub z_min_mm: f64,
+    /// z of the last cell centre (mm).
+    pub z_max_mm: f64,
+}
+
+/// Sweep counters.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct KernelInfo {
+    /// Tool placements (pass crossings of a column).
+    pub placements: u64,
+    /// Dexel updates.
+    pub dexel_updates: u64,
+}
+
+/// Measurement settings.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MeasurementInfo {
+    /// Axial spacing of the measurement columns (mm).
+    pub axial_spacing_mm: f64,
+    /// Number of generators (the first is the reference one at the thread's start angle).
+    pub generators: usize,
+    /// Angle of the reference generator (deg).
+    pub reference_angle_deg: f64,
+}
+
+/// Deviation totals.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DeviationInfo {
+    /// Worst gouge (mm, normal distance).
+    pub max_gouge_mm: f64,
+    /// Where it is.
+    pub max_gouge_at: Option<Location>,
+    /// Worst leftover (mm).
+    pub max_leftover_mm: f64,
+    /// Where it is.
+    pub max_leftover_at: Option<Location>,
+    /// Volume cut inside the ideal part (mm^3).
+    pub gouge_volume_mm3: f64,
+    /// Volume left outside the ideal part (mm^3).
+    pub leftover_volume_mm3: f64,
+    /// Volume removed in the compared region (mm^3).
+    pub removed_volume_mm3: f64,
+    /// Volume the ideal thread removes there (mm^3).
+    pub ideal_removed_volume_mm3: f64,
+    /// Volume removed anywhere on the grid (mm^3).
+    pub total_removed_volume_mm3: f64,
+    /// Dexels compared.
+    pub compared_dexels: u64,
+}
+
+/// A place on the part.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Location {
+    /// Turn (1-based).
+    pub turn: i64,
+    /// Start.
+    pub start: u32,
+    /// `left`, `right`, `root` or `crest`.
+    pub flank: &'static str,
+    /// Angle on the part (deg, in [0, 360)).
+    pub angle_deg: f64,
+    /// Axial position (mm).
+    pub z_mm: f64,
+}
+
+/// Extremes of one flank.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FlankRow {
+    /// Worst gouge (mm).
+    pub max_gouge_mm: f64,
+    /// Worst leftover (mm).
+    pub max_leftover_mm: f64,
+}
+
+/// Per-flank extremes.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Flanks {
+    /// Left wall of the groove (-z side).
+    pub left: FlankRow,
+    /// Right wall (+z side).
+    pub right: FlankRow,
+    /// Groove bottom.
+    pub root: FlankRow,
+    /// Tooth top.
+    pub crest: FlankRow,
+}
+
+/// Lead over all generators.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LeadSpread {
+    /// Smallest ideal lead over the generators (mm).
+    pub ideal_min_mm: f64,
+    /// Largest ideal lead (mm).
+    pub ideal_max_mm: f64,
+    /// Smallest measured lead (mm).
+    pub measured_min_mm: Option<f64>,
+    /// Largest measured lead (mm).
+    pub measured_max_mm: Option<f64>,
+    /// Largest |measured - ideal| on any generator (mm).
+    pub max_error_mm: Option<f64>,
+}
+
+/// One turn.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TurnRow {
+    /// Turn (1-based).
+    pub turn: i64,
+    /// Start.
+    pub start: u32,
+    /// Ideal lead (pitch for one start) on the reference generator (mm).
+    pub ideal_lead_mm: Option<f64>,
+    /// Measured lead there (mm).
+    pub measured_lead_mm: Option<f64>,
+    /// Lead over all generators.
+    pub lead_spread: LeadSpread,
+    /// Ideal groove width at the pitch line (mm).
+    pub ideal_groove_width_mm: Option<f64>,
+    /// Measured groove width (mm).
+    pub groove_width_mm: Option<f64>,
+    /// Ideal tooth width at the pitch line (mm).
+    pub ideal_tooth_width_mm: Option<f64>,
+    /// Measured tooth width (mm).
+    pub tooth_width_mm: Option<f64>,
+    /// Deepest cut diameter in the turn on the reference generator (mm): the root for an
+    /// external thread, the crest for an internal one.
+    pub min_diameter_mm: Option<f64>,
+    /// Largest diameter there (mm).
+    pub max_diameter_mm: Option<f64>,
+    /// Helix angle of the ideal pitch helix at the pitch diameter, mid-turn (deg).
+    pub helix_angle_deg: f64,
+    /// Worst gouge in the turn (mm).
+    pub max_gouge_mm: f64,
+    /// Worst leftover in the turn (mm).
+    pub max_leftover_mm: f64,
+    /// Gouge volume (mm^3).
+    pub gouge_volume_mm3: f64,
+    /// Leftover volume (mm^3).
+    pub leftover_volume_mm3: f64,
+    /// Per flank.
+    pub flanks: Flanks,
+}
+
+/// Something the user must know.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Finding {
+    /// `gouge`, `leftover`, `lead`, `groove_width`, `tooth_width`, `missing_feature`,
+    /// `split_feature`, `feed_limit`, `run_in`, `axis_acceleration`.
+    pub kind: &'static str,
+    /// `error` (fails the job) or `warning`.
+    pub severity: &'static str,
+    /// Turn, if it belongs to one.
+    pub turn: Option<i64>,
+    /// Start.
+    pub start: Option<u32>,
+    /// Flank, for deviations.
+    pub flank: Option<&'static str>,
+    /// Pass (1-based), for machine checks.
+    pub pass: Option<usize>,
+    /// Angle on the part (deg).
+    pub angle_deg: Option<f64>,
+    /// Axial position (mm).
+    pub z_mm: Option<f64>,
+    /// The value (unit in `unit`).
+    pub value: f64,
+    /// `mm`, `mm/min`, `mm/s^2`.
+    pub unit: &'static str,
+    /// One line for a person.
+    pub message: String,
+}
+
+/// Wall-clock times.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Timing {
+    /// Building the passes and the blank.
+    pub setup: f64,
+    /// The sweep.
+    pub sweep: f64,
+    /// Deviation and volumes.
+    pub compare: f64,
+    /// Measurement generators.
+    pub measure: f64,
+    /// Everything.
+    pub total: f64,
+}
+
+impl Report {
+    /// The report as pretty JSON with a final newline.
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).expect("report serializes");
+        s.push('\n');
+        s
+    }
+
+    /// A short summary for a terminal.
+    pub fn summary(&self) -> String {
+        let mut s = String::new();
+        let name = if self.job.is_empty() { "job" } else { &self.job };
+        let verdict = match self.verdict {
+            Verdict::Pass => "PASS",
+            Verdict::Fail => "FAIL",
+        };
+        let _ = writeln!(
+            s,
+            "{name}: {verdict} at tolerance {:.4} mm ({} {} thread, {} turns)",
+            self.tolerance_mm, self.thread.form, self.thread.side, self.thread.turns
+        );
+        let _ = writeln!(
+            s,
+            "  stock {} x {} dexels at {} mm, {} passes, {:.3e} dexel updates, {:.3} s",
+            self.stock.angular_cells,
+            self.stock.axial_cells,
+            self.stock.axial_spacing_mm,
+            self.passes,
+            self.kernel.dexel_updates as f64,
+            self.timing_s.total
+        );
+        let loc = |l: &Option<Location>| match l {
+            Some(l) => format!(
+                "turn {} {} flank, {:.1} deg, z {:.3}",
+                l.turn, l.flank, l.angle_deg, l.z_mm
+            ),
+            None => "-".to_string(),
+        };
+        let d = &self.deviation;
+        let _ = writeln!(s, "  worst gouge    {:>9.4} mm  {}", d.max_gouge_mm, loc(&d.max_gouge_at));
+        let _ = writeln!(s, "  worst leftover {:>9.4} mm  {}", d.max_leftover_mm, loc(&d.max_leftover_at));
+        let _ = writeln!(
+            s,
+            "  volume removed {:.2} mm3 (ideal {:.2}), gouge {:.3} mm3, leftover {:.3} mm3",
+            d.removed_volume_mm3, d.ideal_removed_volume_mm3, d.gouge_volume_mm3, d.leftover_volume_mm3
+        );
+        let o = |v: Option<f64>| v.map_or("      -".to_string(), |x| format!("{x:>7.3}"));
+        let _ = writeln!(
+            s,
+            "\n  turn  lead: ideal measured  groove: ideal measured  tooth: ideal measured   gouge leftover"
+        );
+        for t in &self.turns {
+            let start = if self.thread.starts > 1 {
+                format!("{}.{}", t.start + 1, t.turn)
+            } else {
+                t.turn.to_string()
+            };
+            let _ = writeln!(
+                s,
+                "  {start:>4}      {} {}         {} {}        {} {}  {:>7.3} {:>7.3}",
+                o(t.ideal_lead_mm),
+                o(t.measured_lead_mm),
+                o(t.ideal_groove_width_mm),
+                o(t.groove_width_mm),
+                o(t.ideal_tooth_width_mm),
+                o(t.tooth_width_mm),
+                t.max_gouge_mm,
+                t.max_leftover_mm
+            );
+        }
+        let errors = self.findings.iter().filter(|f| f.severity == "error").count();
+        let warnings = self.findings.len() - errors;
+        let _ = writeln!(s, "\n  findings: {errors} errors, {warnings} warnings");
+        for f in self.findings.iter().take(12) {
+            let _ = writeln!(s, "    {:<7} {:<16} {}", f.severity, f.kind, f.message);
+        }
+        if self.findings.len() > 12 {
+            let _ = writeln!(s, "    ... {} more in the report", self.findings.len() - 12);
+        }
+        s
+    }
+}

@@ -1,0 +1,129 @@
+//! The radial-dexel stock: `r(theta, z)` on a regular grid, outer and inner surface.
+//!
+//! Each dexel is one sample of a surface radius at the angle `theta_i = theta0 + i*dtheta`
+//! and the axial position `z_j = z0 + j*dz` (cell centres). Columns (all z of one angle)
+//! are contiguous, so the sweep works on one column at a time and vectorises over z.
+//! Radii are stored as `f32` *signed radii* `q`: `q = r` for the outer surface and
+//! `q = -r` for the inner one, so that cutting always *lowers* `q` (`q = min(q, ..)`).
+
+use std::f64::consts::TAU;
+
+/// The sampling grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    /// Number of angular columns.
+    pub n_theta: usize,
+    /// Number of axial cells per column.
+    pub n_z: usize,
+    /// Angle of column 0 (rad).
+    pub theta0: f64,
+    /// z of the first cell centre (mm).
+    pub z0: f64,
+    /// Axial spacing (mm).
+    pub dz: f64,
+}
+
+impl Grid {
+    /// Angle of column `i`.
+    pub fn theta(&self, i: usize) -> f64 {
+        self.theta0 + self.dtheta() * i as f64
+    }
+
+    /// Angular spacing (rad).
+    pub fn dtheta(&self) -> f64 {
+        TAU / self.n_theta as f64
+    }
+
+    /// z of cell `j`.
+    pub fn z(&self, j: usize) -> f64 {
+        self.z0 + self.dz * j as f64
+    }
+
+    /// Dexels per surface.
+    pub fn dexels(&self) -> usize {
+        self.n_theta * self.n_z
+    }
+}
+
+/// Which surface of the stock.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Surface {
+    /// The outside of the bar.
+    Outer,
+    /// The bore.
+    Inner,
+}
+
+impl Surface {
+    /// Sign of the stored value: `q = sense * r`.
+    pub fn sense(self) -> f64 {
+        match self {
+            Surface::Outer => 1.0,
+            Surface::Inner => -1.0,
+        }
+    }
+}
+
+/// The stock: the blank's surfaces as radial dexels.
+#[derive(Clone, Debug)]
+pub struct Stock {
+    /// The grid.
+    pub grid: Grid,
+    /// Outer surface, signed radii (`q = r`), column-major.
+    pub outer: Vec<f32>,
+    /// Inner surface, signed radii (`q = -r`), present for a tube.
+    pub inner: Option<Vec<f32>>,
+    /// Blank outer radius.
+    pub blank_outer: f64,
+    /// Blank bore radius (0 = solid).
+    pub blank_inner: f64,
+}
+
+impl Stock {
+    /// A blank: a bar (or tube) of the given radii over the grid.
+    pub fn blank(grid: Grid, outer_radius: f64, bore_radius: f64) -> Stock {
+        let n = grid.dexels();
+        Stock {
+            grid,
+            outer: vec![outer_radius as f32; n],
+            inner: (bore_radius > 0.0).then(|| vec![-bore_radius as f32; n]),
+            blank_outer: outer_radius,
+            blank_inner: bore_radius,
+        }
+    }
+
+    /// Number of stored dexels (both surfaces).
+    pub fn stored_dexels(&self) -> usize {
+        self.outer.len() + self.inner.as_ref().map_or(0, Vec::len)
+    }
+
+    /// Signed radii of one surface, column-major, if the stock has it.
+    pub fn surface(&self, s: Surface) -> Option<&[f32]> {
+        match s {
+            Surface::Outer => Some(&self.outer),
+            Surface::Inner => self.inner.as_deref(),
+        }
+    }
+
+    /// Mutable signed radii of one surface.
+    pub fn surface_mut(&mut self, s: Surface) -> Option<&mut [f32]> {
+        match s {
+            Surface::Outer => Some(&mut self.outer),
+            Surface::Inner => self.inner.as_deref_mut(),
+        }
+    }
+
+    /// The initial signed radius of a surface.
+    pub fn blank_q(&self, s: Surface) -> f64 {
+        match s {
+            Surface::Outer => self.blank_outer,
+            Surface::Inner => -self.blank_inner,
+        }
+    }
+
+    /// Radius of a surface at column `i`, cell `j`.
+    pub fn radius(&self, s: Surface, i: usize, j: usize) -> Option<f64> {
+        self.surface(s)
+            .map(|q| s.sense() * q[i * self.grid.n_z + j] as f64)
+    }
+}

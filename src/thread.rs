@@ -1,0 +1,532 @@
+//! The thread the drawing asks for, and its ideal surface in closed form.
+//!
+//! A thread is a pitch helix (per start) plus a groove shape. Along any generator (a line
+//! of the part at a fixed angle) the pitch helix crosses at known z. For **equal groove
+//! width** every crossing is the centre of a groove of constant width at the pitch
+//! diameter; for **equal tooth width** every crossing is the centre of a tooth and the
+//! groove between two teeth is as wide as their gap less the tooth. Constant pitch is
+//! equal groove width with the width of the standard form.
+//!
+//! Radial positions are handled as *height above the root* `h` (0 at the root, `depth` at
+//! the crest) so external and internal threads share every formula: `h` grows into the
+//! material's free side. In `(z, h)` the ideal axial profile of one generator is an exact
+//! polyline ([`ColumnIdeal`]): crest flats, groove walls and root flats, with the walls of
+//! neighbouring grooves intersected where they overlap (sharp crests).
+
+use crate::helix::{Hand, Helix};
+use std::f64::consts::TAU;
+
+/// Which surface of the part carries the thread.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// On the outside of a bar (a screw).
+    External,
+    /// On the inside of a bore (a nut).
+    Internal,
+}
+
+/// Which width stays constant along a variable-pitch thread (measured at the pitch line).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WidthRule {
+    /// Equal groove width: the groove is this wide at the pitch diameter.
+    Groove(f64),
+    /// Equal tooth width: the tooth is this wide at the pitch diameter.
+    Tooth(f64),
+}
+
+/// The part of a profile a point of the surface lies on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Flank {
+    /// The wall of a groove on its -z side (toward the chuck).
+    Left,
+    /// The wall of a groove on its +z side (toward the part's front face).
+    Right,
+    /// The bottom of a groove.
+    Root,
+    /// The top of a tooth.
+    Crest,
+}
+
+impl Flank {
+    /// All flanks, in report order.
+    pub const ALL: [Flank; 4] = [Flank::Left, Flank::Right, Flank::Root, Flank::Crest];
+
+    /// Lower-case name used in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Flank::Left => "left",
+            Flank::Right => "right",
+            Flank::Root => "root",
+            Flank::Crest => "crest",
+        }
+    }
+
+    /// Index into [`Flank::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// The thread wanted, resolved into geometry (mm, radians).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThreadSpec {
+    /// External or internal.
+    pub side: Side,
+    /// Radius at the root (minor radius outside, major radius inside).
+    pub root_radius: f64,
+    /// Radius at the crest (major radius outside, minor radius inside).
+    pub crest_radius: f64,
+    /// Radius of the pitch line where widths and leads are measured.
+    pub pitch_radius: f64,
+    /// Inclination of the groove's left wall from the radial direction (rad).
+    pub left_angle: f64,
+    /// Inclination of the groove's right wall from the radial direction (rad).
+    pub right_angle: f64,
+    /// The width kept constant.
+    pub width: WidthRule,
+    /// Number of starts, spaced by 360/starts degrees.
+    pub starts: u32,
+    /// The pitch helix of start 0: `t = 0` is the first feature (groove or tooth centre).
+    pub helix: Helix,
+    /// Number of turns: features sit at `t = 0, 1, ..` up to `turns`.
+    pub turns: f64,
+}
+
+/// A groove of the ideal profile on one generator, by its four corners' z.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Groove {
+    left_top: f64,
+    left_root: f64,
+    right_root: f64,
+    right_top: f64,
+}
+
+/// A pitch-helix crossing on one generator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Feature {
+    /// Which start.
+    pub start: u32,
+    /// Revolutions of that start's pitch helix.
+    pub t: f64,
+    /// Axial position (mm).
+    pub z: f64,
+}
+
+impl Feature {
+    /// The turn the material just below this feature (toward -z) belongs to: turn n spans
+    /// the pitch helix from `t = n-1` to `t = n`.
+    pub fn turn(&self) -> i64 {
+        self.t.floor() as i64 + 1
+    }
+}
+
+/// A vertex of the ideal profile polyline in `(z, h)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vertex {
+    /// Axial position (mm).
+    pub z: f64,
+    /// Height above the root (mm).
+    pub h: f64,
+}
+
+/// The exact ideal axial profile along one generator.
+#[derive(Clone, Debug)]
+pub struct ColumnIdeal {
+    /// Polyline vertices, z non-decreasing; vertical walls give two vertices at one z.
+    pub verts: Vec<Vertex>,
+    /// Pitch-helix crossings, z increasing.
+    pub features: Vec<Feature>,
+    /// The z span between the first and last feature with `0 <= t <= turns`: the part of
+    /// this generator that is compared with the cut.
+    pub span: Option<(f64, f64)>,
+    depth: f64,
+}
+
+impl ThreadSpec {
+    /// Sign that turns a radius difference into a height difference.
+    pub fn sense(&self) -> f64 {
+        match self.side {
+            Side::External => 1.0,
+            Side::Internal => -1.0,
+        }
+    }
+
+    /// Height above the root of a radius.
+    pub fn height(&self, r: f64) -> f64 {
+        self.sense() * (r - self.root_radius)
+    }
+
+    /// Radius of a height above the root.
+    pub fn radius(&self, h: f64) -> f64 {
+        self.root_radius + self.sense() * h
+    }
+
+    /// Thread depth, root to crest.
+    pub fn depth(&self) -> f64 {
+        (self.crest_radius - self.root_radius).abs()
+    }
+
+    /// Height of the pitch line above the root.
+    pub fn pitch_height(&self) -> f64 {
+        self.height(self.pitch_radius)
+    }
+
+    /// Hand of the thread.
+    pub fn hand(&self) -> Hand {
+        self.helix.hand()
+    }
+
+    /// Sum of the wall tangents: how fast a groove widens per mm of height.
+    pub fn widening(&self) -> f64 {
+        self.left_angle.tan() + self.right_angle.tan()
+    }
+
+    /// The pitch helix of start `s`.
+    pub fn start_helix(&self, s: u32) -> Helix {
+        let mut h = self.helix;
+        h.theta0 += TAU * s as f64 / self.starts as f64;
+        h
+    }
+
+    /// Ideal groove width at height `h` above the root for a groove that is `w_pitch` wide
+    /// at the pitch line.
+    pub fn groove_width_at(&self, w_pitch: f64, h: f64) -> f64 {
+        w_pitch + (h - self.pitch_height()) * self.widening()
+    }
+
+    /// The pitch (crest-to-crest spacing along the generator) of turn `n` (1-based) at the
+    /// reference generator: `z(n-1) - z(n)`.
+    pub fn pitch_of_turn(&self, n: i64) -> f64 {
+        let law = self.helix.law;
+        (law.travel(n as f64) - law.travel(n as f64 - 1.0)) / self.starts as f64
+    }
+
+    /// Number of whole turns reported.
+    pub fn whole_turns(&self) -> i64 {
+        (self.turns + 1e-9).floor() as i64
+    }
+
+    /// The range of revolutions worth of features that covers `[z_lo, z_hi]` with a margin,
+    /// clipped where the lead law would make the lead vanish.
+    fn t_range(&self, z_lo: f64, z_hi: f64) -> (f64, f64) {
+        let law = self.helix.law;
+        let margin = 2.0 * law.f.abs().max(law.lead(self.turns).abs()) + self.depth() * 4.0;
+        let z0 = self.helix.z0;
+        let dir = self.helix.dir;
+        // Travel needed to reach each end of the window.
+        let (s_a, s_b) = {
+            let a = dir * (z_lo - margin - z0);
+            let b = dir * (z_hi + margin - z0);
+            (a.min(b), a.max(b))
+        };
+        let limit = law.zero_lead_revs();
+        let lo = law.revs_at(s_a).unwrap_or_else(|| match limit {
+            Some(t0) if t0 < 0.0 => t0 + 1e-6,
+            _ => -1e6,
+        });
+        let hi = law.revs_at(s_b).unwrap_or_else(|| match limit {
+            Some(t0) if t0 > 0.0 => t0 - 1e-6,
+            _ => 1e6,
+        });
+        (lo.min(hi) - 1.0, lo.max(hi) + 1.0)
+    }
+
+    /// The pitch-helix crossings (all starts) on the generator at `theta` that matter for
+    /// `[z_lo, z_hi]`, sorted by z.
+    pub fn features(&self, theta: f64, z_lo: f64, z_hi: f64) -> Vec<Feature> {
+        let (t_lo, t_hi) = self.t_range(z_lo, z_hi);
+        let mut out = Vec::new();
+        for s in 0..self.starts {
+            let h = self.start_helix(s);
+            out.extend(h.crossings(theta, t_lo, t_hi).filter_map(|t| {
+                let lead = h.law.lead(t);
+                (lead > 0.0).then(|| Feature {
+                    start: s,
+                    t,
+                    z: h.z(t),
+                })
+            }));
+        }
+        out.sort_by(|a, b| a.z.total_cmp(&b.z).then(a.start.cmp(&b.start)));
+        out
+    }
+
+    fn groove(&self, centre: f64, w_pitch: f64) -> Groove {
+        let hp = self.pitch_height();
+        let depth = self.depth();
+        let (tl, tr) = (self.left_angle.tan(), self.right_angle.tan());
+        Groove {
+            left_top: centre - w_pitch / 2.0 - (depth - hp) * tl,
+            left_root: centre - w_pitch / 2.0 + hp * tl,
+            right_root: centre + w_pitch / 2.0 - hp * tr,
+            right_top: centre + w_pitch / 2.0 + (depth - hp) * tr,
+        }
+    }
+
+    /// The ideal profile on the generator at `theta` for the window `[z_lo, z_hi]`.
+    pub fn column(&self, theta: f64, z_lo: f64, z_hi: f64) -> ColumnIdeal {
+        let features = self.features(theta, z_lo, z_hi);
+        let grooves: Vec<Groove> = match self.width {
+            WidthRule::Groove(w) => features.iter().map(|f| self.groove(f.z, w)).collect(),
+            WidthRule::Tooth(tw) => features
+                .windows(2)
+                .filter_map(|p| {
+                    let gap = p[1].z - p[0].z - tw;
+                    (gap > 0.0).then(|| self.groove(0.5 * (p[0].z + p[1].z), gap))
+                })
+                .collect(),
+        };
+        let depth = self.depth();
+        let verts = envelope(&grooves, depth, self.widening(), z_lo - 1.0, z_hi + 1.0);
+        let whole = self.turns + 1e-9;
+        let mut span: Option<(f64, f64)> = None;
+        for f in features.iter().filter(|f| f.t >= -1e-9 && f.t <= whole) {
+            span = Some(match span {
+                None => (f.z, f.z),
+                Some((a, b)) => (a.min(f.z), b.max(f.z)),
+            });
+        }
+        ColumnIdeal {
+            verts,
+            features,
+            span,
+            depth,
+        }
+    }
+}
+
+/// Lower envelope (in height) of the grooves: the exact ideal profile polyline.
+fn envelope(grooves: &[Groove], depth: f64, widening: f64, z_lo: f64, z_hi: f64) -> Vec<Vertex> {
+    let mut v: Vec<Vertex> = Vec::with_capacity(grooves.len() * 4 + 2);
+    v.push(Vertex {
+        z: z_lo.min(grooves.first().map_or(z_lo, |g| g.left_top)),
+        h: depth,
+    });
+    let mut prev: Option<Groove> = None;
+    for g in grooves {
+        match prev {
+            Some(p) if p.right_top > g.left_top => {
+                // The walls of neighbouring grooves meet below the crest.
+                v.pop(); // p.right_top
+                let hs = if widening > 0.0 {
+                    (g.left_root - p.right_root) / widening
+                } else {
+                    0.0
+                };
+                if hs > 0.0 {
+                    let z = p.right_root + hs * (p.right_top - p.right_root) / depth;
+                    v.push(Vertex { z, h: hs });
+                    v.push(Vertex {
+                        z: g.left_root,
+                        h: 0.0,
+                    });
+                } else {
+                    // Roots overlap: one merged root flat.
+                    v.pop(); // p.right_root
+                }
+            }
+            _ => {
+                v.push(Vertex {
+                    z: g.left_top,
+                    h: depth,
+                });
+                v.push(Vertex {
+                    z: g.left_root,
+                    h: 0.0,
+                });
+            }
+        }
+        v.push(Vertex {
+            z: g.right_root,
+            h: 0.0,
+        });
+        v.push(Vertex {
+            z: g.right_top,
+            h: depth,
+        });
+        prev = Some(*g);
+    }
+    let last = v.last().map_or(z_hi, |p| p.z);
+    v.push(Vertex {
+        z: z_hi.max(last),
+        h: depth,
+    });
+    v
+}
+
+/// Distance from a point to a segment in `(z, h)`.
+fn segment_distance(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
+    let (dz, dh) = (b.z - a.z, b.h - a.h);
+    let len2 = dz * dz + dh * dh;
+    let u = if len2 > 0.0 {
+        (((p.0 - a.z) * dz + (p.1 - a.h) * dh) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (qz, qh) = (a.z + u * dz, a.h + u * dh);
+    ((p.0 - qz).powi(2) + (p.1 - qh).powi(2)).sqrt()
+}
+
+impl ColumnIdeal {
+    /// Index of the segment `[verts[i], verts[i+1]]` containing `z` (the first such one).
+    fn segment_at(&self, z: f64) -> usize {
+        let i = self.verts.partition_point(|v| v.z <= z);
+        i.clamp(1, self.verts.len() - 1) - 1
+    }
+
+    /// Ideal height above the root at `z`.
+    pub fn height_at(&self, z: f64) -> f64 {
+        let i = self.segment_at(z);
+        let (a, b) = (self.verts[i], self.verts[i + 1]);
+        if b.z <= a.z {
+            return a.h.min(b.h);
+        }
+        let u = ((z - a.z) / (b.z - a.z)).clamp(0.0, 1.0);
+        a.h + u * (b.h - a.h)
+    }
+
+    /// Fill `out[j]` with the ideal height at `z0 + j*dz`, walking the polyline once.
+    pub fn fill_heights(&self, z0: f64, dz: f64, out: &mut [f32]) {
+        let mut i = self.segment_at(z0);
+        for (j, o) in out.iter_mut().enumerate() {
+            let z = z0 + j as f64 * dz;
+            while i + 2 < self.verts.len() && self.verts[i + 1].z <= z {
+                i += 1;
+            }
+            let (a, b) = (self.verts[i], self.verts[i + 1]);
+            let h = if b.z <= a.z {
+                a.h.min(b.h)
+            } else {
+                let u = ((z - a.z) / (b.z - a.z)).clamp(0.0, 1.0);
+                a.h + u * (b.h - a.h)
+            };
+            *o = h as f32;
+        }
+    }
+
+    /// Distance in the axial plane from `(z, h)` to the ideal profile, and the part of the
+    /// profile nearest to it. `bound` must be at least the distance (the vertical gap to
+    /// the profile always is).
+    pub fn distance(&self, z: f64, h: f64, bound: f64) -> (f64, Flank) {
+        let lo = self.verts.partition_point(|v| v.z < z - bound);
+        let start = lo.saturating_sub(1);
+        let mut best = (f64::INFINITY, Flank::Crest);
+        let mut i = start;
+        while i + 1 < self.verts.len() {
+            let (a, b) = (self.verts[i], self.verts[i + 1]);
+            if a.z > z + bound {
+                break;
+            }
+            let d = segment_distance((z, h), a, b);
+            if d < best.0 {
+                best = (d, self.segment_kind(a, b));
+            }
+            i += 1;
+        }
+        if best.0.is_infinite() {
+            best.0 = bound;
+        }
+        best
+    }
+
+    fn segment_kind(&self, a: Vertex, b: Vertex) -> Flank {
+        let eps = 1e-12 * (1.0 + self.depth);
+        if (a.h - b.h).abs() <= eps {
+            if a.h <= eps {
+                Flank::Root
+            } else {
+                Flank::Crest
+            }
+        } else if b.h < a.h {
+            Flank::Left
+        } else {
+            Flank::Right
+        }
+    }
+
+    /// The feature just above `z` (the smallest feature z >= z), which names the turn.
+    pub fn feature_above(&self, z: f64) -> Option<&Feature> {
+        let i = self.features.partition_point(|f| f.z < z);
+        self.features.get(i)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::helix::LeadLaw;
+
+    fn square_equal_tooth() -> ThreadSpec {
+        ThreadSpec {
+            side: Side::External,
+            root_radius: 11.0,
+            crest_radius: 14.0,
+            pitch_radius: 12.5,
+            left_angle: 0.0,
+            right_angle: 0.0,
+            width: WidthRule::Tooth(3.0),
+            starts: 1,
+            helix: Helix {
+                z0: 0.0,
+                dir: -1.0,
+                law: LeadLaw {
+                    f: 7.0 - 0.75,
+                    k: 1.5,
+                },
+                theta0: 0.0,
+                spin: 1.0,
+            },
+            turns: 7.0,
+        }
+    }
+
+    #[test]
+    fn equal_tooth_profile_on_reference_generator() {
+        let th = square_equal_tooth();
+        let col = th.column(0.0, -90.0, 5.0);
+        // Teeth centred at 0, -7, -15.5, ...: crest at the centre, root halfway between.
+        assert_eq!(col.height_at(0.0), 3.0);
+        assert_eq!(col.height_at(-7.0 + 1.49), 3.0);
+        assert_eq!(col.height_at(-7.0 + 1.51), 0.0);
+        assert_eq!(col.height_at(-3.5), 0.0);
+        assert_eq!(col.height_at(-15.5 + 1.49), 3.0);
+        let (a, b) = col.span.unwrap();
+        assert!((a + 80.5).abs() < 1e-12 && b.abs() < 1e-12);
+        // A point 0.2 mm into the groove from the tooth's left wall at mid height.
+        let (d, f) = col.distance(-1.5 - 0.2, 1.5, 2.0);
+        assert!((d - 0.2).abs() < 1e-12);
+        assert_eq!(f, Flank::Left);
+    }
+
+    #[test]
+    fn sharp_v_crest_is_intersected() {
+        // 60 deg sharp V: grooves of width P at the crest meet in a point.
+        let p = 2.0;
+        let depth = p * 0.866_025_403_784_438_6;
+        let th = ThreadSpec {
+            side: Side::External,
+            root_radius: 10.0,
+            crest_radius: 10.0 + depth,
+            pitch_radius: 10.0 + depth / 2.0,
+            left_angle: 30f64.to_radians(),
+            right_angle: 30f64.to_radians(),
+            width: WidthRule::Groove(p / 2.0 + 0.2),
+            starts: 1,
+            helix: Helix {
+                z0: 0.0,
+                dir: -1.0,
+                law: LeadLaw::constant(p),
+                theta0: 0.0,
+                spin: 1.0,
+            },
+            turns: 5.0,
+        };
+        let col = th.column(0.0, -10.0, 1.0);
+        // The crest between grooves at 0 and -2 is at -1, lowered by 0.1/tan30 ... in h.
+        let crest = col.height_at(-1.0);
+        let expect = depth - 0.1 / 30f64.to_radians().tan();
+        assert!((crest - expect).abs() < 1e-9, "{crest} vs {expect}");
+        // Heights never exceed the depth and the polyline is monotone in z.
+        assert!(col.verts.windows(2).all(|w| w[0].z <= w[1].z));
+    }
+}

@@ -1,0 +1,243 @@
+//! Planar tool profiles: the cutting edge in the axial plane, as a height function.
+//!
+//! A lathe tool on centre height cuts with the edge profile lying in the axial plane
+//! through the tool. The profile is a function `h(v) >= 0`: how far the edge stands back
+//! from its tip at axial offset `v` from the tip centre, `+inf` outside the edge. The
+//! tool's reference point (the point the program drives) sits at the tip height and at
+//! axial offset [`Tool::reference_offset`] from the tip centre.
+
+/// Which point of the tool the passes drive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reference {
+    /// Middle of the tip.
+    Center,
+    /// The corner on the -z side.
+    Left,
+    /// The corner on the +z side.
+    Right,
+    /// The lowest point of the tip (the middle, for symmetric tools).
+    Tip,
+}
+
+/// The edge profile.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Edge {
+    /// A flat tip of width `tip` with straight flanks; angles from the radial direction
+    /// (0 = square grooving tool).
+    Trapezoid {
+        /// Width of the flat tip (mm).
+        tip: f64,
+        /// Inclination of the -z flank (rad).
+        left_angle: f64,
+        /// Inclination of the +z flank (rad).
+        right_angle: f64,
+    },
+    /// A symmetric V with a round nose tangent to both flanks.
+    RoundV {
+        /// Nose radius (mm).
+        radius: f64,
+        /// Half of the included angle (rad).
+        half_angle: f64,
+    },
+}
+
+/// A cutting tool.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tool {
+    /// The id passes refer to.
+    pub id: u32,
+    /// Edge profile.
+    pub edge: Edge,
+    /// Reference point.
+    pub reference: Reference,
+}
+
+/// The profile prepared for the sweep kernel: `h(v) = max(0, (vl - v)*cl, (v - vr)*cr)`
+/// inside `[v_min, v_max]`, or the round nose.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Kernel {
+    Trapezoid {
+        vl: f64,
+        vr: f64,
+        cl: f64,
+        cr: f64,
+    },
+    RoundV {
+        radius: f64,
+        vt: f64,
+        ht: f64,
+        cot: f64,
+    },
+}
+
+impl Tool {
+    /// Axial offset of the reference point from the tip centre.
+    pub fn reference_offset(&self) -> f64 {
+        let half = match self.edge {
+            Edge::Trapezoid { tip, .. } => tip / 2.0,
+            Edge::RoundV { .. } => 0.0,
+        };
+        match self.reference {
+            Reference::Center | Reference::Tip => 0.0,
+            Reference::Left => -half,
+            Reference::Right => half,
+        }
+    }
+
+    /// Width of the flat tip (0 for a round nose).
+    pub fn tip_width(&self) -> f64 {
+        match self.edge {
+            Edge::Trapezoid { tip, .. } => tip,
+            Edge::RoundV { .. } => 0.0,
+        }
+    }
+
+    /// Height of the edge above its tip at offset `v` from the tip centre.
+    pub fn height(&self, v: f64) -> f64 {
+        self.kernel().height(v)
+    }
+
+    /// Offsets `[v_min, v_max]` where the edge is lower than `reach` above the tip.
+    pub fn span(&self, reach: f64) -> (f64, f64) {
+        self.kernel().span(reach)
+    }
+
+    pub(crate) fn kernel(&self) -> Kernel {
+        match self.edge {
+            Edge::Trapezoid {
+                tip,
+                left_angle,
+                right_angle,
+            } => Kernel::Trapezoid {
+                vl: -tip / 2.0,
+                vr: tip / 2.0,
+                cl: cot(left_angle),
+                cr: cot(right_angle),
+            },
+            Edge::RoundV { radius, half_angle } => Kernel::RoundV {
+                radius,
+                vt: radius * half_angle.cos(),
+                ht: radius * (1.0 - half_angle.sin()),
+                cot: cot(half_angle),
+            },
+        }
+    }
+}
+
+/// Cotangent, infinite at zero (a vertical flank).
+fn cot(a: f64) -> f64 {
+    if a <= 0.0 {
+        f64::INFINITY
+    } else {
+        1.0 / a.tan()
+    }
+}
+
+impl Kernel {
+    pub(crate) fn height(&self, v: f64) -> f64 {
+        match *self {
+            Kernel::Trapezoid { vl, vr, cl, cr } => {
+                if v < vl {
+                    if cl.is_infinite() {
+                        f64::INFINITY
+                    } else {
+                        (vl - v) * cl
+                    }
+                } else if v > vr {
+                    if cr.is_infinite() {
+                        f64::INFINITY
+                    } else {
+                        (v - vr) * cr
+                    }
+                } else {
+                    0.0
+                }
+            }
+            Kernel::RoundV {
+                radius,
+                vt,
+                ht,
+                cot,
+            } => {
+                let a = v.abs();
+                if a <= vt {
+                    radius - (radius * radius - a * a).sqrt()
+                } else {
+                    ht + (a - vt) * cot
+                }
+            }
+        }
+    }
+
+    pub(crate) fn span(&self, reach: f64) -> (f64, f64) {
+        let reach = reach.max(0.0);
+        match *self {
+            Kernel::Trapezoid { vl, vr, cl, cr } => {
+                let l = if cl.is_infinite() { 0.0 } else { reach / cl };
+                let r = if cr.is_infinite() { 0.0 } else { reach / cr };
+                (vl - l, vr + r)
+            }
+            Kernel::RoundV {
+                radius,
+                vt,
+                ht,
+                cot,
+            } => {
+                let a = if reach <= ht {
+                    (radius * radius - (radius - reach).powi(2)).max(0.0).sqrt()
+                } else {
+                    vt + (reach - ht) / cot
+                };
+                (-a, a)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_nose_is_tangent_to_flanks() {
+        let t = Tool {
+            id: 1,
+            edge: Edge::RoundV {
+                radius: 0.3,
+                half_angle: 30f64.to_radians(),
+            },
+            reference: Reference::Tip,
+        };
+        let k = t.kernel();
+        if let Kernel::RoundV { vt, .. } = k {
+            let e = 1e-7;
+            let inner = k.height(vt - e);
+            let outer = k.height(vt + e);
+            assert!((outer - inner).abs() < 1e-6);
+            // Slope on both sides equals cot(30).
+            let s1 = (k.height(vt) - k.height(vt - e)) / e;
+            let s2 = (k.height(vt + e) - k.height(vt)) / e;
+            assert!((s1 - 3f64.sqrt()).abs() < 1e-4 && (s2 - 3f64.sqrt()).abs() < 1e-4);
+        }
+        let (a, b) = t.span(1.0);
+        assert!((t.height(b) - 1.0).abs() < 1e-12 && (t.height(a) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn grooving_tool_reference_corners() {
+        let mut t = Tool {
+            id: 1,
+            edge: Edge::Trapezoid {
+                tip: 3.0,
+                left_angle: 0.0,
+                right_angle: 0.0,
+            },
+            reference: Reference::Right,
+        };
+        assert_eq!(t.reference_offset(), 1.5);
+        t.reference = Reference::Left;
+        assert_eq!(t.reference_offset(), -1.5);
+        assert_eq!(t.span(10.0), (-1.5, 1.5));
+        assert_eq!(t.height(1.6), f64::INFINITY);
+    }
+}
