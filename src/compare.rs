@@ -149,7 +149,8 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
     let Some(q) = stock.surface(surface) else {
         return Deviation::default();
     };
-    let r_blank = surface.sense() * stock.blank_q(surface);
+    let q_blank = stock.blank_q(surface);
+    let r_blank = surface.sense() * q_blank;
     let cell = grid.dtheta() * grid.dz;
     let z_first = grid.z(0);
     let z_last = grid.z(grid.n_z.saturating_sub(1));
@@ -162,7 +163,7 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
             let mut out = Deviation::default();
             let sense = surface.sense();
             for &qj in col.iter() {
-                let r = sense * qj as f64;
+                let r = sense * (qj as f64 + q_blank);
                 out.total_removed_volume += (r_blank * r_blank - r * r).abs() * 0.5 * cell;
             }
             let Some((a, b)) = ideal.span else {
@@ -183,6 +184,7 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
             ideal.fill_heights(grid.z(j0), grid.dz, &mut ideal_h);
             let mut feat = ideal.features.partition_point(|f| f.z < grid.z(j0));
             let mut current: Option<((u32, i64), TurnDeviation)> = None;
+            let mut seg = 0usize;
             for (k, &hi32) in ideal_h.iter().enumerate() {
                 let j = j0 + k;
                 let z = grid.z(j);
@@ -200,7 +202,7 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
                     current = Some((key, TurnDeviation::default()));
                 }
                 let td = &mut current.as_mut().expect("set above").1;
-                let r_cut = sense * col[j] as f64;
+                let r_cut = sense * (col[j] as f64 + q_blank);
                 let h_cut = thread.height(r_cut);
                 let h_ideal = hi32 as f64;
                 let r_ideal = thread.radius(h_ideal);
@@ -233,7 +235,8 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
                 if gap.abs() <= floor {
                     continue;
                 }
-                let (d, flank) = ideal.distance(z, h_cut, gap.abs());
+                seg = ideal.advance(seg, z);
+                let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
                 Extreme::keep_max(
                     &mut slots[flank.index()],
                     Extreme {

@@ -153,11 +153,11 @@ fn measure_generator(
         Side::Internal => Surface::Inner,
     };
     let sense = surface.sense();
-    let mut q = vec![blank_q as f32; n];
+    let mut q = vec![0f32; n];
     sweep_column(&mut q, theta, z_lo, spacing, blank_q, surface, passes, tools);
     let cut_h: Vec<f32> = q
         .iter()
-        .map(|&v| thread.height(sense * v as f64) as f32)
+        .map(|&v| thread.height(sense * (v as f64 + blank_q)) as f32)
         .collect();
     let ideal = thread.column(theta, z_lo, z_hi);
     let mut ideal_h = vec![0f32; n];

@@ -3,8 +3,11 @@
 //! Each dexel is one sample of a surface radius at the angle `theta_i = theta0 + i*dtheta`
 //! and the axial position `z_j = z0 + j*dz` (cell centres). Columns (all z of one angle)
 //! are contiguous, so the sweep works on one column at a time and vectorises over z.
-//! Radii are stored as `f32` *signed radii* `q`: `q = r` for the outer surface and
-//! `q = -r` for the inner one, so that cutting always *lowers* `q` (`q = min(q, ..)`).
+//! Radii are handled as *signed radii* `q`: `q = r` for the outer surface and `q = -r` for
+//! the inner one, so that cutting always *lowers* `q` (`q = min(q, ..)`). The grid stores
+//! `q - q_blank` as `f32`: the blank is all zeros, so its memory comes zeroed from the
+//! allocator without being touched (a 3600 x 10000 grid costs no time until it is cut),
+//! and the stored values keep f32 precision relative to the blank (sub-nanometre).
 
 use std::f64::consts::TAU;
 
@@ -64,14 +67,37 @@ impl Surface {
     }
 }
 
+/// A zeroed buffer whose pages the kernel may back with transparent huge pages: the first
+/// touch of a 150 MB grid then costs about 70 page faults instead of 37000 (0.25 s on two
+/// cores, measured on the seed 002 scene).
+fn zeroed(n: usize) -> Vec<f32> {
+    let v = vec![0.0f32; n];
+    #[cfg(target_os = "linux")]
+    {
+        const HUGE: usize = 2 << 20;
+        let start = v.as_ptr() as usize;
+        let end = start + n * std::mem::size_of::<f32>();
+        let a = start.next_multiple_of(HUGE);
+        let b = end / HUGE * HUGE;
+        if b > a {
+            // SAFETY: [a, b) lies inside the allocation owned by `v`; MADV_HUGEPAGE only
+            // changes how the kernel backs those pages, never their contents.
+            unsafe {
+                libc::madvise(a as *mut libc::c_void, b - a, libc::MADV_HUGEPAGE);
+            }
+        }
+    }
+    v
+}
+
 /// The stock: the blank's surfaces as radial dexels.
 #[derive(Clone, Debug)]
 pub struct Stock {
     /// The grid.
     pub grid: Grid,
-    /// Outer surface, signed radii (`q = r`), column-major.
+    /// Outer surface, `q - q_blank` with `q = r`, column-major.
     pub outer: Vec<f32>,
-    /// Inner surface, signed radii (`q = -r`), present for a tube.
+    /// Inner surface, `q - q_blank` with `q = -r`, present for a tube.
     pub inner: Option<Vec<f32>>,
     /// Blank outer radius.
     pub blank_outer: f64,
@@ -85,8 +111,8 @@ impl Stock {
         let n = grid.dexels();
         Stock {
             grid,
-            outer: vec![outer_radius as f32; n],
-            inner: (bore_radius > 0.0).then(|| vec![-bore_radius as f32; n]),
+            outer: zeroed(n),
+            inner: (bore_radius > 0.0).then(|| zeroed(n)),
             blank_outer: outer_radius,
             blank_inner: bore_radius,
         }
@@ -97,7 +123,7 @@ impl Stock {
         self.outer.len() + self.inner.as_ref().map_or(0, Vec::len)
     }
 
-    /// Signed radii of one surface, column-major, if the stock has it.
+    /// Stored values (`q - q_blank`) of one surface, column-major, if the stock has it.
     pub fn surface(&self, s: Surface) -> Option<&[f32]> {
         match s {
             Surface::Outer => Some(&self.outer),
@@ -105,7 +131,7 @@ impl Stock {
         }
     }
 
-    /// Mutable signed radii of one surface.
+    /// Mutable stored values of one surface.
     pub fn surface_mut(&mut self, s: Surface) -> Option<&mut [f32]> {
         match s {
             Surface::Outer => Some(&mut self.outer),
@@ -123,7 +149,8 @@ impl Stock {
 
     /// Radius of a surface at column `i`, cell `j`.
     pub fn radius(&self, s: Surface, i: usize, j: usize) -> Option<f64> {
+        let q0 = self.blank_q(s);
         self.surface(s)
-            .map(|q| s.sense() * q[i * self.grid.n_z + j] as f64)
+            .map(|q| s.sense() * (q[i * self.grid.n_z + j] as f64 + q0))
     }
 }

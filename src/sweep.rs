@@ -69,7 +69,8 @@ pub fn sweep(stock: &mut Stock, surface: Surface, passes: &[Pass], tools: &[Tool
 }
 
 /// Cut one free-standing column at angle `theta` with cells `z0 + j*dz` (used for fine
-/// measurement generators). `q` holds the initial signed radii and is cut in place.
+/// measurement generators). `q` holds `q - q_blank` (zeros for the blank) and is cut in
+/// place.
 pub fn sweep_column(
     q: &mut [f32],
     theta: f64,
@@ -139,7 +140,7 @@ fn cut_column(
             let seg = &mut col[j0..=j1];
             stats.placements += 1;
             stats.dexel_updates += seg.len() as u64;
-            apply(seg, &pr.kernel, v_start, dz, q_tip);
+            apply(seg, &pr.kernel, v_start, dz, q_tip - q_blank);
         }
     }
     stats
@@ -163,13 +164,13 @@ fn fmax(a: f32, b: f32) -> f32 {
     }
 }
 
-/// `seg[k] = min(seg[k], q_tip + h(v_start + k*dz))` where the profile height points away
-/// from the material: `+h` outside (external), `-h` inside, which in signed radii is always
-/// `+h` since `q = -r` there.
-fn apply(seg: &mut [f32], kernel: &Kernel, v_start: f64, dz: f64, q_tip: f64) {
+/// `seg[k] = min(seg[k], base + h(v_start + k*dz))` with `base = q_tip - q_blank`: the edge
+/// stands back from the tip away from the material, `+h` outside (external) and `-h`
+/// inside, which in signed radii is always `+h` since `q = -r` there.
+fn apply(seg: &mut [f32], kernel: &Kernel, v_start: f64, dz: f64, base: f64) {
     let v0 = v_start as f32;
     let dz = dz as f32;
-    let base = q_tip as f32;
+    let base = base as f32;
     match *kernel {
         Kernel::Trapezoid { vl, vr, cl, cr } => {
             // Vertical flanks only limit the span (done by the caller).
@@ -236,7 +237,7 @@ mod tests {
             spindle: Spindle::Cw,
         };
         let (z0, dz, n) = (-25.0, 0.01, 3000);
-        let mut q = vec![10.0f32; n];
+        let mut q = vec![0.0f32; n];
         let theta = 1.3;
         sweep_column(&mut q, theta, z0, dz, 10.0, Surface::Outer, &[pass.clone()], &tools);
         let helix = pass.helix();
@@ -249,7 +250,8 @@ mod tests {
             for &t in &ts {
                 want = want.min(9.0 + tools[0].height(z - helix.z(t)));
             }
-            assert!((qj as f64 - want).abs() < 2e-5, "j={j} {qj} vs {want}");
+            let got = qj as f64 + 10.0;
+            assert!((got - want).abs() < 1e-6, "j={j} {got} vs {want}");
         }
     }
 }

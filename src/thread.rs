@@ -354,8 +354,8 @@ fn envelope(grooves: &[Groove], depth: f64, widening: f64, z_lo: f64, z_hi: f64)
     v
 }
 
-/// Distance from a point to a segment in `(z, h)`.
-fn segment_distance(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
+/// Squared distance from a point to a segment in `(z, h)`.
+fn segment_distance2(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
     let (dz, dh) = (b.z - a.z, b.h - a.h);
     let len2 = dz * dz + dh * dh;
     let u = if len2 > 0.0 {
@@ -364,7 +364,7 @@ fn segment_distance(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
         0.0
     };
     let (qz, qh) = (a.z + u * dz, a.h + u * dh);
-    ((p.0 - qz).powi(2) + (p.1 - qh).powi(2)).sqrt()
+    (p.0 - qz).powi(2) + (p.1 - qh).powi(2)
 }
 
 impl ColumnIdeal {
@@ -408,25 +408,43 @@ impl ColumnIdeal {
     /// profile nearest to it. `bound` must be at least the distance (the vertical gap to
     /// the profile always is).
     pub fn distance(&self, z: f64, h: f64, bound: f64) -> (f64, Flank) {
-        let lo = self.verts.partition_point(|v| v.z < z - bound);
-        let start = lo.saturating_sub(1);
-        let mut best = (f64::INFINITY, Flank::Crest);
-        let mut i = start;
-        while i + 1 < self.verts.len() {
+        self.distance_near(self.segment_at(z), z, h, bound)
+    }
+
+    /// [`ColumnIdeal::distance`] starting from `hint`, the index of a segment at or near
+    /// `z` (callers walking along z keep it and skip the search).
+    pub fn distance_near(&self, hint: usize, z: f64, h: f64, bound: f64) -> (f64, Flank) {
+        let last = self.verts.len() - 2;
+        let mut i = hint.min(last);
+        while i > 0 && self.verts[i].z >= z - bound {
+            i -= 1;
+        }
+        let mut best = (f64::INFINITY, 0usize);
+        while i <= last {
             let (a, b) = (self.verts[i], self.verts[i + 1]);
             if a.z > z + bound {
                 break;
             }
-            let d = segment_distance((z, h), a, b);
-            if d < best.0 {
-                best = (d, self.segment_kind(a, b));
+            let d2 = segment_distance2((z, h), a, b);
+            if d2 < best.0 {
+                best = (d2, i);
             }
             i += 1;
         }
         if best.0.is_infinite() {
-            best.0 = bound;
+            return (bound, Flank::Crest);
         }
-        best
+        let (a, b) = (self.verts[best.1], self.verts[best.1 + 1]);
+        (best.0.sqrt(), self.segment_kind(a, b))
+    }
+
+    /// Index of the segment containing `z`, moving forward from `hint` (for callers
+    /// walking along increasing z).
+    pub fn advance(&self, mut hint: usize, z: f64) -> usize {
+        while hint + 2 < self.verts.len() && self.verts[hint + 1].z <= z {
+            hint += 1;
+        }
+        hint
     }
 
     fn segment_kind(&self, a: Vertex, b: Vertex) -> Flank {
