@@ -118,7 +118,13 @@ pub fn plan_grid(job: &Job) -> Result<(Grid, u64), SimError> {
         hi = hi.min(c);
     }
     let dz = job.sim.axial_spacing;
-    let n_z = if hi > lo { ((hi - lo) / dz).floor() } else { 0.0 };
+    // Cells of exactly `dz`; a length that is a whole number of cells up to rounding
+    // (40 / 0.02 = 1999.9999999999998) keeps its last cell.
+    let n_z = if hi > lo {
+        ((hi - lo) / dz * (1.0 + 1e-12)).floor()
+    } else {
+        0.0
+    };
     if n_z < 1.0 {
         return Err(SimError::EmptyWindow { lo, hi });
     }

@@ -510,9 +510,15 @@ mod tests {
         assert_eq!(col.height_at(-15.5 + 1.49), 3.0);
         let (a, b) = col.span.unwrap();
         assert!((a + 80.5).abs() < 1e-12 && b.abs() < 1e-12);
-        // A point 0.2 mm into the groove from the tooth's left wall at mid height.
+        // A point 0.2 mm into the groove [-5.5, -1.5] below the tooth at 0, at mid height:
+        // nearest is the groove's +z wall (the tooth's lower flank).
         let (d, f) = col.distance(-1.5 - 0.2, 1.5, 2.0);
         assert!((d - 0.2).abs() < 1e-12);
+        assert_eq!(f, Flank::Right);
+        // A point 0.3 mm inside the tooth from its upper flank (z = 1.5), near the root of
+        // the groove above: nearest is that groove's -z wall.
+        let (d, f) = col.distance(1.5 - 0.3, 0.5, 3.0);
+        assert!((d - 0.3).abs() < 1e-12);
         assert_eq!(f, Flank::Left);
     }
 

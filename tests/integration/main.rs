@@ -1,0 +1,15 @@
+//! Integration tests: one binary, a module per area.
+
+/// Shared helpers: load scenes, tweak their settings, run them.
+mod support;
+
+/// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
+mod oracle;
+/// Same answer whatever the thread count; left and right hands mirror each other.
+mod invariance;
+/// The scenes' reports against reviewed goldens and hand-derived expectations.
+mod goldens;
+/// The command line: exit codes, error messages, atomic outputs.
+mod cli;
+/// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
+mod tidy;

@@ -1,0 +1,183 @@
+//! Geometry against independent oracles: closed forms, hand-computed passes, and a second
+//! numerical method.
+
+use crate::support::{run, scene_text, with};
+use std::f64::consts::{PI, TAU};
+
+/// A tool as wide as the groove on the groove's own helix cuts the ideal groove; the leads
+/// along every generator are the closed-form `F + K*(t + 1/2)` (domain.md section 2).
+#[test]
+fn single_equal_groove_pass_is_exact() {
+    let out = run(&scene_text("equal-groove-single-pass"));
+    let r = &out.report;
+    let dz = 0.005;
+    assert!(r.deviation.max_gouge_mm <= dz, "gouge {}", r.deviation.max_gouge_mm);
+    assert!(r.deviation.max_leftover_mm <= dz, "leftover {}", r.deviation.max_leftover_mm);
+    assert_eq!(r.turns.len(), 5);
+    let (f, k) = (8.0, 4.0);
+    for t in &r.turns {
+        let n = t.turn as f64;
+        let p_n = 10.0 + 4.0 * (n - 1.0);
+        let got = t.measured_lead_mm.expect("lead measured");
+        assert!((got - p_n).abs() <= 0.002, "turn {n}: {got} vs {p_n}");
+        // Generators at 30 deg steps: phase g/12 of a turn later, lead F + K(t + 1/2).
+        if t.turn < 5 {
+            let last = f + k * (n - 1.0 + 11.0 / 12.0 + 0.5);
+            let hi = t.lead_spread.measured_max_mm.unwrap();
+            assert!((hi - last).abs() <= 0.002, "turn {n}: max {hi} vs {last}");
+        }
+        assert!((t.groove_width_mm.unwrap_or(5.0) - 5.0).abs() <= 0.002);
+    }
+}
+
+/// Closed-form first moment of a V tool's profile below radius `big_r`: the volume a pass
+/// removes per radian of helix, `M = int (R^2 - r(u)^2)/2 du`.
+fn v_moment(big_r: f64, r_tip: f64, flat: f64, half_angle: f64) -> f64 {
+    let c = 1.0 / half_angle.tan();
+    let w = (big_r - r_tip) / c;
+    flat * (big_r * big_r - r_tip * r_tip) / 2.0 + big_r * big_r * w - (big_r.powi(3) - r_tip.powi(3)) / (3.0 * c)
+}
+
+fn v_pass_job(dz: f64, cells: usize, shift: f64) -> String {
+    format!(
+        r#"
+        [blank]
+        diameter = 20.0
+        length = 40.0
+        z_front = 0.0
+        [thread]
+        form = "iso-metric"
+        major_diameter = 20.0
+        pitch = 2.5
+        length = 30.0
+        [[tool]]
+        id = 1
+        kind = "threading"
+        angle = 60.0
+        tip_flat = 0.4166666666666667
+        reference = "tip"
+        [[pass]]
+        tool = 1
+        x = 16.9328275
+        z_start = {z_start}
+        z_end = -45.0
+        lead = 2.5
+        [simulation]
+        axial_spacing = {dz}
+        angular_cells = {cells}
+        measure_generators = 4
+        "#,
+        z_start = 5.0 + shift,
+    )
+}
+
+/// A constant-lead V pass through the whole blank removes `2*pi*M*length/L` (the groove's
+/// first moment swept over length/L turns; both ends lie outside the blank). Over the whole
+/// grid the axial sampling errors of the columns cancel (their groove positions are spread
+/// evenly over a cell), so the sum matches to f32 precision at every spacing.
+#[test]
+fn removed_volume_matches_closed_form() {
+    let (big_r, r_tip) = (10.0, 16.9328275 / 2.0);
+    let exact = TAU * v_moment(big_r, r_tip, 0.4166666666666667, PI / 6.0) * 40.0 / 2.5;
+    for dz in [0.08, 0.02] {
+        let out = run(&v_pass_job(dz, 360, 0.0));
+        let v = out.report.deviation.total_removed_volume_mm3;
+        let rel = ((v - exact) / exact).abs();
+        assert!(rel < 1e-6, "dz {dz}: {v} vs {exact} ({rel:e})");
+    }
+}
+
+/// On one generator, around one groove, the removed area converges to the closed-form
+/// moment at second order in the axial spacing: the midpoint rule on a profile with kinks.
+/// The error of each spacing depends on where the kinks fall in their cells, so the order
+/// is the least-squares slope of log(error) over eleven spacings (0.2 to 0.009 mm, ratio
+/// 1.37). The whole-grid sum above hides this: its columns' errors cancel.
+#[test]
+fn single_groove_volume_converges_at_second_order() {
+    let (big_r, r_tip) = (10.0, 16.9328275 / 2.0);
+    let exact = v_moment(big_r, r_tip, 0.4166666666666667, PI / 6.0);
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
+    let mut dz: f64 = 0.2;
+    while dz > 0.008 {
+        // The window holds the groove centred at z = -2.5 on generator 0 and nothing else.
+        let text = with(&v_pass_job(dz, 4, 0.0), &[("simulation", "z_range", "[-3.7, -1.1]")]);
+        let out = run(&text);
+        let g = out.stock.grid;
+        let sum: f64 = (0..g.n_z)
+            .map(|j| {
+                let r = out.stock.radius(vpcut::Surface::Outer, 0, j).unwrap();
+                (big_r * big_r - r * r) / 2.0 * g.dz
+            })
+            .sum();
+        xs.push(dz.ln());
+        ys.push(((sum - exact) / exact).abs().ln());
+        dz /= 1.37;
+    }
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let slope = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
+        / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
+    eprintln!("convergence order {slope:.3}, errors {:?}", ys.iter().map(|y| y.exp()).collect::<Vec<_>>());
+    assert!(slope > 1.7, "order {slope}");
+    assert!(ys.last().unwrap().exp() < 1e-4);
+}
+
+/// Ideal ISO M20x2.5 groove (60 deg, root flat P/6 at d3) and the same tool shifted
+/// axially by `s`: height of each above the root at offset `u` from the groove centre.
+fn iso_groove(u: f64, s: f64) -> f64 {
+    let p = 2.5;
+    let depth = (20.0 - (20.0 - 1.226869 * p)) / 2.0;
+    let c = 1.0 / (PI / 6.0).tan();
+    // One period: the nearest groove centre.
+    let v = u - s - p * ((u - s) / p).round();
+    ((v.abs() - p / 12.0).max(0.0) * c).min(depth)
+}
+
+/// A V pass at full depth moved 0.05 mm along the axis gouges one flank and leaves stock on
+/// the other by the normal distance `0.05*cos(30 deg)`, and the gouge volume of a whole turn
+/// equals `2*pi` times the gouge's first moment over one pitch, integrated here by a
+/// second method (a fine trapezoid rule on the analytic profiles).
+#[test]
+fn shifted_v_pass_gouge_matches_normal_distance_and_moment() {
+    let shift = 0.05;
+    let want = shift * (PI / 6.0).cos();
+    let r_root = (20.0 - 1.226869 * 2.5) / 2.0;
+    let n = 2_000_000;
+    let p = 2.5;
+    let mut g = 0.0;
+    for i in 0..n {
+        let u = (i as f64 + 0.5) / n as f64 * p;
+        let ideal = r_root + iso_groove(u, 0.0);
+        let cut = r_root + iso_groove(u, shift);
+        if cut < ideal {
+            g += (ideal * ideal - cut * cut) / 2.0 * (p / n as f64);
+        }
+    }
+    let turn_gouge = TAU * g;
+    let mut vol_err = Vec::new();
+    for dz in [0.01, 0.0025] {
+        let out = run(&v_pass_job(dz, 360, shift));
+        let r = &out.report;
+        assert!((r.deviation.max_gouge_mm - want).abs() < 2e-5, "{} vs {want}", r.deviation.max_gouge_mm);
+        assert!((r.deviation.max_leftover_mm - want).abs() < 2e-5);
+        let mid = r.turns.iter().find(|t| t.turn == 5).unwrap();
+        assert!(mid.flanks.left.max_gouge_mm > 0.04 || mid.flanks.right.max_gouge_mm > 0.04);
+        vol_err.push(((mid.gouge_volume_mm3 - turn_gouge) / turn_gouge).abs());
+        let left = ((mid.leftover_volume_mm3 - turn_gouge) / turn_gouge).abs();
+        assert!(left < 0.02, "leftover volume {} vs {turn_gouge}", mid.leftover_volume_mm3);
+    }
+    eprintln!("gouge volume relative errors {vol_err:?}");
+    assert!(vol_err[1] < 2e-3, "{vol_err:?}");
+    assert!(vol_err[1] < vol_err[0] || vol_err[0] < 1e-4, "{vol_err:?}");
+}
+
+/// The helix angle in the report is `atan(L / (pi d2))` (domain.md section 6: M20x2.5 has
+/// psi = 2.48 deg).
+#[test]
+fn helix_angle_of_m20() {
+    let text = with(&scene_text("iso-m20x2.5-radial"), &[("simulation", "angular_cells", "36"), ("simulation", "axial_spacing", "0.05")]);
+    let out = run(&text);
+    for t in &out.report.turns {
+        assert!((t.helix_angle_deg - 2.48).abs() < 0.005, "{}", t.helix_angle_deg);
+    }
+}
