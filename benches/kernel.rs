@@ -1,1 +1,69 @@
-fn main() {}
+//! Criterion benchmarks of the hot paths on the seed 002 equal-tooth scene at the issue's
+//! resolution (0.01 mm axial, 3600 angular cells): the sweep kernel (throughput in dexel
+//! updates per second, one and two threads), the comparison, and the whole simulation.
+//! See benches/README.md.
+
+#![allow(missing_docs)] // criterion_group! generates undocumented functions.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use std::time::Duration;
+use vpcut::{compare, plan_grid, simulate, sweep, Job, Options, Stock, Surface};
+
+fn scene(name: &str) -> Job {
+    let path = format!("{}/scenes/{name}/job.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("scene");
+    Job::from_toml(&text, &path).expect("valid scene")
+}
+
+fn pool(n: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap()
+}
+
+fn bench_sweep(c: &mut Criterion) {
+    for name in ["seed002-equal-tooth", "seed004-tr100x12"] {
+        let job = scene(name);
+        let (grid, _) = plan_grid(&job).unwrap();
+        let mut probe = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+        let updates = sweep(&mut probe, Surface::Outer, &job.passes, &job.tools).dexel_updates;
+        let mut g = c.benchmark_group(format!("sweep/{name}"));
+        g.sample_size(10).measurement_time(Duration::from_secs(8));
+        g.throughput(Throughput::Elements(updates));
+        for threads in [1, 2] {
+            let p = pool(threads);
+            // The kernel on a stock that is already faulted in: `min` against the same
+            // passes again costs what the first sweep's arithmetic costs.
+            g.bench_function(format!("{threads}-thread"), |b| {
+                b.iter(|| p.install(|| sweep(&mut probe, Surface::Outer, &job.passes, &job.tools)))
+            });
+        }
+        g.finish();
+    }
+}
+
+fn bench_compare(c: &mut Criterion) {
+    let mut g = c.benchmark_group("compare");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    for name in ["seed002-equal-tooth", "seed002-equal-tooth-interpolated"] {
+        let job = scene(name);
+        let (grid, _) = plan_grid(&job).unwrap();
+        let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, 0.0);
+        sweep(&mut stock, Surface::Outer, &job.passes, &job.tools);
+        let window = (grid.z(0) - grid.dz, grid.z(grid.n_z - 1) + grid.dz);
+        g.throughput(Throughput::Elements(grid.dexels() as u64));
+        g.bench_function(name, |b| b.iter(|| compare(&stock, &job.thread, window)));
+    }
+    g.finish();
+}
+
+fn bench_simulate(c: &mut Criterion) {
+    let mut g = c.benchmark_group("simulate");
+    g.sample_size(10).measurement_time(Duration::from_secs(10));
+    for name in ["seed002-equal-tooth", "seed002-equal-tooth-interpolated"] {
+        let job = scene(name);
+        g.bench_function(name, |b| b.iter(|| simulate(&job, &Options::default()).unwrap()));
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_sweep, bench_compare, bench_simulate);
+criterion_main!(benches);
