@@ -16,7 +16,10 @@ fn scene(name: &str) -> Job {
 }
 
 fn pool(n: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap()
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .unwrap()
 }
 
 fn bench_sweep(c: &mut Criterion) {
@@ -60,7 +63,9 @@ fn bench_simulate(c: &mut Criterion) {
     g.sample_size(10).measurement_time(Duration::from_secs(10));
     for name in ["seed002-equal-tooth", "seed002-equal-tooth-interpolated"] {
         let job = scene(name);
-        g.bench_function(name, |b| b.iter(|| simulate(&job, &Options::default()).unwrap()));
+        g.bench_function(name, |b| {
+            b.iter(|| simulate(&job, &Options::default()).unwrap())
+        });
     }
     g.finish();
 }

@@ -550,10 +550,7 @@ impl Job {
     /// Parse and validate a job. `file` is only used in messages.
     pub fn from_toml(src: &str, file: &str) -> Result<Job, JobError> {
         let raw: RawJob = toml::from_str(src).map_err(|e| {
-            let (line, col) = e
-                .span()
-                .map(|r| line_col(src, r.start))
-                .unwrap_or((0, 0));
+            let (line, col) = e.span().map(|r| line_col(src, r.start)).unwrap_or((0, 0));
             JobError::Syntax {
                 file: file.to_string(),
                 line,
@@ -610,7 +607,10 @@ fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
                 cx.finite("simulation.z_range", a)?;
                 cx.finite("simulation.z_range", b)?;
                 if a >= b {
-                    return Err(cx.err("simulation.z_range", "expected [z_min, z_max] with z_min < z_max"));
+                    return Err(cx.err(
+                        "simulation.z_range",
+                        "expected [z_min, z_max] with z_min < z_max",
+                    ));
                 }
                 Some((a, b))
             }
@@ -620,14 +620,20 @@ fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
         measure_generators: if (1..=3600).contains(&s.measure_generators) {
             s.measure_generators
         } else {
-            return Err(cx.err("simulation.measure_generators", "expected 1 to 3600 generators"));
+            return Err(cx.err(
+                "simulation.measure_generators",
+                "expected 1 to 3600 generators",
+            ));
         },
     };
     let (thread, form) = resolve_thread(&raw.thread, &blank, cx)?;
     let mut tools = Vec::with_capacity(raw.tool.len());
     for (i, t) in raw.tool.iter().enumerate() {
         if raw.tool[..i].iter().any(|o| o.id == t.id) {
-            return Err(cx.err(&format!("tool[{i}].id"), format!("tool id {} is used twice", t.id)));
+            return Err(cx.err(
+                &format!("tool[{i}].id"),
+                format!("tool id {} is used twice", t.id),
+            ));
         }
         tools.push(resolve_tool(t, i, cx)?);
     }
@@ -636,7 +642,14 @@ fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
             let ids: Vec<String> = tools.iter().map(|t| t.id.to_string()).collect();
             cx.err(
                 key,
-                format!("no [[tool]] with id {id} (defined: {})", if ids.is_empty() { "none".into() } else { ids.join(", ") }),
+                format!(
+                    "no [[tool]] with id {id} (defined: {})",
+                    if ids.is_empty() {
+                        "none".into()
+                    } else {
+                        ids.join(", ")
+                    }
+                ),
             )
         })
     };
@@ -674,12 +687,19 @@ fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
         let generated = process::generate(&process, &thread, &tools, &blank, machine.spindle)
             .map_err(|e| cx.err(&format!("process.{}", e.key), e.message))?;
         for (i, p) in generated.iter().enumerate() {
-            check_pass(p, &|k: &str| format!("process (generated pass {i}, {k})"), cx)?;
+            check_pass(
+                p,
+                &|k: &str| format!("process (generated pass {i}, {k})"),
+                cx,
+            )?;
         }
         passes.extend(generated);
     }
     if passes.is_empty() {
-        return Err(cx.err("pass", "expected at least one [[pass]] or a [process] section"));
+        return Err(cx.err(
+            "pass",
+            "expected at least one [[pass]] or a [process] section",
+        ));
     }
     Ok(Job {
         name: raw.name.unwrap_or_default(),
@@ -701,7 +721,12 @@ fn check_pass(p: &Pass, key: &dyn Fn(&str) -> String, cx: &Ctx) -> Result<(), Jo
         let law = p.helix().law;
         let at = law
             .zero_lead_revs()
-            .map(|t| format!(" after {t:.3} revolutions ({:.3} mm of travel)", law.travel(t)))
+            .map(|t| {
+                format!(
+                    " after {t:.3} revolutions ({:.3} mm of travel)",
+                    law.travel(t)
+                )
+            })
             .unwrap_or_default();
         return Err(cx.err(
             &key("lead_change"),
@@ -716,7 +741,12 @@ fn check_pass(p: &Pass, key: &dyn Fn(&str) -> String, cx: &Ctx) -> Result<(), Jo
 
 /// Standard depth data of a form for a constant pitch `p`: (included angle, minor
 /// diameter from major `d`, pitch diameter from `d`).
-fn form_defaults(form: FormName, side: Side, d: f64, p: Option<f64>) -> (Option<f64>, Option<f64>, Option<f64>) {
+fn form_defaults(
+    form: FormName,
+    side: Side,
+    d: f64,
+    p: Option<f64>,
+) -> (Option<f64>, Option<f64>, Option<f64>) {
     match (form, p) {
         (FormName::Square, _) => (Some(0.0), None, None),
         (FormName::Trapezoidal, Some(p)) => {
@@ -730,7 +760,11 @@ fn form_defaults(form: FormName, side: Side, d: f64, p: Option<f64>) -> (Option<
             } else {
                 1.0
             };
-            (Some(30.0), Some(d - 2.0 * (0.5 * p + ac)), Some(d - 0.5 * p))
+            (
+                Some(30.0),
+                Some(d - 2.0 * (0.5 * p + ac)),
+                Some(d - 0.5 * p),
+            )
         }
         (FormName::Trapezoidal, None) => (Some(30.0), None, None),
         (FormName::IsoMetric | FormName::Unified, Some(p)) => {
@@ -743,13 +777,21 @@ fn form_defaults(form: FormName, side: Side, d: f64, p: Option<f64>) -> (Option<
             (Some(60.0), Some(minor), Some(d - 0.649_519 * p))
         }
         (FormName::IsoMetric | FormName::Unified, None) => (Some(60.0), None, None),
-        (FormName::Acme, Some(p)) => (Some(29.0), Some(d - 2.0 * (0.5 * p + 0.254)), Some(d - 0.5 * p)),
+        (FormName::Acme, Some(p)) => (
+            Some(29.0),
+            Some(d - 2.0 * (0.5 * p + 0.254)),
+            Some(d - 0.5 * p),
+        ),
         (FormName::Acme, None) => (Some(29.0), None, None),
         (FormName::Buttress | FormName::V, _) => (None, None, None),
     }
 }
 
-fn resolve_thread(t: &RawThread, blank: &Blank, cx: &Ctx) -> Result<(ThreadSpec, FormName), JobError> {
+fn resolve_thread(
+    t: &RawThread,
+    blank: &Blank,
+    cx: &Ctx,
+) -> Result<(ThreadSpec, FormName), JobError> {
     let side = match t.side {
         SideName::External => Side::External,
         SideName::Internal => Side::Internal,
@@ -778,26 +820,49 @@ fn resolve_thread(t: &RawThread, blank: &Blank, cx: &Ctx) -> Result<(ThreadSpec,
                     n.round()
                 }
                 (None, Some(n)) => cx.positive("thread.pitch.turns", n)?,
-                _ => return Err(cx.err("thread.pitch", "expected exactly one of `last` or `turns`")),
+                _ => {
+                    return Err(cx.err("thread.pitch", "expected exactly one of `last` or `turns`"))
+                }
             };
             (p1, dp, Some(turns), None)
         }
     };
     let turns = match (series_turns, t.length, t.turns) {
         (Some(n), None, None) => n,
-        (Some(_), _, _) => return Err(cx.err("thread.turns", "the pitch series already gives the number of turns")),
+        (Some(_), _, _) => {
+            return Err(cx.err(
+                "thread.turns",
+                "the pitch series already gives the number of turns",
+            ))
+        }
         (None, Some(len), None) => cx.positive("thread.length", len)? / p1,
         (None, None, Some(n)) => cx.positive("thread.turns", n)?,
-        (None, Some(_), Some(_)) => return Err(cx.err("thread.turns", "expected `length` or `turns`, not both")),
-        (None, None, None) => return Err(cx.err("thread", "expected `length` (mm) or `turns` for a constant pitch")),
+        (None, Some(_), Some(_)) => {
+            return Err(cx.err("thread.turns", "expected `length` or `turns`, not both"))
+        }
+        (None, None, None) => {
+            return Err(cx.err(
+                "thread",
+                "expected `length` (mm) or `turns` for a constant pitch",
+            ))
+        }
     };
     let law = LeadLaw {
         f: starts as f64 * (p1 - dp / 2.0),
         k: starts as f64 * dp,
     };
-    for (n, key) in [(0.0, "thread.pitch.first"), (turns, "thread.pitch.increment")] {
+    for (n, key) in [
+        (0.0, "thread.pitch.first"),
+        (turns, "thread.pitch.increment"),
+    ] {
         if law.lead(n) <= 0.0 {
-            return Err(cx.err(key, format!("the lead law F + K*t = {} + {}*t is not positive at t = {n}", law.f, law.k)));
+            return Err(cx.err(
+                key,
+                format!(
+                    "the lead law F + K*t = {} + {}*t is not positive at t = {n}",
+                    law.f, law.k
+                ),
+            ));
         }
     }
     let (std_angle, std_minor, std_pitch) = form_defaults(t.form, side, major, constant);
@@ -815,10 +880,18 @@ fn resolve_thread(t: &RawThread, blank: &Blank, cx: &Ctx) -> Result<(ThreadSpec,
     let minor = match (t.minor_diameter, std_minor) {
         (Some(m), _) => cx.positive("thread.minor_diameter", m)?,
         (None, Some(m)) => m,
-        (None, None) => return Err(cx.err("thread.minor_diameter", "expected a minor diameter (no standard depth for this form and pitch)")),
+        (None, None) => {
+            return Err(cx.err(
+                "thread.minor_diameter",
+                "expected a minor diameter (no standard depth for this form and pitch)",
+            ))
+        }
     };
     if minor >= major {
-        return Err(cx.err("thread.minor_diameter", format!("expected less than major_diameter = {major}")));
+        return Err(cx.err(
+            "thread.minor_diameter",
+            format!("expected less than major_diameter = {major}"),
+        ));
     }
     let pitch_d = match (t.pitch_diameter, std_pitch) {
         (Some(p), _) => cx.positive("thread.pitch_diameter", p)?,
@@ -826,17 +899,29 @@ fn resolve_thread(t: &RawThread, blank: &Blank, cx: &Ctx) -> Result<(ThreadSpec,
         (None, None) => 0.5 * (major + minor),
     };
     if pitch_d <= minor || pitch_d >= major {
-        return Err(cx.err("thread.pitch_diameter", format!("expected between the minor ({minor}) and major ({major}) diameters")));
+        return Err(cx.err(
+            "thread.pitch_diameter",
+            format!("expected between the minor ({minor}) and major ({major}) diameters"),
+        ));
     }
     match side {
         Side::External if major > blank.diameter + 1e-9 => {
-            return Err(cx.err("thread.major_diameter", format!("an external thread must fit the blank: major {major} > blank diameter {}", blank.diameter)));
+            return Err(cx.err(
+                "thread.major_diameter",
+                format!(
+                    "an external thread must fit the blank: major {major} > blank diameter {}",
+                    blank.diameter
+                ),
+            ));
         }
         Side::Internal if minor < blank.bore - 1e-9 || blank.bore == 0.0 => {
             return Err(cx.err("thread.minor_diameter", format!("an internal thread needs a bore no larger than its minor diameter (blank.bore = {})", blank.bore)));
         }
         Side::Internal if major >= blank.diameter => {
-            return Err(cx.err("thread.major_diameter", "an internal thread must stay inside the blank's outer diameter"));
+            return Err(cx.err(
+                "thread.major_diameter",
+                "an internal thread must stay inside the blank's outer diameter",
+            ));
         }
         _ => {}
     }
@@ -845,11 +930,33 @@ fn resolve_thread(t: &RawThread, blank: &Blank, cx: &Ctx) -> Result<(ThreadSpec,
         Side::Internal => (major / 2.0, minor / 2.0),
     };
     let width = match (&t.width, constant) {
-        (Some(RawWidth { groove: Some(w), tooth: None }), _) => WidthRule::Groove(cx.positive("thread.width.groove", *w)?),
-        (Some(RawWidth { groove: None, tooth: Some(w) }), _) => WidthRule::Tooth(cx.positive("thread.width.tooth", *w)?),
-        (Some(_), _) => return Err(cx.err("thread.width", "expected exactly one of { groove = .. } or { tooth = .. }")),
+        (
+            Some(RawWidth {
+                groove: Some(w),
+                tooth: None,
+            }),
+            _,
+        ) => WidthRule::Groove(cx.positive("thread.width.groove", *w)?),
+        (
+            Some(RawWidth {
+                groove: None,
+                tooth: Some(w),
+            }),
+            _,
+        ) => WidthRule::Tooth(cx.positive("thread.width.tooth", *w)?),
+        (Some(_), _) => {
+            return Err(cx.err(
+                "thread.width",
+                "expected exactly one of { groove = .. } or { tooth = .. }",
+            ))
+        }
         (None, Some(p)) => WidthRule::Groove(p / 2.0),
-        (None, None) => return Err(cx.err("thread.width", "a variable pitch needs `width = { groove = .. }` or `{ tooth = .. }`")),
+        (None, None) => {
+            return Err(cx.err(
+                "thread.width",
+                "a variable pitch needs `width = { groove = .. }` or `{ tooth = .. }`",
+            ))
+        }
     };
     let helix = Helix {
         z0: cx.finite("thread.z_start", t.z_start)?,
@@ -873,12 +980,22 @@ fn resolve_thread(t: &RawThread, blank: &Blank, cx: &Ctx) -> Result<(ThreadSpec,
         helix,
         turns,
     };
-    debug_assert_eq!(spec.hand(), if t.hand == HandName::Right { Hand::Right } else { Hand::Left });
+    debug_assert_eq!(
+        spec.hand(),
+        if t.hand == HandName::Right {
+            Hand::Right
+        } else {
+            Hand::Left
+        }
+    );
     // Shapes that cannot exist.
     let hp = spec.pitch_height();
     let widen = spec.widening();
     let depth = spec.depth();
-    let pitches = [spec.pitch_of_turn(1), spec.pitch_of_turn(turns.ceil().max(1.0) as i64)];
+    let pitches = [
+        spec.pitch_of_turn(1),
+        spec.pitch_of_turn(turns.ceil().max(1.0) as i64),
+    ];
     let (p_min, p_max) = (pitches[0].min(pitches[1]), pitches[0].max(pitches[1]));
     match width {
         WidthRule::Groove(w) => {
@@ -891,13 +1008,21 @@ fn resolve_thread(t: &RawThread, blank: &Blank, cx: &Ctx) -> Result<(ThreadSpec,
         }
         WidthRule::Tooth(tw) => {
             if tw >= p_min {
-                return Err(cx.err("thread.width.tooth", format!("expected a tooth narrower than the first pitch ({p_min:.4} mm), got {tw}")));
+                return Err(cx.err(
+                    "thread.width.tooth",
+                    format!(
+                        "expected a tooth narrower than the first pitch ({p_min:.4} mm), got {tw}"
+                    ),
+                ));
             }
             if tw - (depth - hp) * widen < -1e-9 {
                 return Err(cx.err("thread.width.tooth", "the tooth comes to a point below the crest: widen it or use a smaller flank angle"));
             }
             if p_min - tw - hp * widen < -1e-9 {
-                return Err(cx.err("thread.width.tooth", "the groove between the first teeth closes before the root"));
+                return Err(cx.err(
+                    "thread.width.tooth",
+                    "the groove between the first teeth closes before the root",
+                ));
             }
         }
     }
@@ -915,15 +1040,29 @@ fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
     };
     let edge = match t.kind {
         ToolKind::Grooving => Edge::Trapezoid {
-            tip: cx.positive(&key("width"), t.width.ok_or_else(|| cx.err(&key("kind"), "a grooving tool needs `width` (mm)"))?)?,
+            tip: cx.positive(
+                &key("width"),
+                t.width
+                    .ok_or_else(|| cx.err(&key("kind"), "a grooving tool needs `width` (mm)"))?,
+            )?,
             left_angle: 0.0,
             right_angle: 0.0,
         },
         ToolKind::Threading => {
-            let angle = t.angle.ok_or_else(|| cx.err(&key("kind"), "a threading tool needs `angle` (included, degrees)"))?;
+            let angle = t.angle.ok_or_else(|| {
+                cx.err(
+                    &key("kind"),
+                    "a threading tool needs `angle` (included, degrees)",
+                )
+            })?;
             let half = cx.angle(&key("angle"), angle, 1.0, 160.0)? / 2.0;
             match (t.tip_flat, t.nose_radius) {
-                (Some(_), Some(_)) => return Err(cx.err(&key("nose_radius"), "give `tip_flat` or `nose_radius`, not both")),
+                (Some(_), Some(_)) => {
+                    return Err(cx.err(
+                        &key("nose_radius"),
+                        "give `tip_flat` or `nose_radius`, not both",
+                    ))
+                }
                 (None, Some(r)) => Edge::RoundV {
                     radius: cx.positive(&key("nose_radius"), r)?,
                     half_angle: half,
@@ -936,13 +1075,22 @@ fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
             }
         }
         ToolKind::Trapezoidal => {
-            let tip = cx.positive(&key("tip_width"), t.tip_width.ok_or_else(|| cx.err(&key("kind"), "a trapezoidal tool needs `tip_width` (mm)"))?)?;
-            let (l, r) = match (t.flank_angles, t.flank_angle) {
-                (Some([l, r]), None) => (l, r),
-                (None, Some(a)) => (a / 2.0, a / 2.0),
-                (None, None) => (15.0, 15.0),
-                (Some(_), Some(_)) => return Err(cx.err(&key("flank_angle"), "give `flank_angle` (included) or `flank_angles` ([left, right]), not both")),
-            };
+            let tip = cx.positive(
+                &key("tip_width"),
+                t.tip_width.ok_or_else(|| {
+                    cx.err(&key("kind"), "a trapezoidal tool needs `tip_width` (mm)")
+                })?,
+            )?;
+            let (l, r) =
+                match (t.flank_angles, t.flank_angle) {
+                    (Some([l, r]), None) => (l, r),
+                    (None, Some(a)) => (a / 2.0, a / 2.0),
+                    (None, None) => (15.0, 15.0),
+                    (Some(_), Some(_)) => return Err(cx.err(
+                        &key("flank_angle"),
+                        "give `flank_angle` (included) or `flank_angles` ([left, right]), not both",
+                    )),
+                };
             Edge::Trapezoid {
                 tip,
                 left_angle: cx.angle(&key("flank_angles"), l, 0.0, 80.0)?,
@@ -951,9 +1099,26 @@ fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
         }
     };
     let unused: &[(&str, bool)] = match t.kind {
-        ToolKind::Grooving => &[("angle", t.angle.is_some()), ("tip_flat", t.tip_flat.is_some()), ("nose_radius", t.nose_radius.is_some()), ("tip_width", t.tip_width.is_some()), ("flank_angle", t.flank_angle.is_some()), ("flank_angles", t.flank_angles.is_some())],
-        ToolKind::Threading => &[("width", t.width.is_some()), ("tip_width", t.tip_width.is_some()), ("flank_angle", t.flank_angle.is_some()), ("flank_angles", t.flank_angles.is_some())],
-        ToolKind::Trapezoidal => &[("width", t.width.is_some()), ("angle", t.angle.is_some()), ("tip_flat", t.tip_flat.is_some()), ("nose_radius", t.nose_radius.is_some())],
+        ToolKind::Grooving => &[
+            ("angle", t.angle.is_some()),
+            ("tip_flat", t.tip_flat.is_some()),
+            ("nose_radius", t.nose_radius.is_some()),
+            ("tip_width", t.tip_width.is_some()),
+            ("flank_angle", t.flank_angle.is_some()),
+            ("flank_angles", t.flank_angles.is_some()),
+        ],
+        ToolKind::Threading => &[
+            ("width", t.width.is_some()),
+            ("tip_width", t.tip_width.is_some()),
+            ("flank_angle", t.flank_angle.is_some()),
+            ("flank_angles", t.flank_angles.is_some()),
+        ],
+        ToolKind::Trapezoidal => &[
+            ("width", t.width.is_some()),
+            ("angle", t.angle.is_some()),
+            ("tip_flat", t.tip_flat.is_some()),
+            ("nose_radius", t.nose_radius.is_some()),
+        ],
     };
     if let Some((k, _)) = unused.iter().find(|(_, set)| *set) {
         return Err(cx.err(&key(k), "this key does not apply to this kind of tool"));

@@ -58,7 +58,7 @@ pub use measure::{measure, MeasureConfig, TurnMeasure};
 pub use pass::Pass;
 pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
 pub use stock::{Grid, Stock, Surface};
-pub use sweep::{sweep, sweep_column, SweepStats};
+pub use sweep::{sweep, sweep_column, Column, SweepStats};
 pub use thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};
 pub use tool::{Edge, Reference, Tool};
 
@@ -129,7 +129,8 @@ pub fn plan_grid(job: &Job) -> Result<(Grid, u64), SimError> {
         return Err(SimError::EmptyWindow { lo, hi });
     }
     let surfaces: u32 = if b.bore > 0.0 { 2 } else { 1 };
-    let requested = (job.sim.angular_cells as f64 * n_z * surfaces as f64).min(u64::MAX as f64) as u64;
+    let requested =
+        (job.sim.angular_cells as f64 * n_z * surfaces as f64).min(u64::MAX as f64) as u64;
     let grid = Grid {
         n_theta: job.sim.angular_cells,
         n_z: n_z.min(usize::MAX as f64) as usize,
@@ -167,7 +168,10 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     let t_sweep = t0.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
-    let window = (grid.z(0) - 0.5 * grid.dz, grid.z(grid.n_z - 1) + 0.5 * grid.dz);
+    let window = (
+        grid.z(0) - 0.5 * grid.dz,
+        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
+    );
     let dev = compare(&stock, thread, window);
     let t_compare = t0.elapsed().as_secs_f64();
 
@@ -198,7 +202,15 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     let t_measure = t0.elapsed().as_secs_f64();
 
     let machine_issues = machine::check(&job.passes, &job.machine, &job.blank);
-    let mut report = build_report(job, &stock, stats, &dev, &measures, spacing, &machine_issues);
+    let mut report = build_report(
+        job,
+        &stock,
+        stats,
+        &dev,
+        &measures,
+        spacing,
+        &machine_issues,
+    );
     report.timing_s = report::Timing {
         setup: t_setup,
         sweep: t_sweep,
@@ -327,10 +339,13 @@ fn build_report(
     let rank = |f: &Finding| {
         (
             (f.severity != "error") as u8,
-            KINDS.iter().position(|k| *k == f.kind).unwrap_or(KINDS.len()),
+            KINDS
+                .iter()
+                .position(|k| *k == f.kind)
+                .unwrap_or(KINDS.len()),
         )
     };
-    findings.sort_by(|a, b| rank(a).cmp(&rank(b)));
+    findings.sort_by_key(rank);
     let verdict = if findings.iter().any(|f| f.severity == "error") {
         Verdict::Fail
     } else {
@@ -396,7 +411,10 @@ fn build_report(
             max_gouge_mm: r6(gouge.map_or(0.0, |e| e.value)),
             max_gouge_at: gouge.filter(|e| r6(e.value) > 0.0).as_ref().map(location),
             max_leftover_mm: r6(leftover.map_or(0.0, |e| e.value)),
-            max_leftover_at: leftover.filter(|e| r6(e.value) > 0.0).as_ref().map(location),
+            max_leftover_at: leftover
+                .filter(|e| r6(e.value) > 0.0)
+                .as_ref()
+                .map(location),
             gouge_volume_mm3: r6(dev.gouge_volume()),
             leftover_volume_mm3: r6(dev.leftover_volume()),
             removed_volume_mm3: r6(dev.removed_volume),
@@ -424,7 +442,13 @@ const KINDS: [&str; 10] = [
     "axis_acceleration",
 ];
 
-fn turn_findings(row: &TurnRow, td: &TurnDeviation, all: &[&TurnMeasure], tol: f64, out: &mut Vec<Finding>) {
+fn turn_findings(
+    row: &TurnRow,
+    td: &TurnDeviation,
+    all: &[&TurnMeasure],
+    tol: f64,
+    out: &mut Vec<Finding>,
+) {
     let base = |kind, severity, value: f64, message: String| Finding {
         kind,
         severity,
@@ -462,11 +486,22 @@ fn turn_findings(row: &TurnRow, td: &TurnDeviation, all: &[&TurnMeasure], tol: f
         }
     }
     let pairs = [
-        ("groove_width", row.ideal_groove_width_mm, row.groove_width_mm, "groove"),
-        ("tooth_width", row.ideal_tooth_width_mm, row.tooth_width_mm, "tooth"),
+        (
+            "groove_width",
+            row.ideal_groove_width_mm,
+            row.groove_width_mm,
+            "groove",
+        ),
+        (
+            "tooth_width",
+            row.ideal_tooth_width_mm,
+            row.tooth_width_mm,
+            "tooth",
+        ),
     ];
     if all.iter().any(|m| {
-        (m.ideal_groove.is_some() && m.groove.is_none()) || (m.ideal_tooth.is_some() && m.tooth.is_none())
+        (m.ideal_groove.is_some() && m.groove.is_none())
+            || (m.ideal_tooth.is_some() && m.tooth.is_none())
     }) {
         out.push(base(
             "missing_feature",
@@ -501,7 +536,10 @@ fn turn_findings(row: &TurnRow, td: &TurnDeviation, all: &[&TurnMeasure], tol: f
                     kind,
                     "error",
                     g - i,
-                    format!("turn {}: {what} width {g:.4} mm, drawing {i:.4} mm", row.turn),
+                    format!(
+                        "turn {}: {what} width {g:.4} mm, drawing {i:.4} mm",
+                        row.turn
+                    ),
                 ));
             }
         }
@@ -511,7 +549,10 @@ fn turn_findings(row: &TurnRow, td: &TurnDeviation, all: &[&TurnMeasure], tol: f
             "split_feature",
             "warning",
             0.0,
-            format!("turn {}: a ridge or notch crosses the pitch diameter inside one feature", row.turn),
+            format!(
+                "turn {}: a ridge or notch crosses the pitch diameter inside one feature",
+                row.turn
+            ),
         ));
     }
 }
@@ -519,4 +560,3 @@ fn turn_findings(row: &TurnRow, td: &TurnDeviation, all: &[&TurnMeasure], tol: f
 fn fmt_opt(v: Option<f64>) -> String {
     v.map_or("-".to_string(), |x| format!("{x:.4}"))
 }
-

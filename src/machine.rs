@@ -146,7 +146,7 @@ mod tests {
             length: 120.0,
             z_front: 0.0,
         };
-        let issues = check(&[p.clone()], &m, &blank);
+        let issues = check(std::slice::from_ref(&p), &m, &blank);
         // End lead: sqrt(16 + 2*1.5*86) = 16.565 mm/rev -> 3313 mm/min.
         let feed = issues.iter().find(|i| i.kind == "feed_limit").unwrap();
         assert!((feed.value - (16.0f64 + 3.0 * 86.0).sqrt() * 200.0).abs() < 1e-9);

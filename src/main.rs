@@ -85,8 +85,8 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let opts = vpcut::Options {
         max_dexels: args.max_dexels,
     };
-    let out = vpcut::simulate(&job, &opts)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
+    let out =
+        vpcut::simulate(&job, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
     if let Some(path) = &args.report {
         write_atomic(path, out.report.to_json().as_bytes())?;
     }
@@ -96,11 +96,13 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             println!("  report written to {}", path.display());
         }
     }
-    Ok(if args.check && out.report.verdict == vpcut::Verdict::Fail {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
-    })
+    Ok(
+        if args.check && out.report.verdict == vpcut::Verdict::Fail {
+            ExitCode::from(1)
+        } else {
+            ExitCode::SUCCESS
+        },
+    )
 }
 
 /// Write a file through a temporary file in the same folder and a rename, so that a failed
@@ -113,9 +115,12 @@ fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     let name = path
         .file_name()
         .with_context(|| format!("{} is not a file name", path.display()))?;
-    let tmp = dir.join(format!(".{}.tmp{}", name.to_string_lossy(), std::process::id()));
-    std::fs::write(&tmp, bytes)
-        .with_context(|| format!("cannot write {}", tmp.display()))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         anyhow::anyhow!("cannot write {}: {e}", path.display())

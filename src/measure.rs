@@ -16,7 +16,7 @@
 
 use crate::pass::Pass;
 use crate::stock::Surface;
-use crate::sweep::sweep_column;
+use crate::sweep::{sweep_column, Column};
 use crate::thread::{Feature, Side, ThreadSpec, WidthRule};
 use crate::tool::Tool;
 
@@ -51,11 +51,15 @@ pub(crate) fn intervals(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) ->
     };
     let mut out = Vec::new();
     let mut open: Option<(f64, bool)> = None;
-    for j in 0..h.len() {
-        let now = inside(h[j]);
+    for (j, &hj) in h.iter().enumerate() {
+        let now = inside(hj);
         match (&open, now) {
             (None, true) => {
-                open = Some(if j == 0 { (z0, true) } else { (cross(j), false) });
+                open = Some(if j == 0 {
+                    (z0, true)
+                } else {
+                    (cross(j), false)
+                });
             }
             (Some((lo, lo_open)), false) => {
                 out.push(Interval {
@@ -154,7 +158,14 @@ fn measure_generator(
     };
     let sense = surface.sense();
     let mut q = vec![0f32; n];
-    sweep_column(&mut q, theta, z_lo, spacing, blank_q, surface, passes, tools);
+    let column = Column {
+        theta,
+        z0: z_lo,
+        dz: spacing,
+        q_blank: blank_q,
+        surface,
+    };
+    sweep_column(&mut q, column, passes, tools);
     let cut_h: Vec<f32> = q
         .iter()
         .map(|&v| thread.height(sense * (v as f64 + blank_q)) as f32)
@@ -233,7 +244,7 @@ fn measure_generator(
     let width = |a: Option<Interval>| a.filter(|i| !i.lo_open && !i.hi_open).map(|i| i.hi - i.lo);
     let gap = |upper: Option<Interval>, lower: Option<Interval>| -> Option<f64> {
         let (u, l) = (upper?, lower?);
-        (!u.lo_open && !l.hi_open).then(|| u.lo - l.hi)
+        (!u.lo_open && !l.hi_open).then_some(u.lo - l.hi)
     };
 
     let mut out = Vec::new();

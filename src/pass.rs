@@ -36,7 +36,11 @@ impl Pass {
     pub fn helix(&self) -> Helix {
         Helix {
             z0: self.z_start,
-            dir: if self.z_end >= self.z_start { 1.0 } else { -1.0 },
+            dir: if self.z_end >= self.z_start {
+                1.0
+            } else {
+                -1.0
+            },
             law: LeadLaw {
                 f: self.lead,
                 k: self.lead_change,

@@ -161,7 +161,12 @@ fn layer_heights(p: &Process, depth: f64) -> Result<Vec<f64>, GenError> {
 /// The revolutions of `h` where a run from `z_from` to `z_to` starts and ends. Defaults:
 /// one lead of run-in in front of the blank's face (less where a falling lead would get
 /// too small), and half a pitch past the thread's last feature.
-fn t_range(p: &Process, thread: &ThreadSpec, h: &Helix, blank: &Blank) -> Result<(f64, f64), GenError> {
+fn t_range(
+    p: &Process,
+    thread: &ThreadSpec,
+    h: &Helix,
+    blank: &Blank,
+) -> Result<(f64, f64), GenError> {
     let law = h.law;
     let t_a = match p.z_from {
         Some(z) => h.revs_at_z(z).ok_or(GenError {
@@ -196,7 +201,15 @@ fn t_range(p: &Process, thread: &ThreadSpec, h: &Helix, blank: &Blank) -> Result
 
 /// A pass whose tool tip centre follows `h` from revolution `t_a` to `t_b`, tip at radius
 /// `r_tip`, run in whichever direction the spindle gives the thread's hand.
-fn follow(h: &Helix, t_a: f64, t_b: f64, r_tip: f64, tool_idx: usize, tool: &Tool, spindle: Spindle) -> Pass {
+fn follow(
+    h: &Helix,
+    t_a: f64,
+    t_b: f64,
+    r_tip: f64,
+    tool_idx: usize,
+    tool: &Tool,
+    spindle: Spindle,
+) -> Pass {
     let off = tool.reference_offset();
     let x = 2.0 * r_tip;
     if spindle.sign() == h.spin {
@@ -226,7 +239,13 @@ fn follow(h: &Helix, t_a: f64, t_b: f64, r_tip: f64, tool_idx: usize, tool: &Too
     }
 }
 
-fn radial(p: &Process, thread: &ThreadSpec, tool: &Tool, blank: &Blank, spindle: Spindle) -> Result<Vec<Pass>, GenError> {
+fn radial(
+    p: &Process,
+    thread: &ThreadSpec,
+    tool: &Tool,
+    blank: &Blank,
+    spindle: Spindle,
+) -> Result<Vec<Pass>, GenError> {
     let WidthRule::Groove(w) = thread.width else {
         return fail("kind", "`radial` cuts grooves centred on the pitch helix; an equal tooth width thread needs `equal-tooth-axial`");
     };
@@ -243,19 +262,39 @@ fn radial(p: &Process, thread: &ThreadSpec, tool: &Tool, blank: &Blank, spindle:
         for s in 0..thread.starts {
             let hx = thread.start_helix(s);
             let (t_a, t_b) = t_range(p, thread, &hx, blank)?;
-            out.push(follow(&hx, t_a, t_b, thread.radius(h_tip), p.tool, tool, spindle));
+            out.push(follow(
+                &hx,
+                t_a,
+                t_b,
+                thread.radius(h_tip),
+                p.tool,
+                tool,
+                spindle,
+            ));
         }
     }
     Ok(out)
 }
 
-fn equal_tooth(p: &Process, thread: &ThreadSpec, tool: &Tool, blank: &Blank, spindle: Spindle) -> Result<Vec<Pass>, GenError> {
+fn equal_tooth(
+    p: &Process,
+    thread: &ThreadSpec,
+    tool: &Tool,
+    blank: &Blank,
+    spindle: Spindle,
+) -> Result<Vec<Pass>, GenError> {
     let WidthRule::Tooth(tw) = thread.width else {
-        return fail("kind", "`equal-tooth-axial` is for `width = { tooth = .. }` threads");
+        return fail(
+            "kind",
+            "`equal-tooth-axial` is for `width = { tooth = .. }` threads",
+        );
     };
     let b = tool.tip_width();
     if b <= 0.0 {
-        return fail("tool", "expected a tool with a flat tip (grooving or trapezoidal)");
+        return fail(
+            "tool",
+            "expected a tool with a flat tip (grooving or trapezoidal)",
+        );
     }
     let heights = layer_heights(p, thread.depth())?;
     let n = thread.starts as f64;
@@ -287,7 +326,15 @@ fn equal_tooth(p: &Process, thread: &ThreadSpec, tool: &Tool, blank: &Blank, spi
                     ..base
                 };
                 let (t_a, t_b) = t_range(p, thread, &hx, blank)?;
-                out.push(follow(&hx, t_a, t_b, thread.radius(h_tip), p.tool, tool, spindle));
+                out.push(follow(
+                    &hx,
+                    t_a,
+                    t_b,
+                    thread.radius(h_tip),
+                    p.tool,
+                    tool,
+                    spindle,
+                ));
             }
         }
     }
@@ -296,9 +343,17 @@ fn equal_tooth(p: &Process, thread: &ThreadSpec, tool: &Tool, blank: &Blank, spi
 
 /// Seed 002, `MYBBB.SPF`, transcribed: `R0` origin, `R1`/`R2` major/minor, `R3` layers,
 /// `R4` first pitch, `R5` increment, `R6` last pitch, `R7` tooth, `R8` tool width.
-fn seed002(p: &Process, thread: &ThreadSpec, tool: &Tool, spindle: Spindle) -> Result<Vec<Pass>, GenError> {
+fn seed002(
+    p: &Process,
+    thread: &ThreadSpec,
+    tool: &Tool,
+    spindle: Spindle,
+) -> Result<Vec<Pass>, GenError> {
     let WidthRule::Tooth(r7) = thread.width else {
-        return fail("method", "`seed002` is seed 002's equal tooth width program");
+        return fail(
+            "method",
+            "`seed002` is seed 002's equal tooth width program",
+        );
     };
     if thread.starts != 1 {
         return fail("method", "`seed002` cuts single-start threads only");
@@ -323,7 +378,10 @@ fn seed002(p: &Process, thread: &ThreadSpec, tool: &Tool, spindle: Spindle) -> R
         (r10 / r8).trunc() + 1.0
     };
     if r11 < 1.0 {
-        return fail("method", "seed 002's R11 (number of axial passes) is below 1 for this thread and tool");
+        return fail(
+            "method",
+            "seed 002's R11 (number of axial passes) is below 1 for this thread and tool",
+        );
     }
     let r12 = (r4 - r7 - r8) / r11;
     let r15 = r4 - r5.abs() * r20;
@@ -357,9 +415,18 @@ fn seed002(p: &Process, thread: &ThreadSpec, tool: &Tool, spindle: Spindle) -> R
     Ok(out)
 }
 
-fn flank_borrow(p: &Process, thread: &ThreadSpec, tool: &Tool, blank: &Blank, spindle: Spindle) -> Result<Vec<Pass>, GenError> {
+fn flank_borrow(
+    p: &Process,
+    thread: &ThreadSpec,
+    tool: &Tool,
+    blank: &Blank,
+    spindle: Spindle,
+) -> Result<Vec<Pass>, GenError> {
     let WidthRule::Groove(w) = thread.width else {
-        return fail("kind", "`flank-borrow` is for grooves of equal width (constant pitch)");
+        return fail(
+            "kind",
+            "`flank-borrow` is for grooves of equal width (constant pitch)",
+        );
     };
     let step = p.layer_depth.unwrap_or(0.1);
     if !(step.is_finite() && step > 0.0) {
@@ -396,7 +463,15 @@ fn flank_borrow(p: &Process, thread: &ThreadSpec, tool: &Tool, blank: &Blank, sp
                     ..base
                 };
                 let (t_a, t_b) = t_range(p, thread, &hx, blank)?;
-                out.push(follow(&hx, t_a, t_b, thread.radius(h), p.tool, tool, spindle));
+                out.push(follow(
+                    &hx,
+                    t_a,
+                    t_b,
+                    thread.radius(h),
+                    p.tool,
+                    tool,
+                    spindle,
+                ));
             }
         }
         if h <= 0.0 {

@@ -312,7 +312,11 @@ impl Report {
     /// A short summary for a terminal.
     pub fn summary(&self) -> String {
         let mut s = String::new();
-        let name = if self.job.is_empty() { "job" } else { &self.job };
+        let name = if self.job.is_empty() {
+            "job"
+        } else {
+            &self.job
+        };
         let verdict = match self.verdict {
             Verdict::Pass => "PASS",
             Verdict::Fail => "FAIL",
@@ -340,12 +344,25 @@ impl Report {
             None => "-".to_string(),
         };
         let d = &self.deviation;
-        let _ = writeln!(s, "  worst gouge    {:>9.4} mm  {}", d.max_gouge_mm, loc(&d.max_gouge_at));
-        let _ = writeln!(s, "  worst leftover {:>9.4} mm  {}", d.max_leftover_mm, loc(&d.max_leftover_at));
+        let _ = writeln!(
+            s,
+            "  worst gouge    {:>9.4} mm  {}",
+            d.max_gouge_mm,
+            loc(&d.max_gouge_at)
+        );
+        let _ = writeln!(
+            s,
+            "  worst leftover {:>9.4} mm  {}",
+            d.max_leftover_mm,
+            loc(&d.max_leftover_at)
+        );
         let _ = writeln!(
             s,
             "  volume removed {:.2} mm3 (ideal {:.2}), gouge {:.3} mm3, leftover {:.3} mm3",
-            d.removed_volume_mm3, d.ideal_removed_volume_mm3, d.gouge_volume_mm3, d.leftover_volume_mm3
+            d.removed_volume_mm3,
+            d.ideal_removed_volume_mm3,
+            d.gouge_volume_mm3,
+            d.leftover_volume_mm3
         );
         let o = |v: Option<f64>| v.map_or("      -".to_string(), |x| format!("{x:>7.3}"));
         let _ = writeln!(
@@ -371,7 +388,11 @@ impl Report {
                 t.max_leftover_mm
             );
         }
-        let errors = self.findings.iter().filter(|f| f.severity == "error").count();
+        let errors = self
+            .findings
+            .iter()
+            .filter(|f| f.severity == "error")
+            .count();
         let warnings = self.findings.len() - errors;
         let _ = writeln!(s, "\n  findings: {errors} errors, {warnings} warnings");
         for f in self.findings.iter().take(12) {

@@ -68,21 +68,28 @@ pub fn sweep(stock: &mut Stock, surface: Surface, passes: &[Pass], tools: &[Tool
         .reduce(SweepStats::default, |a, b| a + b)
 }
 
-/// Cut one free-standing column at angle `theta` with cells `z0 + j*dz` (used for fine
-/// measurement generators). `q` holds `q - q_blank` (zeros for the blank) and is cut in
-/// place.
-pub fn sweep_column(
-    q: &mut [f32],
-    theta: f64,
-    z0: f64,
-    dz: f64,
-    q_blank: f64,
-    surface: Surface,
-    passes: &[Pass],
-    tools: &[Tool],
-) -> SweepStats {
+/// A free-standing column: its angle, its cells `z0 + j*dz`, and the surface it samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Column {
+    /// Angle on the part (rad).
+    pub theta: f64,
+    /// z of cell 0 (mm).
+    pub z0: f64,
+    /// Cell spacing (mm).
+    pub dz: f64,
+    /// The blank's signed radius (`q = r` outside, `-r` inside).
+    pub q_blank: f64,
+    /// Which surface.
+    pub surface: Surface,
+}
+
+/// Cut one free-standing column (used for the fine measurement generators). `q` holds
+/// `q - q_blank` (zeros for the blank) and is cut in place.
+pub fn sweep_column(q: &mut [f32], c: Column, passes: &[Pass], tools: &[Tool]) -> SweepStats {
     let prepared = prepare(passes, tools);
-    cut_column(q, theta, z0, dz, q_blank, surface, passes, &prepared)
+    cut_column(
+        q, c.theta, c.z0, c.dz, c.q_blank, c.surface, passes, &prepared,
+    )
 }
 
 fn prepare(passes: &[Pass], tools: &[Tool]) -> Vec<Prepared> {
@@ -239,7 +246,14 @@ mod tests {
         let (z0, dz, n) = (-25.0, 0.01, 3000);
         let mut q = vec![0.0f32; n];
         let theta = 1.3;
-        sweep_column(&mut q, theta, z0, dz, 10.0, Surface::Outer, &[pass.clone()], &tools);
+        let column = Column {
+            theta,
+            z0,
+            dz,
+            q_blank: 10.0,
+            surface: Surface::Outer,
+        };
+        sweep_column(&mut q, column, std::slice::from_ref(&pass), &tools);
         let helix = pass.helix();
         let ts: Vec<f64> = helix
             .crossings(theta, 0.0, pass.revolutions().unwrap())

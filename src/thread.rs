@@ -220,11 +220,11 @@ impl ThreadSpec {
             (a.min(b), a.max(b))
         };
         let limit = law.zero_lead_revs();
-        let lo = law.revs_at(s_a).unwrap_or_else(|| match limit {
+        let lo = law.revs_at(s_a).unwrap_or(match limit {
             Some(t0) if t0 < 0.0 => t0 + 1e-6,
             _ => -1e6,
         });
-        let hi = law.revs_at(s_b).unwrap_or_else(|| match limit {
+        let hi = law.revs_at(s_b).unwrap_or(match limit {
             Some(t0) if t0 > 0.0 => t0 - 1e-6,
             _ => 1e6,
         });

@@ -29,13 +29,26 @@ fn simulate_text(text: &str, extra: &[&str]) -> (Output, PathBuf, PathBuf) {
     let job = d.join("job.toml");
     std::fs::write(&job, text).unwrap();
     let report = d.join("report.json");
-    let mut args = vec!["simulate", job.to_str().unwrap(), "--report", report.to_str().unwrap(), "-q"];
+    let mut args = vec![
+        "simulate",
+        job.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+        "-q",
+    ];
     args.extend_from_slice(extra);
     (vpcut(&args), job, report)
 }
 
 fn small(scene: &str) -> String {
-    with(&scene_text(scene), &[("simulation", "angular_cells", "72"), ("simulation", "axial_spacing", "0.05"), ("simulation", "measure_generators", "2")])
+    with(
+        &scene_text(scene),
+        &[
+            ("simulation", "angular_cells", "72"),
+            ("simulation", "axial_spacing", "0.05"),
+            ("simulation", "measure_generators", "2"),
+        ],
+    )
 }
 
 const BASE: &str = r#"[blank]
@@ -68,15 +81,47 @@ lead_change = 1.5
 #[test]
 fn bad_jobs_exit_2_naming_file_line_and_key() {
     let cases: &[(&str, &str, &[&str])] = &[
-        ("length = 100.0", "length = 100.0\nwidht = 3", &["job.toml:4:1", "unknown field `widht`"]),
+        (
+            "length = 100.0",
+            "length = 100.0\nwidht = 3",
+            &["job.toml:4:1", "unknown field `widht`"],
+        ),
         ("form = \"square\"\n", "", &["missing field `form`"]),
-        ("width = { tooth = 3.0 }", "width = { tooth = 8.0 }", &["job.toml:10:19", "`thread.width.tooth`", "narrower than the first pitch"]),
-        ("lead = 4.0", "lead = -4.0", &["job.toml:22:8", "`pass[0].lead`", "> 0"]),
-        ("lead_change = 1.5\n", "lead_change = -1.5\n", &["job.toml:23:15", "`pass[0].lead_change`", "reach zero"]),
+        (
+            "width = { tooth = 3.0 }",
+            "width = { tooth = 8.0 }",
+            &[
+                "job.toml:10:19",
+                "`thread.width.tooth`",
+                "narrower than the first pitch",
+            ],
+        ),
+        (
+            "lead = 4.0",
+            "lead = -4.0",
+            &["job.toml:22:8", "`pass[0].lead`", "> 0"],
+        ),
+        (
+            "lead_change = 1.5\n",
+            "lead_change = -1.5\n",
+            &["job.toml:23:15", "`pass[0].lead_change`", "reach zero"],
+        ),
         ("x = 22.0", "x = nan", &["`pass[0].x`", "finite"]),
-        ("tool = 1\nx", "tool = 2\nx", &["`pass[0].tool`", "no [[tool]] with id 2"]),
-        ("form = \"square\"", "form = \"round\"", &["job.toml:6:8", "unknown variant `round`"]),
-        ("diameter = 28.0", "diameter = \"28\"", &["job.toml:2:12", "invalid type"]),
+        (
+            "tool = 1\nx",
+            "tool = 2\nx",
+            &["`pass[0].tool`", "no [[tool]] with id 2"],
+        ),
+        (
+            "form = \"square\"",
+            "form = \"round\"",
+            &["job.toml:6:8", "unknown variant `round`"],
+        ),
+        (
+            "diameter = 28.0",
+            "diameter = \"28\"",
+            &["job.toml:2:12", "invalid type"],
+        ),
     ];
     for (from, to, wants) in cases {
         assert!(BASE.contains(from), "{from}");
@@ -93,11 +138,15 @@ fn bad_jobs_exit_2_naming_file_line_and_key() {
 
 #[test]
 fn tool_wider_than_the_groove_is_refused() {
-    let text = with(&scene_text("seed002-equal-groove-radial"), &[]).replace("width = 5.0\nreference", "width = 5.5\nreference");
+    let text = with(&scene_text("seed002-equal-groove-radial"), &[])
+        .replace("width = 5.0\nreference", "width = 5.5\nreference");
     let (out, _, _) = simulate_text(&text, &[]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("`process.tool`") && err.contains("wider than the groove"), "{err}");
+    assert!(
+        err.contains("`process.tool`") && err.contains("wider than the groove"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -112,14 +161,28 @@ fn dexel_budget_is_checked_before_allocating() {
 #[test]
 fn check_flag_exits_1_on_fail_and_0_on_pass() {
     let (out, _, report) = simulate_text(&small("seed002-equal-groove"), &["--check"]);
-    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
     assert_eq!(r["verdict"], "fail");
     assert_eq!(r["schema"], "vpcut.report/1");
     let (out, _, _) = simulate_text(&small("seed002-equal-groove"), &[]);
-    assert_eq!(out.status.code(), Some(0), "without --check a fail verdict is still a success");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "without --check a fail verdict is still a success"
+    );
     let (out, _, _) = simulate_text(&small("iso-m20x2.5-radial"), &["--check"]);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 #[test]
@@ -127,7 +190,13 @@ fn unwritable_report_path_exits_2() {
     let d = tmp_dir();
     let job = d.join("job.toml");
     std::fs::write(&job, small("iso-m20x2.5-radial")).unwrap();
-    let out = vpcut(&["simulate", job.to_str().unwrap(), "--report", "/nonexistent-dir/r.json", "-q"]);
+    let out = vpcut(&[
+        "simulate",
+        job.to_str().unwrap(),
+        "--report",
+        "/nonexistent-dir/r.json",
+        "-q",
+    ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("cannot write"), "{err}");
@@ -148,6 +217,9 @@ fn summary_names_verdict_and_worst_places() {
     let out = vpcut(&["simulate", job.to_str().unwrap()]);
     let s = String::from_utf8_lossy(&out.stdout);
     assert!(s.contains("FAIL"), "{s}");
-    assert!(s.contains("worst gouge") && s.contains("worst leftover"), "{s}");
+    assert!(
+        s.contains("worst gouge") && s.contains("worst leftover"),
+        "{s}"
+    );
     assert!(s.contains("turn  lead: ideal measured"), "{s}");
 }

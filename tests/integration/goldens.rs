@@ -48,7 +48,9 @@ fn lookup<'a>(v: &'a Value, path: &str) -> Option<&'a Value> {
 fn check_expectations(scene: &str, report: &Value) -> Vec<String> {
     let path = root().join("goldens").join(scene).join("expect.toml");
     let Some(text) = read(&path) else {
-        return vec![format!("{scene}: no goldens/{scene}/expect.toml (hand-derived checks)")];
+        return vec![format!(
+            "{scene}: no goldens/{scene}/expect.toml (hand-derived checks)"
+        )];
     };
     let exp: Expect = toml::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut bad = Vec::new();
@@ -59,7 +61,10 @@ fn check_expectations(scene: &str, report: &Value) -> Vec<String> {
             (None, _, _) => bad.push(fail("missing in the report".into())),
             (Some(g), Some(v), _) => match g.as_f64() {
                 Some(x) if (x - v).abs() <= c.tol.unwrap_or(1e-9) => {}
-                _ => bad.push(fail(format!("= {g}, expected {v} +- {}", c.tol.unwrap_or(1e-9)))),
+                _ => bad.push(fail(format!(
+                    "= {g}, expected {v} +- {}",
+                    c.tol.unwrap_or(1e-9)
+                ))),
             },
             (Some(g), None, Some(e)) => {
                 let want = match e {
@@ -68,7 +73,11 @@ fn check_expectations(scene: &str, report: &Value) -> Vec<String> {
                     toml::Value::Boolean(b) => Value::Bool(*b),
                     other => Value::String(format!("{other:?}")),
                 };
-                let want = if want == Value::String("null".into()) { Value::Null } else { want };
+                let want = if want == Value::String("null".into()) {
+                    Value::Null
+                } else {
+                    want
+                };
                 if *g != want {
                     bad.push(fail(format!("= {g}, expected {want}")));
                 }
@@ -106,11 +115,16 @@ fn scenes_match_goldens_and_expectations() {
             std::fs::write(&golden, &text).unwrap();
         }
         match read(&golden) {
-            None => failures.push(format!("{scene}: no golden report (run with VPCUT_BLESS=1, then review it)")),
+            None => failures.push(format!(
+                "{scene}: no golden report (run with VPCUT_BLESS=1, then review it)"
+            )),
             Some(g) if g != text => {
                 std::fs::write(dir.join("report.actual.json"), &text).unwrap();
                 let gv: Value = serde_json::from_str(&g).unwrap();
-                failures.push(format!("{scene}: report differs from the golden; first differences: {}", diff(&gv, &report, "").join("; ")));
+                failures.push(format!(
+                    "{scene}: report differs from the golden; first differences: {}",
+                    diff(&gv, &report, "").join("; ")
+                ));
             }
             Some(_) => {}
         }

@@ -14,12 +14,23 @@ fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
 /// The report (timing aside) and every dexel are bit-identical with 1 and 2 threads.
 #[test]
 fn one_and_two_threads_give_identical_bytes() {
-    let text = with(&scene_text("seed002-equal-tooth"), &[("simulation", "angular_cells", "360"), ("simulation", "axial_spacing", "0.02")]);
+    let text = with(
+        &scene_text("seed002-equal-tooth"),
+        &[
+            ("simulation", "angular_cells", "360"),
+            ("simulation", "axial_spacing", "0.02"),
+        ],
+    );
     let j = job(&text);
     let a = in_pool(1, || simulate(&j, &Options::default()).unwrap());
     let b = in_pool(2, || simulate(&j, &Options::default()).unwrap());
     assert_eq!(report_json(&a).to_string(), report_json(&b).to_string());
-    assert!(a.stock.outer.iter().zip(&b.stock.outer).all(|(x, y)| x.to_bits() == y.to_bits()));
+    assert!(a
+        .stock
+        .outer
+        .iter()
+        .zip(&b.stock.outer)
+        .all(|(x, y)| x.to_bits() == y.to_bits()));
 }
 
 fn shifted(hand: &str, spindle: &str, angle: f64) -> String {
@@ -76,14 +87,21 @@ fn left_and_right_hands_mirror() {
     }
     assert!(worst < 1e-5, "columns differ by {worst} mm");
     let (ra, rb) = (&a.report, &b.report);
-    assert!(ra.deviation.max_gouge_mm > 0.01, "the test needs a real deviation");
+    assert!(
+        ra.deviation.max_gouge_mm > 0.01,
+        "the test needs a real deviation"
+    );
     assert!((ra.deviation.max_gouge_mm - rb.deviation.max_gouge_mm).abs() < 1e-5);
     assert!((ra.deviation.max_leftover_mm - rb.deviation.max_leftover_mm).abs() < 1e-5);
-    let rel = (ra.deviation.gouge_volume_mm3 - rb.deviation.gouge_volume_mm3).abs() / ra.deviation.gouge_volume_mm3;
+    let rel = (ra.deviation.gouge_volume_mm3 - rb.deviation.gouge_volume_mm3).abs()
+        / ra.deviation.gouge_volume_mm3;
     assert!(rel < 1e-6, "{rel}");
     assert_eq!(ra.thread.hand, "right");
     assert_eq!(rb.thread.hand, "left");
     for (x, y) in ra.turns.iter().zip(&rb.turns) {
-        assert_eq!(x.measured_lead_mm.map(|v| (v * 1e4).round()), y.measured_lead_mm.map(|v| (v * 1e4).round()));
+        assert_eq!(
+            x.measured_lead_mm.map(|v| (v * 1e4).round()),
+            y.measured_lead_mm.map(|v| (v * 1e4).round())
+        );
     }
 }

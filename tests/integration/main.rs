@@ -3,13 +3,13 @@
 /// Shared helpers: load scenes, tweak their settings, run them.
 mod support;
 
-/// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
-mod oracle;
-/// Same answer whatever the thread count; left and right hands mirror each other.
-mod invariance;
-/// The scenes' reports against reviewed goldens and hand-derived expectations.
-mod goldens;
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
+/// The scenes' reports against reviewed goldens and hand-derived expectations.
+mod goldens;
+/// Same answer whatever the thread count; left and right hands mirror each other.
+mod invariance;
+/// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
+mod oracle;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;

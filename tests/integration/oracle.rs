@@ -11,8 +11,16 @@ fn single_equal_groove_pass_is_exact() {
     let out = run(&scene_text("equal-groove-single-pass"));
     let r = &out.report;
     let dz = 0.005;
-    assert!(r.deviation.max_gouge_mm <= dz, "gouge {}", r.deviation.max_gouge_mm);
-    assert!(r.deviation.max_leftover_mm <= dz, "leftover {}", r.deviation.max_leftover_mm);
+    assert!(
+        r.deviation.max_gouge_mm <= dz,
+        "gouge {}",
+        r.deviation.max_gouge_mm
+    );
+    assert!(
+        r.deviation.max_leftover_mm <= dz,
+        "leftover {}",
+        r.deviation.max_leftover_mm
+    );
     assert_eq!(r.turns.len(), 5);
     let (f, k) = (8.0, 4.0);
     for t in &r.turns {
@@ -35,7 +43,8 @@ fn single_equal_groove_pass_is_exact() {
 fn v_moment(big_r: f64, r_tip: f64, flat: f64, half_angle: f64) -> f64 {
     let c = 1.0 / half_angle.tan();
     let w = (big_r - r_tip) / c;
-    flat * (big_r * big_r - r_tip * r_tip) / 2.0 + big_r * big_r * w - (big_r.powi(3) - r_tip.powi(3)) / (3.0 * c)
+    flat * (big_r * big_r - r_tip * r_tip) / 2.0 + big_r * big_r * w
+        - (big_r.powi(3) - r_tip.powi(3)) / (3.0 * c)
 }
 
 fn v_pass_job(dz: f64, cells: usize, shift: f64) -> String {
@@ -100,7 +109,10 @@ fn single_groove_volume_converges_at_second_order() {
     let mut dz: f64 = 0.2;
     while dz > 0.008 {
         // The window holds the groove centred at z = -2.5 on generator 0 and nothing else.
-        let text = with(&v_pass_job(dz, 4, 0.0), &[("simulation", "z_range", "[-3.7, -1.1]")]);
+        let text = with(
+            &v_pass_job(dz, 4, 0.0),
+            &[("simulation", "z_range", "[-3.7, -1.1]")],
+        );
         let out = run(&text);
         let g = out.stock.grid;
         let sum: f64 = (0..g.n_z)
@@ -115,9 +127,16 @@ fn single_groove_volume_converges_at_second_order() {
     }
     let n = xs.len() as f64;
     let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
-    let slope = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
+    let slope = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
         / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
-    eprintln!("convergence order {slope:.3}, errors {:?}", ys.iter().map(|y| y.exp()).collect::<Vec<_>>());
+    eprintln!(
+        "convergence order {slope:.3}, errors {:?}",
+        ys.iter().map(|y| y.exp()).collect::<Vec<_>>()
+    );
     assert!(slope > 1.7, "order {slope}");
     assert!(ys.last().unwrap().exp() < 1e-4);
 }
@@ -158,13 +177,21 @@ fn shifted_v_pass_gouge_matches_normal_distance_and_moment() {
     for dz in [0.01, 0.0025] {
         let out = run(&v_pass_job(dz, 360, shift));
         let r = &out.report;
-        assert!((r.deviation.max_gouge_mm - want).abs() < 2e-5, "{} vs {want}", r.deviation.max_gouge_mm);
+        assert!(
+            (r.deviation.max_gouge_mm - want).abs() < 2e-5,
+            "{} vs {want}",
+            r.deviation.max_gouge_mm
+        );
         assert!((r.deviation.max_leftover_mm - want).abs() < 2e-5);
         let mid = r.turns.iter().find(|t| t.turn == 5).unwrap();
         assert!(mid.flanks.left.max_gouge_mm > 0.04 || mid.flanks.right.max_gouge_mm > 0.04);
         vol_err.push(((mid.gouge_volume_mm3 - turn_gouge) / turn_gouge).abs());
         let left = ((mid.leftover_volume_mm3 - turn_gouge) / turn_gouge).abs();
-        assert!(left < 0.02, "leftover volume {} vs {turn_gouge}", mid.leftover_volume_mm3);
+        assert!(
+            left < 0.02,
+            "leftover volume {} vs {turn_gouge}",
+            mid.leftover_volume_mm3
+        );
     }
     eprintln!("gouge volume relative errors {vol_err:?}");
     assert!(vol_err[1] < 2e-3, "{vol_err:?}");
@@ -175,9 +202,19 @@ fn shifted_v_pass_gouge_matches_normal_distance_and_moment() {
 /// psi = 2.48 deg).
 #[test]
 fn helix_angle_of_m20() {
-    let text = with(&scene_text("iso-m20x2.5-radial"), &[("simulation", "angular_cells", "36"), ("simulation", "axial_spacing", "0.05")]);
+    let text = with(
+        &scene_text("iso-m20x2.5-radial"),
+        &[
+            ("simulation", "angular_cells", "36"),
+            ("simulation", "axial_spacing", "0.05"),
+        ],
+    );
     let out = run(&text);
     for t in &out.report.turns {
-        assert!((t.helix_angle_deg - 2.48).abs() < 0.005, "{}", t.helix_angle_deg);
+        assert!(
+            (t.helix_angle_deg - 2.48).abs() < 0.005,
+            "{}",
+            t.helix_angle_deg
+        );
     }
 }

@@ -4,18 +4,18 @@ use std::path::{Path, PathBuf};
 use vpcut::{simulate, Job, Options, Outcome};
 
 /// The repository root.
-pub fn root() -> PathBuf {
+pub(crate) fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// The text of a scene's job file.
-pub fn scene_text(name: &str) -> String {
+pub(crate) fn scene_text(name: &str) -> String {
     let p = root().join("scenes").join(name).join("job.toml");
     std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
 /// Set `table.key = value` in a TOML text (values written as TOML literals).
-pub fn with(text: &str, edits: &[(&str, &str, &str)]) -> String {
+pub(crate) fn with(text: &str, edits: &[(&str, &str, &str)]) -> String {
     let mut doc: toml_edit::DocumentMut = text.parse().expect("valid TOML");
     for (table, key, value) in edits {
         let v: toml_edit::Item = format!("x = {value}")
@@ -35,24 +35,24 @@ pub fn with(text: &str, edits: &[(&str, &str, &str)]) -> String {
 }
 
 /// Parse a job or fail the test with the error.
-pub fn job(text: &str) -> Job {
+pub(crate) fn job(text: &str) -> Job {
     Job::from_toml(text, "test.toml").unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Simulate a job text.
-pub fn run(text: &str) -> Outcome {
+pub(crate) fn run(text: &str) -> Outcome {
     simulate(&job(text), &Options::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The report as JSON without the timing (the only part allowed to change).
-pub fn report_json(out: &Outcome) -> serde_json::Value {
+pub(crate) fn report_json(out: &Outcome) -> serde_json::Value {
     let mut v: serde_json::Value = serde_json::from_str(&out.report.to_json()).unwrap();
     v.as_object_mut().unwrap().remove("timing_s");
     v
 }
 
 /// Scene folder names, sorted.
-pub fn scenes() -> Vec<String> {
+pub(crate) fn scenes() -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(root().join("scenes"))
         .unwrap()
         .filter_map(|e| {
@@ -68,11 +68,11 @@ pub fn scenes() -> Vec<String> {
 }
 
 /// Whether goldens are being re-blessed.
-pub fn blessing() -> bool {
+pub(crate) fn blessing() -> bool {
     std::env::var_os("VPCUT_BLESS").is_some_and(|v| v == "1")
 }
 
 /// Read a file as text, `None` when missing.
-pub fn read(p: &Path) -> Option<String> {
+pub(crate) fn read(p: &Path) -> Option<String> {
     std::fs::read_to_string(p).ok()
 }

@@ -36,17 +36,29 @@ fn scenes_and_goldens_correspond() {
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .collect();
     goldens.sort();
-    assert_eq!(scenes, goldens, "every scene has goldens/<scene>/ and no golden is orphaned");
+    assert_eq!(
+        scenes, goldens,
+        "every scene has goldens/<scene>/ and no golden is orphaned"
+    );
     for s in &scenes {
         let dir = root().join("scenes").join(s);
-        assert!(dir.join("README.md").exists(), "scenes/{s} needs a README.md saying what it cuts and why");
+        assert!(
+            dir.join("README.md").exists(),
+            "scenes/{s} needs a README.md saying what it cuts and why"
+        );
     }
 }
 
 #[test]
 fn no_io_in_the_geometry_core() {
-    for f in ["helix", "thread", "tool", "pass", "stock", "sweep", "compare", "measure", "process", "machine", "report", "job"] {
+    for f in [
+        "helix", "thread", "tool", "pass", "stock", "sweep", "compare", "measure", "process",
+        "machine", "report", "job",
+    ] {
         let text = std::fs::read_to_string(root().join("src").join(format!("{f}.rs"))).unwrap();
-        assert!(!text.contains("std::fs") && !text.contains("println!"), "src/{f}.rs does IO");
+        assert!(
+            !text.contains("std::fs") && !text.contains("println!"),
+            "src/{f}.rs does IO"
+        );
     }
 }
