@@ -218,3 +218,137 @@ fn helix_angle_of_m20() {
         );
     }
 }
+
+/// An internal M20x2.5 (ISO 68-1: D1 = 17.2937, root flat P/8 at D) cut by radial layers
+/// with an insert whose tip flat is that root flat: the nut comes out ideal.
+#[test]
+fn internal_thread_by_radial_infeed_is_ideal() {
+    let text = r#"
+        [blank]
+        diameter = 40.0
+        bore = 17.29367
+        length = 30.0
+        [thread]
+        side = "internal"
+        form = "iso-metric"
+        major_diameter = 20.0
+        pitch = 2.5
+        length = 20.0
+        [[tool]]
+        id = 1
+        kind = "threading"
+        angle = 60.0
+        tip_flat = 0.3125
+        reference = "tip"
+        [process]
+        kind = "radial"
+        tool = 1
+        layers = 5
+        [simulation]
+        angular_cells = 360
+        axial_spacing = 0.01
+        measure_generators = 4
+    "#;
+    let out = run(text);
+    let r = &out.report;
+    assert_eq!(r.thread.side, "internal");
+    assert_eq!(r.stock.surfaces, vec!["outer", "inner"]);
+    assert_eq!(r.verdict, vpcut::Verdict::Pass, "{}", r.summary());
+    assert!(r.deviation.max_gouge_mm < 1e-4 && r.deviation.max_leftover_mm < 1e-4);
+    let t = &r.turns[3];
+    assert!((t.measured_lead_mm.unwrap() - 2.5).abs() < 1e-3);
+    assert!(
+        (t.groove_width_mm.unwrap() - 1.25).abs() < 1e-3,
+        "groove at D2 is P/2"
+    );
+    // The cut reaches the major diameter (the internal thread's root) and keeps D1.
+    assert!((t.max_diameter_mm.unwrap() - 20.0).abs() < 1e-5);
+    assert!((t.min_diameter_mm.unwrap() - 17.29367).abs() < 1e-5);
+    // The outer surface is untouched.
+    assert!(out.stock.outer.iter().all(|&q| q == 0.0));
+}
+
+fn two_start(starts_cut: &str) -> String {
+    format!(
+        r#"
+        [blank]
+        diameter = 20.0
+        length = 30.0
+        [thread]
+        form = "iso-metric"
+        major_diameter = 20.0
+        pitch = 2.5
+        starts = 2
+        turns = 4
+        hand = "left"
+        start_angle = 40.0
+        [[tool]]
+        id = 1
+        kind = "threading"
+        angle = 60.0
+        tip_flat = 0.4166666666666667
+        reference = "tip"
+        {starts_cut}
+        [machine]
+        spindle = "ccw"
+        [simulation]
+        angular_cells = 360
+        axial_spacing = 0.01
+        measure_generators = 4
+        "#
+    )
+}
+
+/// A two-start left-hand thread (lead 5 = 2 x pitch, starts 180 deg apart): the radial
+/// generator cuts both starts and the thread is ideal; cutting only the first start leaves
+/// the second start's grooves as stock.
+#[test]
+fn two_start_thread_needs_both_starts() {
+    let both = run(&two_start(
+        "[process]\nkind = \"radial\"\ntool = 1\nlayers = 4",
+    ));
+    let r = &both.report;
+    assert_eq!(r.verdict, vpcut::Verdict::Pass, "{}", r.summary());
+    assert_eq!(r.thread.hand, "left");
+    assert_eq!(r.turns.len(), 8, "4 turns x 2 starts");
+    // On the reference generator start 1's features sit at t = 0.5, 1.5, ..: its 4th turn
+    // ends past the thread there and is not measured.
+    let measured: Vec<_> = r
+        .turns
+        .iter()
+        .filter(|t| t.measured_lead_mm.is_some())
+        .collect();
+    assert_eq!(measured.len(), 7, "{}", r.summary());
+    for t in measured {
+        assert!(
+            (t.measured_lead_mm.unwrap() - 5.0).abs() < 1e-3,
+            "lead = starts x pitch"
+        );
+        assert!(
+            (t.tooth_width_mm.unwrap() - 1.25).abs() < 1e-3,
+            "neighbouring starts 2.5 apart"
+        );
+    }
+    // The same passes for start 0 only: the helix of start 0 with the same law.
+    assert_eq!(both.report.passes, 8, "4 layers x 2 starts");
+    let first = vpcut::Job::from_toml(
+        &two_start("[process]\nkind = \"radial\"\ntool = 1\nlayers = 4"),
+        "t",
+    )
+    .unwrap();
+    let mut job = first.clone();
+    job.passes
+        .retain(|p| (p.start_angle - first.passes[0].start_angle).abs() < 1e-9);
+    assert_eq!(job.passes.len(), 4);
+    let half = vpcut::simulate(&job, &vpcut::Options::default()).unwrap();
+    assert_eq!(half.report.verdict, vpcut::Verdict::Fail);
+    // An uncut groove of start 1: its middle at the crest is half the groove's crest width
+    // (7/16 P) from either 30 deg flank, normal distance 7/16 * 2.5 * cos30 = 0.94722.
+    let want = 7.0 / 16.0 * 2.5 * (PI / 6.0).cos();
+    let got = half.report.deviation.max_leftover_mm;
+    assert!(
+        (got - want).abs() < 0.01,
+        "{got} vs {want}: whole grooves of start 1 left"
+    );
+    assert!(half.report.deviation.max_gouge_mm < 1e-4);
+}
