@@ -627,6 +627,20 @@ fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
         },
     };
     let (thread, form) = resolve_thread(&raw.thread, &blank, cx)?;
+    // The grid must resolve the thread (and a pitch far below the spacing would make the
+    // ideal profile of each column enormous).
+    let p_min = thread
+        .pitch_of_turn(1)
+        .min(thread.pitch_of_turn(thread.turns.ceil().max(1.0) as i64));
+    if sim.axial_spacing * 4.0 > p_min {
+        return Err(cx.err(
+            "simulation.axial_spacing",
+            format!(
+                "expected at most a quarter of the smallest pitch ({p_min:.4} mm), got {}",
+                sim.axial_spacing
+            ),
+        ));
+    }
     let mut tools = Vec::with_capacity(raw.tool.len());
     for (i, t) in raw.tool.iter().enumerate() {
         if raw.tool[..i].iter().any(|o| o.id == t.id) {
@@ -847,6 +861,9 @@ fn resolve_thread(
             ))
         }
     };
+    if turns > 100_000.0 {
+        return Err(cx.err("thread", format!("{turns} turns: at most 100000")));
+    }
     let law = LeadLaw {
         f: starts as f64 * (p1 - dp / 2.0),
         k: starts as f64 * dp,

@@ -101,6 +101,9 @@ fn fail<T>(key: &'static str, message: impl Into<String>) -> Result<T, GenError>
     })
 }
 
+/// Most passes a generator may produce.
+const MAX_PASSES: usize = 20_000;
+
 /// Generate the passes of a process.
 pub(crate) fn generate(
     p: &Process,
@@ -110,14 +113,18 @@ pub(crate) fn generate(
     spindle: Spindle,
 ) -> Result<Vec<Pass>, GenError> {
     let tool = &tools[p.tool];
-    match p.kind {
+    let passes = match p.kind {
         Kind::Radial => radial(p, thread, tool, blank, spindle),
         Kind::EqualToothAxial => match p.method {
             AxialMethod::Interpolated => equal_tooth(p, thread, tool, blank, spindle),
             AxialMethod::Seed002 => seed002(p, thread, tool, spindle),
         },
         Kind::FlankBorrow => flank_borrow(p, thread, tool, blank, spindle),
+    }?;
+    if passes.len() > MAX_PASSES {
+        return fail("kind", format!("the process generates {} passes, more than {MAX_PASSES}: use fewer or deeper layers", passes.len()));
     }
+    Ok(passes)
 }
 
 /// Tip heights above the root, one per layer, from the first (shallowest) to the root.
@@ -310,7 +317,14 @@ fn equal_tooth(
         if b > g_min + 1e-9 {
             return fail("tool", format!("the tool's tip ({b} mm) is wider than the narrowest groove at its depth ({g_min:.4} mm)"));
         }
-        let m = ((g_max - b) / b - 1e-9).ceil().max(1.0) as u32;
+        let m = ((g_max - b) / b - 1e-9).ceil().max(1.0);
+        if m * (thread.starts as f64) * (heights.len() as f64) > MAX_PASSES as f64 {
+            return fail(
+                "tool",
+                format!("a {b} mm tool needs {m} axial passes per layer for a {g_max:.3} mm groove: more than {MAX_PASSES} passes in all"),
+            );
+        }
+        let m = m as u32;
         for s in 0..thread.starts {
             let base = thread.start_helix(s);
             for j in 0..=m {
@@ -383,6 +397,15 @@ fn seed002(
             "seed 002's R11 (number of axial passes) is below 1 for this thread and tool",
         );
     }
+    if (r11 + 1.0) * r3 > MAX_PASSES as f64 {
+        return fail(
+            "tool",
+            format!(
+                "seed 002's program would run {} passes, more than {MAX_PASSES}",
+                (r11 + 1.0) * r3
+            ),
+        );
+    }
     let r12 = (r4 - r7 - r8) / r11;
     let r15 = r4 - r5.abs() * r20;
     let mut out = Vec::new();
@@ -433,8 +456,8 @@ fn flank_borrow(
         return fail("layer_depth", "expected a positive depth per layer (mm)");
     }
     let depth = thread.depth();
-    if depth / step > 100_000.0 {
-        return fail("layer_depth", "more than 100000 layers");
+    if depth / step > 5_000.0 {
+        return fail("layer_depth", "more than 5000 layers");
     }
     let b = tool.tip_width();
     if p.depths.is_some() {

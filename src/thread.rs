@@ -411,31 +411,48 @@ impl ColumnIdeal {
         self.distance_near(self.segment_at(z), z, h, bound)
     }
 
-    /// [`ColumnIdeal::distance`] starting from `hint`, the index of a segment at or near
-    /// `z` (callers walking along z keep it and skip the search).
+    /// [`ColumnIdeal::distance`] starting from `hint`, the index of the segment containing
+    /// `z` (callers walking along z keep it and skip the search). Segments are visited
+    /// outward from the hint and the scan stops on each side once the axial gap alone
+    /// exceeds the best distance so far; ties go to the lowest segment index.
     pub fn distance_near(&self, hint: usize, z: f64, h: f64, bound: f64) -> (f64, Flank) {
         let last = self.verts.len() - 2;
-        let mut i = hint.min(last);
-        while i > 0 && self.verts[i].z >= z - bound {
-            i -= 1;
-        }
-        let mut best = (f64::INFINITY, 0usize);
+        let i0 = hint.min(last);
+        let mut best = bound * bound;
+        let mut best_i = usize::MAX;
+        let mut i = i0;
         while i <= last {
             let (a, b) = (self.verts[i], self.verts[i + 1]);
-            if a.z > z + bound {
+            let gap = a.z - z;
+            if gap > 0.0 && gap * gap > best {
                 break;
             }
             let d2 = segment_distance2((z, h), a, b);
-            if d2 < best.0 {
-                best = (d2, i);
+            if d2 < best || (best_i == usize::MAX && d2 <= best) {
+                best = d2;
+                best_i = i;
             }
             i += 1;
         }
-        if best.0.is_infinite() {
+        let mut i = i0;
+        while i > 0 {
+            i -= 1;
+            let (a, b) = (self.verts[i], self.verts[i + 1]);
+            let gap = z - b.z;
+            if gap > 0.0 && gap * gap > best {
+                break;
+            }
+            let d2 = segment_distance2((z, h), a, b);
+            if d2 <= best {
+                best = d2;
+                best_i = i;
+            }
+        }
+        if best_i == usize::MAX {
             return (bound, Flank::Crest);
         }
-        let (a, b) = (self.verts[best.1], self.verts[best.1 + 1]);
-        (best.0.sqrt(), self.segment_kind(a, b))
+        let (a, b) = (self.verts[best_i], self.verts[best_i + 1]);
+        (best.sqrt(), self.segment_kind(a, b))
     }
 
     /// Index of the segment containing `z`, moving forward from `hint` (for callers

@@ -11,5 +11,7 @@ mod goldens;
 mod invariance;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
+/// Bad input never panics.
+mod robust;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;
