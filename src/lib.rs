@@ -353,6 +353,32 @@ fn build_report(
             turns.push(row);
         }
     }
+    for (i, p) in job.passes.iter().enumerate() {
+        let hand = p.helix().hand();
+        if hand != thread.hand() {
+            let name = |h: Hand| if h == Hand::Right { "right" } else { "left" };
+            findings.push(Finding {
+                kind: "hand",
+                severity: "error",
+                turn: None,
+                start: None,
+                flank: None,
+                pass: Some(i + 1),
+                angle_deg: None,
+                z_mm: Some(r6(p.z_start)),
+                value: 0.0,
+                unit: "mm",
+                message: format!(
+                    "pass {}: spindle {} feeding toward {}z cuts a {}-hand helix; the drawing's thread is {}-hand",
+                    i + 1,
+                    if p.spindle == Spindle::Cw { "cw (M03)" } else { "ccw (M04)" },
+                    if p.z_end < p.z_start { "-" } else { "+" },
+                    name(hand),
+                    name(thread.hand())
+                ),
+            });
+        }
+    }
     for mi in machine_issues {
         findings.push(Finding {
             kind: mi.kind,
@@ -465,7 +491,8 @@ fn build_report(
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 10] = [
+const KINDS: [&str; 11] = [
+    "hand",
     "gouge",
     "leftover",
     "missing_feature",

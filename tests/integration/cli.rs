@@ -223,3 +223,37 @@ fn summary_names_verdict_and_worst_places() {
     );
     assert!(s.contains("turn  lead: ideal measured"), "{s}");
 }
+
+/// M04 with a feed toward the chuck cuts a left-hand helix: on a right-hand drawing that is
+/// an error finding naming the pass.
+#[test]
+fn wrong_hand_is_a_finding() {
+    let text = with(
+        &small("iso-m20x2.5-radial"),
+        &[("machine", "spindle", "\"ccw\"")],
+    );
+    // The generator follows the spindle (it feeds toward +z with M04): still right-hand.
+    let (out, _, report) = simulate_text(&text, &["--check"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["verdict"], "pass");
+    // Explicit passes toward -z with M04 cut a left-hand helix.
+    let text = with(
+        &small("equal-groove-single-pass"),
+        &[("machine", "spindle", "\"ccw\"")],
+    );
+    let (out, _, report) = simulate_text(&text, &["--check"]);
+    assert_eq!(out.status.code(), Some(1));
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let f = &r["findings"][0];
+    assert_eq!(f["kind"], "hand", "{f}");
+    assert!(
+        f["message"].as_str().unwrap().contains("left-hand helix"),
+        "{f}"
+    );
+}
