@@ -32,6 +32,9 @@ pub enum JobError {
         /// The offending source line.
         snippet: String,
     },
+    /// The job's NC program could not be interpreted.
+    #[error("{0}")]
+    Program(crate::nc::NcError),
     /// A key has a value that makes no sense (negative lead, tooth wider than the pitch...).
     #[error("{}", render(file, *line, *col, key, message, snippet))]
     Invalid {
@@ -190,10 +193,18 @@ struct RawJob {
     #[serde(default)]
     pass: Vec<RawPass>,
     process: Option<RawProcess>,
+    program: Option<RawProgram>,
     #[serde(default)]
     machine: RawMachine,
     #[serde(default)]
     simulation: RawSimulation,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawProgram {
+    file: String,
+    dialect: String,
 }
 
 #[derive(Deserialize)]
@@ -547,8 +558,19 @@ impl Ctx<'_> {
 // Resolution.
 
 impl Job {
-    /// Parse and validate a job. `file` is only used in messages.
+    /// Parse and validate a job. `file` is only used in messages. A job with a `[program]`
+    /// needs [`Job::from_toml_with`].
     pub fn from_toml(src: &str, file: &str) -> Result<Job, JobError> {
+        Job::from_toml_with(src, file, &|_| None)
+    }
+
+    /// Parse and validate a job whose `[program]` (and its subprograms) `load` returns by
+    /// name, relative to the job file. The library itself reads no files.
+    pub fn from_toml_with(
+        src: &str,
+        file: &str,
+        load: &dyn Fn(&str) -> Option<String>,
+    ) -> Result<Job, JobError> {
         let raw: RawJob = toml::from_str(src).map_err(|e| {
             let (line, col) = e.span().map(|r| line_col(src, r.start)).unwrap_or((0, 0));
             JobError::Syntax {
@@ -560,11 +582,11 @@ impl Job {
             }
         })?;
         let cx = Ctx { src, file };
-        resolve(raw, &cx)
+        resolve(raw, &cx, load)
     }
 }
 
-fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
+fn resolve(raw: RawJob, cx: &Ctx, load: &dyn Fn(&str) -> Option<String>) -> Result<Job, JobError> {
     let b = &raw.blank;
     let blank = Blank {
         diameter: cx.positive("blank.diameter", b.diameter)?,
@@ -709,10 +731,13 @@ fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
         }
         passes.extend(generated);
     }
+    if let Some(pr) = &raw.program {
+        passes.extend(program_passes(pr, &tools, cx, load)?);
+    }
     if passes.is_empty() {
         return Err(cx.err(
             "pass",
-            "expected at least one [[pass]] or a [process] section",
+            "expected at least one [[pass]], a [process] or a [program] with threading moves",
         ));
     }
     Ok(Job {
@@ -725,6 +750,85 @@ fn resolve(raw: RawJob, cx: &Ctx) -> Result<Job, JobError> {
         machine,
         sim,
     })
+}
+
+/// Interpret the job's program and turn its threading moves into passes.
+fn program_passes(
+    pr: &RawProgram,
+    tools: &[Tool],
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+) -> Result<Vec<Pass>, JobError> {
+    use crate::nc::{interpret, Dialect, Limits, MoveKind, NcError, Source};
+    let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
+        cx.err(
+            "program.dialect",
+            format!("expected `fanuc` or `siemens-802d` (GSK 980TDC and LinuxCNC are not supported yet), got `{}`", pr.dialect),
+        )
+    })?;
+    let text = load(&pr.file).ok_or_else(|| {
+        cx.err(
+            "program.file",
+            format!("cannot read `{}` (relative to the job file)", pr.file),
+        )
+    })?;
+    let main = Source {
+        name: pr.file.clone(),
+        text,
+    };
+    let loader = |name: &str| {
+        load(name).map(|text| Source {
+            name: name.to_string(),
+            text,
+        })
+    };
+    let moves = interpret(&main, dialect, &loader, Limits::default()).map_err(JobError::Program)?;
+    let fail = |m: &crate::nc::Move, message: String| {
+        JobError::Program(NcError {
+            file: m.file.clone(),
+            line: m.line,
+            col: 0,
+            message,
+            snippet: String::new(),
+            stack: Vec::new(),
+        })
+    };
+    let mut out = Vec::new();
+    for m in moves.iter().filter(|m| m.kind == MoveKind::Thread) {
+        let tool = match m.tool {
+            Some(id) => tools.iter().position(|t| t.id == id),
+            None if tools.len() == 1 => Some(0),
+            None => None,
+        }
+        .ok_or_else(|| {
+            fail(
+                m,
+                format!(
+                    "threading with tool {:?}, which the job's [[tool]] list does not define",
+                    m.tool
+                ),
+            )
+        })?;
+        let angle = m.sync_angle_deg.unwrap_or(0.0).to_radians();
+        let pass = Pass {
+            tool,
+            x_start: m.x_start,
+            x_end: m.x_dia,
+            z_start: m.z_start,
+            z_end: m.z,
+            lead: m.lead.unwrap_or(0.0),
+            lead_change: m.lead_change.unwrap_or(0.0),
+            // The thread starts `angle` past the index pulse; the part turns under the
+            // tool, so the part angle under it is -angle with M03 and +angle with M04.
+            start_angle: -m.spindle.sign() * angle,
+            spindle: m.spindle,
+        };
+        if pass.lead <= 0.0 || pass.z_start == pass.z_end || pass.revolutions().is_none() {
+            return Err(fail(m, format!("threading move to z = {}: the lead is not positive all the way (a real control alarms)", m.z)));
+        }
+        out.push(pass);
+    }
+    Ok(out)
 }
 
 fn check_pass(p: &Pass, key: &dyn Fn(&str) -> String, cx: &Ctx) -> Result<(), JobError> {

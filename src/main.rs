@@ -21,6 +21,24 @@ enum Command {
     /// Simulate a job: sweep every pass through the stock, compare with the ideal thread,
     /// print a summary and optionally write the JSON report.
     Simulate(SimulateArgs),
+    /// Interpret an NC program and print its moves (CSV by default), as the control would
+    /// run them: end points in mm, leads for thread moves.
+    Toolpath(ToolpathArgs),
+}
+
+#[derive(clap::Args)]
+struct ToolpathArgs {
+    /// The main program; subprograms are looked up beside it.
+    program: PathBuf,
+    /// Controller dialect: `fanuc` or `siemens-802d`.
+    #[arg(long)]
+    dialect: String,
+    /// Print JSON instead of CSV.
+    #[arg(long)]
+    json: bool,
+    /// Print CSV (the default): file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg.
+    #[arg(long, conflicts_with = "json")]
+    csv: bool,
 }
 
 #[derive(clap::Args)]
@@ -69,6 +87,7 @@ fn main() -> ExitCode {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Simulate(args) => simulate(args),
+        Command::Toolpath(args) => toolpath(args),
     }
 }
 
@@ -81,7 +100,9 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     }
     let src = std::fs::read_to_string(&args.job)
         .with_context(|| format!("cannot read the job file {}", args.job.display()))?;
-    let job = vpcut::Job::from_toml(&src, &args.job.display().to_string())?;
+    let dir = args.job.parent().map(Path::to_path_buf).unwrap_or_default();
+    let load = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
+    let job = vpcut::Job::from_toml_with(&src, &args.job.display().to_string(), &load)?;
     let opts = vpcut::Options {
         max_dexels: args.max_dexels,
     };
@@ -103,6 +124,55 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             ExitCode::SUCCESS
         },
     )
+}
+
+fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
+    let dialect = vpcut::Dialect::from_name(&args.dialect).with_context(|| {
+        format!(
+            "unknown dialect `{}`: expected `fanuc` or `siemens-802d`",
+            args.dialect
+        )
+    })?;
+    let text = std::fs::read_to_string(&args.program)
+        .with_context(|| format!("cannot read {}", args.program.display()))?;
+    let dir = args
+        .program
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    let name = args
+        .program
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let main = vpcut::Source { name, text };
+    let load = |n: &str| {
+        std::fs::read_to_string(dir.join(n))
+            .ok()
+            .map(|text| vpcut::Source {
+                name: n.to_string(),
+                text,
+            })
+    };
+    let moves = vpcut::interpret(&main, dialect, &load, vpcut::Limits::default())?;
+    let _ = args.csv;
+    if args.json {
+        let rows: Vec<serde_json::Value> = moves
+            .iter()
+            .map(|m| {
+                serde_json::json!({
+                    "file": m.file, "line": m.line, "kind": m.kind.name(),
+                    "x_dia": m.x_dia, "x_radius": m.x_dia / 2.0, "z": m.z,
+                    "lead": m.lead, "lead_change": m.lead_change,
+                    "sync_angle_deg": m.sync_angle_deg, "tool": m.tool,
+                })
+            })
+            .collect();
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+    } else {
+        print!("{}", vpcut::to_csv(&moves));
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Write a file through a temporary file in the same folder and a rename, so that a failed

@@ -6,7 +6,7 @@
 //! hand from the seed documents and closed forms, each with the reason; the golden must
 //! satisfy them, so a golden is never just whatever the code printed.
 
-use crate::support::{blessing, read, report_json, root, run, scene_text, scenes};
+use crate::support::{blessing, read, report_json, root, run_scene, scenes};
 use serde_json::Value;
 
 #[derive(serde::Deserialize)]
@@ -104,7 +104,7 @@ fn check_expectations(scene: &str, report: &Value) -> Vec<String> {
 fn scenes_match_goldens_and_expectations() {
     let mut failures = Vec::new();
     for scene in scenes() {
-        let out = run(&scene_text(&scene));
+        let out = run_scene(&scene);
         let report = report_json(&out);
         let mut text = serde_json::to_string_pretty(&report).unwrap();
         text.push('\n');

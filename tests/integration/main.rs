@@ -11,6 +11,8 @@ mod goldens;
 mod invariance;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
+/// NC programs against the pass generators that transcribe the same methods.
+mod programs;
 /// Bad input never panics.
 mod robust;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.

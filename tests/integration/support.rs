@@ -39,6 +39,19 @@ pub(crate) fn job(text: &str) -> Job {
     Job::from_toml(text, "test.toml").unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// A scene's job, with its program files read from the scene's folder.
+pub(crate) fn scene_job(name: &str) -> Job {
+    let dir = root().join("scenes").join(name);
+    let load = |f: &str| std::fs::read_to_string(dir.join(f)).ok();
+    Job::from_toml_with(&scene_text(name), "job.toml", &load)
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Simulate a scene.
+pub(crate) fn run_scene(name: &str) -> Outcome {
+    simulate(&scene_job(name), &Options::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// Simulate a job text.
 pub(crate) fn run(text: &str) -> Outcome {
     simulate(&job(text), &Options::default()).unwrap_or_else(|e| panic!("{e}"))

@@ -1,0 +1,1120 @@
+//! NC programs: FANUC (Macro B subset) and Siemens 802D (R parameters, labels, subprograms)
+//! lathe dialects interpreted into a toolpath whose thread moves become passes.
+//!
+//! This is the first part of the NC-program issue: enough of both languages to run the seed
+//! programs (seed 002's `MYAAA.MPF`/`MYBBB.SPF`, seed 004's Macro B Tr program). It reads
+//! text given by the caller (no IO here): the main program, and a loader for subprograms
+//! found beside it. Every error names the file, line and column and the call stack.
+//! Not yet: FANUC G92/G76 cycles, M98/M99 and G65 calls, Macro A, GSK and LinuxCNC words,
+//! Siemens CYCLE97, diagnostics that go on after the first error.
+
+use crate::helix::Spindle;
+use std::collections::HashMap;
+use std::fmt;
+
+/// Controller dialect.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dialect {
+    /// FANUC lathe, G-code system A, Custom Macro B.
+    Fanuc,
+    /// Siemens SINUMERIK 802D.
+    Siemens802d,
+}
+
+impl Dialect {
+    /// Parse the name used in jobs and on the command line.
+    pub fn from_name(s: &str) -> Option<Dialect> {
+        match s {
+            "fanuc" => Some(Dialect::Fanuc),
+            "siemens-802d" => Some(Dialect::Siemens802d),
+            _ => None,
+        }
+    }
+}
+
+/// A program's text and the name it is known by.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Source {
+    /// File name (for messages and subprogram lookup).
+    pub name: String,
+    /// The text.
+    pub text: String,
+}
+
+/// What a move does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MoveKind {
+    /// G0.
+    Rapid,
+    /// G1 (and arcs, later).
+    Feed,
+    /// A spindle-synchronised threading move.
+    Thread,
+}
+
+impl MoveKind {
+    /// Name used in CSV/JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            MoveKind::Rapid => "rapid",
+            MoveKind::Feed => "feed",
+            MoveKind::Thread => "thread",
+        }
+    }
+}
+
+/// One interpreted move, in mm, end point in work coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Move {
+    /// File of the block.
+    pub file: String,
+    /// 1-based line of the block.
+    pub line: usize,
+    /// Kind.
+    pub kind: MoveKind,
+    /// Start diameter.
+    pub x_start: f64,
+    /// Start z.
+    pub z_start: f64,
+    /// End diameter.
+    pub x_dia: f64,
+    /// End z.
+    pub z: f64,
+    /// Lead at the start (thread moves).
+    pub lead: Option<f64>,
+    /// Lead change per revolution (thread moves).
+    pub lead_change: Option<f64>,
+    /// Spindle angle at the sync point (deg, thread moves).
+    pub sync_angle_deg: Option<f64>,
+    /// Active tool number (T0101 and T1 are tool 1).
+    pub tool: Option<u32>,
+    /// Spindle direction.
+    pub spindle: Spindle,
+}
+
+/// An error while interpreting.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NcError {
+    /// File.
+    pub file: String,
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column (0 = the whole block).
+    pub col: usize,
+    /// What is wrong.
+    pub message: String,
+    /// The block's text.
+    pub snippet: String,
+    /// Callers, innermost first ("MYAAA.MPF:14").
+    pub stack: Vec<String>,
+}
+
+impl fmt::Display for NcError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}:{}: {}",
+            self.file,
+            self.line,
+            self.col.max(1),
+            self.message
+        )?;
+        let num = self.line.to_string();
+        let pad = " ".repeat(num.len());
+        write!(f, "\n{pad} |\n{num} | {}", self.snippet)?;
+        if self.col > 0 {
+            write!(f, "\n{pad} | {}^", " ".repeat(self.col - 1))?;
+        }
+        for s in &self.stack {
+            write!(f, "\n  called from {s}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for NcError {}
+
+/// Limits that turn runaway programs into errors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Executed blocks.
+    pub max_blocks: u64,
+    /// Subprogram nesting.
+    pub max_depth: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_blocks: 10_000_000,
+            max_depth: 8,
+        }
+    }
+}
+
+/// A program split into blocks.
+#[derive(Debug)]
+struct Program {
+    name: String,
+    /// (1-based line, original text, text without comments, upper-cased).
+    blocks: Vec<(usize, String, String)>,
+    labels: HashMap<String, usize>,
+    numbers: HashMap<u32, usize>,
+}
+
+fn strip_comment(line: &str, dialect: Dialect) -> String {
+    let mut out = String::new();
+    let mut depth = 0;
+    for c in line.chars() {
+        match (dialect, c) {
+            (Dialect::Siemens802d, ';') => break,
+            (Dialect::Fanuc, '(') => depth += 1,
+            (Dialect::Fanuc, ')') if depth > 0 => depth -= 1,
+            _ if depth > 0 => {}
+            _ => out.push(c.to_ascii_uppercase()),
+        }
+    }
+    out.trim().to_string()
+}
+
+fn load_program(src: &Source, dialect: Dialect) -> Program {
+    let mut blocks = Vec::new();
+    let mut labels = HashMap::new();
+    let mut numbers = HashMap::new();
+    for (i, line) in src.text.lines().enumerate() {
+        let text = strip_comment(line, dialect);
+        if text.is_empty() || text == "%" || text.starts_with('/') {
+            continue;
+        }
+        let idx = blocks.len();
+        let mut rest = text.as_str();
+        // N number.
+        if let Some(r) = rest.strip_prefix('N') {
+            let digits: String = r.chars().take_while(|c| c.is_ascii_digit()).collect();
+            if !digits.is_empty() {
+                if let Ok(n) = digits.parse() {
+                    numbers.insert(n, idx);
+                }
+                rest = r[digits.len()..].trim_start();
+            }
+        }
+        if dialect == Dialect::Siemens802d {
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            if !name.is_empty() && rest[name.len()..].starts_with(':') {
+                labels.insert(name, idx);
+            }
+        }
+        blocks.push((i + 1, line.to_string(), text));
+    }
+    Program {
+        name: src.name.clone(),
+        blocks,
+        labels,
+        numbers,
+    }
+}
+
+/// A cursor over one block's text.
+struct Cur<'a> {
+    s: &'a [u8],
+    i: usize,
+    dialect: Dialect,
+}
+
+type Fail = (usize, String);
+
+impl<'a> Cur<'a> {
+    fn new(s: &'a str, dialect: Dialect) -> Cur<'a> {
+        Cur {
+            s: s.as_bytes(),
+            i: 0,
+            dialect,
+        }
+    }
+    fn ws(&mut self) {
+        while self.i < self.s.len() && self.s[self.i].is_ascii_whitespace() {
+            self.i += 1;
+        }
+    }
+    fn peek(&mut self) -> Option<u8> {
+        self.ws();
+        self.s.get(self.i).copied()
+    }
+    fn eat(&mut self, t: &str) -> bool {
+        self.ws();
+        if self.s[self.i..].starts_with(t.as_bytes()) {
+            self.i += t.len();
+            true
+        } else {
+            false
+        }
+    }
+    fn done(&mut self) -> bool {
+        self.peek().is_none()
+    }
+    fn err<T>(&self, msg: impl Into<String>) -> Result<T, Fail> {
+        Err((self.i + 1, msg.into()))
+    }
+    fn ident(&mut self) -> String {
+        self.ws();
+        let st = self.i;
+        while self.i < self.s.len()
+            && (self.s[self.i].is_ascii_alphabetic() || self.s[self.i] == b'_')
+        {
+            self.i += 1;
+        }
+        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
+    }
+    fn name_with_digits(&mut self) -> String {
+        self.ws();
+        let st = self.i;
+        while self.i < self.s.len()
+            && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_')
+        {
+            self.i += 1;
+        }
+        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
+    }
+    /// An unsigned decimal number (`12`, `12.`, `.5`, `1.5`).
+    fn number(&mut self) -> Option<f64> {
+        self.ws();
+        let st = self.i;
+        while self.i < self.s.len() && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.') {
+            self.i += 1;
+        }
+        if st == self.i {
+            return None;
+        }
+        let t = String::from_utf8_lossy(&self.s[st..self.i]);
+        match t.parse::<f64>() {
+            Ok(v) => Some(v),
+            Err(_) => {
+                self.i = st;
+                None
+            }
+        }
+    }
+}
+
+/// Interpreter state.
+struct Machine<'l> {
+    dialect: Dialect,
+    loader: &'l dyn Fn(&str) -> Option<Source>,
+    limits: Limits,
+    programs: HashMap<String, std::rc::Rc<Program>>,
+    r: HashMap<u32, f64>,
+    vars: HashMap<u32, f64>,
+    x: f64,
+    z: f64,
+    motion: u32,
+    incremental: bool,
+    inch: bool,
+    tool: Option<u32>,
+    spindle: Spindle,
+    moves: Vec<Move>,
+    blocks: u64,
+}
+
+fn deg(x: f64) -> f64 {
+    x.to_radians()
+}
+
+impl Machine<'_> {
+    fn get(&self, c: &mut Cur, idx: u32) -> Result<f64, Fail> {
+        match c.dialect {
+            Dialect::Siemens802d => Ok(*self.r.get(&idx).unwrap_or(&0.0)),
+            Dialect::Fanuc => {
+                if idx == 0 {
+                    return Ok(0.0);
+                }
+                Ok(*self.vars.get(&idx).unwrap_or(&0.0))
+            }
+        }
+    }
+
+    fn expr(&self, c: &mut Cur) -> Result<f64, Fail> {
+        self.or(c)
+    }
+    fn or(&self, c: &mut Cur) -> Result<f64, Fail> {
+        let mut v = self.and(c)?;
+        while c.eat("OR") {
+            let w = self.and(c)?;
+            v = f64::from(v != 0.0 || w != 0.0);
+        }
+        Ok(v)
+    }
+    fn and(&self, c: &mut Cur) -> Result<f64, Fail> {
+        let mut v = self.cmp(c)?;
+        while c.eat("AND") {
+            let w = self.cmp(c)?;
+            v = f64::from(v != 0.0 && w != 0.0);
+        }
+        Ok(v)
+    }
+    fn cmp(&self, c: &mut Cur) -> Result<f64, Fail> {
+        let v = self.add(c)?;
+        let ops: &[(&str, fn(f64, f64) -> bool)] = match c.dialect {
+            Dialect::Siemens802d => &[
+                ("==", |a, b| a == b),
+                ("<>", |a, b| a != b),
+                ("<=", |a, b| a <= b),
+                (">=", |a, b| a >= b),
+                ("<", |a, b| a < b),
+                (">", |a, b| a > b),
+            ],
+            Dialect::Fanuc => &[
+                ("EQ", |a, b| a == b),
+                ("NE", |a, b| a != b),
+                ("LE", |a, b| a <= b),
+                ("GE", |a, b| a >= b),
+                ("LT", |a, b| a < b),
+                ("GT", |a, b| a > b),
+            ],
+        };
+        for (op, f) in ops {
+            if c.eat(op) {
+                let w = self.add(c)?;
+                return Ok(f64::from(f(v, w)));
+            }
+        }
+        Ok(v)
+    }
+    fn add(&self, c: &mut Cur) -> Result<f64, Fail> {
+        let mut v = self.mul(c)?;
+        loop {
+            if c.eat("+") {
+                v += self.mul(c)?;
+            } else if c.peek() == Some(b'-') {
+                c.i += 1;
+                v -= self.mul(c)?;
+            } else {
+                return Ok(v);
+            }
+        }
+    }
+    fn mul(&self, c: &mut Cur) -> Result<f64, Fail> {
+        let mut v = self.unary(c)?;
+        loop {
+            if c.eat("*") {
+                v *= self.unary(c)?;
+            } else if c.eat("/") {
+                let at = c.i;
+                let w = self.unary(c)?;
+                if w == 0.0 {
+                    return Err((at + 1, "division by zero".into()));
+                }
+                v /= w;
+            } else {
+                return Ok(v);
+            }
+        }
+    }
+    fn unary(&self, c: &mut Cur) -> Result<f64, Fail> {
+        if c.eat("-") {
+            return Ok(-self.unary(c)?);
+        }
+        if c.eat("+") {
+            return self.unary(c);
+        }
+        self.primary(c)
+    }
+    fn primary(&self, c: &mut Cur) -> Result<f64, Fail> {
+        let (open, close) = match c.dialect {
+            Dialect::Siemens802d => ("(", ")"),
+            Dialect::Fanuc => ("[", "]"),
+        };
+        if c.eat(open) {
+            let v = self.expr(c)?;
+            if !c.eat(close) {
+                return c.err(format!("expected `{close}`"));
+            }
+            return Ok(v);
+        }
+        if c.dialect == Dialect::Fanuc && c.eat("#") {
+            return self.var_ref(c);
+        }
+        if let Some(v) = c.number() {
+            return Ok(v);
+        }
+        let at = c.i;
+        let name = c.ident();
+        if name.is_empty() {
+            return c.err("expected a number, a parameter or a function");
+        }
+        if c.dialect == Dialect::Siemens802d && name == "R" {
+            let Some(n) = c.number() else {
+                return c.err("expected an R parameter number");
+            };
+            return self.get(c, n as u32);
+        }
+        if !c.eat(open) {
+            return Err((at + 1, format!("unknown name `{name}`")));
+        }
+        let a = self.expr(c)?;
+        let b = if c.eat(",") {
+            Some(self.expr(c)?)
+        } else {
+            None
+        };
+        if !c.eat(close) {
+            return c.err(format!("expected `{close}`"));
+        }
+        let v = match (name.as_str(), b) {
+            ("ABS", None) => a.abs(),
+            ("SQRT", None) if a >= 0.0 => a.sqrt(),
+            ("SQRT", None) => return Err((at + 1, "square root of a negative number".into())),
+            ("SIN", None) => deg(a).sin(),
+            ("COS", None) => deg(a).cos(),
+            ("TAN", None) => deg(a).tan(),
+            ("ATAN2", Some(b)) => a.atan2(b).to_degrees(),
+            ("ATAN", Some(b)) => a.atan2(b).to_degrees(),
+            ("ATAN", None) => a.atan().to_degrees(),
+            ("TRUNC", None) | ("FIX", None) => a.trunc(),
+            ("FUP", None) => {
+                if a >= 0.0 {
+                    a.ceil()
+                } else {
+                    a.floor()
+                }
+            }
+            ("ROUND", None) => a.round(),
+            ("POT", None) => a * a,
+            ("LN", None) if a > 0.0 => a.ln(),
+            ("EXP", None) => a.exp(),
+            _ => {
+                return Err((
+                    at + 1,
+                    format!("unknown function `{name}` with these arguments"),
+                ))
+            }
+        };
+        Ok(v)
+    }
+    fn var_ref(&self, c: &mut Cur) -> Result<f64, Fail> {
+        let idx = if c.peek() == Some(b'[') {
+            c.i += 1;
+            let v = self.expr(c)?;
+            if !c.eat("]") {
+                return c.err("expected `]`");
+            }
+            v
+        } else {
+            c.number()
+                .ok_or((c.i + 1, "expected a variable number".to_string()))?
+        };
+        self.get(c, idx.round() as u32)
+    }
+
+    /// A FANUC word value: a number, `#n`, `-#n` or `[expr]`.
+    fn fanuc_value(&self, c: &mut Cur) -> Result<f64, Fail> {
+        let neg = c.eat("-");
+        let _ = c.eat("+");
+        let v = if c.eat("#") {
+            self.var_ref(c)?
+        } else if c.peek() == Some(b'[') {
+            c.i += 1;
+            let v = self.expr(c)?;
+            if !c.eat("]") {
+                return c.err("expected `]`");
+            }
+            v
+        } else {
+            c.number()
+                .ok_or((c.i + 1, "expected a number".to_string()))?
+        };
+        Ok(if neg { -v } else { v })
+    }
+}
+
+/// Interpret a program into moves.
+pub fn interpret(
+    main: &Source,
+    dialect: Dialect,
+    loader: &dyn Fn(&str) -> Option<Source>,
+    limits: Limits,
+) -> Result<Vec<Move>, NcError> {
+    let mut m = Machine {
+        dialect,
+        loader,
+        limits,
+        programs: HashMap::new(),
+        r: HashMap::new(),
+        vars: HashMap::new(),
+        x: 0.0,
+        z: 0.0,
+        motion: 0,
+        incremental: false,
+        inch: false,
+        tool: None,
+        spindle: Spindle::Cw,
+        moves: Vec::new(),
+        blocks: 0,
+    };
+    let prog = std::rc::Rc::new(load_program(main, dialect));
+    m.programs.insert(prog.name.clone(), prog.clone());
+    let mut stack: Vec<(std::rc::Rc<Program>, usize)> = Vec::new();
+    let mut loops: Vec<(u32, usize)> = Vec::new();
+    let mut cur = prog;
+    let mut pc = 0usize;
+    loop {
+        if pc >= cur.blocks.len() {
+            match stack.pop() {
+                Some((p, ret)) => {
+                    cur = p;
+                    pc = ret;
+                    continue;
+                }
+                None => break,
+            }
+        }
+        m.blocks += 1;
+        let (line, orig, text) = &cur.blocks[pc];
+        let fail = |stack: &[(std::rc::Rc<Program>, usize)], col: usize, message: String| NcError {
+            file: cur.name.clone(),
+            line: *line,
+            col,
+            message,
+            snippet: orig.clone(),
+            stack: stack
+                .iter()
+                .rev()
+                .map(|(p, ret)| {
+                    let l = p.blocks.get(ret.saturating_sub(1)).map_or(0, |b| b.0);
+                    format!("{}:{l}", p.name)
+                })
+                .collect(),
+        };
+        if m.blocks > m.limits.max_blocks {
+            return Err(fail(
+                &stack,
+                0,
+                format!(
+                    "more than {} blocks executed: a loop that never ends?",
+                    m.limits.max_blocks
+                ),
+            ));
+        }
+        let step = match dialect {
+            Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
+            Dialect::Fanuc => m.fanuc_block(&cur, pc, text, &mut loops),
+        };
+        let step = match step {
+            Ok(s) => s,
+            Err((col, msg)) => {
+                // Columns are in the comment-stripped text; map back roughly to the line.
+                let offset = orig.to_ascii_uppercase().find(text.as_str()).unwrap_or(0);
+                return Err(fail(&stack, col + offset, msg));
+            }
+        };
+        match step {
+            Step::Next => pc += 1,
+            Step::Jump(to) => pc = to,
+            Step::End => break,
+            Step::Return => match stack.pop() {
+                Some((p, ret)) => {
+                    cur = p;
+                    pc = ret;
+                }
+                None => break,
+            },
+            Step::Call(name, times) => {
+                if stack.len() + 1 > m.limits.max_depth {
+                    return Err(fail(
+                        &stack,
+                        0,
+                        format!("subprogram nesting deeper than {}", m.limits.max_depth),
+                    ));
+                }
+                let p = match m.programs.get(&name) {
+                    Some(p) => p.clone(),
+                    None => {
+                        let candidates = [
+                            format!("{name}.SPF"),
+                            format!("{name}.spf"),
+                            format!("{name}.MPF"),
+                            name.clone(),
+                        ];
+                        let Some(src) = candidates.iter().find_map(|c| (m.loader)(c)) else {
+                            return Err(fail(&stack, 1, format!("subprogram `{name}` not found (looked for {name}.SPF beside the main program)")));
+                        };
+                        let p = std::rc::Rc::new(load_program(&src, dialect));
+                        m.programs.insert(name.clone(), p.clone());
+                        p
+                    }
+                };
+                // Repeats: push the return point once, and the subprogram `times - 1` more.
+                stack.push((cur.clone(), pc + 1));
+                for _ in 1..times {
+                    stack.push((p.clone(), 0));
+                }
+                cur = p;
+                pc = 0;
+            }
+        }
+    }
+    Ok(m.moves)
+}
+
+enum Step {
+    Next,
+    Jump(usize),
+    End,
+    Return,
+    Call(String, u32),
+}
+
+/// Words of one block.
+#[derive(Default)]
+struct Words {
+    g: Vec<u32>,
+    m: Vec<u32>,
+    vals: HashMap<String, (f64, usize)>,
+}
+
+impl Machine<'_> {
+    fn siemens_block(&mut self, prog: &Program, pc: usize, text: &str) -> Result<Step, Fail> {
+        let mut c = Cur::new(text, self.dialect);
+        // Skip N and a label.
+        if c.eat("N") {
+            let _ = c.number();
+        }
+        let save = c.i;
+        let name = c.name_with_digits();
+        if !(name.is_empty() || !c.eat(":")) {
+            // label consumed
+        } else {
+            c.i = save;
+        }
+        let mut w = Words::default();
+        while !c.done() {
+            let at = c.i;
+            let name = c.ident();
+            match name.as_str() {
+                "IF" => {
+                    let v = self.expr(&mut c)?;
+                    let kw = c.ident();
+                    let target = c.name_with_digits();
+                    let to = self.label(prog, pc, &kw, &target, at)?;
+                    return Ok(if v != 0.0 { Step::Jump(to) } else { Step::Next });
+                }
+                "GOTOF" | "GOTOB" | "GOTO" => {
+                    let target = c.name_with_digits();
+                    return Ok(Step::Jump(self.label(prog, pc, &name, &target, at)?));
+                }
+                "RET" => return Ok(Step::Return),
+                "R" if c.s.get(c.i).is_some_and(|b| b.is_ascii_digit()) => {
+                    let n = c.number().unwrap_or(0.0) as u32;
+                    if !c.eat("=") {
+                        return c.err("expected `=` after an R parameter");
+                    }
+                    let v = self.expr(&mut c)?;
+                    self.r.insert(n, v);
+                }
+                "" => return Err((at + 1, format!("unexpected `{}`", c.s[c.i] as char))),
+                addr if addr.len() <= 2
+                    && matches!(
+                        addr,
+                        "G" | "M" | "S" | "T" | "X" | "Z" | "F" | "K" | "I" | "SF" | "D" | "P"
+                    ) =>
+                {
+                    let v = if c.eat("=") {
+                        self.expr(&mut c)?
+                    } else {
+                        let neg = c.eat("-");
+                        let v = c
+                            .number()
+                            .ok_or((c.i + 1, format!("expected a value after `{addr}`")))?;
+                        if neg {
+                            -v
+                        } else {
+                            v
+                        }
+                    };
+                    match addr {
+                        "G" => w.g.push(v as u32),
+                        "M" => w.m.push(v as u32),
+                        _ => {
+                            w.vals.insert(addr.to_string(), (v, at + 1));
+                        }
+                    }
+                }
+                call if call.len() > 2 => {
+                    // A subprogram called by name, with an optional repeat `P n`.
+                    let mut times = 1;
+                    if c.eat("P") {
+                        times = c.number().unwrap_or(1.0).max(1.0) as u32;
+                    }
+                    self.apply(&w, prog, pc)?;
+                    return Ok(Step::Call(call.to_string(), times));
+                }
+                other => return Err((at + 1, format!("unknown word `{other}`"))),
+            }
+        }
+        self.apply(&w, prog, pc)
+    }
+
+    fn label(
+        &self,
+        prog: &Program,
+        pc: usize,
+        kw: &str,
+        target: &str,
+        at: usize,
+    ) -> Result<usize, Fail> {
+        let Some(&to) = prog.labels.get(target) else {
+            return Err((
+                at + 1,
+                format!("label `{target}` not found in {}", prog.name),
+            ));
+        };
+        match kw {
+            "GOTOF" if to <= pc => Err((
+                at + 1,
+                format!("GOTOF jumps forward, but `{target}` is above"),
+            )),
+            "GOTOB" if to > pc => {
+                Err((at + 1, format!("GOTOB jumps back, but `{target}` is below")))
+            }
+            "GOTOF" | "GOTOB" | "GOTO" => Ok(to),
+            _ => Err((at + 1, format!("expected GOTOF, GOTOB or GOTO, got `{kw}`"))),
+        }
+    }
+
+    fn fanuc_block(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        text: &str,
+        loops: &mut Vec<(u32, usize)>,
+    ) -> Result<Step, Fail> {
+        let mut c = Cur::new(text, self.dialect);
+        if text.starts_with('O') && text[1..].chars().all(|ch| ch.is_ascii_digit()) {
+            return Ok(Step::Next);
+        }
+        let mut w = Words::default();
+        while !c.done() {
+            let at = c.i;
+            if c.eat("#") {
+                let idx = self.var_index(&mut c)?;
+                if !c.eat("=") {
+                    return c.err("expected `=` after a variable");
+                }
+                let v = self.expr(&mut c)?;
+                self.vars.insert(idx, v);
+                continue;
+            }
+            if c.eat("WHILE") {
+                let v = self.bracket(&mut c)?;
+                if !c.eat("DO") {
+                    return c.err("expected DOn after WHILE [..]");
+                }
+                let n = c.number().unwrap_or(0.0) as u32;
+                if v != 0.0 {
+                    loops.retain(|l| l.1 != pc);
+                    loops.push((n, pc));
+                    return Ok(Step::Next);
+                }
+                // Skip to the block after the matching ENDn.
+                for (k, b) in prog.blocks.iter().enumerate().skip(pc + 1) {
+                    if b.2.replace(' ', "") == format!("END{n}") {
+                        loops.retain(|l| l.1 != pc);
+                        return Ok(Step::Jump(k + 1));
+                    }
+                }
+                return Err((at + 1, format!("WHILE .. DO{n} without END{n}")));
+            }
+            if c.eat("END") {
+                let n = c.number().unwrap_or(0.0) as u32;
+                let Some(&(_, start)) = loops.iter().rev().find(|l| l.0 == n) else {
+                    return Err((at + 1, format!("END{n} without DO{n}")));
+                };
+                return Ok(Step::Jump(start));
+            }
+            if c.eat("IF") {
+                let v = self.bracket(&mut c)?;
+                if c.eat("GOTO") {
+                    let n = c.number().unwrap_or(0.0) as u32;
+                    if v == 0.0 {
+                        return Ok(Step::Next);
+                    }
+                    return prog
+                        .numbers
+                        .get(&n)
+                        .map(|&k| Step::Jump(k))
+                        .ok_or((at + 1, format!("no block N{n}")));
+                }
+                if c.eat("THEN") {
+                    if v == 0.0 {
+                        return Ok(Step::Next);
+                    }
+                    continue;
+                }
+                return c.err("expected GOTO or THEN after IF [..]");
+            }
+            if c.eat("GOTO") {
+                let n = c.number().unwrap_or(0.0) as u32;
+                return prog
+                    .numbers
+                    .get(&n)
+                    .map(|&k| Step::Jump(k))
+                    .ok_or((at + 1, format!("no block N{n}")));
+            }
+            let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
+                return Err((at + 1, format!("unexpected `{}`", c.s[c.i] as char)));
+            };
+            c.i += 1;
+            let v = self.fanuc_value(&mut c)?;
+            match letter {
+                b'G' => w.g.push(v.round() as u32),
+                b'M' => w.m.push(v.round() as u32),
+                b'N' | b'O' => {}
+                b'X' | b'Z' | b'U' | b'W' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P' => {
+                    w.vals.insert((letter as char).to_string(), (v, at + 1));
+                }
+                other => {
+                    return Err((
+                        at + 1,
+                        format!("the word `{}` is not supported yet", other as char),
+                    ))
+                }
+            }
+        }
+        self.apply(&w, prog, pc)
+    }
+
+    fn var_index(&self, c: &mut Cur) -> Result<u32, Fail> {
+        let v = if c.peek() == Some(b'[') {
+            self.bracket(c)?
+        } else {
+            c.number()
+                .ok_or((c.i + 1, "expected a variable number".to_string()))?
+        };
+        if v < 1.0 || v > 9999.0 {
+            return c.err(format!("variable #{v} cannot be set"));
+        }
+        Ok(v.round() as u32)
+    }
+
+    fn bracket(&self, c: &mut Cur) -> Result<f64, Fail> {
+        if !c.eat("[") {
+            return c.err("expected `[`");
+        }
+        let v = self.expr(c)?;
+        if !c.eat("]") {
+            return c.err("expected `]`");
+        }
+        Ok(v)
+    }
+
+    /// Modal state and motion of one block's words.
+    fn apply(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
+        let scale = if self.inch { 25.4 } else { 1.0 };
+        for &g in &w.g {
+            match g {
+                0 | 1 | 32 | 33 | 34 | 35 => self.motion = g,
+                90 => self.incremental = false,
+                91 => self.incremental = true,
+                20 | 70 => self.inch = true,
+                21 | 71 => self.inch = false,
+                17 | 18 | 40 | 50..=59 | 64 | 94 | 95 | 96 | 97 | 98 | 99 => {}
+                other => return Err((1, format!("G{other} is not supported yet"))),
+            }
+        }
+        let mut end = false;
+        for &mc in &w.m {
+            match mc {
+                3 | 13 => self.spindle = Spindle::Cw,
+                4 | 14 => self.spindle = Spindle::Ccw,
+                5 | 8 | 9 | 0 | 1 => {}
+                2 | 30 => end = true,
+                17 if self.dialect == Dialect::Siemens802d => return Ok(Step::Return),
+                98 | 99 => {
+                    return Err((
+                        1,
+                        format!("M{mc} (subprograms) is not supported yet for this dialect"),
+                    ))
+                }
+                other => return Err((1, format!("M{other} is not supported yet"))),
+            }
+        }
+        if let Some(&(t, _)) = w.vals.get("T") {
+            let t = t.round() as u32;
+            self.tool = Some(if self.dialect == Dialect::Fanuc && t >= 100 {
+                t / 100
+            } else {
+                t
+            });
+        }
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let scale = if self.inch { 25.4 } else { scale };
+        let mut x = self.x;
+        let mut z = self.z;
+        let mut moved = false;
+        if let Some(v) = val("X") {
+            x = if self.incremental {
+                self.x + v * scale
+            } else {
+                v * scale
+            };
+            moved = true;
+        }
+        if let Some(v) = val("Z") {
+            z = if self.incremental {
+                self.z + v * scale
+            } else {
+                v * scale
+            };
+            moved = true;
+        }
+        if self.dialect == Dialect::Fanuc {
+            if let Some(v) = val("U") {
+                x = self.x + v * scale;
+                moved = true;
+            }
+            if let Some(v) = val("W") {
+                z = self.z + v * scale;
+                moved = true;
+            }
+        }
+        if moved {
+            let (kind, lead, change, angle) = match (self.dialect, self.motion) {
+                (_, 0) => (MoveKind::Rapid, None, None, None),
+                (_, 1) => (MoveKind::Feed, None, None, None),
+                (Dialect::Fanuc, 32) | (Dialect::Fanuc, 34) => {
+                    let f = val("F").ok_or((1, format!("G{} needs F (the lead)", self.motion)))?
+                        * scale;
+                    let k = if self.motion == 34 {
+                        val("K").unwrap_or(0.0) * scale
+                    } else {
+                        0.0
+                    };
+                    let q = val("Q").unwrap_or(0.0) / 1000.0;
+                    (MoveKind::Thread, Some(f), Some(k), Some(q))
+                }
+                (Dialect::Siemens802d, 33 | 34 | 35) => {
+                    let k = val("K")
+                        .or(val("I"))
+                        .ok_or((1, format!("G{} needs K (the lead)", self.motion)))?
+                        * scale;
+                    let f = if self.motion == 33 {
+                        0.0
+                    } else {
+                        val("F").unwrap_or(0.0).abs() * scale
+                    };
+                    let f = if self.motion == 35 { -f } else { f };
+                    (
+                        MoveKind::Thread,
+                        Some(k),
+                        Some(f),
+                        Some(val("SF").unwrap_or(0.0)),
+                    )
+                }
+                (_, g) => {
+                    return Err((
+                        1,
+                        format!("G{g} moves are not supported in this dialect yet"),
+                    ))
+                }
+            };
+            self.moves.push(Move {
+                file: prog.name.clone(),
+                line: prog.blocks[pc].0,
+                kind,
+                x_start: self.x,
+                z_start: self.z,
+                x_dia: x,
+                z,
+                lead,
+                lead_change: change,
+                sync_angle_deg: angle,
+                tool: self.tool,
+                spindle: self.spindle,
+            });
+            self.x = x;
+            self.z = z;
+        }
+        Ok(if end { Step::End } else { Step::Next })
+    }
+}
+
+/// The moves as CSV: `line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg`.
+pub fn to_csv(moves: &[Move]) -> String {
+    let mut s = String::from("file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg\n");
+    let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
+    for m in moves {
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{}\n",
+            m.file,
+            m.line,
+            m.kind.name(),
+            m.x_dia,
+            m.x_dia / 2.0,
+            m.z,
+            o(m.lead),
+            o(m.lead_change),
+            o(m.sync_angle_deg)
+        ));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
+        let src = Source {
+            name: "T.NC".into(),
+            text: text.into(),
+        };
+        interpret(&src, dialect, &|_| None, Limits::default())
+    }
+
+    #[test]
+    fn siemens_r_parameters_labels_and_g34() {
+        let moves = run(
+            "R1=2 R2=3\nIF R1<R2 GOTOF AA\nR3=99\nAA: R4=ABS(R1-R2)*2+TRUNC(2.7) ; comment\nG0 X=R4*10 Z=5\nG35 Z=-20 K=R2 F=0.1\nM30\n",
+            Dialect::Siemens802d,
+        )
+        .unwrap();
+        assert_eq!(moves.len(), 2);
+        assert_eq!(moves[0].x_dia, 40.0);
+        let t = &moves[1];
+        assert_eq!(
+            (t.kind, t.lead, t.lead_change),
+            (MoveKind::Thread, Some(3.0), Some(-0.1))
+        );
+        assert_eq!((t.x_start, t.z_start, t.z), (40.0, 5.0, -20.0));
+    }
+
+    #[test]
+    fn fanuc_macro_b_loop_and_g32() {
+        let moves = run(
+            "#1=0\nWHILE[#1LT3]DO1\n#1=#1+1\nG0X[20-#1]Z2.\nG32Z-10.F1.5\nEND1\nM30\n",
+            Dialect::Fanuc,
+        )
+        .unwrap();
+        let threads: Vec<&Move> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect();
+        assert_eq!(threads.len(), 3);
+        assert_eq!(threads[2].x_dia, 17.0);
+        assert_eq!(threads[0].lead, Some(1.5));
+    }
+
+    #[test]
+    fn errors_name_line_and_column() {
+        let e = run("R1=1\nR2=R1/0\n", Dialect::Siemens802d).unwrap_err();
+        assert_eq!((e.line, e.message.as_str()), (2, "division by zero"));
+        let e = run("GOTOF NOWHERE\n", Dialect::Siemens802d).unwrap_err();
+        assert!(e.message.contains("label `NOWHERE` not found"), "{e}");
+        let e = run("AA: GOTOB AA\n", Dialect::Siemens802d).unwrap_err();
+        assert!(e.message.contains("blocks executed"), "{e}");
+        let e = run("END1\n", Dialect::Fanuc).unwrap_err();
+        assert!(e.message.contains("END1 without DO1"), "{e}");
+    }
+}
