@@ -299,6 +299,9 @@ impl<'a> Cur<'a> {
     }
 }
 
+/// A comparison operator.
+type Compare = fn(f64, f64) -> bool;
+
 /// Interpreter state.
 struct Machine<'l> {
     dialect: Dialect,
@@ -356,7 +359,7 @@ impl Machine<'_> {
     }
     fn cmp(&self, c: &mut Cur) -> Result<f64, Fail> {
         let v = self.add(c)?;
-        let ops: &[(&str, fn(f64, f64) -> bool)] = match c.dialect {
+        let ops: &[(&str, Compare)] = match c.dialect {
             Dialect::Siemens802d => &[
                 ("==", |a, b| a == b),
                 ("<>", |a, b| a != b),
@@ -683,9 +686,8 @@ impl Machine<'_> {
         }
         let save = c.i;
         let name = c.name_with_digits();
-        if !(name.is_empty() || !c.eat(":")) {
-            // label consumed
-        } else {
+        if name.is_empty() || !c.eat(":") {
+            // Not a label: read the block from the start.
             c.i = save;
         }
         let mut w = Words::default();
@@ -892,7 +894,7 @@ impl Machine<'_> {
             c.number()
                 .ok_or((c.i + 1, "expected a variable number".to_string()))?
         };
-        if v < 1.0 || v > 9999.0 {
+        if !(1.0..=9999.0).contains(&v) {
             return c.err(format!("variable #{v} cannot be set"));
         }
         Ok(v.round() as u32)
@@ -994,7 +996,7 @@ impl Machine<'_> {
                     let q = val("Q").unwrap_or(0.0) / 1000.0;
                     (MoveKind::Thread, Some(f), Some(k), Some(q))
                 }
-                (Dialect::Siemens802d, 33 | 34 | 35) => {
+                (Dialect::Siemens802d, 33..=35) => {
                     let k = val("K")
                         .or(val("I"))
                         .ok_or((1, format!("G{} needs K (the lead)", self.motion)))?

@@ -53,7 +53,7 @@ fn scenes_and_goldens_correspond() {
 fn no_io_in_the_geometry_core() {
     for f in [
         "helix", "thread", "tool", "pass", "stock", "sweep", "compare", "measure", "process",
-        "machine", "report", "job",
+        "machine", "report", "job", "nc",
     ] {
         let text = std::fs::read_to_string(root().join("src").join(format!("{f}.rs"))).unwrap();
         assert!(
