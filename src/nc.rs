@@ -5,8 +5,9 @@
 //! programs (seed 002's `MYAAA.MPF`/`MYBBB.SPF`, seed 004's Macro B Tr program). It reads
 //! text given by the caller (no IO here): the main program, and a loader for subprograms
 //! found beside it. Every error names the file, line and column and the call stack.
-//! Not yet: FANUC G92/G76 cycles, M98/M99 and G65 calls, Macro A, GSK and LinuxCNC words,
-//! Siemens CYCLE97, diagnostics that go on after the first error.
+//! FANUC G92 and the two-block G76 expand into passes here. Not yet: taper cycles, M98/M99
+//! and G65 calls, Macro A, GSK and LinuxCNC words, Siemens CYCLE97, diagnostics that go on
+//! after the first error.
 
 use crate::helix::Spindle;
 use std::collections::HashMap;
@@ -319,6 +320,9 @@ struct Machine<'l> {
     spindle: Spindle,
     moves: Vec<Move>,
     blocks: u64,
+    g76: G76Setup,
+    /// Modal G92 target z and lead.
+    g92: Option<(f64, f64)>,
 }
 
 fn deg(x: f64) -> f64 {
@@ -555,6 +559,14 @@ pub fn interpret(
         spindle: Spindle::Cw,
         moves: Vec::new(),
         blocks: 0,
+        g76: G76Setup {
+            m: 1,
+            r: 0,
+            a: 60.0,
+            dmin: 0.0,
+            d: 0.0,
+        },
+        g92: None,
     };
     let prog = std::rc::Rc::new(load_program(main, dialect));
     m.programs.insert(prog.name.clone(), prog.clone());
@@ -675,6 +687,19 @@ struct Words {
     g: Vec<u32>,
     m: Vec<u32>,
     vals: HashMap<String, (f64, usize)>,
+    /// Letters whose value was written with a decimal point.
+    points: Vec<String>,
+}
+
+/// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
+/// minimum cut and finishing allowance (mm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct G76Setup {
+    m: u32,
+    r: u32,
+    a: f64,
+    dmin: f64,
+    d: f64,
 }
 
 impl Machine<'_> {
@@ -868,7 +893,11 @@ impl Machine<'_> {
                 return Err((at + 1, format!("unexpected `{}`", c.s[c.i] as char)));
             };
             c.i += 1;
+            let st = c.i;
             let v = self.fanuc_value(&mut c)?;
+            if text[st..c.i].contains('.') {
+                w.points.push((letter as char).to_string());
+            }
             match letter {
                 b'G' => w.g.push(v.round() as u32),
                 b'M' => w.m.push(v.round() as u32),
@@ -884,7 +913,138 @@ impl Machine<'_> {
                 }
             }
         }
+        if w.g.contains(&76) {
+            return self.g76(&w, prog, pc);
+        }
         self.apply(&w, prog, pc)
+    }
+
+    /// A word in the least input increment (0.001 mm, 0.0001 in), as G76 P/Q are written.
+    fn increment_word(&self, w: &Words, k: &str) -> Result<Option<f64>, Fail> {
+        let Some(&(v, col)) = w.vals.get(k) else {
+            return Ok(None);
+        };
+        if w.points.iter().any(|p| p == k) {
+            return Err((
+                col,
+                format!("G76 {k} counts in the least input increment and takes no decimal point"),
+            ));
+        }
+        Ok(Some(if self.inch {
+            v * 0.0001 * 25.4
+        } else {
+            v * 0.001
+        }))
+    }
+
+    /// FANUC G76, two-block form (`domain.md` section 3, `controllers.md` 2.3): block 1
+    /// sets `P(mmrraa) Q(dmin) R(d)`; block 2 `X(U) Z(W) R(i) P(k) Q(dd) F(L)` cuts rough
+    /// passes at `d_n = max(dd*sqrt(n), d_(n-1) + dmin)` until `k - d`, one at `k - d`, then
+    /// `m` at `k`, each on single-flank infeed: shifted against the cutting direction by
+    /// `(k - d_n) tan(a/2)` so the trailing flank follows the final groove's wall.
+    fn g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
+        let scale = if self.inch { 25.4 } else { 1.0 };
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let is_second = ["X", "Z", "U", "W"].iter().any(|k| w.vals.contains_key(*k));
+        if !is_second {
+            if let Some(p) = val("P") {
+                let p = p.round() as u32;
+                self.g76.m = (p / 10000).max(1);
+                self.g76.r = (p / 100) % 100;
+                self.g76.a = (p % 100) as f64;
+            }
+            if let Some(q) = self.increment_word(w, "Q")? {
+                self.g76.dmin = q;
+            }
+            if let Some(r) = val("R") {
+                self.g76.d = r * scale;
+            }
+            return Ok(Step::Next);
+        }
+        let (x0, z0) = (self.x, self.z);
+        let x_end = match (val("X"), val("U")) {
+            (Some(x), _) => x * scale,
+            (None, Some(u)) => x0 + u * scale,
+            _ => x0,
+        };
+        let z_end = match (val("Z"), val("W")) {
+            (Some(z), _) => z * scale,
+            (None, Some(wv)) => z0 + wv * scale,
+            _ => z0,
+        };
+        if val("R").is_some_and(|r| r != 0.0) {
+            return Err((
+                1,
+                "taper G76 (R in the second block) is not supported yet".into(),
+            ));
+        }
+        let k = self
+            .increment_word(w, "P")?
+            .ok_or((1, "G76 needs P (thread height)".to_string()))?;
+        let dd = self
+            .increment_word(w, "Q")?
+            .ok_or((1, "G76 needs Q (first cut depth)".to_string()))?;
+        let lead = val("F").ok_or((1, "G76 needs F (the lead)".to_string()))? * scale;
+        if k <= 0.0 || dd <= 0.0 || lead <= 0.0 || z_end == z0 {
+            return Err((
+                1,
+                "G76 needs a positive height, first cut, lead and a Z move".into(),
+            ));
+        }
+        let s = self.g76;
+        let stop = (k - s.d).max(0.0);
+        let mut depths = Vec::new();
+        let mut prev = 0.0;
+        for n in 1..=10_000 {
+            let dn = (dd * (n as f64).sqrt()).max(prev + s.dmin);
+            if dn >= stop {
+                break;
+            }
+            depths.push(dn);
+            prev = dn;
+        }
+        if depths.len() >= 10_000 {
+            return Err((1, "G76 would cut more than 10000 rough passes".into()));
+        }
+        if stop > 0.0 && depths.last().is_none_or(|&l| l < stop) {
+            depths.push(stop);
+        }
+        for _ in 0..s.m {
+            depths.push(k);
+        }
+        // The root diameter is X; passes stand back from it by (k - d_n), on the side
+        // of the start point (outside for external threads, inside for internal).
+        let side = if x0 >= x_end { 1.0 } else { -1.0 };
+        let dir = if z_end < z0 { -1.0 } else { 1.0 };
+        let tan = (s.a.to_radians() / 2.0).tan();
+        for dn in depths {
+            let back = k - dn;
+            let x = x_end + side * 2.0 * back;
+            let shift = -dir * back * tan;
+            let line = prog.blocks[pc].0;
+            let mk = |kind, xs, zs, xe, ze, lead: Option<f64>| Move {
+                file: prog.name.clone(),
+                line,
+                kind,
+                x_start: xs,
+                z_start: zs,
+                x_dia: xe,
+                z: ze,
+                lead,
+                lead_change: lead.map(|_| 0.0),
+                sync_angle_deg: lead.map(|_| 0.0),
+                tool: self.tool,
+                spindle: self.spindle,
+            };
+            let (zs, ze) = (z0 + shift, z_end + shift);
+            self.moves.push(mk(MoveKind::Rapid, x0, z0, x0, zs, None));
+            self.moves.push(mk(MoveKind::Rapid, x0, zs, x, zs, None));
+            self.moves
+                .push(mk(MoveKind::Thread, x, zs, x, ze, Some(lead)));
+            self.moves.push(mk(MoveKind::Rapid, x, ze, x0, ze, None));
+            self.moves.push(mk(MoveKind::Rapid, x0, ze, x0, z0, None));
+        }
+        Ok(Step::Next)
     }
 
     fn var_index(&self, c: &mut Cur) -> Result<u32, Fail> {
@@ -917,6 +1077,7 @@ impl Machine<'_> {
         for &g in &w.g {
             match g {
                 0 | 1 | 32 | 33 | 34 | 35 => self.motion = g,
+                92 if self.dialect == Dialect::Fanuc => self.motion = 92,
                 90 => self.incremental = false,
                 91 => self.incremental = true,
                 20 | 70 => self.inch = true,
@@ -981,6 +1142,9 @@ impl Machine<'_> {
                 moved = true;
             }
         }
+        if moved && self.dialect == Dialect::Fanuc && self.motion == 92 {
+            return self.g92(w, prog, pc, x, z, scale);
+        }
         if moved {
             let (kind, lead, change, angle) = match (self.dialect, self.motion) {
                 (_, 0) => (MoveKind::Rapid, None, None, None),
@@ -1039,6 +1203,64 @@ impl Machine<'_> {
             self.z = z;
         }
         Ok(if end { Step::End } else { Step::Next })
+    }
+}
+
+impl Machine<'_> {
+    /// FANUC G92 (modal): rapid to the X of the block, thread to its Z, rapid back out in
+    /// X and back in Z to the start point. Later X-only blocks repeat it at a new depth.
+    fn g92(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        x: f64,
+        z: f64,
+        scale: f64,
+    ) -> Result<Step, Fail> {
+        let (x0, z0) = (self.x, self.z);
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let z_target = if w.vals.contains_key("Z") || w.vals.contains_key("W") {
+            z
+        } else {
+            self.g92
+                .map(|g| g.0)
+                .ok_or((1, "G92 needs Z (or W) the first time".to_string()))?
+        };
+        let lead = match val("F") {
+            Some(f) => f * scale,
+            None => self
+                .g92
+                .map(|g| g.1)
+                .ok_or((1, "G92 needs F (the lead)".to_string()))?,
+        };
+        if val("R").is_some_and(|r| r != 0.0) {
+            return Err((1, "taper G92 (R) is not supported yet".into()));
+        }
+        self.g92 = Some((z_target, lead));
+        let q = val("Q").unwrap_or(0.0) / 1000.0;
+        let line = prog.blocks[pc].0;
+        let mut push = |kind, xs, zs, xe, ze, lead: Option<f64>| {
+            self.moves.push(Move {
+                file: prog.name.clone(),
+                line,
+                kind,
+                x_start: xs,
+                z_start: zs,
+                x_dia: xe,
+                z: ze,
+                lead,
+                lead_change: lead.map(|_| 0.0),
+                sync_angle_deg: lead.map(|_| q),
+                tool: self.tool,
+                spindle: self.spindle,
+            })
+        };
+        push(MoveKind::Rapid, x0, z0, x, z0, None);
+        push(MoveKind::Thread, x, z0, x, z_target, Some(lead));
+        push(MoveKind::Rapid, x, z_target, x0, z_target, None);
+        push(MoveKind::Rapid, x0, z_target, x0, z0, None);
+        Ok(Step::Next)
     }
 }
 
@@ -1106,6 +1328,69 @@ mod tests {
         assert_eq!(threads.len(), 3);
         assert_eq!(threads[2].x_dia, 17.0);
         assert_eq!(threads[0].lead, Some(1.5));
+    }
+
+    /// `controllers.md` 2.3's worked schedule: k = 1.30, dd = 0.45, dmin = 0.10, d = 0.05
+    /// gives 0.450, 0.636, 0.779, 0.900, 1.006, 1.106, 1.206, 1.250, then m x 1.300, each
+    /// pass shifted by (k - d_n) tan30 against the feed (flank infeed).
+    #[test]
+    fn fanuc_g76_depth_schedule_and_flank_infeed() {
+        let moves = run(
+            "G0 X30 Z5\nG76 P020060 Q100 R0.05\nG76 X24 Z-20 P1300 Q450 F2\nM30\n",
+            Dialect::Fanuc,
+        )
+        .unwrap();
+        let t: Vec<&Move> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect();
+        let want = [
+            0.45,
+            0.45 * 2f64.sqrt(),
+            0.45 * 3f64.sqrt(),
+            0.9,
+            0.45 * 5f64.sqrt(),
+            0.0,
+            0.0,
+            1.25,
+            1.3,
+            1.3,
+        ];
+        assert_eq!(t.len(), want.len());
+        let mut prev = 0.0;
+        for (i, (m, &w)) in t.iter().zip(&want).enumerate() {
+            let depth = 1.3 - (m.x_dia - 24.0) / 2.0;
+            let w = if w == 0.0 { prev + 0.1 } else { w };
+            assert!((depth - w).abs() < 1e-9, "pass {i}: depth {depth} vs {w}");
+            let shift = (1.3 - depth) * (30f64.to_radians()).tan();
+            assert!(
+                (m.z_start - (5.0 + shift)).abs() < 1e-9 && (m.z - (-20.0 + shift)).abs() < 1e-9
+            );
+            assert_eq!(m.lead, Some(2.0));
+            prev = depth;
+        }
+        let e = run("G76 P010060 Q0.1 R0\n", Dialect::Fanuc).unwrap_err();
+        assert!(e.message.contains("no decimal point"), "{e}");
+    }
+
+    #[test]
+    fn fanuc_g92_is_modal() {
+        let moves = run(
+            "G0 X30 Z3\nG92 X19.2 Z-20 F1.5\nX18.6\nX18.38\nG0 X40\nM30\n",
+            Dialect::Fanuc,
+        )
+        .unwrap();
+        let t: Vec<&Move> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect();
+        assert_eq!(t.len(), 3);
+        assert_eq!(
+            (t[2].x_dia, t[2].z_start, t[2].z, t[2].lead),
+            (18.38, 3.0, -20.0, Some(1.5))
+        );
+        // Each cycle returns to the start point.
+        assert_eq!((moves[4].x_dia, moves[4].z), (30.0, 3.0));
     }
 
     #[test]
