@@ -763,7 +763,7 @@ fn program_passes(
     let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
         cx.err(
             "program.dialect",
-            format!("expected `fanuc` or `siemens-802d` (GSK 980TDC and LinuxCNC are not supported yet), got `{}`", pr.dialect),
+            format!("expected `fanuc`, `gsk980` or `siemens-802d` (LinuxCNC is not supported yet), got `{}`", pr.dialect),
         )
     })?;
     let text = load(&pr.file).ok_or_else(|| {

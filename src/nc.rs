@@ -5,9 +5,10 @@
 //! programs (seed 002's `MYAAA.MPF`/`MYBBB.SPF`, seed 004's Macro B Tr program). It reads
 //! text given by the caller (no IO here): the main program, and a loader for subprograms
 //! found beside it. Every error names the file, line and column and the call stack.
-//! FANUC G92 and the two-block G76 expand into passes here. Not yet: taper cycles, M98/M99
-//! and G65 calls, Macro A, GSK and LinuxCNC words, Siemens CYCLE97, diagnostics that go on
-//! after the first error.
+//! FANUC G92 and the two-block G76 expand into passes here; M98/M99 subprograms, Macro A
+//! (`G65 H..`) and the GSK 980TDC `G34 F R` run too. Not yet: taper cycles, run-out, G65 P
+//! calls with arguments, LinuxCNC, Siemens CYCLE97, diagnostics that go on after the first
+//! error.
 
 use crate::helix::Spindle;
 use std::collections::HashMap;
@@ -16,8 +17,11 @@ use std::fmt;
 /// Controller dialect.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dialect {
-    /// FANUC lathe, G-code system A, Custom Macro B.
+    /// FANUC lathe, G-code system A, Custom Macro B (and Macro A `G65 H..`).
     Fanuc,
+    /// GSK 980TDC: FANUC syntax; `G34 F J K R` with R the lead change per revolution and
+    /// J/K the thread run-out.
+    Gsk980,
     /// Siemens SINUMERIK 802D.
     Siemens802d,
 }
@@ -27,8 +31,19 @@ impl Dialect {
     pub fn from_name(s: &str) -> Option<Dialect> {
         match s {
             "fanuc" => Some(Dialect::Fanuc),
+            "gsk980" => Some(Dialect::Gsk980),
             "siemens-802d" => Some(Dialect::Siemens802d),
             _ => None,
+        }
+    }
+}
+
+impl Dialect {
+    /// The syntax family: GSK writes programs as FANUC does.
+    fn syntax(self) -> Dialect {
+        match self {
+            Dialect::Gsk980 => Dialect::Fanuc,
+            d => d,
         }
     }
 }
@@ -157,6 +172,8 @@ impl Default for Limits {
 #[derive(Debug)]
 struct Program {
     name: String,
+    /// Another name it is called by (`O0001` for the first program of `MAIN.NC`).
+    alias: Option<String>,
     /// (1-based line, original text, text without comments, upper-cased).
     blocks: Vec<(usize, String, String)>,
     labels: HashMap<String, usize>,
@@ -178,11 +195,49 @@ fn strip_comment(line: &str, dialect: Dialect) -> String {
     out.trim().to_string()
 }
 
-fn load_program(src: &Source, dialect: Dialect) -> Program {
+/// The programs of a file: for FANUC syntax each `O<number>` line starts a new program
+/// (named `O<number>`, the first one also by the file's name); Siemens files hold one.
+fn load_programs(src: &Source, dialect: Dialect) -> Vec<Program> {
+    let mut out = Vec::new();
+    let mut name = src.name.clone();
+    let mut alias: Option<String> = None;
+    let mut lines: Vec<(usize, &str)> = Vec::new();
+    for (i, line) in src.text.lines().enumerate() {
+        let text = strip_comment(line, dialect);
+        let onum = text
+            .strip_prefix('O')
+            .filter(|r| !r.is_empty() && r.chars().all(|c| c.is_ascii_digit()))
+            .and_then(|r| r.parse::<u32>().ok());
+        if dialect == Dialect::Fanuc {
+            if let Some(n) = onum {
+                if lines
+                    .iter()
+                    .any(|(_, l)| !strip_comment(l, dialect).is_empty())
+                {
+                    let mut p = load_program(&name, &lines, dialect);
+                    p.alias = alias.take();
+                    out.push(p);
+                    lines.clear();
+                    name = format!("O{n}");
+                } else {
+                    alias = Some(format!("O{n}"));
+                }
+                continue;
+            }
+        }
+        lines.push((i, line));
+    }
+    let mut p = load_program(&name, &lines, dialect);
+    p.alias = alias;
+    out.push(p);
+    out
+}
+
+fn load_program(name: &str, lines: &[(usize, &str)], dialect: Dialect) -> Program {
     let mut blocks = Vec::new();
     let mut labels = HashMap::new();
     let mut numbers = HashMap::new();
-    for (i, line) in src.text.lines().enumerate() {
+    for &(i, line) in lines {
         let text = strip_comment(line, dialect);
         if text.is_empty() || text == "%" || text.starts_with('/') {
             continue;
@@ -211,7 +266,8 @@ fn load_program(src: &Source, dialect: Dialect) -> Program {
         blocks.push((i + 1, line.to_string(), text));
     }
     Program {
-        name: src.name.clone(),
+        name: name.to_string(),
+        alias: None,
         blocks,
         labels,
         numbers,
@@ -305,7 +361,10 @@ type Compare = fn(f64, f64) -> bool;
 
 /// Interpreter state.
 struct Machine<'l> {
+    /// Syntax family (FANUC for GSK too).
     dialect: Dialect,
+    /// GSK 980TDC semantics for G34.
+    gsk: bool,
     loader: &'l dyn Fn(&str) -> Option<Source>,
     limits: Limits,
     programs: HashMap<String, std::rc::Rc<Program>>,
@@ -330,10 +389,17 @@ fn deg(x: f64) -> f64 {
 }
 
 impl Machine<'_> {
+    fn register(&mut self, p: std::rc::Rc<Program>) {
+        if let Some(a) = &p.alias {
+            self.programs.insert(a.clone(), p.clone());
+        }
+        self.programs.insert(p.name.clone(), p);
+    }
+
     fn get(&self, c: &mut Cur, idx: u32) -> Result<f64, Fail> {
         match c.dialect {
             Dialect::Siemens802d => Ok(*self.r.get(&idx).unwrap_or(&0.0)),
-            Dialect::Fanuc => {
+            Dialect::Fanuc | Dialect::Gsk980 => {
                 if idx == 0 {
                     return Ok(0.0);
                 }
@@ -372,7 +438,7 @@ impl Machine<'_> {
                 ("<", |a, b| a < b),
                 (">", |a, b| a > b),
             ],
-            Dialect::Fanuc => &[
+            Dialect::Fanuc | Dialect::Gsk980 => &[
                 ("EQ", |a, b| a == b),
                 ("NE", |a, b| a != b),
                 ("LE", |a, b| a <= b),
@@ -431,7 +497,7 @@ impl Machine<'_> {
     fn primary(&self, c: &mut Cur) -> Result<f64, Fail> {
         let (open, close) = match c.dialect {
             Dialect::Siemens802d => ("(", ")"),
-            Dialect::Fanuc => ("[", "]"),
+            Dialect::Fanuc | Dialect::Gsk980 => ("[", "]"),
         };
         if c.eat(open) {
             let v = self.expr(c)?;
@@ -543,8 +609,11 @@ pub fn interpret(
     loader: &dyn Fn(&str) -> Option<Source>,
     limits: Limits,
 ) -> Result<Vec<Move>, NcError> {
+    let gsk = dialect == Dialect::Gsk980;
+    let dialect = dialect.syntax();
     let mut m = Machine {
         dialect,
+        gsk,
         loader,
         limits,
         programs: HashMap::new(),
@@ -568,8 +637,12 @@ pub fn interpret(
         },
         g92: None,
     };
-    let prog = std::rc::Rc::new(load_program(main, dialect));
-    m.programs.insert(prog.name.clone(), prog.clone());
+    let mut all = load_programs(main, dialect).into_iter();
+    let prog = std::rc::Rc::new(all.next().expect("a file gives at least one program"));
+    m.register(prog.clone());
+    for p in all {
+        m.register(std::rc::Rc::new(p));
+    }
     let mut stack: Vec<(std::rc::Rc<Program>, usize)> = Vec::new();
     let mut loops: Vec<(u32, usize)> = Vec::new();
     let mut cur = prog;
@@ -614,7 +687,7 @@ pub fn interpret(
         }
         let step = match dialect {
             Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
-            Dialect::Fanuc => m.fanuc_block(&cur, pc, text, &mut loops),
+            Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
         };
         let step = match step {
             Ok(s) => s,
@@ -646,18 +719,32 @@ pub fn interpret(
                 let p = match m.programs.get(&name) {
                     Some(p) => p.clone(),
                     None => {
-                        let candidates = [
-                            format!("{name}.SPF"),
-                            format!("{name}.spf"),
-                            format!("{name}.MPF"),
-                            name.clone(),
-                        ];
+                        let candidates: Vec<String> =
+                            match name.strip_prefix('O').and_then(|n| n.parse::<u32>().ok()) {
+                                Some(n) if dialect == Dialect::Fanuc => vec![
+                                    format!("O{n:04}"),
+                                    format!("O{n:04}.NC"),
+                                    format!("O{n:04}.nc"),
+                                    format!("O{n}"),
+                                ],
+                                _ => vec![
+                                    format!("{name}.SPF"),
+                                    format!("{name}.spf"),
+                                    format!("{name}.MPF"),
+                                    name.clone(),
+                                ],
+                            };
                         let Some(src) = candidates.iter().find_map(|c| (m.loader)(c)) else {
-                            return Err(fail(&stack, 1, format!("subprogram `{name}` not found (looked for {name}.SPF beside the main program)")));
+                            return Err(fail(&stack, 1, format!("subprogram `{name}` not found (in this file or as {} beside it)", candidates[0])));
                         };
-                        let p = std::rc::Rc::new(load_program(&src, dialect));
-                        m.programs.insert(name.clone(), p.clone());
-                        p
+                        let mut loaded = load_programs(&src, dialect).into_iter();
+                        let first = std::rc::Rc::new(loaded.next().expect("one program"));
+                        m.register(first.clone());
+                        m.programs.insert(name.clone(), first);
+                        for other in loaded {
+                            m.register(std::rc::Rc::new(other));
+                        }
+                        m.programs[&name].clone()
                     }
                 };
                 // Repeats: push the return point once, and the subprogram `times - 1` more.
@@ -889,6 +976,9 @@ impl Machine<'_> {
                     .map(|&k| Step::Jump(k))
                     .ok_or((at + 1, format!("no block N{n}")));
             }
+            if c.eat("G65") {
+                return self.macro_a(&mut c, prog);
+            }
             let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
                 return Err((at + 1, format!("unexpected `{}`", c.s[c.i] as char)));
             };
@@ -902,7 +992,8 @@ impl Machine<'_> {
                 b'G' => w.g.push(v.round() as u32),
                 b'M' => w.m.push(v.round() as u32),
                 b'N' | b'O' => {}
-                b'X' | b'Z' | b'U' | b'W' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P' => {
+                b'X' | b'Z' | b'U' | b'W' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P'
+                | b'L' | b'J' | b'I' => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
                 other => {
@@ -917,6 +1008,112 @@ impl Machine<'_> {
             return self.g76(&w, prog, pc);
         }
         self.apply(&w, prog, pc)
+    }
+
+    /// FANUC/GSK Custom Macro A: `G65 Hnn P#i Q#j R#k` (`controllers.md` 5). P names the
+    /// result variable (or the block number of a jump); Q and R are variables or constants.
+    fn macro_a(&mut self, c: &mut Cur, prog: &Program) -> Result<Step, Fail> {
+        let mut h = None;
+        let mut p: Option<(f64, bool)> = None; // (value, written as #n)
+        let (mut q, mut r) = (0.0, 0.0);
+        while !c.done() {
+            let at = c.i;
+            let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
+                return Err((at + 1, format!("unexpected `{}` in G65", c.s[c.i] as char)));
+            };
+            c.i += 1;
+            match letter {
+                b'H' => {
+                    h = Some(
+                        c.number()
+                            .ok_or((c.i + 1, "expected the H code".to_string()))?
+                            as u32,
+                    )
+                }
+                b'P' => {
+                    let var = c.eat("#");
+                    let v = c
+                        .number()
+                        .ok_or((c.i + 1, "expected a number".to_string()))?;
+                    p = Some((v, var));
+                }
+                b'Q' => q = self.fanuc_value(c)?,
+                b'R' => r = self.fanuc_value(c)?,
+                b'L' => {
+                    let _ = self.fanuc_value(c)?;
+                }
+                _ => {
+                    return Err((
+                        at + 1,
+                        format!(
+                        "`{}` in G65 is not supported yet (G65 P calls with arguments come later)",
+                        letter as char
+                    ),
+                    ))
+                }
+            }
+        }
+        let Some(h) = h else {
+            return Err((
+                1,
+                "G65 without H (macro calls by P are not supported yet)".into(),
+            ));
+        };
+        let (pv, pvar) = p.ok_or((1, format!("G65 H{h:02} needs P")))?;
+        let jump = |cond: bool| -> Result<Step, Fail> {
+            if !cond {
+                return Ok(Step::Next);
+            }
+            let n = pv.round() as u32;
+            prog.numbers
+                .get(&n)
+                .map(|&k| Step::Jump(k))
+                .ok_or((1, format!("no block N{n}")))
+        };
+        let set = |m: &mut Self, v: f64| -> Result<Step, Fail> {
+            if !pvar {
+                return Err((1, format!("G65 H{h:02}: P must name a variable (#n)")));
+            }
+            m.vars.insert(pv.round() as u32, v);
+            Ok(Step::Next)
+        };
+        let nonzero = |v: f64| {
+            if v == 0.0 {
+                Err((1, "division by zero".to_string()))
+            } else {
+                Ok(v)
+            }
+        };
+        match h {
+            1 => set(self, q),
+            2 => set(self, q + r),
+            3 => set(self, q - r),
+            4 => set(self, q * r),
+            5 => set(self, q / nonzero(r)?),
+            21 if q >= 0.0 => set(self, q.sqrt()),
+            22 => set(self, q.abs()),
+            23 => set(self, q % nonzero(r)?),
+            27 => set(self, q.hypot(r)),
+            31 => set(self, q * r.to_radians().sin()),
+            32 => set(self, q * r.to_radians().cos()),
+            33 => set(self, q * r.to_radians().tan()),
+            34 => set(self, q.atan2(r).to_degrees()),
+            80 => jump(true),
+            81 => jump(q == r),
+            82 => jump(q != r),
+            83 => jump(q > r),
+            84 => jump(q < r),
+            85 => jump(q >= r),
+            86 => jump(q <= r),
+            99 => Err((
+                1,
+                format!(
+                    "alarm {} raised by the program (G65 H99)",
+                    500 + pv.round() as i64
+                ),
+            )),
+            _ => Err((1, format!("G65 H{h:02} is not supported yet"))),
+        }
     }
 
     /// A word in the least input increment (0.001 mm, 0.0001 in), as G76 P/Q are written.
@@ -1094,10 +1291,35 @@ impl Machine<'_> {
                 5 | 8 | 9 | 0 | 1 => {}
                 2 | 30 => end = true,
                 17 if self.dialect == Dialect::Siemens802d => return Ok(Step::Return),
+                98 if self.dialect == Dialect::Fanuc => {
+                    // `M98 P<count><prog>` (the last four digits name O<prog>) or `P<prog> L<n>`.
+                    let p = w
+                        .vals
+                        .get("P")
+                        .map(|v| v.0.round() as u64)
+                        .ok_or((1, "M98 needs P".to_string()))?;
+                    let (times, prog) = match w.vals.get("L") {
+                        Some(l) => (l.0.round().max(1.0) as u32, p),
+                        None => (((p / 10_000).max(1)) as u32, p % 10_000),
+                    };
+                    if times > 9999 {
+                        return Err((1, format!("M98 repeat count {times} is over 9999")));
+                    }
+                    return Ok(Step::Call(format!("O{prog}"), times));
+                }
+                99 if self.dialect == Dialect::Fanuc => {
+                    if w.vals.contains_key("P") {
+                        return Err((
+                            1,
+                            "M99 P (return to a sequence number) is not supported yet".into(),
+                        ));
+                    }
+                    return Ok(Step::Return);
+                }
                 98 | 99 => {
                     return Err((
                         1,
-                        format!("M{mc} (subprograms) is not supported yet for this dialect"),
+                        format!("M{mc} is not a Siemens word: call subprograms by name"),
                     ))
                 }
                 other => return Err((1, format!("M{other} is not supported yet"))),
@@ -1149,6 +1371,9 @@ impl Machine<'_> {
             let (kind, lead, change, angle) = match (self.dialect, self.motion) {
                 (_, 0) => (MoveKind::Rapid, None, None, None),
                 (_, 1) => (MoveKind::Feed, None, None, None),
+                (Dialect::Fanuc, 34) if self.gsk => {
+                    return self.gsk_g34(w, prog, pc, x, z, scale);
+                }
                 (Dialect::Fanuc, 32) | (Dialect::Fanuc, 34) => {
                     let f = val("F").ok_or((1, format!("G{} needs F (the lead)", self.motion)))?
                         * scale;
@@ -1207,6 +1432,56 @@ impl Machine<'_> {
 }
 
 impl Machine<'_> {
+    /// GSK 980TDC `G34 X(U) Z(W) F(I) J K R` (`domain.md` section 3, seed 000): F start
+    /// lead (or I threads per inch), R lead change per revolution. The run-out words J/K
+    /// are refused for now: where the tool ends after a run-out (and so what the next
+    /// incremental move starts from) is not documented in our sources, and seed 000's
+    /// `U-10.2 ... U10` cycle only makes sense for one of the readings.
+    fn gsk_g34(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        x: f64,
+        z: f64,
+        scale: f64,
+    ) -> Result<Step, Fail> {
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let lead = match (val("F"), val("I")) {
+            (Some(f), _) => f * scale,
+            (None, Some(tpi)) if tpi > 0.0 => 25.4 / tpi,
+            _ => return Err((1, "G34 needs F (lead) or I (threads per inch)".into())),
+        };
+        for k in ["J", "K"] {
+            if let Some(&(v, col)) = w.vals.get(k) {
+                if v != 0.0 {
+                    return Err((
+                        col,
+                        format!("G34 thread run-out ({k}) is not supported yet"),
+                    ));
+                }
+            }
+        }
+        let change = val("R").unwrap_or(0.0) * scale;
+        self.moves.push(Move {
+            file: prog.name.clone(),
+            line: prog.blocks[pc].0,
+            kind: MoveKind::Thread,
+            x_start: self.x,
+            z_start: self.z,
+            x_dia: x,
+            z,
+            lead: Some(lead),
+            lead_change: Some(change),
+            sync_angle_deg: Some(0.0),
+            tool: self.tool,
+            spindle: self.spindle,
+        });
+        self.x = x;
+        self.z = z;
+        Ok(Step::Next)
+    }
+
     /// FANUC G92 (modal): rapid to the X of the block, thread to its Z, rapid back out in
     /// X and back in Z to the start point. Later X-only blocks repeat it at a new depth.
     fn g92(
@@ -1391,6 +1666,61 @@ mod tests {
         );
         // Each cycle returns to the start point.
         assert_eq!((moves[4].x_dia, moves[4].z), (30.0, 3.0));
+    }
+
+    /// Seed 000's first program (GSK 980TDC, OCR-corrected: `00001` -> `O0001`,
+    /// `M98 P25 0002` -> `M98 P250002`, `GOO` -> `G00`), its run-out words dropped: O0002 runs
+    /// 25 times, each 0.2 mm deeper (U-10.2, then U10 out).
+    #[test]
+    fn m98_repeats_an_o_program_of_the_same_file() {
+        let text = "O0001\nN10 G00 X120 Z80\nN20 M03 M08 G97 S800\nN30 T0101\nN40 G00 X60 Z8\n\
+                    N50 M98 P250002\nN60 G00 X120\nN70 Z80\nN80 T0100\nN90 M30\n\
+                    O0002\nN10 G00 U-10.2\nN20 G34 Z-70 F4 R1\nN30 G0 U10\nN40 G00 Z8\nN50 M99\n";
+        let moves = run(text, Dialect::Gsk980).unwrap();
+        let t: Vec<&Move> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect();
+        assert_eq!(t.len(), 25);
+        for (k, m) in t.iter().enumerate() {
+            assert!(
+                (m.x_dia - (49.8 - 0.2 * k as f64)).abs() < 1e-9,
+                "{k}: {}",
+                m.x_dia
+            );
+            assert_eq!(
+                (m.z_start, m.z, m.lead, m.lead_change),
+                (8.0, -70.0, Some(4.0), Some(1.0))
+            );
+            assert_eq!(m.tool, Some(1));
+        }
+        let e = run("G0 X50 Z5\nG34 Z-70 F4 J1 K2 R1\n", Dialect::Gsk980).unwrap_err();
+        assert!(e.message.contains("run-out"), "{e}");
+        let e = run("M98 P0003\nM30\n", Dialect::Fanuc).unwrap_err();
+        assert!(e.message.contains("subprogram `O3` not found"), "{e}");
+    }
+
+    /// Seed 000's Macro A loop shape: `G65 H01/H02/H03/H81/H86/H80` on #100.. variables.
+    #[test]
+    fn macro_a_arithmetic_and_jumps() {
+        let text = "G0 X60 Z4\nG65 H01 P#102 Q0.5\nG65 H01 P#103 Q0\n\
+                    N10 G65 H02 P#104 Q#103 R1\nG65 H01 P#103 Q#104\nG65 H81 P30 Q#104 R6\n\
+                    G65 H01 P#100 Q#102\nG00 U-#100\nG32 W-20 F3\nG00 X60\nZ4\n\
+                    G65 H03 P#101 Q#100 R0.2\nG65 H01 P#102 Q#101\nG65 H86 P20 Q#102 R0.2\n\
+                    G65 H80 P10\nN20 G65 H01 P#102 Q0.2\nG65 H80 P10\nN30 M30\n";
+        let moves = run(text, Dialect::Gsk980).unwrap();
+        let x: Vec<f64> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .map(|m| m.x_dia)
+            .collect();
+        // Infeeds 0.5, 0.3, then the 0.2 floor: X = 60 - infeed (U is a diameter change).
+        assert_eq!(x.len(), 5);
+        for (got, want) in x.iter().zip([59.5, 59.7, 59.8, 59.8, 59.8]) {
+            assert!((got - want).abs() < 1e-9, "{x:?}");
+        }
+        let e = run("G65 H05 P#1 Q1 R0\n", Dialect::Fanuc).unwrap_err();
+        assert!(e.message.contains("division by zero"), "{e}");
     }
 
     #[test]
