@@ -210,10 +210,11 @@ fn load_programs(src: &Source, dialect: Dialect) -> Vec<Program> {
             .and_then(|r| r.parse::<u32>().ok());
         if dialect == Dialect::Fanuc {
             if let Some(n) = onum {
-                if lines
-                    .iter()
-                    .any(|(_, l)| !strip_comment(l, dialect).is_empty())
-                {
+                let real = |l: &str| {
+                    let t = strip_comment(l, dialect);
+                    !t.is_empty() && t != "%"
+                };
+                if lines.iter().any(|(_, l)| real(l)) {
                     let mut p = load_program(&name, &lines, dialect);
                     p.alias = alias.take();
                     out.push(p);
@@ -1701,6 +1702,19 @@ mod tests {
     }
 
     /// Seed 000's Macro A loop shape: `G65 H01/H02/H03/H81/H86/H80` on #100.. variables.
+    #[test]
+    fn percent_line_before_the_o_number_keeps_one_program() {
+        let moves = run(
+            "%\nO0004 (MAIN)\nG0 X20 Z2\nG32 Z-10 F1\nM30\n%\n",
+            Dialect::Fanuc,
+        )
+        .unwrap();
+        assert_eq!(
+            moves.iter().filter(|m| m.kind == MoveKind::Thread).count(),
+            1
+        );
+    }
+
     #[test]
     fn macro_a_arithmetic_and_jumps() {
         let text = "G0 X60 Z4\nG65 H01 P#102 Q0.5\nG65 H01 P#103 Q0\n\
