@@ -71,4 +71,29 @@ fn bench_simulate(c: &mut Criterion) {
 }
 
 criterion_group!(benches, bench_sweep, bench_compare, bench_simulate);
-criterion_main!(benches);
+criterion_main!(benches, interpreters);
+
+fn bench_interpreter(c: &mut Criterion) {
+    use vpcut::{interpret, Dialect, Limits, Source};
+    let mut g = c.benchmark_group("interpret");
+    g.sample_size(10);
+    // A Macro B loop of 1,000,000 executed blocks (4 per iteration).
+    let macro_b = Source {
+        name: "LOOP.NC".into(),
+        text: "#1=0\nWHILE[#1LT250000]DO1\n#1=#1+1\n#2=#1*2+SIN[#1]\nEND1\nM30\n".into(),
+    };
+    g.bench_function("macro-b-1e6-blocks", |b| {
+        b.iter(|| interpret(&macro_b, Dialect::Fanuc, &|_| None, Limits::default()).unwrap())
+    });
+    // A G76 whose depth schedule gives 10,000 passes (tiny first cut, no minimum step).
+    let g76 = Source {
+        name: "G76.NC".into(),
+        text: "G0 X30 Z5\nG76 P010060 Q0 R0\nG76 X20 Z-20 P5000 Q50 F1\nM30\n".into(),
+    };
+    g.bench_function("g76-many-passes", |b| {
+        b.iter(|| interpret(&g76, Dialect::Fanuc, &|_| None, Limits::default()).unwrap())
+    });
+    g.finish();
+}
+
+criterion_group!(interpreters, bench_interpreter);

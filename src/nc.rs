@@ -1193,7 +1193,7 @@ impl Machine<'_> {
         let stop = (k - s.d).max(0.0);
         let mut depths = Vec::new();
         let mut prev = 0.0;
-        for n in 1..=10_000 {
+        for n in 1..=100_000 {
             let dn = (dd * (n as f64).sqrt()).max(prev + s.dmin);
             if dn >= stop {
                 break;
@@ -1201,8 +1201,8 @@ impl Machine<'_> {
             depths.push(dn);
             prev = dn;
         }
-        if depths.len() >= 10_000 {
-            return Err((1, "G76 would cut more than 10000 rough passes".into()));
+        if depths.len() >= 100_000 {
+            return Err((1, "G76 would cut more than 100000 rough passes".into()));
         }
         if stop > 0.0 && depths.last().is_none_or(|&l| l < stop) {
             depths.push(stop);
