@@ -763,7 +763,10 @@ fn program_passes(
     let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
         cx.err(
             "program.dialect",
-            format!("expected `fanuc`, `gsk980` or `siemens-802d` (LinuxCNC is not supported yet), got `{}`", pr.dialect),
+            format!(
+                "expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`, got `{}`",
+                pr.dialect
+            ),
         )
     })?;
     let text = load(&pr.file).ok_or_else(|| {

@@ -30,7 +30,7 @@ enum Command {
 struct ToolpathArgs {
     /// The main program; subprograms are looked up beside it.
     program: PathBuf,
-    /// Controller dialect: `fanuc` or `siemens-802d`.
+    /// Controller dialect: `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`.
     #[arg(long)]
     dialect: String,
     /// Print JSON instead of CSV.
@@ -129,7 +129,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
 fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     let dialect = vpcut::Dialect::from_name(&args.dialect).with_context(|| {
         format!(
-            "unknown dialect `{}`: expected `fanuc` or `siemens-802d`",
+            "unknown dialect `{}`: expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`",
             args.dialect
         )
     })?;

@@ -6,9 +6,9 @@
 //! text given by the caller (no IO here): the main program, and a loader for subprograms
 //! found beside it. Every error names the file, line and column and the call stack.
 //! FANUC G92 and the two-block G76 expand into passes here; M98/M99 subprograms, Macro A
-//! (`G65 H..`) and the GSK 980TDC `G34 F R` run too. Not yet: taper cycles, run-out, G65 P
-//! calls with arguments, LinuxCNC, Siemens CYCLE97, diagnostics that go on after the first
-//! error.
+//! (`G65 H..`), the GSK 980TDC `G34 F R` and LinuxCNC `G33`/`G76` (G7/G8) run too. Not yet:
+//! taper cycles, run-out, G65 P calls with arguments, LinuxCNC O-words, Siemens CYCLE97,
+//! diagnostics that go on after the first error.
 
 use crate::helix::Spindle;
 use std::collections::HashMap;
@@ -19,6 +19,9 @@ use std::fmt;
 pub enum Dialect {
     /// FANUC lathe, G-code system A, Custom Macro B (and Macro A `G65 H..`).
     Fanuc,
+    /// LinuxCNC (rs274ngc) lathe: FANUC-like syntax, `G33 Z K`, `G76 P Z I J K R Q H`,
+    /// radius mode G8 by default, diameter mode G7.
+    Linuxcnc,
     /// GSK 980TDC: FANUC syntax; `G34 F J K R` with R the lead change per revolution and
     /// J/K the thread run-out.
     Gsk980,
@@ -32,6 +35,7 @@ impl Dialect {
         match s {
             "fanuc" => Some(Dialect::Fanuc),
             "gsk980" => Some(Dialect::Gsk980),
+            "linuxcnc" => Some(Dialect::Linuxcnc),
             "siemens-802d" => Some(Dialect::Siemens802d),
             _ => None,
         }
@@ -42,7 +46,7 @@ impl Dialect {
     /// The syntax family: GSK writes programs as FANUC does.
     fn syntax(self) -> Dialect {
         match self {
-            Dialect::Gsk980 => Dialect::Fanuc,
+            Dialect::Gsk980 | Dialect::Linuxcnc => Dialect::Fanuc,
             d => d,
         }
     }
@@ -186,6 +190,7 @@ fn strip_comment(line: &str, dialect: Dialect) -> String {
     for c in line.chars() {
         match (dialect, c) {
             (Dialect::Siemens802d, ';') => break,
+            (Dialect::Fanuc, ';') if depth == 0 => break,
             (Dialect::Fanuc, '(') => depth += 1,
             (Dialect::Fanuc, ')') if depth > 0 => depth -= 1,
             _ if depth > 0 => {}
@@ -366,6 +371,10 @@ struct Machine<'l> {
     dialect: Dialect,
     /// GSK 980TDC semantics for G34.
     gsk: bool,
+    /// LinuxCNC semantics (G33 K, G76 P..L, G7/G8).
+    lcnc: bool,
+    /// X words are diameters (G7; always on FANUC/GSK/Siemens lathes), else radii (G8).
+    diameter_mode: bool,
     loader: &'l dyn Fn(&str) -> Option<Source>,
     limits: Limits,
     programs: HashMap<String, std::rc::Rc<Program>>,
@@ -400,7 +409,7 @@ impl Machine<'_> {
     fn get(&self, c: &mut Cur, idx: u32) -> Result<f64, Fail> {
         match c.dialect {
             Dialect::Siemens802d => Ok(*self.r.get(&idx).unwrap_or(&0.0)),
-            Dialect::Fanuc | Dialect::Gsk980 => {
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
                 if idx == 0 {
                     return Ok(0.0);
                 }
@@ -439,7 +448,7 @@ impl Machine<'_> {
                 ("<", |a, b| a < b),
                 (">", |a, b| a > b),
             ],
-            Dialect::Fanuc | Dialect::Gsk980 => &[
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => &[
                 ("EQ", |a, b| a == b),
                 ("NE", |a, b| a != b),
                 ("LE", |a, b| a <= b),
@@ -498,7 +507,7 @@ impl Machine<'_> {
     fn primary(&self, c: &mut Cur) -> Result<f64, Fail> {
         let (open, close) = match c.dialect {
             Dialect::Siemens802d => ("(", ")"),
-            Dialect::Fanuc | Dialect::Gsk980 => ("[", "]"),
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => ("[", "]"),
         };
         if c.eat(open) {
             let v = self.expr(c)?;
@@ -611,10 +620,13 @@ pub fn interpret(
     limits: Limits,
 ) -> Result<Vec<Move>, NcError> {
     let gsk = dialect == Dialect::Gsk980;
+    let lcnc = dialect == Dialect::Linuxcnc;
     let dialect = dialect.syntax();
     let mut m = Machine {
         dialect,
         gsk,
+        lcnc,
+        diameter_mode: !lcnc,
         loader,
         limits,
         programs: HashMap::new(),
@@ -688,7 +700,9 @@ pub fn interpret(
         }
         let step = match dialect {
             Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
-            Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
+                m.fanuc_block(&cur, pc, text, &mut loops)
+            }
         };
         let step = match step {
             Ok(s) => s,
@@ -994,7 +1008,7 @@ impl Machine<'_> {
                 b'M' => w.m.push(v.round() as u32),
                 b'N' | b'O' => {}
                 b'X' | b'Z' | b'U' | b'W' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P'
-                | b'L' | b'J' | b'I' => {
+                | b'L' | b'J' | b'I' | b'H' | b'E' => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
                 other => {
@@ -1006,7 +1020,11 @@ impl Machine<'_> {
             }
         }
         if w.g.contains(&76) {
-            return self.g76(&w, prog, pc);
+            return if self.lcnc {
+                self.lcnc_g76(&w, prog, pc)
+            } else {
+                self.g76(&w, prog, pc)
+            };
         }
         self.apply(&w, prog, pc)
     }
@@ -1115,6 +1133,94 @@ impl Machine<'_> {
             )),
             _ => Err((1, format!("G65 H{h:02} is not supported yet"))),
         }
+    }
+
+    /// LinuxCNC G76 (`controllers.md` 2.5, from `Interp::convert_threading_cycle`): the
+    /// drive line is the current X; pass n is cut `|I| + J n^(1/R)` from it while that is
+    /// less than `|I| + K`, then at `|I| + K` once plus H spring passes; each pass is shifted
+    /// by `(depth - |I|) tan Q` in z and ends at `Z + K tan Q` less that shift. In G7, I, J
+    /// and K are diameters. Reproduced against rs274's output in the tests.
+    fn lcnc_g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
+        let scale = if self.inch { 25.4 } else { 1.0 };
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let half = if self.diameter_mode { 0.5 } else { 1.0 };
+        let pitch = val("P").ok_or((1, "G76 needs P (the pitch)".to_string()))? * scale;
+        let end_z = val("Z").ok_or((1, "G76 needs Z".to_string()))? * scale;
+        let i = val("I").ok_or((
+            1,
+            "G76 needs I (crest offset from the drive line)".to_string(),
+        ))? * scale
+            * half;
+        let j = val("J").unwrap_or(0.0) * scale * half;
+        let k = val("K").unwrap_or(0.0) * scale * half;
+        if i == 0.0 || j <= 0.0 || k <= j || pitch <= 0.0 {
+            return Err((1, "G76 needs I != 0, J > 0, K > J and P > 0".into()));
+        }
+        if val("E").is_some_and(|e| e != 0.0) || val("L").is_some_and(|l| l != 0.0) {
+            return Err((
+                1,
+                "G76 entry/exit tapers (E, L) are not supported yet".into(),
+            ));
+        }
+        let mut degression = val("R").unwrap_or(1.0);
+        if degression < 1.0 {
+            degression = 1.0;
+        }
+        let (x0, start_z) = (self.x / 2.0, self.z); // drive line, radius
+        let mut angle = val("Q").unwrap_or(0.0).to_radians();
+        if end_z > start_z {
+            angle = -angle;
+        }
+        let springs = val("H").unwrap_or(0.0).max(0.0) as u32;
+        let full = i.abs();
+        let end_depth = k.abs() + full;
+        let target_z = end_z + k.abs() * angle.tan();
+        // External (I < 0): passes below the drive line; internal: above.
+        let side = if i < 0.0 { -1.0 } else { 1.0 };
+        let mut depths = Vec::new();
+        let mut depth = full + j.abs();
+        let mut n = 1.0f64;
+        while depth < end_depth {
+            depths.push(depth);
+            if depths.len() > 100_000 {
+                return Err((1, "G76 would cut more than 100000 passes".into()));
+            }
+            n += 1.0;
+            depth = full + j.abs() * n.powf(1.0 / degression);
+        }
+        for _ in 0..=springs {
+            depths.push(end_depth);
+        }
+        let line = prog.blocks[pc].0;
+        for d in depths {
+            let zoff = (d - full) * angle.tan();
+            let x = 2.0 * (x0 + side * d);
+            let (zs, ze) = (start_z - zoff, target_z - zoff);
+            let mk = |kind, xs, zs, xe, ze, lead: Option<f64>| Move {
+                file: prog.name.clone(),
+                line,
+                kind,
+                x_start: xs,
+                z_start: zs,
+                x_dia: xe,
+                z: ze,
+                lead,
+                lead_change: lead.map(|_| 0.0),
+                sync_angle_deg: lead.map(|_| 0.0),
+                tool: self.tool,
+                spindle: self.spindle,
+            };
+            let xd = 2.0 * x0;
+            self.moves
+                .push(mk(MoveKind::Rapid, xd, start_z, xd, zs, None));
+            self.moves.push(mk(MoveKind::Rapid, xd, zs, x, zs, None));
+            self.moves
+                .push(mk(MoveKind::Thread, x, zs, x, ze, Some(pitch)));
+            self.moves.push(mk(MoveKind::Rapid, x, ze, xd, ze, None));
+            self.moves
+                .push(mk(MoveKind::Rapid, xd, ze, xd, start_z, None));
+        }
+        Ok(Step::Next)
     }
 
     /// A word in the least input increment (0.001 mm, 0.0001 in), as G76 P/Q are written.
@@ -1280,6 +1386,8 @@ impl Machine<'_> {
                 91 => self.incremental = true,
                 20 | 70 => self.inch = true,
                 21 | 71 => self.inch = false,
+                7 if self.lcnc => self.diameter_mode = true,
+                8 if self.lcnc => self.diameter_mode = false,
                 17 | 18 | 40 | 50..=59 | 64 | 94 | 95 | 96 | 97 | 98 | 99 => {}
                 other => return Err((1, format!("G{other} is not supported yet"))),
             }
@@ -1339,7 +1447,8 @@ impl Machine<'_> {
         let mut x = self.x;
         let mut z = self.z;
         let mut moved = false;
-        if let Some(v) = val("X") {
+        let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+        if let Some(v) = val("X").map(|v| v * xs) {
             x = if self.incremental {
                 self.x + v * scale
             } else {
@@ -1372,6 +1481,10 @@ impl Machine<'_> {
             let (kind, lead, change, angle) = match (self.dialect, self.motion) {
                 (_, 0) => (MoveKind::Rapid, None, None, None),
                 (_, 1) => (MoveKind::Feed, None, None, None),
+                (Dialect::Fanuc, 33) if self.lcnc => {
+                    let k = val("K").ok_or((1, "G33 needs K (the pitch)".to_string()))? * scale;
+                    (MoveKind::Thread, Some(k), Some(0.0), Some(0.0))
+                }
                 (Dialect::Fanuc, 34) if self.gsk => {
                     return self.gsk_g34(w, prog, pc, x, z, scale);
                 }

@@ -9,6 +9,8 @@ mod cli;
 mod goldens;
 /// Same answer whatever the thread count; left and right hands mirror each other.
 mod invariance;
+/// LinuxCNC conformance against rs274 reference output.
+mod linuxcnc;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
 /// NC programs against the pass generators that transcribe the same methods.
