@@ -1156,12 +1156,18 @@ impl Machine<'_> {
         if i == 0.0 || j <= 0.0 || k <= j || pitch <= 0.0 {
             return Err((1, "G76 needs I != 0, J > 0, K > J and P > 0".into()));
         }
-        if val("E").is_some_and(|e| e != 0.0) || val("L").is_some_and(|l| l != 0.0) {
-            return Err((
-                1,
-                "G76 entry/exit tapers (E, L) are not supported yet".into(),
-            ));
-        }
+        let taper_len = val("E").unwrap_or(0.0) * scale;
+        let tapers = match val("L").unwrap_or(0.0).round() as i64 {
+            0 => false,
+            3 if taper_len > 0.0 => true,
+            3 => return Err((1, "G76 L3 needs a taper length E > 0".into())),
+            _ => {
+                return Err((
+                    1,
+                    "G76 entry-only or exit-only tapers (L1, L2) are not supported yet".into(),
+                ))
+            }
+        };
         let mut degression = val("R").unwrap_or(1.0);
         if degression < 1.0 {
             degression = 1.0;
@@ -1192,10 +1198,44 @@ impl Machine<'_> {
             depths.push(end_depth);
         }
         let line = prog.blocks[pc].0;
+        let dir = if end_z < start_z { -1.0 } else { 1.0 };
+        if tapers && 2.0 * taper_len > (target_z - start_z).abs() {
+            return Err((1, "G76 E is greater than half the drive line length".into()));
+        }
         for d in depths {
             let zoff = (d - full) * angle.tan();
             let x = 2.0 * (x0 + side * d);
             let (zs, ze) = (start_z - zoff, target_z - zoff);
+            if tapers {
+                // rs274: from the retract line, a synchronised radial move (|I| long) to the
+                // taper start K above the pass, the entry taper over E, the pass, and the
+                // exit taper back up by K. Feeds are per path length (P hypot(E,K)/E on the
+                // tapers), so the axial lead is P throughout; the radial move uses up
+                // |I| / (P hypot(E,K)/E) revolutions before the entry taper starts.
+                let kx = 2.0 * (x0 + side * (d - k.abs()));
+                let p_taper = pitch * taper_len.hypot(k.abs()) / taper_len;
+                let mut revs = full / p_taper;
+                let (z1, z2) = (zs + dir * taper_len, ze - dir * taper_len);
+                let segments = [(kx, zs, x, z1), (x, z1, x, z2), (x, z2, kx, ze)];
+                for (xa, za, xb, zb) in segments {
+                    self.moves.push(Move {
+                        file: prog.name.clone(),
+                        line,
+                        kind: MoveKind::Thread,
+                        x_start: xa,
+                        z_start: za,
+                        x_dia: xb,
+                        z: zb,
+                        lead: Some(pitch),
+                        lead_change: Some(0.0),
+                        sync_angle_deg: Some((revs * 360.0).rem_euclid(360.0)),
+                        tool: self.tool,
+                        spindle: self.spindle,
+                    });
+                    revs += (zb - za).abs() / pitch;
+                }
+                continue;
+            }
             let mk = |kind, xs, zs, xe, ze, lead: Option<f64>| Move {
                 file: prog.name.clone(),
                 line,

@@ -92,15 +92,59 @@ fn g33_and_g76_match_linuxcnc() {
     assert_eq!(checked, 2 + 16 + 9 + 25);
 }
 
-/// Tapers are in the reference data but not implemented yet: a clear error, not a guess.
+/// G76 with entry and exit tapers (E2 L3): per pass a synchronised radial move in the air,
+/// the entry taper, the pass and the exit taper, fed per path length. vpcut keeps the three
+/// cutting segments with the axial lead P and the spindle phase at which each starts; both
+/// are computed here from rs274's geometry alone.
 #[test]
-fn g76_tapers_are_refused_for_now() {
+fn g76_tapers_match_linuxcnc() {
     let dir = root().join("tests/data/linuxcnc");
     let ngc = std::fs::read_to_string(dir.join("g76-g7-external-taper-e2-l3.ngc")).unwrap();
+    let canon = std::fs::read_to_string(dir.join("g76-g7-external-taper-e2-l3.canon")).unwrap();
     let src = Source {
         name: "t.ngc".into(),
         text: ngc,
     };
-    let e = interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default()).unwrap_err();
-    assert!(e.message.contains("tapers"), "{e}");
+    let moves = interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default()).unwrap();
+    let got: Vec<&vpcut::Move> = moves
+        .iter()
+        .filter(|m| m.kind == MoveKind::Thread)
+        .collect();
+    // rs274: 16 passes x (radial + entry + straight + exit) synchronised feeds.
+    let feeds = canon_threads(&canon);
+    assert_eq!(feeds.len(), 64);
+    assert_eq!(got.len(), 48);
+    let mut g = got.iter();
+    let mut revs = 0.0;
+    for f in &feeds {
+        let [xa, za, xb, zb, p] = *f;
+        let path = (xb - xa).hypot(zb - za);
+        if (zb - za).abs() < 1e-9 {
+            // The radial move starts the synchronised sequence of a pass.
+            revs = path / p;
+            continue;
+        }
+        let m = g.next().unwrap();
+        for (a, b) in [
+            (m.x_start / 2000.0, xa),
+            (m.z_start / 1000.0, za),
+            (m.x_dia / 2000.0, xb),
+            (m.z / 1000.0, zb),
+        ] {
+            assert!((a - b).abs() < 1e-6, "{m:?} vs {f:?}");
+        }
+        let axial = p * (zb - za).abs() / path;
+        assert!(
+            (m.lead.unwrap() / 1000.0 - axial).abs() < 1e-6,
+            "lead {:?} vs {axial}",
+            m.lead
+        );
+        let phase = (revs * 360.0f64).rem_euclid(360.0);
+        assert!(
+            (m.sync_angle_deg.unwrap() - phase).abs() < 1e-3,
+            "phase {:?} vs {phase}",
+            m.sync_angle_deg
+        );
+        revs += path / p;
+    }
 }
