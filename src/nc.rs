@@ -1418,17 +1418,23 @@ impl Machine<'_> {
     /// Modal state and motion of one block's words.
     fn apply(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
         let scale = if self.inch { 25.4 } else { 1.0 };
+        let mut set_position = false;
         for &g in &w.g {
             match g {
                 0 | 1 | 32 | 33 | 34 | 35 => self.motion = g,
-                92 if self.dialect == Dialect::Fanuc => self.motion = 92,
+                // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
+                92 if self.dialect == Dialect::Fanuc && !self.lcnc => self.motion = 92,
                 90 => self.incremental = false,
                 91 => self.incremental = true,
-                20 | 70 => self.inch = true,
-                21 | 71 => self.inch = false,
+                20 => self.inch = true,
+                21 => self.inch = false,
+                70 if self.dialect == Dialect::Siemens802d => self.inch = true,
+                71 if self.dialect == Dialect::Siemens802d => self.inch = false,
                 7 if self.lcnc => self.diameter_mode = true,
                 8 if self.lcnc => self.diameter_mode = false,
-                17 | 18 | 40 | 50..=59 | 64 | 94 | 95 | 96 | 97 | 98 | 99 => {}
+                // FANUC/GSK G50 with X/Z sets the coordinates of the current position.
+                50 if self.dialect == Dialect::Fanuc && !self.lcnc => set_position = true,
+                17 | 18 | 40 | 54..=59 | 64 | 94 | 95 | 96 | 97 | 98 | 99 => {}
                 other => return Err((1, format!("G{other} is not supported yet"))),
             }
         }
@@ -1514,7 +1520,12 @@ impl Machine<'_> {
                 moved = true;
             }
         }
-        if moved && self.dialect == Dialect::Fanuc && self.motion == 92 {
+        if set_position {
+            self.x = x;
+            self.z = z;
+            return Ok(if end { Step::End } else { Step::Next });
+        }
+        if moved && self.dialect == Dialect::Fanuc && self.motion == 92 && !self.lcnc {
             return self.g92(w, prog, pc, x, z, scale);
         }
         if moved {
@@ -1866,6 +1877,17 @@ mod tests {
             moves.iter().filter(|m| m.kind == MoveKind::Thread).count(),
             1
         );
+    }
+
+    #[test]
+    fn g50_sets_the_position_and_g70_is_not_inch_on_fanuc() {
+        let moves = run("G50 X100 Z50\nG0 X60 Z8\nM30\n", Dialect::Gsk980).unwrap();
+        assert_eq!(moves.len(), 1);
+        assert_eq!((moves[0].x_start, moves[0].z_start), (100.0, 50.0));
+        let e = run("G70 P10 Q20\n", Dialect::Fanuc).unwrap_err();
+        assert!(e.message.contains("G70 is not supported"), "{e}");
+        let e = run("G92 X10\n", Dialect::Linuxcnc).unwrap_err();
+        assert!(e.message.contains("G92 is not supported"), "{e}");
     }
 
     #[test]
