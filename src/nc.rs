@@ -1197,7 +1197,6 @@ impl Machine<'_> {
         for _ in 0..=springs {
             depths.push(end_depth);
         }
-        let line = prog.blocks[pc].0;
         let dir = if end_z < start_z { -1.0 } else { 1.0 };
         if tapers && 2.0 * taper_len > (target_z - start_z).abs() {
             return Err((1, "G76 E is greater than half the drive line length".into()));
@@ -1218,47 +1217,22 @@ impl Machine<'_> {
                 let (z1, z2) = (zs + dir * taper_len, ze - dir * taper_len);
                 let segments = [(kx, zs, x, z1), (x, z1, x, z2), (x, z2, kx, ze)];
                 for (xa, za, xb, zb) in segments {
-                    self.moves.push(Move {
-                        file: prog.name.clone(),
-                        line,
-                        kind: MoveKind::Thread,
-                        x_start: xa,
-                        z_start: za,
-                        x_dia: xb,
-                        z: zb,
-                        lead: Some(pitch),
-                        lead_change: Some(0.0),
-                        sync_angle_deg: Some((revs * 360.0).rem_euclid(360.0)),
-                        tool: self.tool,
-                        spindle: self.spindle,
-                    });
+                    let sync = Sync {
+                        lead: pitch,
+                        change: 0.0,
+                        angle: (revs * 360.0).rem_euclid(360.0),
+                    };
+                    self.emit(prog, pc, MoveKind::Thread, (xa, za), (xb, zb), Some(sync));
                     revs += (zb - za).abs() / pitch;
                 }
                 continue;
             }
-            let mk = |kind, xs, zs, xe, ze, lead: Option<f64>| Move {
-                file: prog.name.clone(),
-                line,
-                kind,
-                x_start: xs,
-                z_start: zs,
-                x_dia: xe,
-                z: ze,
-                lead,
-                lead_change: lead.map(|_| 0.0),
-                sync_angle_deg: lead.map(|_| 0.0),
-                tool: self.tool,
-                spindle: self.spindle,
+            let sync = Sync {
+                lead: pitch,
+                change: 0.0,
+                angle: 0.0,
             };
-            let xd = 2.0 * x0;
-            self.moves
-                .push(mk(MoveKind::Rapid, xd, start_z, xd, zs, None));
-            self.moves.push(mk(MoveKind::Rapid, xd, zs, x, zs, None));
-            self.moves
-                .push(mk(MoveKind::Thread, x, zs, x, ze, Some(pitch)));
-            self.moves.push(mk(MoveKind::Rapid, x, ze, xd, ze, None));
-            self.moves
-                .push(mk(MoveKind::Rapid, xd, ze, xd, start_z, None));
+            self.cycle_pass(prog, pc, (2.0 * x0, start_z), (x, zs), (x, ze), sync);
         }
         Ok(Step::Next)
     }
@@ -1365,28 +1339,13 @@ impl Machine<'_> {
             let back = k - dn;
             let x = x_end + side * 2.0 * back;
             let shift = -dir * back * tan;
-            let line = prog.blocks[pc].0;
-            let mk = |kind, xs, zs, xe, ze, lead: Option<f64>| Move {
-                file: prog.name.clone(),
-                line,
-                kind,
-                x_start: xs,
-                z_start: zs,
-                x_dia: xe,
-                z: ze,
-                lead,
-                lead_change: lead.map(|_| 0.0),
-                sync_angle_deg: lead.map(|_| 0.0),
-                tool: self.tool,
-                spindle: self.spindle,
-            };
             let (zs, ze) = (z0 + shift, z_end + shift);
-            self.moves.push(mk(MoveKind::Rapid, x0, z0, x0, zs, None));
-            self.moves.push(mk(MoveKind::Rapid, x0, zs, x, zs, None));
-            self.moves
-                .push(mk(MoveKind::Thread, x, zs, x, ze, Some(lead)));
-            self.moves.push(mk(MoveKind::Rapid, x, ze, x0, ze, None));
-            self.moves.push(mk(MoveKind::Rapid, x0, ze, x0, z0, None));
+            let sync = Sync {
+                lead,
+                change: 0.0,
+                angle: 0.0,
+            };
+            self.cycle_pass(prog, pc, (x0, z0), (x, zs), (x, ze), sync);
         }
         Ok(Step::Next)
     }
@@ -1575,20 +1534,12 @@ impl Machine<'_> {
                     ))
                 }
             };
-            self.moves.push(Move {
-                file: prog.name.clone(),
-                line: prog.blocks[pc].0,
-                kind,
-                x_start: self.x,
-                z_start: self.z,
-                x_dia: x,
-                z,
+            let sync = lead.map(|lead| Sync {
                 lead,
-                lead_change: change,
-                sync_angle_deg: angle,
-                tool: self.tool,
-                spindle: self.spindle,
+                change: change.unwrap_or(0.0),
+                angle: angle.unwrap_or(0.0),
             });
+            self.emit(prog, pc, kind, (self.x, self.z), (x, z), sync);
             self.x = x;
             self.z = z;
         }
@@ -1628,20 +1579,19 @@ impl Machine<'_> {
             }
         }
         let change = val("R").unwrap_or(0.0) * scale;
-        self.moves.push(Move {
-            file: prog.name.clone(),
-            line: prog.blocks[pc].0,
-            kind: MoveKind::Thread,
-            x_start: self.x,
-            z_start: self.z,
-            x_dia: x,
-            z,
-            lead: Some(lead),
-            lead_change: Some(change),
-            sync_angle_deg: Some(0.0),
-            tool: self.tool,
-            spindle: self.spindle,
-        });
+        let sync = Sync {
+            lead,
+            change,
+            angle: 0.0,
+        };
+        self.emit(
+            prog,
+            pc,
+            MoveKind::Thread,
+            (self.x, self.z),
+            (x, z),
+            Some(sync),
+        );
         self.x = x;
         self.z = z;
         Ok(Step::Next)
@@ -1679,29 +1629,79 @@ impl Machine<'_> {
         }
         self.g92 = Some((z_target, lead));
         let q = val("Q").unwrap_or(0.0) / 1000.0;
-        let line = prog.blocks[pc].0;
-        let mut push = |kind, xs, zs, xe, ze, lead: Option<f64>| {
-            self.moves.push(Move {
-                file: prog.name.clone(),
-                line,
-                kind,
-                x_start: xs,
-                z_start: zs,
-                x_dia: xe,
-                z: ze,
-                lead,
-                lead_change: lead.map(|_| 0.0),
-                sync_angle_deg: lead.map(|_| q),
-                tool: self.tool,
-                spindle: self.spindle,
-            })
+        let sync = Sync {
+            lead,
+            change: 0.0,
+            angle: q,
         };
-        push(MoveKind::Rapid, x0, z0, x, z0, None);
-        push(MoveKind::Thread, x, z0, x, z_target, Some(lead));
-        push(MoveKind::Rapid, x, z_target, x0, z_target, None);
-        push(MoveKind::Rapid, x0, z_target, x0, z0, None);
+        self.cycle_pass(prog, pc, (x0, z0), (x, z0), (x, z_target), sync);
         Ok(Step::Next)
     }
+
+    /// Record a move of the block at `pc` from `a` to `b` (diameter, z); `sync` makes it a
+    /// thread move.
+    fn emit(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        kind: MoveKind,
+        a: (f64, f64),
+        b: (f64, f64),
+        sync: Option<Sync>,
+    ) {
+        self.moves.push(Move {
+            file: prog.name.clone(),
+            line: prog.blocks[pc].0,
+            kind,
+            x_start: a.0,
+            z_start: a.1,
+            x_dia: b.0,
+            z: b.1,
+            lead: sync.map(|s| s.lead),
+            lead_change: sync.map(|s| s.change),
+            sync_angle_deg: sync.map(|s| s.angle),
+            tool: self.tool,
+            spindle: self.spindle,
+        });
+    }
+
+    /// One pass of a threading cycle: rapid from `home` to the start (Z first, then X),
+    /// thread to `end`, rapid out to home's X and back to home's Z. Zero-length rapids are
+    /// left out.
+    fn cycle_pass(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        home: (f64, f64),
+        start: (f64, f64),
+        end: (f64, f64),
+        sync: Sync,
+    ) {
+        let path = [home, (home.0, start.1), start];
+        for w in path.windows(2) {
+            if w[0] != w[1] {
+                self.emit(prog, pc, MoveKind::Rapid, w[0], w[1], None);
+            }
+        }
+        self.emit(prog, pc, MoveKind::Thread, start, end, Some(sync));
+        let back = [end, (home.0, end.1), home];
+        for w in back.windows(2) {
+            if w[0] != w[1] {
+                self.emit(prog, pc, MoveKind::Rapid, w[0], w[1], None);
+            }
+        }
+    }
+}
+
+/// What synchronises a thread move to the spindle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Sync {
+    /// Lead at the start (mm/rev).
+    lead: f64,
+    /// Lead change per revolution (mm/rev^2).
+    change: f64,
+    /// Spindle angle at the start (deg).
+    angle: f64,
 }
 
 /// The moves as CSV: `line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg`.
