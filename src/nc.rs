@@ -656,24 +656,43 @@ pub fn interpret(
     for p in all {
         m.register(std::rc::Rc::new(p));
     }
-    let mut stack: Vec<(std::rc::Rc<Program>, usize)> = Vec::new();
+    let mut stack: Vec<Frame> = Vec::new();
     let mut loops: Vec<(u32, usize)> = Vec::new();
     let mut cur = prog;
     let mut pc = 0usize;
+    // Leave the current (sub)program: run it again while repeats are left, else go back to
+    // the caller. Returns false at the end of the main program.
+    let leave = |stack: &mut Vec<Frame>,
+                 cur: &mut std::rc::Rc<Program>,
+                 pc: &mut usize,
+                 loops: &mut Vec<(u32, usize)>| {
+        match stack.last_mut() {
+            Some(top) if top.repeats_left > 1 => {
+                top.repeats_left -= 1;
+                *pc = 0;
+                loops.clear();
+                true
+            }
+            Some(_) => {
+                let f = stack.pop().expect("checked");
+                *cur = f.caller;
+                *pc = f.ret;
+                *loops = f.caller_loops;
+                true
+            }
+            None => false,
+        }
+    };
     loop {
         if pc >= cur.blocks.len() {
-            match stack.pop() {
-                Some((p, ret)) => {
-                    cur = p;
-                    pc = ret;
-                    continue;
-                }
-                None => break,
+            if leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                continue;
             }
+            break;
         }
         m.blocks += 1;
         let (line, orig, text) = &cur.blocks[pc];
-        let fail = |stack: &[(std::rc::Rc<Program>, usize)], col: usize, message: String| NcError {
+        let fail = |stack: &[Frame], col: usize, message: String| NcError {
             file: cur.name.clone(),
             line: *line,
             col,
@@ -682,9 +701,13 @@ pub fn interpret(
             stack: stack
                 .iter()
                 .rev()
-                .map(|(p, ret)| {
-                    let l = p.blocks.get(ret.saturating_sub(1)).map_or(0, |b| b.0);
-                    format!("{}:{l}", p.name)
+                .map(|f| {
+                    let l = f
+                        .caller
+                        .blocks
+                        .get(f.ret.saturating_sub(1))
+                        .map_or(0, |b| b.0);
+                    format!("{}:{l}", f.caller.name)
                 })
                 .collect(),
         };
@@ -716,13 +739,11 @@ pub fn interpret(
             Step::Next => pc += 1,
             Step::Jump(to) => pc = to,
             Step::End => break,
-            Step::Return => match stack.pop() {
-                Some((p, ret)) => {
-                    cur = p;
-                    pc = ret;
+            Step::Return => {
+                if !leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                    break;
                 }
-                None => break,
-            },
+            }
             Step::Call(name, times) => {
                 if stack.len() + 1 > m.limits.max_depth {
                     return Err(fail(
@@ -762,17 +783,27 @@ pub fn interpret(
                         m.programs[&name].clone()
                     }
                 };
-                // Repeats: push the return point once, and the subprogram `times - 1` more.
-                stack.push((cur.clone(), pc + 1));
-                for _ in 1..times {
-                    stack.push((p.clone(), 0));
-                }
+                stack.push(Frame {
+                    caller: cur.clone(),
+                    ret: pc + 1,
+                    repeats_left: times.max(1),
+                    caller_loops: std::mem::take(&mut loops),
+                });
                 cur = p;
                 pc = 0;
             }
         }
     }
     Ok(m.moves)
+}
+
+/// A subprogram call in progress: where to return, how many more runs of the callee, and
+/// the caller's open WHILE loops (loops belong to one program).
+struct Frame {
+    caller: std::rc::Rc<Program>,
+    ret: usize,
+    repeats_left: u32,
+    caller_loops: Vec<(u32, usize)>,
 }
 
 enum Step {
@@ -1888,6 +1919,24 @@ mod tests {
         assert!(e.message.contains("G70 is not supported"), "{e}");
         let e = run("G92 X10\n", Dialect::Linuxcnc).unwrap_err();
         assert!(e.message.contains("G92 is not supported"), "{e}");
+    }
+
+    /// Repeats do not count as nesting, and WHILE loops belong to their own program.
+    #[test]
+    fn repeated_calls_nest_and_keep_their_loops() {
+        let text = "O0001\n#1=0\nWHILE[#1LT2]DO1\n#1=#1+1\nM98 P30002\nEND1\nM30\n\
+                    O0002\nM98 P20003\nM99\n\
+                    O0003\n#2=0\nWHILE[#2LT1]DO1\n#2=#2+1\nG0 X1\nG32 Z-1 F1\nG0 Z0\nEND1\nM99\n";
+        let moves = run(text, Dialect::Fanuc).unwrap();
+        // 2 outer iterations x 3 calls of O0002 x 2 calls of O0003 x 1 inner iteration.
+        assert_eq!(
+            moves.iter().filter(|m| m.kind == MoveKind::Thread).count(),
+            12
+        );
+        let deep = "O0001\nM98 P2\nM30\nO0002\nM98 P3\nM99\nO0003\nM98 P2\nM99\n";
+        let e = run(deep, Dialect::Fanuc).unwrap_err();
+        assert!(e.message.contains("nesting deeper than 8"), "{e}");
+        assert!(e.stack.len() == 8, "{:?}", e.stack);
     }
 
     #[test]
