@@ -362,6 +362,15 @@ impl<'a> Cur<'a> {
     }
 }
 
+/// Null (NaN) as 0, for arithmetic.
+fn z(v: f64) -> f64 {
+    if v.is_nan() {
+        0.0
+    } else {
+        v
+    }
+}
+
 /// A comparison operator.
 type Compare = fn(f64, f64) -> bool;
 
@@ -379,7 +388,10 @@ struct Machine<'l> {
     limits: Limits,
     programs: HashMap<String, std::rc::Rc<Program>>,
     r: HashMap<u32, f64>,
+    /// FANUC common variables (#100.., #500..); a missing entry is null (vacant).
     vars: HashMap<u32, f64>,
+    /// FANUC local variables #1..#33, one level per G65 macro call; missing = null.
+    locals: Vec<HashMap<u32, f64>>,
     x: f64,
     z: f64,
     motion: u32,
@@ -410,10 +422,16 @@ impl Machine<'_> {
         match c.dialect {
             Dialect::Siemens802d => Ok(*self.r.get(&idx).unwrap_or(&0.0)),
             Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
-                if idx == 0 {
-                    return Ok(0.0);
-                }
-                Ok(*self.vars.get(&idx).unwrap_or(&0.0))
+                // Null (vacant, and #0) is carried as NaN: 0 in arithmetic, but not equal
+                // to 0 under EQ/NE (controllers.md 4.1).
+                let v = if idx == 0 {
+                    None
+                } else if (1..=33).contains(&idx) {
+                    self.locals.last().and_then(|l| l.get(&idx))
+                } else {
+                    self.vars.get(&idx)
+                };
+                Ok(v.copied().unwrap_or(f64::NAN))
             }
         }
     }
@@ -421,11 +439,25 @@ impl Machine<'_> {
     fn expr(&self, c: &mut Cur) -> Result<f64, Fail> {
         self.or(c)
     }
+
+    /// Store a FANUC variable; null (NaN) makes it vacant.
+    fn set_var(&mut self, idx: u32, v: f64) {
+        let map = if (1..=33).contains(&idx) {
+            self.locals.last_mut().expect("level 0 always exists")
+        } else {
+            &mut self.vars
+        };
+        if v.is_nan() {
+            map.remove(&idx);
+        } else {
+            map.insert(idx, v);
+        }
+    }
     fn or(&self, c: &mut Cur) -> Result<f64, Fail> {
         let mut v = self.and(c)?;
         while c.eat("OR") {
             let w = self.and(c)?;
-            v = f64::from(v != 0.0 || w != 0.0);
+            v = f64::from(z(v) != 0.0 || z(w) != 0.0);
         }
         Ok(v)
     }
@@ -433,7 +465,7 @@ impl Machine<'_> {
         let mut v = self.cmp(c)?;
         while c.eat("AND") {
             let w = self.cmp(c)?;
-            v = f64::from(v != 0.0 && w != 0.0);
+            v = f64::from(z(v) != 0.0 && z(w) != 0.0);
         }
         Ok(v)
     }
@@ -460,7 +492,14 @@ impl Machine<'_> {
         for (op, f) in ops {
             if c.eat(op) {
                 let w = self.add(c)?;
-                return Ok(f64::from(f(v, w)));
+                // Null equals only null under EQ/NE; elsewhere it is 0.
+                let result = match *op {
+                    "EQ" | "NE" if v.is_nan() || w.is_nan() => {
+                        (v.is_nan() && w.is_nan()) == (*op == "EQ")
+                    }
+                    _ => f(z(v), z(w)),
+                };
+                return Ok(f64::from(result));
             }
         }
         Ok(v)
@@ -469,10 +508,10 @@ impl Machine<'_> {
         let mut v = self.mul(c)?;
         loop {
             if c.eat("+") {
-                v += self.mul(c)?;
+                v = z(v) + z(self.mul(c)?);
             } else if c.peek() == Some(b'-') {
                 c.i += 1;
-                v -= self.mul(c)?;
+                v = z(v) - z(self.mul(c)?);
             } else {
                 return Ok(v);
             }
@@ -482,14 +521,14 @@ impl Machine<'_> {
         let mut v = self.unary(c)?;
         loop {
             if c.eat("*") {
-                v *= self.unary(c)?;
+                v = z(v) * z(self.unary(c)?);
             } else if c.eat("/") {
                 let at = c.i;
-                let w = self.unary(c)?;
+                let w = z(self.unary(c)?);
                 if w == 0.0 {
                     return Err((at + 1, "division by zero".into()));
                 }
-                v /= w;
+                v = z(v) / w;
             } else {
                 return Ok(v);
             }
@@ -497,7 +536,7 @@ impl Machine<'_> {
     }
     fn unary(&self, c: &mut Cur) -> Result<f64, Fail> {
         if c.eat("-") {
-            return Ok(-self.unary(c)?);
+            return Ok(-z(self.unary(c)?));
         }
         if c.eat("+") {
             return self.unary(c);
@@ -536,9 +575,9 @@ impl Machine<'_> {
         if !c.eat(open) {
             return Err((at + 1, format!("unknown name `{name}`")));
         }
-        let a = self.expr(c)?;
+        let a = z(self.expr(c)?);
         let b = if c.eat(",") {
-            Some(self.expr(c)?)
+            Some(z(self.expr(c)?))
         } else {
             None
         };
@@ -632,6 +671,7 @@ pub fn interpret(
         programs: HashMap::new(),
         r: HashMap::new(),
         vars: HashMap::new(),
+        locals: vec![HashMap::new()],
         x: 0.0,
         z: 0.0,
         motion: 0,
@@ -671,24 +711,29 @@ pub fn interpret(
                 top.repeats_left -= 1;
                 *pc = 0;
                 loops.clear();
-                true
+                Some(false)
             }
             Some(_) => {
                 let f = stack.pop().expect("checked");
                 *cur = f.caller;
                 *pc = f.ret;
                 *loops = f.caller_loops;
-                true
+                Some(f.macro_level)
             }
-            None => false,
+            None => None,
         }
     };
     loop {
         if pc >= cur.blocks.len() {
-            if leave(&mut stack, &mut cur, &mut pc, &mut loops) {
-                continue;
+            match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                Some(popped_macro) => {
+                    if popped_macro {
+                        m.locals.pop();
+                    }
+                    continue;
+                }
+                None => break,
             }
-            break;
         }
         m.blocks += 1;
         let (line, orig, text) = &cur.blocks[pc];
@@ -739,12 +784,15 @@ pub fn interpret(
             Step::Next => pc += 1,
             Step::Jump(to) => pc = to,
             Step::End => break,
-            Step::Return => {
-                if !leave(&mut stack, &mut cur, &mut pc, &mut loops) {
-                    break;
+            Step::Return => match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                Some(popped_macro) => {
+                    if popped_macro {
+                        m.locals.pop();
+                    }
                 }
-            }
-            Step::Call(name, times) => {
+                None => break,
+            },
+            Step::Call(name, times, args) => {
                 if stack.len() + 1 > m.limits.max_depth {
                     return Err(fail(
                         &stack,
@@ -788,7 +836,14 @@ pub fn interpret(
                     ret: pc + 1,
                     repeats_left: times.max(1),
                     caller_loops: std::mem::take(&mut loops),
+                    macro_level: args.is_some(),
                 });
+                if let Some(args) = args {
+                    // A new level: all locals vacant but the arguments (set once, kept
+                    // over the repetitions).
+                    m.locals
+                        .push(args.into_iter().filter(|a| !a.1.is_nan()).collect());
+                }
                 cur = p;
                 pc = 0;
             }
@@ -804,6 +859,8 @@ struct Frame {
     ret: usize,
     repeats_left: u32,
     caller_loops: Vec<(u32, usize)>,
+    /// A G65 call: leaving it drops its level of local variables.
+    macro_level: bool,
 }
 
 enum Step {
@@ -811,7 +868,9 @@ enum Step {
     Jump(usize),
     End,
     Return,
-    Call(String, u32),
+    /// A subprogram call: name, runs, and for a G65 macro call its arguments (a new level
+    /// of local variables).
+    Call(String, u32, Option<Vec<(u32, f64)>>),
 }
 
 /// Words of one block.
@@ -908,7 +967,7 @@ impl Machine<'_> {
                         times = c.number().unwrap_or(1.0).max(1.0) as u32;
                     }
                     self.apply(&w, prog, pc)?;
-                    return Ok(Step::Call(call.to_string(), times));
+                    return Ok(Step::Call(call.to_string(), times, None));
                 }
                 other => return Err((at + 1, format!("unknown word `{other}`"))),
             }
@@ -963,7 +1022,7 @@ impl Machine<'_> {
                     return c.err("expected `=` after a variable");
                 }
                 let v = self.expr(&mut c)?;
-                self.vars.insert(idx, v);
+                self.set_var(idx, v);
                 continue;
             }
             if c.eat("WHILE") {
@@ -1031,6 +1090,10 @@ impl Machine<'_> {
             c.i += 1;
             let st = c.i;
             let v = self.fanuc_value(&mut c)?;
+            if v.is_nan() {
+                // An address whose value is a vacant variable is left out (FANUC).
+                continue;
+            }
             if text[st..c.i].contains('.') {
                 w.points.push((letter as char).to_string());
             }
@@ -1066,6 +1129,9 @@ impl Machine<'_> {
         let mut h = None;
         let mut p: Option<(f64, bool)> = None; // (value, written as #n)
         let (mut q, mut r) = (0.0, 0.0);
+        let mut repeats = 1.0;
+        // Macro call arguments (specification I): letter -> local variable.
+        let mut args: Vec<(u32, f64)> = Vec::new();
         while !c.done() {
             let at = c.i;
             let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
@@ -1087,26 +1153,55 @@ impl Machine<'_> {
                         .ok_or((c.i + 1, "expected a number".to_string()))?;
                     p = Some((v, var));
                 }
-                b'Q' => q = self.fanuc_value(c)?,
-                b'R' => r = self.fanuc_value(c)?,
-                b'L' => {
-                    let _ = self.fanuc_value(c)?;
-                }
-                _ => {
-                    return Err((
-                        at + 1,
-                        format!(
-                        "`{}` in G65 is not supported yet (G65 P calls with arguments come later)",
-                        letter as char
-                    ),
-                    ))
+                b'Q' => q = z(self.fanuc_value(c)?),
+                b'R' => r = z(self.fanuc_value(c)?),
+                b'L' => repeats = z(self.fanuc_value(c)?),
+                other => {
+                    let var = match other {
+                        b'A' => 1,
+                        b'B' => 2,
+                        b'C' => 3,
+                        b'I' => 4,
+                        b'J' => 5,
+                        b'K' => 6,
+                        b'D' => 7,
+                        b'E' => 8,
+                        b'F' => 9,
+                        b'M' => 13,
+                        b'S' => 19,
+                        b'T' => 20,
+                        b'U' => 21,
+                        b'V' => 22,
+                        b'W' => 23,
+                        b'X' => 24,
+                        b'Y' => 25,
+                        b'Z' => 26,
+                        _ => {
+                            return Err((
+                                at + 1,
+                                format!("`{}` cannot pass a G65 argument", other as char),
+                            ))
+                        }
+                    };
+                    args.push((var, self.fanuc_value(c)?));
                 }
             }
         }
         let Some(h) = h else {
-            return Err((
-                1,
-                "G65 without H (macro calls by P are not supported yet)".into(),
+            // G65 P<program> L<repeats> <arguments>: a macro call with its own locals. Q and
+            // R were read as Macro A operands above; as arguments they are #17 and #18.
+            let (pv, _) = p.ok_or((1, "G65 needs P (the macro program) or H".to_string()))?;
+            if q != 0.0 {
+                args.push((17, q));
+            }
+            if r != 0.0 {
+                args.push((18, r));
+            }
+            let times = repeats.round().clamp(1.0, 9999.0) as u32;
+            return Ok(Step::Call(
+                format!("O{}", pv.round() as u64),
+                times,
+                Some(args),
             ));
         };
         let (pv, pvar) = p.ok_or((1, format!("G65 H{h:02} needs P")))?;
@@ -1124,7 +1219,7 @@ impl Machine<'_> {
             if !pvar {
                 return Err((1, format!("G65 H{h:02}: P must name a variable (#n)")));
             }
-            m.vars.insert(pv.round() as u32, v);
+            m.set_var(pv.round() as u32, v);
             Ok(Step::Next)
         };
         let nonzero = |v: f64| {
@@ -1402,7 +1497,7 @@ impl Machine<'_> {
         if !c.eat("]") {
             return c.err("expected `]`");
         }
-        Ok(v)
+        Ok(z(v))
     }
 
     /// Modal state and motion of one block's words.
@@ -1450,7 +1545,7 @@ impl Machine<'_> {
                     if times > 9999 {
                         return Err((1, format!("M98 repeat count {times} is over 9999")));
                     }
-                    return Ok(Step::Call(format!("O{prog}"), times));
+                    return Ok(Step::Call(format!("O{prog}"), times, None));
                 }
                 99 if self.dialect == Dialect::Fanuc => {
                     if w.vals.contains_key("P") {
@@ -1937,6 +2032,34 @@ mod tests {
         let e = run(deep, Dialect::Fanuc).unwrap_err();
         assert!(e.message.contains("nesting deeper than 8"), "{e}");
         assert!(e.stack.len() == 8, "{:?}", e.stack);
+    }
+
+    /// G65 P calls: arguments land in #1.. of a new level, the caller's locals come back,
+    /// and a vacant variable is 0 in arithmetic but not EQ 0; an address with a vacant
+    /// variable is left out.
+    #[test]
+    fn g65_macro_call_locals_and_null() {
+        let text = "O0001\n#1=7\nG0 X20 Z2\nG65 P9010 A1.5 B3 Z-12\nG65 P9010 A2 Z-6\n\
+                    G0 X#1\nM30\n\
+                    O9010\nIF[#2EQ#0]THEN#2=4\nIF[#3EQ0]GOTO9\nG32 X[20-#2] Z#26 F#1 Q#33\nN9 M99\n";
+        let moves = run(text, Dialect::Fanuc).unwrap();
+        let t: Vec<&Move> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect();
+        assert_eq!(t.len(), 2);
+        assert_eq!((t[0].x_dia, t[0].z, t[0].lead), (17.0, -12.0, Some(1.5)));
+        // B absent: #2 vacant, so EQ #0 holds and #2 becomes 4; #3 vacant is not EQ 0, so
+        // no jump to N9.
+        assert_eq!((t[1].x_dia, t[1].z, t[1].lead), (16.0, -6.0, Some(2.0)));
+        // Q#33 (vacant) was left out: sync angle 0.
+        assert_eq!(t[1].sync_angle_deg, Some(0.0));
+        // The caller's #1 = 7 is back after the calls.
+        assert_eq!(moves.last().unwrap().x_dia, 7.0);
+        let null = "#1=#0\n#2=#1+1\nIF[#1EQ0]GOTO5\nG0 X#2\nN5 M30\n";
+        let moves = run(null, Dialect::Fanuc).unwrap();
+        assert_eq!(moves.len(), 1, "vacant is not EQ 0, and #1 + 1 = 1");
+        assert_eq!(moves[0].x_dia, 1.0);
     }
 
     #[test]
