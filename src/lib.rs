@@ -4,7 +4,9 @@
 //! The pipeline, in reading order:
 //!
 //! 1. [`Job::from_toml`] reads a job (blank, thread, tools, passes or a pass generator,
-//!    machine, simulation settings) into mm and radians.
+//!    machine, simulation settings) into mm and radians; [`Job::from_toml_with`] also runs
+//!    the job's NC program through [`interpret`] (Siemens 802D, FANUC, GSK 980TDC,
+//!    LinuxCNC) and turns its thread moves into passes.
 //! 2. [`simulate`] builds the blank as a [`Stock`] of radial dexels, sweeps every pass
 //!    through it ([`sweep`]), compares the cut with the closed-form ideal thread
 //!    ([`compare`]), measures leads and widths along generators ([`measure`]), runs the
