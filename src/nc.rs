@@ -1855,6 +1855,13 @@ pub fn to_csv(moves: &[Move]) -> String {
 mod tests {
     use super::*;
 
+    fn threads(moves: &[Move]) -> Vec<&Move> {
+        moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect()
+    }
+
     fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
         let src = Source {
             name: "T.NC".into(),
@@ -1887,10 +1894,7 @@ mod tests {
             Dialect::Fanuc,
         )
         .unwrap();
-        let threads: Vec<&Move> = moves
-            .iter()
-            .filter(|m| m.kind == MoveKind::Thread)
-            .collect();
+        let threads: Vec<&Move> = threads(&moves);
         assert_eq!(threads.len(), 3);
         assert_eq!(threads[2].x_dia, 17.0);
         assert_eq!(threads[0].lead, Some(1.5));
@@ -1906,10 +1910,7 @@ mod tests {
             Dialect::Fanuc,
         )
         .unwrap();
-        let t: Vec<&Move> = moves
-            .iter()
-            .filter(|m| m.kind == MoveKind::Thread)
-            .collect();
+        let t: Vec<&Move> = threads(&moves);
         let want = [
             0.45,
             0.45 * 2f64.sqrt(),
@@ -1946,10 +1947,7 @@ mod tests {
             Dialect::Fanuc,
         )
         .unwrap();
-        let t: Vec<&Move> = moves
-            .iter()
-            .filter(|m| m.kind == MoveKind::Thread)
-            .collect();
+        let t: Vec<&Move> = threads(&moves);
         assert_eq!(t.len(), 3);
         assert_eq!(
             (t[2].x_dia, t[2].z_start, t[2].z, t[2].lead),
@@ -1968,10 +1966,7 @@ mod tests {
                     N50 M98 P250002\nN60 G00 X120\nN70 Z80\nN80 T0100\nN90 M30\n\
                     O0002\nN10 G00 U-10.2\nN20 G34 Z-70 F4 R1\nN30 G0 U10\nN40 G00 Z8\nN50 M99\n";
         let moves = run(text, Dialect::Gsk980).unwrap();
-        let t: Vec<&Move> = moves
-            .iter()
-            .filter(|m| m.kind == MoveKind::Thread)
-            .collect();
+        let t: Vec<&Move> = threads(&moves);
         assert_eq!(t.len(), 25);
         for (k, m) in t.iter().enumerate() {
             assert!(
@@ -2043,10 +2038,7 @@ mod tests {
                     G0 X#1\nM30\n\
                     O9010\nIF[#2EQ#0]THEN#2=4\nIF[#3EQ0]GOTO9\nG32 X[20-#2] Z#26 F#1 Q#33\nN9 M99\n";
         let moves = run(text, Dialect::Fanuc).unwrap();
-        let t: Vec<&Move> = moves
-            .iter()
-            .filter(|m| m.kind == MoveKind::Thread)
-            .collect();
+        let t: Vec<&Move> = threads(&moves);
         assert_eq!(t.len(), 2);
         assert_eq!((t[0].x_dia, t[0].z, t[0].lead), (17.0, -12.0, Some(1.5)));
         // B absent: #2 vacant, so EQ #0 holds and #2 becomes 4; #3 vacant is not EQ 0, so

@@ -246,6 +246,21 @@ fn follow(
     }
 }
 
+/// A pass whose tip centre follows `hx` over the process's run (`z_from`..`z_to`), tip at
+/// radius `r_tip`.
+fn along(
+    p: &Process,
+    thread: &ThreadSpec,
+    hx: &Helix,
+    blank: &Blank,
+    r_tip: f64,
+    tool: &Tool,
+    spindle: Spindle,
+) -> Result<Pass, GenError> {
+    let (t_a, t_b) = t_range(p, thread, hx, blank)?;
+    Ok(follow(hx, t_a, t_b, r_tip, p.tool, tool, spindle))
+}
+
 fn radial(
     p: &Process,
     thread: &ThreadSpec,
@@ -268,16 +283,15 @@ fn radial(
     for &h_tip in &heights {
         for s in 0..thread.starts {
             let hx = thread.start_helix(s);
-            let (t_a, t_b) = t_range(p, thread, &hx, blank)?;
-            out.push(follow(
+            out.push(along(
+                p,
+                thread,
                 &hx,
-                t_a,
-                t_b,
+                blank,
                 thread.radius(h_tip),
-                p.tool,
                 tool,
                 spindle,
-            ));
+            )?);
         }
     }
     Ok(out)
@@ -339,16 +353,15 @@ fn equal_tooth(
                     },
                     ..base
                 };
-                let (t_a, t_b) = t_range(p, thread, &hx, blank)?;
-                out.push(follow(
+                out.push(along(
+                    p,
+                    thread,
                     &hx,
-                    t_a,
-                    t_b,
+                    blank,
                     thread.radius(h_tip),
-                    p.tool,
                     tool,
                     spindle,
-                ));
+                )?);
             }
         }
     }
@@ -485,16 +498,15 @@ fn flank_borrow(
                     z0: base.z0 + shift,
                     ..base
                 };
-                let (t_a, t_b) = t_range(p, thread, &hx, blank)?;
-                out.push(follow(
+                out.push(along(
+                    p,
+                    thread,
                     &hx,
-                    t_a,
-                    t_b,
+                    blank,
                     thread.radius(h),
-                    p.tool,
                     tool,
                     spindle,
-                ));
+                )?);
             }
         }
         if h <= 0.0 {
