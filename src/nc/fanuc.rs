@@ -1,0 +1,469 @@
+//! FANUC and GSK 980TDC blocks: Macro B statements and control flow, Macro A (`G65 H..`),
+//! G65 macro calls, the two-block G76, the modal G92 and GSK's G34.
+
+use super::expr::{z, Cur, Fail};
+use super::{Machine, MoveKind, Program, Step, Sync, Words};
+
+impl Machine<'_> {
+    pub(super) fn fanuc_block(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        text: &str,
+        loops: &mut Vec<(u32, usize)>,
+    ) -> Result<Step, Fail> {
+        let mut c = Cur::new(text, self.dialect);
+        if text.starts_with('O') && text[1..].chars().all(|ch| ch.is_ascii_digit()) {
+            return Ok(Step::Next);
+        }
+        let mut w = Words::default();
+        while !c.done() {
+            let at = c.i;
+            if c.eat("#") {
+                let idx = self.var_index(&mut c)?;
+                if !c.eat("=") {
+                    return c.err("expected `=` after a variable");
+                }
+                let v = self.expr(&mut c)?;
+                self.set_var(idx, v);
+                continue;
+            }
+            if c.eat("WHILE") {
+                let v = self.bracket(&mut c)?;
+                if !c.eat("DO") {
+                    return c.err("expected DOn after WHILE [..]");
+                }
+                let n = c.number().unwrap_or(0.0) as u32;
+                if v != 0.0 {
+                    loops.retain(|l| l.1 != pc);
+                    loops.push((n, pc));
+                    return Ok(Step::Next);
+                }
+                // Skip to the block after the matching ENDn.
+                for (k, b) in prog.blocks.iter().enumerate().skip(pc + 1) {
+                    if b.2.replace(' ', "") == format!("END{n}") {
+                        loops.retain(|l| l.1 != pc);
+                        return Ok(Step::Jump(k + 1));
+                    }
+                }
+                return Err((at + 1, format!("WHILE .. DO{n} without END{n}")));
+            }
+            if c.eat("END") {
+                let n = c.number().unwrap_or(0.0) as u32;
+                let Some(&(_, start)) = loops.iter().rev().find(|l| l.0 == n) else {
+                    return Err((at + 1, format!("END{n} without DO{n}")));
+                };
+                return Ok(Step::Jump(start));
+            }
+            if c.eat("IF") {
+                let v = self.bracket(&mut c)?;
+                if c.eat("GOTO") {
+                    let n = c.number().unwrap_or(0.0) as u32;
+                    if v == 0.0 {
+                        return Ok(Step::Next);
+                    }
+                    return prog
+                        .numbers
+                        .get(&n)
+                        .map(|&k| Step::Jump(k))
+                        .ok_or((at + 1, format!("no block N{n}")));
+                }
+                if c.eat("THEN") {
+                    if v == 0.0 {
+                        return Ok(Step::Next);
+                    }
+                    continue;
+                }
+                return c.err("expected GOTO or THEN after IF [..]");
+            }
+            if c.eat("GOTO") {
+                let n = c.number().unwrap_or(0.0) as u32;
+                return prog
+                    .numbers
+                    .get(&n)
+                    .map(|&k| Step::Jump(k))
+                    .ok_or((at + 1, format!("no block N{n}")));
+            }
+            if c.eat("G65") {
+                return self.macro_a(&mut c, prog);
+            }
+            let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
+                return Err((at + 1, format!("unexpected `{}`", c.s[c.i] as char)));
+            };
+            c.i += 1;
+            let st = c.i;
+            let v = self.fanuc_value(&mut c)?;
+            if v.is_nan() {
+                // An address whose value is a vacant variable is left out (FANUC).
+                continue;
+            }
+            if text[st..c.i].contains('.') {
+                w.points.push((letter as char).to_string());
+            }
+            match letter {
+                b'G' => w.g.push(v.round() as u32),
+                b'M' => w.m.push(v.round() as u32),
+                b'N' | b'O' => {}
+                b'X' | b'Z' | b'U' | b'W' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P'
+                | b'L' | b'J' | b'I' | b'H' | b'E' => {
+                    w.vals.insert((letter as char).to_string(), (v, at + 1));
+                }
+                other => {
+                    return Err((
+                        at + 1,
+                        format!("the word `{}` is not supported yet", other as char),
+                    ))
+                }
+            }
+        }
+        if w.g.contains(&76) {
+            return if self.lcnc {
+                self.lcnc_g76(&w, prog, pc)
+            } else {
+                self.g76(&w, prog, pc)
+            };
+        }
+        self.apply(&w, prog, pc)
+    }
+
+    /// FANUC/GSK Custom Macro A: `G65 Hnn P#i Q#j R#k` (`controllers.md` 5). P names the
+    /// result variable (or the block number of a jump); Q and R are variables or constants.
+    pub(super) fn macro_a(&mut self, c: &mut Cur, prog: &Program) -> Result<Step, Fail> {
+        let mut h = None;
+        let mut p: Option<(f64, bool)> = None; // (value, written as #n)
+        let (mut q, mut r) = (0.0, 0.0);
+        let mut repeats = 1.0;
+        // Macro call arguments (specification I): letter -> local variable.
+        let mut args: Vec<(u32, f64)> = Vec::new();
+        while !c.done() {
+            let at = c.i;
+            let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
+                return Err((at + 1, format!("unexpected `{}` in G65", c.s[c.i] as char)));
+            };
+            c.i += 1;
+            match letter {
+                b'H' => {
+                    h = Some(
+                        c.number()
+                            .ok_or((c.i + 1, "expected the H code".to_string()))?
+                            as u32,
+                    )
+                }
+                b'P' => {
+                    let var = c.eat("#");
+                    let v = c
+                        .number()
+                        .ok_or((c.i + 1, "expected a number".to_string()))?;
+                    p = Some((v, var));
+                }
+                b'Q' => q = z(self.fanuc_value(c)?),
+                b'R' => r = z(self.fanuc_value(c)?),
+                b'L' => repeats = z(self.fanuc_value(c)?),
+                other => {
+                    let var = match other {
+                        b'A' => 1,
+                        b'B' => 2,
+                        b'C' => 3,
+                        b'I' => 4,
+                        b'J' => 5,
+                        b'K' => 6,
+                        b'D' => 7,
+                        b'E' => 8,
+                        b'F' => 9,
+                        b'M' => 13,
+                        b'S' => 19,
+                        b'T' => 20,
+                        b'U' => 21,
+                        b'V' => 22,
+                        b'W' => 23,
+                        b'X' => 24,
+                        b'Y' => 25,
+                        b'Z' => 26,
+                        _ => {
+                            return Err((
+                                at + 1,
+                                format!("`{}` cannot pass a G65 argument", other as char),
+                            ))
+                        }
+                    };
+                    args.push((var, self.fanuc_value(c)?));
+                }
+            }
+        }
+        let Some(h) = h else {
+            // G65 P<program> L<repeats> <arguments>: a macro call with its own locals. Q and
+            // R were read as Macro A operands above; as arguments they are #17 and #18.
+            let (pv, _) = p.ok_or((1, "G65 needs P (the macro program) or H".to_string()))?;
+            if q != 0.0 {
+                args.push((17, q));
+            }
+            if r != 0.0 {
+                args.push((18, r));
+            }
+            let times = repeats.round().clamp(1.0, 9999.0) as u32;
+            return Ok(Step::Call(
+                format!("O{}", pv.round() as u64),
+                times,
+                Some(args),
+            ));
+        };
+        let (pv, pvar) = p.ok_or((1, format!("G65 H{h:02} needs P")))?;
+        let jump = |cond: bool| -> Result<Step, Fail> {
+            if !cond {
+                return Ok(Step::Next);
+            }
+            let n = pv.round() as u32;
+            prog.numbers
+                .get(&n)
+                .map(|&k| Step::Jump(k))
+                .ok_or((1, format!("no block N{n}")))
+        };
+        let set = |m: &mut Self, v: f64| -> Result<Step, Fail> {
+            if !pvar {
+                return Err((1, format!("G65 H{h:02}: P must name a variable (#n)")));
+            }
+            m.set_var(pv.round() as u32, v);
+            Ok(Step::Next)
+        };
+        let nonzero = |v: f64| {
+            if v == 0.0 {
+                Err((1, "division by zero".to_string()))
+            } else {
+                Ok(v)
+            }
+        };
+        match h {
+            1 => set(self, q),
+            2 => set(self, q + r),
+            3 => set(self, q - r),
+            4 => set(self, q * r),
+            5 => set(self, q / nonzero(r)?),
+            21 if q >= 0.0 => set(self, q.sqrt()),
+            22 => set(self, q.abs()),
+            23 => set(self, q % nonzero(r)?),
+            27 => set(self, q.hypot(r)),
+            31 => set(self, q * r.to_radians().sin()),
+            32 => set(self, q * r.to_radians().cos()),
+            33 => set(self, q * r.to_radians().tan()),
+            34 => set(self, q.atan2(r).to_degrees()),
+            80 => jump(true),
+            81 => jump(q == r),
+            82 => jump(q != r),
+            83 => jump(q > r),
+            84 => jump(q < r),
+            85 => jump(q >= r),
+            86 => jump(q <= r),
+            99 => Err((
+                1,
+                format!(
+                    "alarm {} raised by the program (G65 H99)",
+                    500 + pv.round() as i64
+                ),
+            )),
+            _ => Err((1, format!("G65 H{h:02} is not supported yet"))),
+        }
+    }
+
+    /// A word in the least input increment (0.001 mm, 0.0001 in), as G76 P/Q are written.
+    pub(super) fn increment_word(&self, w: &Words, k: &str) -> Result<Option<f64>, Fail> {
+        let Some(&(v, col)) = w.vals.get(k) else {
+            return Ok(None);
+        };
+        if w.points.iter().any(|p| p == k) {
+            return Err((
+                col,
+                format!("G76 {k} counts in the least input increment and takes no decimal point"),
+            ));
+        }
+        Ok(Some(if self.inch {
+            v * 0.0001 * 25.4
+        } else {
+            v * 0.001
+        }))
+    }
+
+    /// FANUC G76, two-block form (`domain.md` section 3, `controllers.md` 2.3): block 1
+    /// sets `P(mmrraa) Q(dmin) R(d)`; block 2 `X(U) Z(W) R(i) P(k) Q(dd) F(L)` cuts rough
+    /// passes at `d_n = max(dd*sqrt(n), d_(n-1) + dmin)` until `k - d`, one at `k - d`, then
+    /// `m` at `k`, each on single-flank infeed: shifted against the cutting direction by
+    /// `(k - d_n) tan(a/2)` so the trailing flank follows the final groove's wall.
+    pub(super) fn g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
+        let scale = if self.inch { 25.4 } else { 1.0 };
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let is_second = ["X", "Z", "U", "W"].iter().any(|k| w.vals.contains_key(*k));
+        if !is_second {
+            if let Some(p) = val("P") {
+                let p = p.round() as u32;
+                self.g76.m = (p / 10000).max(1);
+                self.g76.r = (p / 100) % 100;
+                self.g76.a = (p % 100) as f64;
+            }
+            if let Some(q) = self.increment_word(w, "Q")? {
+                self.g76.dmin = q;
+            }
+            if let Some(r) = val("R") {
+                self.g76.d = r * scale;
+            }
+            return Ok(Step::Next);
+        }
+        let (x0, z0) = (self.x, self.z);
+        let x_end = match (val("X"), val("U")) {
+            (Some(x), _) => x * scale,
+            (None, Some(u)) => x0 + u * scale,
+            _ => x0,
+        };
+        let z_end = match (val("Z"), val("W")) {
+            (Some(z), _) => z * scale,
+            (None, Some(wv)) => z0 + wv * scale,
+            _ => z0,
+        };
+        if val("R").is_some_and(|r| r != 0.0) {
+            return Err((
+                1,
+                "taper G76 (R in the second block) is not supported yet".into(),
+            ));
+        }
+        let k = self
+            .increment_word(w, "P")?
+            .ok_or((1, "G76 needs P (thread height)".to_string()))?;
+        let dd = self
+            .increment_word(w, "Q")?
+            .ok_or((1, "G76 needs Q (first cut depth)".to_string()))?;
+        let lead = val("F").ok_or((1, "G76 needs F (the lead)".to_string()))? * scale;
+        if k <= 0.0 || dd <= 0.0 || lead <= 0.0 || z_end == z0 {
+            return Err((
+                1,
+                "G76 needs a positive height, first cut, lead and a Z move".into(),
+            ));
+        }
+        let s = self.g76;
+        let stop = (k - s.d).max(0.0);
+        let mut depths = Vec::new();
+        let mut prev = 0.0;
+        for n in 1..=100_000 {
+            let dn = (dd * (n as f64).sqrt()).max(prev + s.dmin);
+            if dn >= stop {
+                break;
+            }
+            depths.push(dn);
+            prev = dn;
+        }
+        if depths.len() >= 100_000 {
+            return Err((1, "G76 would cut more than 100000 rough passes".into()));
+        }
+        if stop > 0.0 && depths.last().is_none_or(|&l| l < stop) {
+            depths.push(stop);
+        }
+        for _ in 0..s.m {
+            depths.push(k);
+        }
+        // The root diameter is X; passes stand back from it by (k - d_n), on the side
+        // of the start point (outside for external threads, inside for internal).
+        let side = if x0 >= x_end { 1.0 } else { -1.0 };
+        let dir = if z_end < z0 { -1.0 } else { 1.0 };
+        let tan = (s.a.to_radians() / 2.0).tan();
+        for dn in depths {
+            let back = k - dn;
+            let x = x_end + side * 2.0 * back;
+            let shift = -dir * back * tan;
+            let (zs, ze) = (z0 + shift, z_end + shift);
+            let sync = Sync {
+                lead,
+                change: 0.0,
+                angle: 0.0,
+            };
+            self.cycle_pass(prog, pc, (x0, z0), (x, zs), (x, ze), sync);
+        }
+        Ok(Step::Next)
+    }
+
+    /// GSK 980TDC `G34 X(U) Z(W) F(I) J K R` (`domain.md` section 3, seed 000): F start
+    /// lead (or I threads per inch), R lead change per revolution. The run-out words J/K
+    /// are refused for now: where the tool ends after a run-out (and so what the next
+    /// incremental move starts from) is not documented in our sources, and seed 000's
+    /// `U-10.2 ... U10` cycle only makes sense for one of the readings.
+    pub(super) fn gsk_g34(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        x: f64,
+        z: f64,
+        scale: f64,
+    ) -> Result<Step, Fail> {
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let lead = match (val("F"), val("I")) {
+            (Some(f), _) => f * scale,
+            (None, Some(tpi)) if tpi > 0.0 => 25.4 / tpi,
+            _ => return Err((1, "G34 needs F (lead) or I (threads per inch)".into())),
+        };
+        for k in ["J", "K"] {
+            if let Some(&(v, col)) = w.vals.get(k) {
+                if v != 0.0 {
+                    return Err((
+                        col,
+                        format!("G34 thread run-out ({k}) is not supported yet"),
+                    ));
+                }
+            }
+        }
+        let change = val("R").unwrap_or(0.0) * scale;
+        let sync = Sync {
+            lead,
+            change,
+            angle: 0.0,
+        };
+        self.emit(
+            prog,
+            pc,
+            MoveKind::Thread,
+            (self.x, self.z),
+            (x, z),
+            Some(sync),
+        );
+        self.x = x;
+        self.z = z;
+        Ok(Step::Next)
+    }
+
+    /// FANUC G92 (modal): rapid to the X of the block, thread to its Z, rapid back out in
+    /// X and back in Z to the start point. Later X-only blocks repeat it at a new depth.
+    pub(super) fn g92(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        x: f64,
+        z: f64,
+        scale: f64,
+    ) -> Result<Step, Fail> {
+        let (x0, z0) = (self.x, self.z);
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let z_target = if w.vals.contains_key("Z") || w.vals.contains_key("W") {
+            z
+        } else {
+            self.g92
+                .map(|g| g.0)
+                .ok_or((1, "G92 needs Z (or W) the first time".to_string()))?
+        };
+        let lead = match val("F") {
+            Some(f) => f * scale,
+            None => self
+                .g92
+                .map(|g| g.1)
+                .ok_or((1, "G92 needs F (the lead)".to_string()))?,
+        };
+        if val("R").is_some_and(|r| r != 0.0) {
+            return Err((1, "taper G92 (R) is not supported yet".into()));
+        }
+        self.g92 = Some((z_target, lead));
+        let q = val("Q").unwrap_or(0.0) / 1000.0;
+        let sync = Sync {
+            lead,
+            change: 0.0,
+            angle: q,
+        };
+        self.cycle_pass(prog, pc, (x0, z0), (x, z0), (x, z_target), sync);
+        Ok(Step::Next)
+    }
+}

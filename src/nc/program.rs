@@ -1,0 +1,113 @@
+//! Splitting a file into programs and blocks: comments, `%`, block skip, N numbers,
+//! Siemens labels, and FANUC `O` numbers that start a new program.
+
+use super::{Dialect, Source};
+use std::collections::HashMap;
+
+/// A program split into blocks.
+#[derive(Debug)]
+pub(super) struct Program {
+    pub(super) name: String,
+    /// Another name it is called by (`O0001` for the first program of `MAIN.NC`).
+    pub(super) alias: Option<String>,
+    /// (1-based line, original text, text without comments, upper-cased).
+    pub(super) blocks: Vec<(usize, String, String)>,
+    pub(super) labels: HashMap<String, usize>,
+    pub(super) numbers: HashMap<u32, usize>,
+}
+
+fn strip_comment(line: &str, dialect: Dialect) -> String {
+    let mut out = String::new();
+    let mut depth = 0;
+    for c in line.chars() {
+        match (dialect, c) {
+            (Dialect::Siemens802d, ';') => break,
+            (Dialect::Fanuc, ';') if depth == 0 => break,
+            (Dialect::Fanuc, '(') => depth += 1,
+            (Dialect::Fanuc, ')') if depth > 0 => depth -= 1,
+            _ if depth > 0 => {}
+            _ => out.push(c.to_ascii_uppercase()),
+        }
+    }
+    out.trim().to_string()
+}
+
+/// The programs of a file: for FANUC syntax each `O<number>` line starts a new program
+/// (named `O<number>`, the first one also by the file's name); Siemens files hold one.
+pub(super) fn load_programs(src: &Source, dialect: Dialect) -> Vec<Program> {
+    let mut out = Vec::new();
+    let mut name = src.name.clone();
+    let mut alias: Option<String> = None;
+    let mut lines: Vec<(usize, &str)> = Vec::new();
+    for (i, line) in src.text.lines().enumerate() {
+        let text = strip_comment(line, dialect);
+        let onum = text
+            .strip_prefix('O')
+            .filter(|r| !r.is_empty() && r.chars().all(|c| c.is_ascii_digit()))
+            .and_then(|r| r.parse::<u32>().ok());
+        if dialect == Dialect::Fanuc {
+            if let Some(n) = onum {
+                let real = |l: &str| {
+                    let t = strip_comment(l, dialect);
+                    !t.is_empty() && t != "%"
+                };
+                if lines.iter().any(|(_, l)| real(l)) {
+                    let mut p = load_program(&name, &lines, dialect);
+                    p.alias = alias.take();
+                    out.push(p);
+                    lines.clear();
+                    name = format!("O{n}");
+                } else {
+                    alias = Some(format!("O{n}"));
+                }
+                continue;
+            }
+        }
+        lines.push((i, line));
+    }
+    let mut p = load_program(&name, &lines, dialect);
+    p.alias = alias;
+    out.push(p);
+    out
+}
+
+fn load_program(name: &str, lines: &[(usize, &str)], dialect: Dialect) -> Program {
+    let mut blocks = Vec::new();
+    let mut labels = HashMap::new();
+    let mut numbers = HashMap::new();
+    for &(i, line) in lines {
+        let text = strip_comment(line, dialect);
+        if text.is_empty() || text == "%" || text.starts_with('/') {
+            continue;
+        }
+        let idx = blocks.len();
+        let mut rest = text.as_str();
+        // N number.
+        if let Some(r) = rest.strip_prefix('N') {
+            let digits: String = r.chars().take_while(|c| c.is_ascii_digit()).collect();
+            if !digits.is_empty() {
+                if let Ok(n) = digits.parse() {
+                    numbers.insert(n, idx);
+                }
+                rest = r[digits.len()..].trim_start();
+            }
+        }
+        if dialect == Dialect::Siemens802d {
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            if !name.is_empty() && rest[name.len()..].starts_with(':') {
+                labels.insert(name, idx);
+            }
+        }
+        blocks.push((i + 1, line.to_string(), text));
+    }
+    Program {
+        name: name.to_string(),
+        alias: None,
+        blocks,
+        labels,
+        numbers,
+    }
+}

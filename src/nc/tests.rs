@@ -1,0 +1,234 @@
+//! Unit tests of the interpreter.
+
+use super::*;
+
+fn threads(moves: &[Move]) -> Vec<&Move> {
+    moves
+        .iter()
+        .filter(|m| m.kind == MoveKind::Thread)
+        .collect()
+}
+
+fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
+    let src = Source {
+        name: "T.NC".into(),
+        text: text.into(),
+    };
+    interpret(&src, dialect, &|_| None, Limits::default())
+}
+
+#[test]
+fn siemens_r_parameters_labels_and_g34() {
+    let moves = run(
+        "R1=2 R2=3\nIF R1<R2 GOTOF AA\nR3=99\nAA: R4=ABS(R1-R2)*2+TRUNC(2.7) ; comment\nG0 X=R4*10 Z=5\nG35 Z=-20 K=R2 F=0.1\nM30\n",
+        Dialect::Siemens802d,
+    )
+    .unwrap();
+    assert_eq!(moves.len(), 2);
+    assert_eq!(moves[0].x_dia, 40.0);
+    let t = &moves[1];
+    assert_eq!(
+        (t.kind, t.lead, t.lead_change),
+        (MoveKind::Thread, Some(3.0), Some(-0.1))
+    );
+    assert_eq!((t.x_start, t.z_start, t.z), (40.0, 5.0, -20.0));
+}
+
+#[test]
+fn fanuc_macro_b_loop_and_g32() {
+    let moves = run(
+        "#1=0\nWHILE[#1LT3]DO1\n#1=#1+1\nG0X[20-#1]Z2.\nG32Z-10.F1.5\nEND1\nM30\n",
+        Dialect::Fanuc,
+    )
+    .unwrap();
+    let threads: Vec<&Move> = threads(&moves);
+    assert_eq!(threads.len(), 3);
+    assert_eq!(threads[2].x_dia, 17.0);
+    assert_eq!(threads[0].lead, Some(1.5));
+}
+
+/// `controllers.md` 2.3's worked schedule: k = 1.30, dd = 0.45, dmin = 0.10, d = 0.05
+/// gives 0.450, 0.636, 0.779, 0.900, 1.006, 1.106, 1.206, 1.250, then m x 1.300, each
+/// pass shifted by (k - d_n) tan30 against the feed (flank infeed).
+#[test]
+fn fanuc_g76_depth_schedule_and_flank_infeed() {
+    let moves = run(
+        "G0 X30 Z5\nG76 P020060 Q100 R0.05\nG76 X24 Z-20 P1300 Q450 F2\nM30\n",
+        Dialect::Fanuc,
+    )
+    .unwrap();
+    let t: Vec<&Move> = threads(&moves);
+    let want = [
+        0.45,
+        0.45 * 2f64.sqrt(),
+        0.45 * 3f64.sqrt(),
+        0.9,
+        0.45 * 5f64.sqrt(),
+        0.0,
+        0.0,
+        1.25,
+        1.3,
+        1.3,
+    ];
+    assert_eq!(t.len(), want.len());
+    let mut prev = 0.0;
+    for (i, (m, &w)) in t.iter().zip(&want).enumerate() {
+        let depth = 1.3 - (m.x_dia - 24.0) / 2.0;
+        let w = if w == 0.0 { prev + 0.1 } else { w };
+        assert!((depth - w).abs() < 1e-9, "pass {i}: depth {depth} vs {w}");
+        let shift = (1.3 - depth) * (30f64.to_radians()).tan();
+        assert!((m.z_start - (5.0 + shift)).abs() < 1e-9 && (m.z - (-20.0 + shift)).abs() < 1e-9);
+        assert_eq!(m.lead, Some(2.0));
+        prev = depth;
+    }
+    let e = run("G76 P010060 Q0.1 R0\n", Dialect::Fanuc).unwrap_err();
+    assert!(e.message.contains("no decimal point"), "{e}");
+}
+
+#[test]
+fn fanuc_g92_is_modal() {
+    let moves = run(
+        "G0 X30 Z3\nG92 X19.2 Z-20 F1.5\nX18.6\nX18.38\nG0 X40\nM30\n",
+        Dialect::Fanuc,
+    )
+    .unwrap();
+    let t: Vec<&Move> = threads(&moves);
+    assert_eq!(t.len(), 3);
+    assert_eq!(
+        (t[2].x_dia, t[2].z_start, t[2].z, t[2].lead),
+        (18.38, 3.0, -20.0, Some(1.5))
+    );
+    // Each cycle returns to the start point.
+    assert_eq!((moves[4].x_dia, moves[4].z), (30.0, 3.0));
+}
+
+/// Seed 000's first program (GSK 980TDC, OCR-corrected: `00001` -> `O0001`,
+/// `M98 P25 0002` -> `M98 P250002`, `GOO` -> `G00`), its run-out words dropped: O0002 runs
+/// 25 times, each 0.2 mm deeper (U-10.2, then U10 out).
+#[test]
+fn m98_repeats_an_o_program_of_the_same_file() {
+    let text = "O0001\nN10 G00 X120 Z80\nN20 M03 M08 G97 S800\nN30 T0101\nN40 G00 X60 Z8\n\
+                N50 M98 P250002\nN60 G00 X120\nN70 Z80\nN80 T0100\nN90 M30\n\
+                O0002\nN10 G00 U-10.2\nN20 G34 Z-70 F4 R1\nN30 G0 U10\nN40 G00 Z8\nN50 M99\n";
+    let moves = run(text, Dialect::Gsk980).unwrap();
+    let t: Vec<&Move> = threads(&moves);
+    assert_eq!(t.len(), 25);
+    for (k, m) in t.iter().enumerate() {
+        assert!(
+            (m.x_dia - (49.8 - 0.2 * k as f64)).abs() < 1e-9,
+            "{k}: {}",
+            m.x_dia
+        );
+        assert_eq!(
+            (m.z_start, m.z, m.lead, m.lead_change),
+            (8.0, -70.0, Some(4.0), Some(1.0))
+        );
+        assert_eq!(m.tool, Some(1));
+    }
+    let e = run("G0 X50 Z5\nG34 Z-70 F4 J1 K2 R1\n", Dialect::Gsk980).unwrap_err();
+    assert!(e.message.contains("run-out"), "{e}");
+    let e = run("M98 P0003\nM30\n", Dialect::Fanuc).unwrap_err();
+    assert!(e.message.contains("subprogram `O3` not found"), "{e}");
+}
+
+/// Seed 000's Macro A loop shape: `G65 H01/H02/H03/H81/H86/H80` on #100.. variables.
+#[test]
+fn percent_line_before_the_o_number_keeps_one_program() {
+    let moves = run(
+        "%\nO0004 (MAIN)\nG0 X20 Z2\nG32 Z-10 F1\nM30\n%\n",
+        Dialect::Fanuc,
+    )
+    .unwrap();
+    assert_eq!(
+        moves.iter().filter(|m| m.kind == MoveKind::Thread).count(),
+        1
+    );
+}
+
+#[test]
+fn g50_sets_the_position_and_g70_is_not_inch_on_fanuc() {
+    let moves = run("G50 X100 Z50\nG0 X60 Z8\nM30\n", Dialect::Gsk980).unwrap();
+    assert_eq!(moves.len(), 1);
+    assert_eq!((moves[0].x_start, moves[0].z_start), (100.0, 50.0));
+    let e = run("G70 P10 Q20\n", Dialect::Fanuc).unwrap_err();
+    assert!(e.message.contains("G70 is not supported"), "{e}");
+    let e = run("G92 X10\n", Dialect::Linuxcnc).unwrap_err();
+    assert!(e.message.contains("G92 is not supported"), "{e}");
+}
+
+/// Repeats do not count as nesting, and WHILE loops belong to their own program.
+#[test]
+fn repeated_calls_nest_and_keep_their_loops() {
+    let text = "O0001\n#1=0\nWHILE[#1LT2]DO1\n#1=#1+1\nM98 P30002\nEND1\nM30\n\
+                O0002\nM98 P20003\nM99\n\
+                O0003\n#2=0\nWHILE[#2LT1]DO1\n#2=#2+1\nG0 X1\nG32 Z-1 F1\nG0 Z0\nEND1\nM99\n";
+    let moves = run(text, Dialect::Fanuc).unwrap();
+    // 2 outer iterations x 3 calls of O0002 x 2 calls of O0003 x 1 inner iteration.
+    assert_eq!(
+        moves.iter().filter(|m| m.kind == MoveKind::Thread).count(),
+        12
+    );
+    let deep = "O0001\nM98 P2\nM30\nO0002\nM98 P3\nM99\nO0003\nM98 P2\nM99\n";
+    let e = run(deep, Dialect::Fanuc).unwrap_err();
+    assert!(e.message.contains("nesting deeper than 8"), "{e}");
+    assert!(e.stack.len() == 8, "{:?}", e.stack);
+}
+
+/// G65 P calls: arguments land in #1.. of a new level, the caller's locals come back,
+/// and a vacant variable is 0 in arithmetic but not EQ 0; an address with a vacant
+/// variable is left out.
+#[test]
+fn g65_macro_call_locals_and_null() {
+    let text = "O0001\n#1=7\nG0 X20 Z2\nG65 P9010 A1.5 B3 Z-12\nG65 P9010 A2 Z-6\n\
+                G0 X#1\nM30\n\
+                O9010\nIF[#2EQ#0]THEN#2=4\nIF[#3EQ0]GOTO9\nG32 X[20-#2] Z#26 F#1 Q#33\nN9 M99\n";
+    let moves = run(text, Dialect::Fanuc).unwrap();
+    let t: Vec<&Move> = threads(&moves);
+    assert_eq!(t.len(), 2);
+    assert_eq!((t[0].x_dia, t[0].z, t[0].lead), (17.0, -12.0, Some(1.5)));
+    // B absent: #2 vacant, so EQ #0 holds and #2 becomes 4; #3 vacant is not EQ 0, so
+    // no jump to N9.
+    assert_eq!((t[1].x_dia, t[1].z, t[1].lead), (16.0, -6.0, Some(2.0)));
+    // Q#33 (vacant) was left out: sync angle 0.
+    assert_eq!(t[1].sync_angle_deg, Some(0.0));
+    // The caller's #1 = 7 is back after the calls.
+    assert_eq!(moves.last().unwrap().x_dia, 7.0);
+    let null = "#1=#0\n#2=#1+1\nIF[#1EQ0]GOTO5\nG0 X#2\nN5 M30\n";
+    let moves = run(null, Dialect::Fanuc).unwrap();
+    assert_eq!(moves.len(), 1, "vacant is not EQ 0, and #1 + 1 = 1");
+    assert_eq!(moves[0].x_dia, 1.0);
+}
+
+#[test]
+fn macro_a_arithmetic_and_jumps() {
+    let text = "G0 X60 Z4\nG65 H01 P#102 Q0.5\nG65 H01 P#103 Q0\n\
+                N10 G65 H02 P#104 Q#103 R1\nG65 H01 P#103 Q#104\nG65 H81 P30 Q#104 R6\n\
+                G65 H01 P#100 Q#102\nG00 U-#100\nG32 W-20 F3\nG00 X60\nZ4\n\
+                G65 H03 P#101 Q#100 R0.2\nG65 H01 P#102 Q#101\nG65 H86 P20 Q#102 R0.2\n\
+                G65 H80 P10\nN20 G65 H01 P#102 Q0.2\nG65 H80 P10\nN30 M30\n";
+    let moves = run(text, Dialect::Gsk980).unwrap();
+    let x: Vec<f64> = moves
+        .iter()
+        .filter(|m| m.kind == MoveKind::Thread)
+        .map(|m| m.x_dia)
+        .collect();
+    // Infeeds 0.5, 0.3, then the 0.2 floor: X = 60 - infeed (U is a diameter change).
+    assert_eq!(x.len(), 5);
+    for (got, want) in x.iter().zip([59.5, 59.7, 59.8, 59.8, 59.8]) {
+        assert!((got - want).abs() < 1e-9, "{x:?}");
+    }
+    let e = run("G65 H05 P#1 Q1 R0\n", Dialect::Fanuc).unwrap_err();
+    assert!(e.message.contains("division by zero"), "{e}");
+}
+
+#[test]
+fn errors_name_line_and_column() {
+    let e = run("R1=1\nR2=R1/0\n", Dialect::Siemens802d).unwrap_err();
+    assert_eq!((e.line, e.message.as_str()), (2, "division by zero"));
+    let e = run("GOTOF NOWHERE\n", Dialect::Siemens802d).unwrap_err();
+    assert!(e.message.contains("label `NOWHERE` not found"), "{e}");
+    let e = run("AA: GOTOB AA\n", Dialect::Siemens802d).unwrap_err();
+    assert!(e.message.contains("blocks executed"), "{e}");
+    let e = run("END1\n", Dialect::Fanuc).unwrap_err();
+    assert!(e.message.contains("END1 without DO1"), "{e}");
+}
