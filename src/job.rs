@@ -34,7 +34,7 @@ pub enum JobError {
     },
     /// The job's NC program could not be interpreted.
     #[error("{0}")]
-    Program(crate::nc::NcError),
+    Program(Box<crate::nc::NcError>),
     /// A key has a value that makes no sense (negative lead, tooth wider than the pitch...).
     #[error("{}", render(file, *line, *col, key, message, snippet))]
     Invalid {
@@ -177,6 +177,8 @@ pub struct Job {
     pub machine: Machine,
     /// Simulation settings.
     pub sim: SimConfig,
+    /// Warnings from interpreting the `[program]` (skipped unknown words and codes).
+    pub program_warnings: Vec<crate::nc::Diagnostic>,
 }
 
 // ---------------------------------------------------------------------------------------
@@ -205,6 +207,9 @@ struct RawJob {
 struct RawProgram {
     file: String,
     dialect: String,
+    /// Unknown words and codes are errors, not warnings.
+    #[serde(default)]
+    strict: bool,
 }
 
 #[derive(Deserialize)]
@@ -571,6 +576,17 @@ impl Job {
         file: &str,
         load: &dyn Fn(&str) -> Option<String>,
     ) -> Result<Job, JobError> {
+        Job::from_toml_opts(src, file, load, false)
+    }
+
+    /// As [`Job::from_toml_with`]; `strict` makes unknown words and codes in the program
+    /// errors (as `[program] strict = true` does).
+    pub fn from_toml_opts(
+        src: &str,
+        file: &str,
+        load: &dyn Fn(&str) -> Option<String>,
+        strict: bool,
+    ) -> Result<Job, JobError> {
         let raw: RawJob = toml::from_str(src).map_err(|e| {
             let (line, col) = e.span().map(|r| line_col(src, r.start)).unwrap_or((0, 0));
             JobError::Syntax {
@@ -582,11 +598,16 @@ impl Job {
             }
         })?;
         let cx = Ctx { src, file };
-        resolve(raw, &cx, load)
+        resolve(raw, &cx, load, strict)
     }
 }
 
-fn resolve(raw: RawJob, cx: &Ctx, load: &dyn Fn(&str) -> Option<String>) -> Result<Job, JobError> {
+fn resolve(
+    raw: RawJob,
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+    strict: bool,
+) -> Result<Job, JobError> {
     let b = &raw.blank;
     let blank = Blank {
         diameter: cx.positive("blank.diameter", b.diameter)?,
@@ -731,8 +752,11 @@ fn resolve(raw: RawJob, cx: &Ctx, load: &dyn Fn(&str) -> Option<String>) -> Resu
         }
         passes.extend(generated);
     }
+    let mut program_warnings = Vec::new();
     if let Some(pr) = &raw.program {
-        passes.extend(program_passes(pr, &tools, cx, load)?);
+        let (p, w) = program_passes(pr, &tools, cx, load, strict)?;
+        passes.extend(p);
+        program_warnings = w;
     }
     if passes.is_empty() {
         return Err(cx.err(
@@ -749,6 +773,7 @@ fn resolve(raw: RawJob, cx: &Ctx, load: &dyn Fn(&str) -> Option<String>) -> Resu
         passes,
         machine,
         sim,
+        program_warnings,
     })
 }
 
@@ -758,8 +783,9 @@ fn program_passes(
     tools: &[Tool],
     cx: &Ctx,
     load: &dyn Fn(&str) -> Option<String>,
-) -> Result<Vec<Pass>, JobError> {
-    use crate::nc::{interpret, Dialect, Limits, MoveKind, NcError, Source};
+    strict: bool,
+) -> Result<(Vec<Pass>, Vec<crate::nc::Diagnostic>), JobError> {
+    use crate::nc::{interpret_with, Dialect, MoveKind, NcError, Options, Source};
     let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
         cx.err(
             "program.dialect",
@@ -785,16 +811,24 @@ fn program_passes(
             text,
         })
     };
-    let moves = interpret(&main, dialect, &loader, Limits::default()).map_err(JobError::Program)?;
+    let opts = Options {
+        strict: strict || pr.strict,
+        ..Options::default()
+    };
+    let toolpath = interpret_with(&main, dialect, &loader, &opts)
+        .map_err(|e| JobError::Program(Box::new(e)))?;
+    let moves = toolpath.moves;
     let fail = |m: &crate::nc::Move, message: String| {
-        JobError::Program(NcError {
+        JobError::Program(Box::new(NcError {
             file: m.file.clone(),
             line: m.line,
             col: 0,
             message,
             snippet: String::new(),
             stack: Vec::new(),
-        })
+            hint: None,
+            others: Vec::new(),
+        }))
     };
     let mut out = Vec::new();
     for m in moves.iter().filter(|m| m.kind == MoveKind::Thread) {
@@ -831,7 +865,7 @@ fn program_passes(
         }
         out.push(pass);
     }
-    Ok(out)
+    Ok((out, toolpath.warnings))
 }
 
 fn check_pass(p: &Pass, key: &dyn Fn(&str) -> String, cx: &Ctx) -> Result<(), JobError> {

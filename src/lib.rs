@@ -45,6 +45,9 @@ mod helix;
 mod job;
 mod machine;
 mod measure;
+// An `NcError` carries every diagnostic of a program (160 bytes); it is returned once per run,
+// never in a loop, so boxing it would only make the API clumsier.
+#[allow(clippy::result_large_err)]
 mod nc;
 mod pass;
 mod process;
@@ -58,7 +61,10 @@ pub use compare::{compare, Deviation, Extreme, TurnDeviation};
 pub use helix::{Hand, Helix, LeadLaw, Spindle};
 pub use job::{Blank, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
 pub use measure::{measure, MeasureConfig, TurnMeasure};
-pub use nc::{interpret, to_csv, Dialect, Limits, Move, MoveKind, NcError, Source};
+pub use nc::{
+    interpret, interpret_with, to_csv, Diagnostic, Dialect, Limits, Move, MoveKind, NcError,
+    Options as NcOptions, Severity, Source, Toolpath,
+};
 pub use pass::Pass;
 pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
 pub use stock::{Grid, Stock, Surface};
@@ -402,6 +408,21 @@ fn build_report(
             message: mi.message.clone(),
         });
     }
+    for w in &job.program_warnings {
+        findings.push(Finding {
+            kind: "program",
+            severity: "warning",
+            turn: None,
+            start: None,
+            flank: None,
+            pass: None,
+            angle_deg: None,
+            z_mm: None,
+            value: 0.0,
+            unit: "mm",
+            message: format!("{}:{}:{}: {}", w.file, w.line, w.col.max(1), w.message),
+        });
+    }
     let rank = |f: &Finding| {
         (
             (f.severity != "error") as u8,
@@ -495,7 +516,7 @@ fn build_report(
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 11] = [
+const KINDS: [&str; 12] = [
     "hand",
     "gouge",
     "leftover",
@@ -507,6 +528,7 @@ const KINDS: [&str; 11] = [
     "split_feature",
     "run_in",
     "axis_acceleration",
+    "program",
 ];
 
 fn turn_findings(

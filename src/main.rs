@@ -39,6 +39,9 @@ struct ToolpathArgs {
     /// Print CSV (the default): file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg.
     #[arg(long, conflicts_with = "json")]
     csv: bool,
+    /// Unknown words and codes are errors, not warnings.
+    #[arg(long)]
+    strict: bool,
 }
 
 #[derive(clap::Args)]
@@ -61,6 +64,9 @@ struct SimulateArgs {
     /// Print nothing but errors.
     #[arg(long, short = 'q')]
     quiet: bool,
+    /// Unknown words and codes in the job's NC program are errors, not warnings.
+    #[arg(long)]
+    strict: bool,
 }
 
 fn main() -> ExitCode {
@@ -78,7 +84,17 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // Program diagnostics say `error:` themselves, compiler style.
+            let program = e
+                .downcast_ref::<vpcut::NcError>()
+                .or_else(|| match e.downcast_ref() {
+                    Some(vpcut::JobError::Program(nc)) => Some(nc.as_ref()),
+                    _ => None,
+                });
+            match program {
+                Some(nc) => eprintln!("{nc}"),
+                None => eprintln!("error: {e:#}"),
+            }
             ExitCode::from(2)
         }
     }
@@ -102,7 +118,8 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("cannot read the job file {}", args.job.display()))?;
     let dir = args.job.parent().map(Path::to_path_buf).unwrap_or_default();
     let load = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
-    let job = vpcut::Job::from_toml_with(&src, &args.job.display().to_string(), &load)?;
+    let job =
+        vpcut::Job::from_toml_opts(&src, &args.job.display().to_string(), &load, args.strict)?;
     let opts = vpcut::Options {
         max_dexels: args.max_dexels,
     };
@@ -154,7 +171,15 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
                 text,
             })
     };
-    let moves = vpcut::interpret(&main, dialect, &load, vpcut::Limits::default())?;
+    let opts = vpcut::NcOptions {
+        strict: args.strict,
+        ..vpcut::NcOptions::default()
+    };
+    let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts)?;
+    for w in &toolpath.warnings {
+        eprintln!("{w}");
+    }
+    let moves = toolpath.moves;
     let _ = args.csv;
     if args.json {
         let rows: Vec<serde_json::Value> = moves

@@ -262,7 +262,8 @@ pub struct TurnRow {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Finding {
     /// `gouge`, `leftover`, `lead`, `groove_width`, `tooth_width`, `missing_feature`,
-    /// `split_feature`, `feed_limit`, `run_in`, `axis_acceleration`.
+    /// `split_feature`, `feed_limit`, `run_in`, `axis_acceleration`, `program` (a warning
+    /// from interpreting the NC program: a skipped unknown word or code).
     pub kind: &'static str,
     /// `error` (fails the job) or `warning`.
     pub severity: &'static str,

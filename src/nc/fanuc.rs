@@ -108,12 +108,7 @@ impl Machine<'_> {
                 | b'L' | b'J' | b'I' | b'H' | b'E' => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
-                other => {
-                    return Err((
-                        at + 1,
-                        format!("the word `{}` is not supported yet", other as char),
-                    ))
-                }
+                other => self.unknown(at + 1, format!("unknown address `{}`", other as char))?,
             }
         }
         if w.g.contains(&76) {

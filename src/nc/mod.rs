@@ -10,8 +10,12 @@
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
 //! - `siemens`: Siemens 802D blocks, labels and jumps;
 //! - `linuxcnc`: LinuxCNC G76;
-//! - `motion`: modal state, motion words, and recording moves.
+//! - `motion`: modal state, motion words, and recording moves;
+//! - `codes`: which G/M codes and words each dialect runs, refuses or does not know;
+//! - `check`: the static check of every block before anything runs (all problems at once).
 
+mod check;
+mod codes;
 mod expr;
 mod fanuc;
 mod linuxcnc;
@@ -21,6 +25,7 @@ mod siemens;
 #[cfg(test)]
 mod tests;
 
+use expr::Fail;
 use program::{load_programs, Program};
 
 use crate::helix::Spindle;
@@ -125,7 +130,71 @@ pub struct Move {
     pub spindle: Spindle,
 }
 
-/// An error while interpreting.
+/// How bad a diagnostic is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Severity {
+    /// The program cannot be run.
+    Error,
+    /// The program runs, but something was skipped or looks wrong.
+    Warning,
+}
+
+/// One problem found in a program, with where it is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    /// Error or warning.
+    pub severity: Severity,
+    /// File.
+    pub file: String,
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column (0 = the whole block).
+    pub col: usize,
+    /// What is wrong.
+    pub message: String,
+    /// What to do about it, when there is something to say.
+    pub hint: Option<String>,
+    /// The block's text.
+    pub snippet: String,
+    /// Callers, innermost first ("MYAAA.MPF:14").
+    pub stack: Vec<String>,
+}
+
+impl fmt::Display for Diagnostic {
+    /// Rendered as a compiler does: `file:line:col: error: message`, the source line, a
+    /// caret under the column, the hint and the call stack.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let sev = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        write!(
+            f,
+            "{}:{}:{}: {sev}: {}",
+            self.file,
+            self.line,
+            self.col.max(1),
+            self.message
+        )?;
+        let num = self.line.to_string();
+        let pad = " ".repeat(num.len());
+        write!(f, "\n{pad} |\n{num} | {}", self.snippet.trim_end())?;
+        if self.col > 0 {
+            write!(f, "\n{pad} | {}^", " ".repeat(self.col - 1))?;
+        }
+        if let Some(h) = &self.hint {
+            write!(f, "\n{pad} = hint: {h}")?;
+        }
+        for s in &self.stack {
+            write!(f, "\n{pad} = called from {s}")?;
+        }
+        Ok(())
+    }
+}
+
+/// A program that cannot be run: the error that stopped it (its fields), and every other
+/// diagnostic found before stopping (`others`: the static check reports all the problems
+/// of all programs at once; a run-time error comes alone, with the warnings before it).
 #[derive(Clone, Debug, PartialEq)]
 pub struct NcError {
     /// File.
@@ -140,26 +209,72 @@ pub struct NcError {
     pub snippet: String,
     /// Callers, innermost first ("MYAAA.MPF:14").
     pub stack: Vec<String>,
+    /// What to do about it.
+    pub hint: Option<String>,
+    /// The other errors and the warnings, in file and line order.
+    pub others: Vec<Diagnostic>,
+}
+
+impl NcError {
+    /// This error as a diagnostic.
+    pub fn diagnostic(&self) -> Diagnostic {
+        Diagnostic {
+            severity: Severity::Error,
+            file: self.file.clone(),
+            line: self.line,
+            col: self.col,
+            message: self.message.clone(),
+            hint: self.hint.clone(),
+            snippet: self.snippet.clone(),
+            stack: self.stack.clone(),
+        }
+    }
+
+    /// Every diagnostic, this error first.
+    pub fn all(&self) -> Vec<Diagnostic> {
+        let mut v = vec![self.diagnostic()];
+        v.extend(self.others.iter().cloned());
+        v
+    }
+
+    fn from_diagnostics(mut all: Vec<Diagnostic>) -> NcError {
+        let k = all
+            .iter()
+            .position(|d| d.severity == Severity::Error)
+            .expect("called with at least one error");
+        let d = all.remove(k);
+        NcError {
+            file: d.file,
+            line: d.line,
+            col: d.col,
+            message: d.message,
+            snippet: d.snippet,
+            stack: d.stack,
+            hint: d.hint,
+            others: all,
+        }
+    }
 }
 
 impl fmt::Display for NcError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}:{}:{}: {}",
-            self.file,
-            self.line,
-            self.col.max(1),
-            self.message
-        )?;
-        let num = self.line.to_string();
-        let pad = " ".repeat(num.len());
-        write!(f, "\n{pad} |\n{num} | {}", self.snippet)?;
-        if self.col > 0 {
-            write!(f, "\n{pad} | {}^", " ".repeat(self.col - 1))?;
+        let mut all = self.all();
+        all.sort_by(|a, b| (&a.file, a.line, a.col).cmp(&(&b.file, b.line, b.col)));
+        for (i, d) in all.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{d}")?;
         }
-        for s in &self.stack {
-            write!(f, "\n  called from {s}")?;
+        let errors = all.iter().filter(|d| d.severity == Severity::Error).count();
+        let warnings = all.len() - errors;
+        if all.len() > 1 {
+            write!(
+                f,
+                "\n{errors} error{}, {warnings} warning{}",
+                if errors == 1 { "" } else { "s" },
+                if warnings == 1 { "" } else { "s" }
+            )?;
         }
         Ok(())
     }
@@ -183,6 +298,24 @@ impl Default for Limits {
             max_depth: 8,
         }
     }
+}
+
+/// How to interpret.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Options {
+    /// Limits on executed blocks and nesting.
+    pub limits: Limits,
+    /// Unknown words and codes are errors instead of warnings.
+    pub strict: bool,
+}
+
+/// An interpreted program: its moves and the warnings found on the way.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Toolpath {
+    /// The moves in execution order.
+    pub moves: Vec<Move>,
+    /// Warnings (skipped unknown words and codes), each once, in the order found.
+    pub warnings: Vec<Diagnostic>,
 }
 
 /// Interpreter state.
@@ -215,19 +348,41 @@ struct Machine<'l> {
     g76: G76Setup,
     /// Modal G92 target z and lead.
     g92: Option<(f64, f64)>,
+    /// Unknown words and codes are errors.
+    strict: bool,
+    /// Warnings of the block being run: (column, message).
+    pending: Vec<(usize, String)>,
 }
 
 pub(super) fn deg(x: f64) -> f64 {
     x.to_radians()
 }
 
-/// Interpret a program into moves.
+/// Interpret a program into moves with the default options; warnings are dropped (see
+/// [`interpret_with`]).
 pub fn interpret(
     main: &Source,
     dialect: Dialect,
     loader: &dyn Fn(&str) -> Option<Source>,
     limits: Limits,
 ) -> Result<Vec<Move>, NcError> {
+    let opts = Options {
+        limits,
+        strict: false,
+    };
+    interpret_with(main, dialect, loader, &opts).map(|t| t.moves)
+}
+
+/// Interpret a program: first a static check of every block of every program that can be
+/// found (all problems are reported at once, errors stop here), then the run (which stops
+/// at the first run-time error: a computed jump to nowhere, a division by zero, a limit).
+pub fn interpret_with(
+    main: &Source,
+    dialect: Dialect,
+    loader: &dyn Fn(&str) -> Option<Source>,
+    opts: &Options,
+) -> Result<Toolpath, NcError> {
+    let real = dialect;
     let gsk = dialect == Dialect::Gsk980;
     let lcnc = dialect == Dialect::Linuxcnc;
     let dialect = dialect.syntax();
@@ -237,7 +392,7 @@ pub fn interpret(
         lcnc,
         diameter_mode: !lcnc,
         loader,
-        limits,
+        limits: opts.limits,
         programs: HashMap::new(),
         r: HashMap::new(),
         vars: HashMap::new(),
@@ -259,167 +414,259 @@ pub fn interpret(
             d: 0.0,
         },
         g92: None,
+        strict: opts.strict,
+        pending: Vec::new(),
     };
     let mut all = load_programs(main, dialect).into_iter();
     let prog = std::rc::Rc::new(all.next().expect("a file gives at least one program"));
     m.register(prog.clone());
+    let mut to_check = vec![prog.clone()];
     for p in all {
-        m.register(std::rc::Rc::new(p));
+        let p = std::rc::Rc::new(p);
+        m.register(p.clone());
+        to_check.push(p);
     }
-    let mut stack: Vec<Frame> = Vec::new();
-    let mut loops: Vec<(u32, usize)> = Vec::new();
-    let mut cur = prog;
-    let mut pc = 0usize;
-    // Leave the current (sub)program: run it again while repeats are left, else go back to
-    // the caller. Returns false at the end of the main program.
-    let leave = |stack: &mut Vec<Frame>,
-                 cur: &mut std::rc::Rc<Program>,
-                 pc: &mut usize,
-                 loops: &mut Vec<(u32, usize)>| {
-        match stack.last_mut() {
-            Some(top) if top.repeats_left > 1 => {
-                top.repeats_left -= 1;
-                *pc = 0;
-                loops.clear();
-                Some(false)
-            }
-            Some(_) => {
-                let f = stack.pop().expect("checked");
-                *cur = f.caller;
-                *pc = f.ret;
-                *loops = f.caller_loops;
-                Some(f.macro_level)
-            }
-            None => None,
+    // The static check, program by program; called programs are loaded as they are named.
+    let mut diagnostics: Vec<Diagnostic> = Vec::new();
+    let mut checked: Vec<String> = Vec::new();
+    while let Some(p) = to_check.pop() {
+        if checked.contains(&p.name) {
+            continue;
         }
-    };
-    loop {
-        if pc >= cur.blocks.len() {
-            match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
-                Some(popped_macro) => {
-                    if popped_macro {
-                        m.locals.pop();
-                    }
-                    continue;
-                }
-                None => break,
+        checked.push(p.name.clone());
+        let mut found = |name: &str| match m.find_program(name) {
+            Some(q) => {
+                to_check.push(q);
+                true
             }
+            None => false,
+        };
+        diagnostics.extend(check::check_program(&p, real, opts.strict, &mut found));
+    }
+    diagnostics.sort_by(|a, b| (&a.file, a.line, a.col).cmp(&(&b.file, b.line, b.col)));
+    if diagnostics.iter().any(|d| d.severity == Severity::Error) {
+        return Err(NcError::from_diagnostics(diagnostics));
+    }
+    let mut warnings = diagnostics;
+    let moves = m.run(prog, &mut warnings).map_err(|mut e| {
+        e.others = warnings.clone();
+        e
+    })?;
+    Ok(Toolpath { moves, warnings })
+}
+
+impl Machine<'_> {
+    /// A program by the name it is called by: already known, or loaded beside the main
+    /// file (FANUC `O0002`, `O0002.NC`; Siemens `NAME.SPF`, `NAME.MPF`).
+    fn find_program(&mut self, name: &str) -> Option<std::rc::Rc<Program>> {
+        if let Some(p) = self.programs.get(name) {
+            return Some(p.clone());
         }
-        m.blocks += 1;
-        let (line, orig, text) = &cur.blocks[pc];
-        let fail = |stack: &[Frame], col: usize, message: String| NcError {
-            file: cur.name.clone(),
-            line: *line,
-            col,
-            message,
-            snippet: orig.clone(),
-            stack: stack
-                .iter()
-                .rev()
-                .map(|f| {
-                    let l = f
-                        .caller
-                        .blocks
-                        .get(f.ret.saturating_sub(1))
-                        .map_or(0, |b| b.0);
-                    format!("{}:{l}", f.caller.name)
-                })
-                .collect(),
-        };
-        if m.blocks > m.limits.max_blocks {
-            return Err(fail(
-                &stack,
-                0,
-                format!(
-                    "more than {} blocks executed: a loop that never ends?",
-                    m.limits.max_blocks
-                ),
-            ));
+        let candidates: Vec<String> =
+            match name.strip_prefix('O').and_then(|n| n.parse::<u32>().ok()) {
+                Some(n) if self.dialect == Dialect::Fanuc => vec![
+                    format!("O{n:04}"),
+                    format!("O{n:04}.NC"),
+                    format!("O{n:04}.nc"),
+                    format!("O{n}"),
+                ],
+                _ => vec![
+                    format!("{name}.SPF"),
+                    format!("{name}.spf"),
+                    format!("{name}.MPF"),
+                    name.to_string(),
+                ],
+            };
+        let src = candidates.iter().find_map(|c| (self.loader)(c))?;
+        let mut loaded = load_programs(&src, self.dialect).into_iter();
+        let first = std::rc::Rc::new(loaded.next().expect("one program"));
+        self.register(first.clone());
+        self.programs.insert(name.to_string(), first.clone());
+        for other in loaded {
+            self.register(std::rc::Rc::new(other));
         }
-        let step = match dialect {
-            Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
-            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
-                m.fanuc_block(&cur, pc, text, &mut loops)
+        Some(first)
+    }
+
+    /// The dialect as the user named it (GSK and LinuxCNC share FANUC's syntax).
+    fn real_dialect(&self) -> Dialect {
+        if self.gsk {
+            Dialect::Gsk980
+        } else if self.lcnc {
+            Dialect::Linuxcnc
+        } else {
+            self.dialect
+        }
+    }
+
+    /// A word or code vpcut does not know: a warning (skipped), or an error in strict mode.
+    fn unknown(&mut self, col: usize, message: String) -> Result<(), Fail> {
+        if self.strict {
+            return Err((col, message));
+        }
+        self.pending.push((col, message));
+        Ok(())
+    }
+
+    /// Run from the first block of `prog`; warnings of the run are added to `warnings`
+    /// (each once).
+    fn run(
+        &mut self,
+        prog: std::rc::Rc<Program>,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Vec<Move>, NcError> {
+        let m = self;
+        let dialect = m.dialect;
+        let mut stack: Vec<Frame> = Vec::new();
+        let mut loops: Vec<(u32, usize)> = Vec::new();
+        let mut cur = prog;
+        let mut pc = 0usize;
+        // Leave the current (sub)program: run it again while repeats are left, else go back to
+        // the caller. Returns false at the end of the main program.
+        let leave = |stack: &mut Vec<Frame>,
+                     cur: &mut std::rc::Rc<Program>,
+                     pc: &mut usize,
+                     loops: &mut Vec<(u32, usize)>| {
+            match stack.last_mut() {
+                Some(top) if top.repeats_left > 1 => {
+                    top.repeats_left -= 1;
+                    *pc = 0;
+                    loops.clear();
+                    Some(false)
+                }
+                Some(_) => {
+                    let f = stack.pop().expect("checked");
+                    *cur = f.caller;
+                    *pc = f.ret;
+                    *loops = f.caller_loops;
+                    Some(f.macro_level)
+                }
+                None => None,
             }
         };
-        let step = match step {
-            Ok(s) => s,
-            Err((col, msg)) => {
-                // Columns are in the comment-stripped text; map back roughly to the line.
-                let offset = orig.to_ascii_uppercase().find(text.as_str()).unwrap_or(0);
-                return Err(fail(&stack, col + offset, msg));
-            }
-        };
-        match step {
-            Step::Next => pc += 1,
-            Step::Jump(to) => pc = to,
-            Step::End => break,
-            Step::Return => match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
-                Some(popped_macro) => {
-                    if popped_macro {
-                        m.locals.pop();
-                    }
-                }
-                None => break,
-            },
-            Step::Call(name, times, args) => {
-                if stack.len() + 1 > m.limits.max_depth {
-                    return Err(fail(
-                        &stack,
-                        0,
-                        format!("subprogram nesting deeper than {}", m.limits.max_depth),
-                    ));
-                }
-                let p = match m.programs.get(&name) {
-                    Some(p) => p.clone(),
-                    None => {
-                        let candidates: Vec<String> =
-                            match name.strip_prefix('O').and_then(|n| n.parse::<u32>().ok()) {
-                                Some(n) if dialect == Dialect::Fanuc => vec![
-                                    format!("O{n:04}"),
-                                    format!("O{n:04}.NC"),
-                                    format!("O{n:04}.nc"),
-                                    format!("O{n}"),
-                                ],
-                                _ => vec![
-                                    format!("{name}.SPF"),
-                                    format!("{name}.spf"),
-                                    format!("{name}.MPF"),
-                                    name.clone(),
-                                ],
-                            };
-                        let Some(src) = candidates.iter().find_map(|c| (m.loader)(c)) else {
-                            return Err(fail(&stack, 1, format!("subprogram `{name}` not found (in this file or as {} beside it)", candidates[0])));
-                        };
-                        let mut loaded = load_programs(&src, dialect).into_iter();
-                        let first = std::rc::Rc::new(loaded.next().expect("one program"));
-                        m.register(first.clone());
-                        m.programs.insert(name.clone(), first);
-                        for other in loaded {
-                            m.register(std::rc::Rc::new(other));
+        loop {
+            if pc >= cur.blocks.len() {
+                match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                    Some(popped_macro) => {
+                        if popped_macro {
+                            m.locals.pop();
                         }
-                        m.programs[&name].clone()
+                        continue;
                     }
-                };
-                stack.push(Frame {
-                    caller: cur.clone(),
-                    ret: pc + 1,
-                    repeats_left: times.max(1),
-                    caller_loops: std::mem::take(&mut loops),
-                    macro_level: args.is_some(),
-                });
-                if let Some(args) = args {
-                    // A new level: all locals vacant but the arguments (set once, kept
-                    // over the repetitions).
-                    m.locals
-                        .push(args.into_iter().filter(|a| !a.1.is_nan()).collect());
+                    None => break,
                 }
-                cur = p;
-                pc = 0;
+            }
+            m.blocks += 1;
+            let (line, orig, text) = &cur.blocks[pc];
+            let fail = |stack: &[Frame], col: usize, message: String| NcError {
+                file: cur.name.clone(),
+                line: *line,
+                col,
+                message,
+                hint: None,
+                others: Vec::new(),
+                snippet: orig.clone(),
+                stack: stack
+                    .iter()
+                    .rev()
+                    .map(|f| {
+                        let l = f
+                            .caller
+                            .blocks
+                            .get(f.ret.saturating_sub(1))
+                            .map_or(0, |b| b.0);
+                        format!("{}:{l}", f.caller.name)
+                    })
+                    .collect(),
+            };
+            if m.blocks > m.limits.max_blocks {
+                return Err(fail(
+                    &stack,
+                    0,
+                    format!(
+                        "more than {} blocks executed: a loop that never ends?",
+                        m.limits.max_blocks
+                    ),
+                ));
+            }
+            let step = match dialect {
+                Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
+                Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
+                    m.fanuc_block(&cur, pc, text, &mut loops)
+                }
+            };
+            // Columns are in the comment-stripped text; map back roughly to the line.
+            let offset = orig.to_ascii_uppercase().find(text.as_str()).unwrap_or(0);
+            for (col, message) in std::mem::take(&mut m.pending) {
+                let e = fail(&stack, col + offset, message);
+                let mut d = e.diagnostic();
+                d.severity = Severity::Warning;
+                d.hint =
+                    Some("skipped: vpcut does not simulate it (an error with --strict)".into());
+                let seen = warnings.iter().any(|w| {
+                    (&w.file, w.line, w.col, &w.message) == (&d.file, d.line, d.col, &d.message)
+                });
+                if !seen {
+                    warnings.push(d);
+                }
+            }
+            let step = match step {
+                Ok(s) => s,
+                Err((col, msg)) => return Err(fail(&stack, col + offset, msg)),
+            };
+            match step {
+                Step::Next => pc += 1,
+                Step::Jump(to) => pc = to,
+                Step::End => break,
+                Step::Return => match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                    Some(popped_macro) => {
+                        if popped_macro {
+                            m.locals.pop();
+                        }
+                    }
+                    None => break,
+                },
+                Step::Call(name, times, args) => {
+                    if stack.len() + 1 > m.limits.max_depth {
+                        return Err(fail(
+                            &stack,
+                            0,
+                            format!("subprogram nesting deeper than {}", m.limits.max_depth),
+                        ));
+                    }
+                    let Some(p) = m.find_program(&name) else {
+                        let file = codes::fanuc_file_name(&name);
+                        let beside = if dialect == Dialect::Fanuc {
+                            file
+                        } else {
+                            format!("{name}.SPF")
+                        };
+                        return Err(fail(
+                        &stack,
+                        1,
+                        format!("subprogram `{name}` not found (in this file or as {beside} beside it)"),
+                    ));
+                    };
+                    stack.push(Frame {
+                        caller: cur.clone(),
+                        ret: pc + 1,
+                        repeats_left: times.max(1),
+                        caller_loops: std::mem::take(&mut loops),
+                        macro_level: args.is_some(),
+                    });
+                    if let Some(args) = args {
+                        // A new level: all locals vacant but the arguments (set once, kept
+                        // over the repetitions).
+                        m.locals
+                            .push(args.into_iter().filter(|a| !a.1.is_nan()).collect());
+                    }
+                    cur = p;
+                    pc = 0;
+                }
             }
         }
+        Ok(std::mem::take(&mut m.moves))
     }
-    Ok(m.moves)
 }
 
 /// A subprogram call in progress: where to return, how many more runs of the callee, and

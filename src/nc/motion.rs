@@ -1,6 +1,7 @@
 //! Modal state and motion: G/M codes, tool and spindle words, X/Z/U/W end points, thread
 //! moves of every dialect, and the recording of moves and threading-cycle passes.
 
+use super::codes::{self, Verdict};
 use super::expr::Fail;
 use super::{Dialect, Machine, Move, MoveKind, Program, Step, Sync, Words};
 use crate::helix::Spindle;
@@ -15,8 +16,10 @@ impl Machine<'_> {
                 0 | 1 | 32 | 33 | 34 | 35 => self.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
                 92 if self.dialect == Dialect::Fanuc && !self.lcnc => self.motion = 92,
-                90 => self.incremental = false,
-                91 => self.incremental = true,
+                // Absolute/incremental on Siemens and LinuxCNC; FANUC/GSK lathes (G-code
+                // system A) write U/W instead, and their G90 is a turning cycle.
+                90 if self.dialect == Dialect::Siemens802d || self.lcnc => self.incremental = false,
+                91 if self.dialect == Dialect::Siemens802d || self.lcnc => self.incremental = true,
                 20 => self.inch = true,
                 21 => self.inch = false,
                 70 if self.dialect == Dialect::Siemens802d => self.inch = true,
@@ -25,8 +28,12 @@ impl Machine<'_> {
                 8 if self.lcnc => self.diameter_mode = false,
                 // FANUC/GSK G50 with X/Z sets the coordinates of the current position.
                 50 if self.dialect == Dialect::Fanuc && !self.lcnc => set_position = true,
-                17 | 18 | 40 | 54..=59 | 64 | 94 | 95 | 96 | 97 | 98 | 99 => {}
-                other => return Err((1, format!("G{other} is not supported yet"))),
+                other => match codes::g_code(self.real_dialect(), f64::from(other)) {
+                    // Nothing vpcut simulates changes (planes, dwell, feed and speed modes).
+                    Verdict::Run => {}
+                    Verdict::Refused(msg) => return Err((1, msg)),
+                    Verdict::Unknown(msg) => self.unknown(1, msg)?,
+                },
             }
         }
         let mut end = false;
@@ -62,13 +69,11 @@ impl Machine<'_> {
                     }
                     return Ok(Step::Return);
                 }
-                98 | 99 => {
-                    return Err((
-                        1,
-                        format!("M{mc} is not a Siemens word: call subprograms by name"),
-                    ))
-                }
-                other => return Err((1, format!("M{other} is not supported yet"))),
+                other => match codes::m_code(self.real_dialect(), f64::from(other)) {
+                    Verdict::Run => {}
+                    Verdict::Refused(msg) => return Err((1, msg)),
+                    Verdict::Unknown(msg) => self.unknown(1, msg)?,
+                },
             }
         }
         if let Some(&(t, _)) = w.vals.get("T") {

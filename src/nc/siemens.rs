@@ -1,6 +1,7 @@
 //! Siemens 802D blocks: R parameter assignment, address = expression, labels, GOTOF/GOTOB/
 //! GOTO, IF .. GOTOF, subprogram calls by name with P repeats, RET.
 
+use super::codes;
 use super::expr::{Cur, Fail};
 use super::{Machine, Program, Step, Words};
 
@@ -13,7 +14,10 @@ impl Machine<'_> {
     ) -> Result<Step, Fail> {
         let mut c = Cur::new(text, self.dialect);
         // Skip N and a label.
-        if c.eat("N") {
+        // A block number (not the first letter of a name such as NEXT_PASS).
+        c.ws();
+        if c.s.get(c.i) == Some(&b'N') && c.s.get(c.i + 1).is_some_and(u8::is_ascii_digit) {
+            c.i += 1;
             let _ = c.number();
         }
         let save = c.i;
@@ -75,6 +79,11 @@ impl Machine<'_> {
                         }
                     }
                 }
+                kw if codes::siemens_keyword(kw) => {
+                    // A statement vpcut does not simulate: skip the rest of the block.
+                    self.unknown(at + 1, format!("`{kw}` is not simulated"))?;
+                    break;
+                }
                 call if call.len() > 2 => {
                     // A subprogram called by name, with an optional repeat `P n`.
                     let mut times = 1;
@@ -84,7 +93,15 @@ impl Machine<'_> {
                     self.apply(&w, prog, pc)?;
                     return Ok(Step::Call(call.to_string(), times, None));
                 }
-                other => return Err((at + 1, format!("unknown word `{other}`"))),
+                other => {
+                    self.unknown(at + 1, format!("unknown address `{other}`"))?;
+                    if c.eat("=") {
+                        self.expr(&mut c)?;
+                    } else {
+                        let _ = c.eat("-");
+                        let _ = c.number();
+                    }
+                }
             }
         }
         self.apply(&w, prog, pc)

@@ -151,9 +151,17 @@ fn g50_sets_the_position_and_g70_is_not_inch_on_fanuc() {
     assert_eq!(moves.len(), 1);
     assert_eq!((moves[0].x_start, moves[0].z_start), (100.0, 50.0));
     let e = run("G70 P10 Q20\n", Dialect::Fanuc).unwrap_err();
-    assert!(e.message.contains("G70 is not supported"), "{e}");
+    assert!(
+        e.message
+            .contains("G70 (multiple repetitive cycle) is not simulated"),
+        "{e}"
+    );
     let e = run("G92 X10\n", Dialect::Linuxcnc).unwrap_err();
-    assert!(e.message.contains("G92 is not supported"), "{e}");
+    assert!(
+        e.message
+            .contains("G92 (coordinate system offset) is not simulated"),
+        "{e}"
+    );
 }
 
 /// Repeats do not count as nesting, and WHILE loops belong to their own program.
@@ -231,4 +239,130 @@ fn errors_name_line_and_column() {
     assert!(e.message.contains("blocks executed"), "{e}");
     let e = run("END1\n", Dialect::Fanuc).unwrap_err();
     assert!(e.message.contains("END1 without DO1"), "{e}");
+}
+
+fn run_opts(text: &str, dialect: Dialect, strict: bool) -> Result<Toolpath, NcError> {
+    let src = Source {
+        name: "T.NC".into(),
+        text: text.into(),
+    };
+    let opts = Options {
+        strict,
+        ..Options::default()
+    };
+    interpret_with(&src, dialect, &|_| None, &opts)
+}
+
+/// The static check reports every problem of the program at once, with exact columns,
+/// including those in blocks that would never run.
+#[test]
+fn all_problems_are_reported_at_once_with_line_and_column() {
+    let text = "G0 X60 Z8\n#1=[2+3\nG1 X1..5\nIF [#1 GT 2] GOTO 99\nG0 X#1 Z=3\nM30\n";
+    let e = run_opts(text, Dialect::Fanuc, false).unwrap_err();
+    let all = e.all();
+    let at: Vec<(usize, usize)> = all.iter().map(|d| (d.line, d.col)).collect();
+    // Line 2: `]` missing at the end (column 8, after `3`); line 3: `1..5` at column 5;
+    // line 4: GOTO 99 has no N99 (column 19, the 99); line 5: `=` where Z's value belongs
+    // (column 9).
+    assert_eq!(at, vec![(2, 8), (3, 5), (4, 19), (5, 9)], "{e}");
+    assert!(all.iter().all(|d| d.severity == Severity::Error));
+    assert!(all[1].message.contains("`1..5` is not a number"), "{e}");
+    assert!(all[2].message.contains("no block N99"), "{e}");
+    let shown = e.to_string();
+    assert!(shown.contains("T.NC:3:5: error:"), "{shown}");
+    assert!(shown.ends_with("4 errors, 0 warnings"), "{shown}");
+    // The caret stands under the column.
+    assert!(shown.contains("3 | G1 X1..5\n  |     ^"), "{shown}");
+}
+
+/// Unknown words and codes are warnings that are skipped, or errors in strict mode; known
+/// codes that would falsify the toolpath are always errors.
+#[test]
+fn unknown_codes_warn_or_fail_in_strict_mode() {
+    let text = "G0 X60 Z8\nM123\nG123 X50\nY5 G0 Z4\nG32 Z-20 F2\nM30\n";
+    let t = run_opts(text, Dialect::Fanuc, false).unwrap();
+    let w: Vec<(usize, usize)> = t.warnings.iter().map(|d| (d.line, d.col)).collect();
+    assert_eq!(w, vec![(2, 1), (3, 1), (4, 1)], "{:?}", t.warnings);
+    assert!(t.warnings.iter().all(|d| d.severity == Severity::Warning));
+    // The skipped words do not stop the rest of their blocks: X50 and Z4 still move.
+    let ends: Vec<(f64, f64)> = t.moves.iter().map(|m| (m.x_dia, m.z)).collect();
+    assert_eq!(
+        ends,
+        vec![(60.0, 8.0), (50.0, 8.0), (50.0, 4.0), (50.0, -20.0)]
+    );
+    let e = run_opts(text, Dialect::Fanuc, true).unwrap_err();
+    assert_eq!(e.all().len(), 3, "{e}");
+    assert!(e.all().iter().all(|d| d.severity == Severity::Error));
+    // G28 would leave the tool somewhere vpcut cannot know: refused even without --strict.
+    let e = run_opts("G28 U0 W0\n", Dialect::Fanuc, false).unwrap_err();
+    assert!(e.message.contains("G28 (reference point return"), "{e}");
+    // A warning of a block inside a loop is reported once.
+    let t = run_opts(
+        "#1=0\nWHILE [#1 LT 3] DO1\nM123\n#1=#1+1\nEND1\n",
+        Dialect::Fanuc,
+        false,
+    )
+    .unwrap();
+    assert_eq!(t.warnings.len(), 1, "{:?}", t.warnings);
+}
+
+#[test]
+fn siemens_labels_loops_and_calls_are_checked_before_running() {
+    // A backward GOTOF, a missing label, and a missing subprogram in a branch never run.
+    let text = "R1=1\nTOP: G0 X10\nIF R1==2 GOTOF TOP\nIF R1==3 GOTOB NOWHERE\nIF R1==1 GOTOF END\nNOPROG\nEND: M30\n";
+    let e = run_opts(text, Dialect::Siemens802d, false).unwrap_err();
+    let msgs: Vec<(usize, String)> = e
+        .all()
+        .iter()
+        .map(|d| (d.line, d.message.clone()))
+        .collect();
+    assert_eq!(msgs.len(), 3, "{e}");
+    assert!(
+        msgs[0]
+            .1
+            .contains("GOTOF jumps forward, but `TOP` is above"),
+        "{e}"
+    );
+    assert!(msgs[1].1.contains("label `NOWHERE` not found"), "{e}");
+    assert!(msgs[2].1.contains("subprogram `NOPROG` not found"), "{e}");
+    // Statements vpcut does not simulate are skipped with a warning.
+    let t = run_opts(
+        "MSG(\"ROUGHING\")\nG0 X10 Z5\nM30\n",
+        Dialect::Siemens802d,
+        false,
+    )
+    .unwrap();
+    assert_eq!(t.warnings.len(), 1);
+    assert_eq!(t.moves.len(), 1);
+}
+
+#[test]
+fn fanuc_loops_are_matched_statically() {
+    let e = run_opts(
+        "WHILE [1 EQ 1] DO1\nWHILE [1 EQ 1] DO2\nEND1\nEND2\n",
+        Dialect::Fanuc,
+        false,
+    )
+    .unwrap_err();
+    assert!(
+        e.message
+            .contains("END1 closes DO1 while an inner loop is still open"),
+        "{e}"
+    );
+    let e = run_opts(
+        "#1=1\nWHILE [#1 LT 3] DO1\n#1=#1+1\n",
+        Dialect::Fanuc,
+        false,
+    )
+    .unwrap_err();
+    assert_eq!(
+        (e.line, e.message.as_str()),
+        (2, "WHILE .. DO1 without END1")
+    );
+    let e = run_opts("G0 X10 (no end\n", Dialect::Fanuc, false).unwrap_err();
+    assert_eq!((e.line, e.col), (1, 8), "{e}");
+    // Arguments of a G65 macro call are letters of every kind.
+    let e = run_opts("G65 P9010 A1 B2 D3\n", Dialect::Fanuc, false).unwrap_err();
+    assert!(e.message.contains("subprogram `O9010` not found"), "{e}");
+    assert_eq!(e.others.len(), 0, "{e}");
 }

@@ -1,0 +1,823 @@
+//! Static checks of a program before it runs: every block of every program that can be
+//! found is read once, and every problem is reported with its line and column, not just the
+//! first one (a compiler's diagnostics, not an interpreter's first alarm).
+//!
+//! What is checked without running anything:
+//! - syntax: malformed numbers, words without a value, unbalanced `[ ]`/`( )`, unclosed
+//!   comments, characters that are no part of the language, assignments without `=`,
+//!   unknown functions in expressions;
+//! - words and codes: address letters, G and M codes that vpcut does not know are warnings
+//!   (errors in strict mode); at run time they are skipped ([`super::codes`]);
+//! - control flow that is written out: `GOTO n`/`IF .. GOTO n`/`M99 P n` targets, Siemens
+//!   `GOTOF`/`GOTOB` labels and their direction, `WHILE .. DOn`/`ENDn` pairs and their
+//!   numbers, subprograms called by a literal name or number that cannot be found.
+//!
+//! What needs the values of variables (a computed jump, a division by zero, a lead that
+//! reaches zero) is found at run time, where the interpreter stops at the first such error.
+//! LinuxCNC programs are checked for their comments and characters only: their O-word
+//! language is read by the interpreter itself.
+
+use super::codes::{self, Verdict};
+use super::program::Program;
+use super::{Diagnostic, Dialect, Severity};
+
+/// The checker's view of one block: the original line, upper-cased, with a cursor.
+struct Line<'a> {
+    s: Vec<u8>,
+    i: usize,
+    dialect: Dialect,
+    out: &'a mut Vec<(usize, Severity, String, Option<String>)>,
+}
+
+type Stop = ();
+
+impl Line<'_> {
+    fn ws(&mut self) {
+        loop {
+            while self.i < self.s.len() && (self.s[self.i] == b' ' || self.s[self.i] == b'\t') {
+                self.i += 1;
+            }
+            // Comments are skipped here so that columns stay those of the original line.
+            let fanuc = self.dialect != Dialect::Siemens802d;
+            match self.s.get(self.i) {
+                Some(b'(') if fanuc => {
+                    let start = self.i;
+                    let mut depth = 0;
+                    while self.i < self.s.len() {
+                        match self.s[self.i] {
+                            b'(' => depth += 1,
+                            b')' => depth -= 1,
+                            _ => {}
+                        }
+                        self.i += 1;
+                        if depth == 0 {
+                            break;
+                        }
+                    }
+                    if depth != 0 {
+                        self.out.push((
+                            start + 1,
+                            Severity::Error,
+                            "comment not closed".into(),
+                            Some("add `)` at the end of the comment".into()),
+                        ));
+                    }
+                }
+                Some(b';') | Some(b'\r') => self.i = self.s.len(),
+                _ => return,
+            }
+        }
+    }
+    fn peek(&mut self) -> Option<u8> {
+        self.ws();
+        self.s.get(self.i).copied()
+    }
+    fn at_end(&mut self) -> bool {
+        self.peek().is_none()
+    }
+    fn eat(&mut self, t: &str) -> bool {
+        self.ws();
+        if self.s[self.i..].starts_with(t.as_bytes()) {
+            self.i += t.len();
+            true
+        } else {
+            false
+        }
+    }
+    fn error(
+        &mut self,
+        col: usize,
+        msg: impl Into<String>,
+        hint: Option<&str>,
+    ) -> Result<(), Stop> {
+        self.out
+            .push((col, Severity::Error, msg.into(), hint.map(str::to_string)));
+        Err(())
+    }
+    fn unknown(&mut self, col: usize, msg: String, strict: bool) {
+        let severity = if strict {
+            Severity::Error
+        } else {
+            Severity::Warning
+        };
+        let hint = if strict {
+            "vpcut does not simulate it; without --strict it is skipped with a warning"
+        } else {
+            "skipped: vpcut does not simulate it (an error with --strict)"
+        };
+        self.out.push((col, severity, msg, Some(hint.into())));
+    }
+    fn letters(&mut self) -> String {
+        self.ws();
+        let st = self.i;
+        while self.i < self.s.len()
+            && (self.s[self.i].is_ascii_alphabetic() || self.s[self.i] == b'_')
+        {
+            self.i += 1;
+        }
+        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
+    }
+    /// An unsigned number; `Some(None)` when malformed (reported), `None` when absent.
+    fn number(&mut self) -> Option<Option<f64>> {
+        self.ws();
+        let st = self.i;
+        while self.i < self.s.len() && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.') {
+            self.i += 1;
+        }
+        if st == self.i {
+            return None;
+        }
+        let t = String::from_utf8_lossy(&self.s[st..self.i]).into_owned();
+        match t.parse::<f64>() {
+            Ok(v) => Some(Some(v)),
+            Err(_) => {
+                self.out.push((
+                    st + 1,
+                    Severity::Error,
+                    format!("`{t}` is not a number"),
+                    None,
+                ));
+                Some(None)
+            }
+        }
+    }
+    fn unexpected(&mut self, what: &str) -> Result<(), Stop> {
+        let col = self.i + 1;
+        let Some(c) = self.s.get(self.i).map(|&b| b as char) else {
+            return self.error(col, format!("the block ends here: expected {what}"), None);
+        };
+        if c.is_ascii() {
+            self.error(col, format!("unexpected `{c}`: expected {what}"), None)
+        } else {
+            self.error(
+                col,
+                format!("a character that is not part of the language: expected {what}"),
+                None,
+            )
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// FANUC / GSK (Macro A and B).
+
+const FANUC_FUNCTIONS: &[&str] = &[
+    "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "ABS", "ROUND", "FIX", "FUP", "LN", "EXP",
+];
+const FANUC_OPS: &[&str] = &[
+    "AND", "OR", "XOR", "MOD", "EQ", "NE", "GT", "GE", "LT", "LE",
+];
+
+impl Line<'_> {
+    /// `[ expr ]`, the cursor on `[`.
+    fn f_bracket(&mut self) -> Result<(), Stop> {
+        if !self.eat("[") {
+            return self.unexpected("`[`");
+        }
+        self.f_expr()?;
+        if !self.eat("]") {
+            return self.unexpected("an operator or `]`");
+        }
+        Ok(())
+    }
+    fn f_expr(&mut self) -> Result<(), Stop> {
+        loop {
+            while self.eat("-") || self.eat("+") {}
+            self.f_primary()?;
+            match self.peek() {
+                Some(b'+' | b'-' | b'*' | b'/') => self.i += 1,
+                Some(c) if c.is_ascii_alphabetic() => {
+                    let at = self.i;
+                    let w = self.letters();
+                    if !FANUC_OPS.contains(&w.as_str()) {
+                        return self.error(
+                            at + 1,
+                            format!("`{w}` is not an operator"),
+                            Some("operators: + - * / MOD AND OR XOR EQ NE GT GE LT LE"),
+                        );
+                    }
+                }
+                _ => return Ok(()),
+            }
+        }
+    }
+    fn f_primary(&mut self) -> Result<(), Stop> {
+        match self.peek() {
+            Some(b'[') => self.f_bracket(),
+            Some(b'#') => {
+                self.i += 1;
+                self.f_var_index()
+            }
+            Some(c) if c.is_ascii_digit() || c == b'.' => {
+                self.number();
+                Ok(())
+            }
+            Some(c) if c.is_ascii_alphabetic() => {
+                let at = self.i;
+                let f = self.letters();
+                if !FANUC_FUNCTIONS.contains(&f.as_str()) {
+                    return self.error(
+                        at + 1,
+                        format!("unknown function `{f}`"),
+                        Some("functions: SIN COS TAN ASIN ACOS ATAN SQRT ABS ROUND FIX FUP LN EXP"),
+                    );
+                }
+                if !self.eat("[") {
+                    return self.unexpected(&format!("`[` after {f}"));
+                }
+                self.f_expr()?;
+                if f == "ATAN" && self.eat(",") {
+                    self.f_expr()?;
+                }
+                if !self.eat("]") {
+                    return self.unexpected("an operator or `]`");
+                }
+                if f == "ATAN" && self.peek() == Some(b'/') {
+                    let save = self.i;
+                    self.i += 1;
+                    if self.peek() == Some(b'[') {
+                        self.f_bracket()?;
+                    } else {
+                        self.i = save;
+                    }
+                }
+                Ok(())
+            }
+            _ => self.unexpected("a number, a #variable, a function or `[`"),
+        }
+    }
+    fn f_var_index(&mut self) -> Result<(), Stop> {
+        if self.peek() == Some(b'[') {
+            return self.f_bracket();
+        }
+        match self.number() {
+            Some(_) => Ok(()),
+            None => self.unexpected("a variable number after `#`"),
+        }
+    }
+    /// A word's value: a number, `#n`, `-#n` or `[expr]`.
+    fn f_value(&mut self, letter: char) -> Result<Option<f64>, Stop> {
+        let neg = self.eat("-");
+        let _ = self.eat("+");
+        match self.peek() {
+            Some(b'#') => {
+                self.i += 1;
+                self.f_var_index()?;
+                Ok(None)
+            }
+            Some(b'[') => {
+                self.f_bracket()?;
+                Ok(None)
+            }
+            _ => match self.number() {
+                Some(v) => Ok(v.map(|v| if neg { -v } else { v })),
+                None => {
+                    self.unexpected(&format!("a value after `{letter}`"))?;
+                    Ok(None)
+                }
+            },
+        }
+    }
+}
+
+/// Per-block facts the program-level checks need.
+#[derive(Default)]
+struct BlockFacts {
+    /// `GOTO n` targets with their columns.
+    gotos: Vec<(u32, usize)>,
+    /// `WHILE .. DOn` with column.
+    whiles: Vec<(u32, usize)>,
+    /// `ENDn` with column.
+    ends: Vec<(u32, usize)>,
+    /// Programs called by a literal number or name, with column.
+    calls: Vec<(String, usize)>,
+}
+
+fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(), Stop> {
+    l.ws();
+    let _ = l.eat("/");
+    let mut g65 = false;
+    let mut m98 = false;
+    let mut m99 = false;
+    let mut p_word: Option<(f64, usize)> = None;
+    let mut h_word: Option<Option<f64>> = None;
+    let mut l_word = false;
+    let mut strange: Vec<(usize, char)> = Vec::new();
+    while !l.at_end() {
+        let at = l.i;
+        if l.eat("#") {
+            l.f_var_index()?;
+            if !l.eat("=") {
+                return l.error(
+                    l.i + 1,
+                    "expected `=` after a variable",
+                    Some("a variable is set with #n = expression"),
+                );
+            }
+            l.f_expr()?;
+            continue;
+        }
+        let Some(c) = l.peek() else { break };
+        if !c.is_ascii_alphabetic() {
+            return l.unexpected("a word (letter and value) or #variable");
+        }
+        // A keyword or a one-letter address.
+        let save = l.i;
+        let w = l.letters();
+        match w.as_str() {
+            "WHILE" => {
+                l.f_bracket()?;
+                if !l.eat("DO") {
+                    return l.error(l.i + 1, "expected DOn after WHILE [..]", None);
+                }
+                match l.number() {
+                    Some(Some(n)) if (1.0..=3.0).contains(&n) && n.fract() == 0.0 => {
+                        facts.whiles.push((n as u32, at + 1))
+                    }
+                    _ => return l.error(at + 1, "WHILE needs DO1, DO2 or DO3", None),
+                }
+                continue;
+            }
+            "END" => {
+                match l.number() {
+                    Some(Some(n)) if (1.0..=3.0).contains(&n) && n.fract() == 0.0 => {
+                        facts.ends.push((n as u32, at + 1))
+                    }
+                    _ => return l.error(at + 1, "expected END1, END2 or END3", None),
+                }
+                continue;
+            }
+            "IF" => {
+                l.f_bracket()?;
+                if l.eat("GOTO") {
+                    l.ws();
+                    let col = l.i + 1;
+                    if let Some(n) = l.f_value('N')? {
+                        facts.gotos.push((n as u32, col));
+                    }
+                    continue;
+                }
+                if l.eat("THEN") {
+                    continue;
+                }
+                return l.error(l.i + 1, "expected GOTO or THEN after IF [..]", None);
+            }
+            "GOTO" => {
+                l.ws();
+                let col = l.i + 1;
+                if let Some(n) = l.f_value('N')? {
+                    facts.gotos.push((n as u32, col));
+                }
+                continue;
+            }
+            _ => {}
+        }
+        if w.len() > 1 {
+            // Letters glued together: the first is an address without a value, or a typo.
+            l.i = save + 1;
+            return l.error(
+                at + 1,
+                format!("unknown word `{w}`"),
+                Some("an address letter is followed by its value, e.g. X10.5 or Z#1"),
+            );
+        }
+        let letter = w.as_bytes()[0] as char;
+        let v = l.f_value(letter)?;
+        match letter {
+            'N' | 'O' => {}
+            'G' | 'M' => {
+                if let Some(code) = v {
+                    let verdict = if letter == 'G' {
+                        codes::g_code(l.dialect, code)
+                    } else {
+                        codes::m_code(l.dialect, code)
+                    };
+                    match verdict {
+                        Verdict::Run => {}
+                        Verdict::Unknown(msg) => l.unknown(at + 1, msg, strict),
+                        Verdict::Refused(msg) => {
+                            l.out.push((at + 1, Severity::Error, msg, None));
+                        }
+                    }
+                    g65 |= letter == 'G' && code == 65.0;
+                    m98 |= letter == 'M' && code == 98.0;
+                    m99 |= letter == 'M' && code == 99.0;
+                }
+            }
+            'P' => {
+                if let Some(p) = v {
+                    p_word = Some((p, at + 1));
+                }
+            }
+            'H' => h_word = Some(v),
+            'L' => l_word = true,
+            other if codes::fanuc_address(l.dialect, other) => {}
+            other => strange.push((at + 1, other)),
+        }
+    }
+    // Every letter passes an argument in a G65 macro call.
+    if !g65 {
+        for (col, letter) in strange {
+            l.unknown(col, format!("unknown address `{letter}`"), strict);
+        }
+    }
+    if let Some((p, col)) = p_word {
+        let p = p.round() as u64;
+        match h_word {
+            // Macro A jumps: H80 (always) .. H86 jump to block N<P>.
+            Some(Some(h)) if g65 && (80.0..=86.0).contains(&h) => facts.gotos.push((p as u32, col)),
+            Some(_) => {}
+            None if g65 => facts.calls.push((format!("O{p}"), col)),
+            None if m98 => {
+                let prog = if l_word { p } else { p % 10_000 };
+                facts.calls.push((format!("O{prog}"), col));
+            }
+            None => {}
+        }
+        // M99 P n returns to block n of the caller: checked at run time.
+        let _ = m99;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------
+// Siemens 802D.
+
+const SIEMENS_FUNCTIONS: &[&str] = &[
+    "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN2", "SQRT", "ABS", "POT", "TRUNC", "ROUND", "LN",
+    "EXP",
+];
+const SIEMENS_WORD_OPS: &[&str] = &["AND", "OR", "XOR", "NOT", "DIV", "MOD"];
+
+impl Line<'_> {
+    fn s_expr(&mut self) -> Result<(), Stop> {
+        loop {
+            while self.eat("-") || self.eat("+") || self.eat("NOT") {}
+            self.s_primary()?;
+            self.ws();
+            let rest = &self.s[self.i..];
+            let op2 = ["==", "<>", "<=", ">="]
+                .iter()
+                .find(|o| rest.starts_with(o.as_bytes()));
+            if let Some(o) = op2 {
+                self.i += o.len();
+                continue;
+            }
+            match self.peek() {
+                Some(b'+' | b'-' | b'*' | b'/' | b'<' | b'>') => self.i += 1,
+                Some(c) if c.is_ascii_alphabetic() => {
+                    let save = self.i;
+                    let w = self.letters();
+                    if SIEMENS_WORD_OPS.contains(&w.as_str()) {
+                        continue;
+                    }
+                    // The next word of the block (`X=R1 Z=R2`, `IF R1>2 GOTOF L`).
+                    self.i = save;
+                    return Ok(());
+                }
+                _ => return Ok(()),
+            }
+        }
+    }
+    fn s_primary(&mut self) -> Result<(), Stop> {
+        match self.peek() {
+            Some(b'(') => {
+                self.i += 1;
+                self.s_expr()?;
+                if !self.eat(")") {
+                    return self.unexpected("an operator or `)`");
+                }
+                Ok(())
+            }
+            Some(c) if c.is_ascii_digit() || c == b'.' => {
+                self.number();
+                // 802 exponent: 1.5EX-5.
+                if self.eat("EX") {
+                    let _ = self.eat("-") || self.eat("+");
+                    if self.number().is_none() {
+                        return self.unexpected("an exponent after EX");
+                    }
+                }
+                Ok(())
+            }
+            Some(c) if c.is_ascii_alphabetic() => {
+                let at = self.i;
+                let w = self.letters();
+                if w == "R" {
+                    if self.number().is_none() {
+                        if self.peek() == Some(b'[') {
+                            self.i += 1;
+                            self.s_expr()?;
+                            if !self.eat("]") {
+                                return self.unexpected("`]`");
+                            }
+                            return Ok(());
+                        }
+                        return self.unexpected("an R parameter number");
+                    }
+                    return Ok(());
+                }
+                if !SIEMENS_FUNCTIONS.contains(&w.as_str()) {
+                    return self.error(at + 1, format!("unknown name `{w}` in an expression"), Some("R parameters are R<n>; functions: SIN COS TAN ASIN ACOS ATAN2 SQRT ABS POT TRUNC ROUND LN EXP"));
+                }
+                if !self.eat("(") {
+                    return self.unexpected(&format!("`(` after {w}"));
+                }
+                self.s_expr()?;
+                while self.eat(",") {
+                    self.s_expr()?;
+                }
+                if !self.eat(")") {
+                    return self.unexpected("an operator or `)`");
+                }
+                Ok(())
+            }
+            _ => self.unexpected("a number, an R parameter, a function or `(`"),
+        }
+    }
+}
+
+/// Siemens facts: `(keyword, label, column)` jumps and called names.
+fn siemens_block(
+    l: &mut Line,
+    strict: bool,
+    jumps: &mut Vec<(String, String, usize)>,
+    calls: &mut Vec<(String, usize)>,
+) -> Result<(), Stop> {
+    l.ws();
+    let _ = l.eat("/");
+    l.ws();
+    if l.s.get(l.i) == Some(&b'N') && l.s.get(l.i + 1).is_some_and(u8::is_ascii_digit) {
+        l.i += 1;
+        l.number();
+    }
+    // A label `NAME:`.
+    let save = l.i;
+    let w = l.letters();
+    let mut rest = w.clone();
+    while l.i < l.s.len() && (l.s[l.i].is_ascii_alphanumeric() || l.s[l.i] == b'_') {
+        rest.push(l.s[l.i] as char);
+        l.i += 1;
+    }
+    if rest.is_empty() || !l.eat(":") {
+        l.i = save;
+    }
+    while !l.at_end() {
+        let at = l.i;
+        let Some(c) = l.peek() else { break };
+        if !c.is_ascii_alphabetic() {
+            return l.unexpected("a word");
+        }
+        let name = l.letters();
+        match name.as_str() {
+            "IF" => {
+                l.s_expr()?;
+                let kw = l.letters();
+                if !matches!(kw.as_str(), "GOTOF" | "GOTOB" | "GOTO") {
+                    return l.error(
+                        l.i + 1,
+                        "expected GOTOF, GOTOB or GOTO after IF condition",
+                        None,
+                    );
+                }
+                let target = label_name(l);
+                jumps.push((kw, target, at + 1));
+                return Ok(());
+            }
+            "GOTOF" | "GOTOB" | "GOTO" => {
+                let target = label_name(l);
+                jumps.push((name, target, at + 1));
+                return Ok(());
+            }
+            "RET" => {}
+            "R" if l.s.get(l.i).is_some_and(u8::is_ascii_digit) => {
+                l.number();
+                if !l.eat("=") {
+                    return l.error(
+                        l.i + 1,
+                        "expected `=` after an R parameter",
+                        Some("R parameters are set with Rn = expression"),
+                    );
+                }
+                l.s_expr()?;
+            }
+            addr if codes::siemens_address(addr) => {
+                if l.eat("=") {
+                    l.s_expr()?;
+                } else {
+                    let _ = l.eat("-");
+                    let v = match l.number() {
+                        Some(v) => v,
+                        None => return l.unexpected(&format!("a value after `{addr}`")),
+                    };
+                    if let (Some(code), "G" | "M") = (v, addr) {
+                        let verdict = if addr == "G" {
+                            codes::g_code(l.dialect, code)
+                        } else {
+                            codes::m_code(l.dialect, code)
+                        };
+                        match verdict {
+                            Verdict::Run => {}
+                            Verdict::Unknown(msg) => l.unknown(at + 1, msg, strict),
+                            Verdict::Refused(msg) => {
+                                l.out.push((at + 1, Severity::Error, msg, None))
+                            }
+                        }
+                    }
+                }
+            }
+            kw if codes::siemens_keyword(kw) => {
+                l.unknown(at + 1, format!("`{kw}` is not simulated"), strict);
+                // Skip its arguments: `=value`, `(...)` or the rest of the block.
+                l.i = l.s.len();
+            }
+            call if call.len() > 2 => {
+                let mut full = call.to_string();
+                while l.i < l.s.len() && (l.s[l.i].is_ascii_alphanumeric() || l.s[l.i] == b'_') {
+                    full.push(l.s[l.i] as char);
+                    l.i += 1;
+                }
+                calls.push((full, at + 1));
+                if l.eat("P") && l.number().is_none() {
+                    return l.unexpected("a repeat count after P");
+                }
+            }
+            other => {
+                l.unknown(at + 1, format!("unknown address `{other}`"), strict);
+                if l.eat("=") {
+                    l.s_expr()?;
+                } else {
+                    let _ = l.eat("-");
+                    let _ = l.number();
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn label_name(l: &mut Line) -> String {
+    l.ws();
+    let st = l.i;
+    while l.i < l.s.len() && (l.s[l.i].is_ascii_alphanumeric() || l.s[l.i] == b'_') {
+        l.i += 1;
+    }
+    String::from_utf8_lossy(&l.s[st..l.i]).into_owned()
+}
+
+// ---------------------------------------------------------------------------------------
+// Whole programs.
+
+/// Check every block of `prog` and its written-out control flow. `find` says whether a
+/// called program exists (in the file or beside it). Diagnostics come in line order.
+pub(super) fn check_program(
+    prog: &Program,
+    dialect: Dialect,
+    strict: bool,
+    find: &mut dyn FnMut(&str) -> bool,
+) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    let mut loops: Vec<(u32, usize, usize)> = Vec::new(); // (n, line, col) of open WHILEs
+    for (idx, (line, orig, _)) in prog.blocks.iter().enumerate() {
+        let mut found = Vec::new();
+        let mut l = Line {
+            s: orig.to_ascii_uppercase().into_bytes(),
+            i: 0,
+            dialect,
+            out: &mut found,
+        };
+        let diag =
+            |col: usize, severity: Severity, message: String, hint: Option<String>| Diagnostic {
+                severity,
+                file: prog.name.clone(),
+                line: *line,
+                col,
+                message,
+                hint,
+                snippet: orig.clone(),
+                stack: Vec::new(),
+            };
+        match dialect {
+            Dialect::Siemens802d => {
+                let mut jumps = Vec::new();
+                let mut calls = Vec::new();
+                let _ = siemens_block(&mut l, strict, &mut jumps, &mut calls);
+                for (kw, target, col) in jumps {
+                    match prog.labels.get(&target) {
+                        None => found.push((
+                            col,
+                            Severity::Error,
+                            format!("label `{target}` not found in {}", prog.name),
+                            Some("a label is written `NAME:` at the start of a block".into()),
+                        )),
+                        Some(&to) if kw == "GOTOF" && to <= idx => found.push((
+                            col,
+                            Severity::Error,
+                            format!("GOTOF jumps forward, but `{target}` is above"),
+                            Some("use GOTOB (or GOTO)".into()),
+                        )),
+                        Some(&to) if kw == "GOTOB" && to > idx => found.push((
+                            col,
+                            Severity::Error,
+                            format!("GOTOB jumps back, but `{target}` is below"),
+                            Some("use GOTOF (or GOTO)".into()),
+                        )),
+                        Some(_) => {}
+                    }
+                }
+                for (name, col) in calls {
+                    if !find(&name) {
+                        found.push((
+                            col,
+                            Severity::Error,
+                            format!("subprogram `{name}` not found (in this file or as {name}.SPF beside it)"),
+                            None,
+                        ));
+                    }
+                }
+            }
+            Dialect::Linuxcnc => {
+                // Comments and characters only (the O-word language is the interpreter's).
+                while !l.at_end() {
+                    l.i += 1;
+                }
+            }
+            Dialect::Fanuc | Dialect::Gsk980 => {
+                let mut facts = BlockFacts::default();
+                let _ = fanuc_block(&mut l, strict, &mut facts);
+                for (n, col) in facts.gotos {
+                    if !prog.numbers.contains_key(&n) {
+                        found.push((
+                            col,
+                            Severity::Error,
+                            format!("no block N{n} in {}", prog.name),
+                            None,
+                        ));
+                    }
+                }
+                for (n, col) in facts.whiles {
+                    loops.push((n, *line, col));
+                }
+                for (n, col) in facts.ends {
+                    match loops.iter().rposition(|o| o.0 == n) {
+                        Some(k) => {
+                            if k + 1 != loops.len() {
+                                found.push((
+                                    col,
+                                    Severity::Error,
+                                    format!(
+                                        "END{n} closes DO{n} while an inner loop is still open"
+                                    ),
+                                    Some("WHILE loops nest and never cross".into()),
+                                ));
+                            }
+                            loops.truncate(k);
+                        }
+                        None => found.push((
+                            col,
+                            Severity::Error,
+                            format!("END{n} without DO{n}"),
+                            None,
+                        )),
+                    }
+                }
+                for (name, col) in facts.calls {
+                    if !find(&name) {
+                        found.push((
+                            col,
+                            Severity::Error,
+                            format!(
+                                "subprogram `{name}` not found (in this file or as {} beside it)",
+                                codes::fanuc_file_name(&name)
+                            ),
+                            None,
+                        ));
+                    }
+                }
+            }
+        }
+        out.extend(
+            found
+                .into_iter()
+                .map(|(col, sev, msg, hint)| diag(col, sev, msg, hint)),
+        );
+    }
+    for (n, line, col) in loops {
+        let orig = prog
+            .blocks
+            .iter()
+            .find(|b| b.0 == line)
+            .map_or(String::new(), |b| b.1.clone());
+        out.push(Diagnostic {
+            severity: Severity::Error,
+            file: prog.name.clone(),
+            line,
+            col,
+            message: format!("WHILE .. DO{n} without END{n}"),
+            hint: Some(format!("close the loop with END{n}")),
+            snippet: orig,
+            stack: Vec::new(),
+        });
+    }
+    out
+}

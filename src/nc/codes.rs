@@ -1,0 +1,249 @@
+//! Which G and M codes, addresses and keywords vpcut runs in each dialect, which it refuses
+//! (known codes that would make the toolpath wrong if they were skipped), and which it does
+//! not know (skipped with a warning, an error in strict mode). One table for the static
+//! check and the interpreter, so that both say the same thing.
+
+use super::Dialect;
+
+/// What to do with a code.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(super) enum Verdict {
+    /// vpcut runs it (or it changes nothing vpcut simulates: coolant, dwell, speed modes).
+    Run,
+    /// A code of the dialect that vpcut does not simulate and that moves the tool or the
+    /// coordinates: skipping it would make the toolpath after it wrong, so it is an error.
+    Refused(String),
+    /// Not a code vpcut knows: skipped with a warning (an error in strict mode).
+    Unknown(String),
+}
+
+/// Codes with one decimal as integers x10 (G33.1 = 331).
+fn tenths(code: f64) -> i64 {
+    (code * 10.0).round() as i64
+}
+
+/// A G code of `dialect`.
+pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
+    let c = tenths(code);
+    let whole = c % 10 == 0;
+    let g = c / 10;
+    let refused = |what: &str| {
+        Verdict::Refused(format!(
+            "G{} ({what}) is not simulated by vpcut yet",
+            fmt(code)
+        ))
+    };
+    match dialect {
+        Dialect::Fanuc | Dialect::Gsk980 => match (g, whole) {
+            (0 | 1 | 4 | 17 | 18 | 19 | 20 | 21 | 32 | 34 | 40 | 41 | 42 | 50, true) => {
+                Verdict::Run
+            }
+            (54..=59 | 65 | 76 | 92 | 96 | 97 | 98 | 99, true) => Verdict::Run,
+            (2 | 3, true) => refused("circular interpolation"),
+            (28 | 30, true) => refused("reference point return: the position after it is unknown"),
+            (10 | 52 | 53, true) => refused("coordinate system setting"),
+            (70..=75, true) => refused("multiple repetitive cycle"),
+            (90, true) => refused("outer diameter cutting cycle"),
+            (94, true) => refused("end face cutting cycle"),
+            (33, true) if dialect == Dialect::Gsk980 => refused("tapping cycle"),
+            _ => Verdict::Unknown(format!(
+                "G{} is not a {} code vpcut knows",
+                fmt(code),
+                name(dialect)
+            )),
+        },
+        Dialect::Siemens802d => match (g, whole) {
+            (0 | 1 | 4 | 9 | 17 | 18 | 19 | 25 | 26 | 33 | 34 | 35 | 40 | 41 | 42, true) => {
+                Verdict::Run
+            }
+            (54..=59 | 60 | 64 | 70 | 71 | 90 | 91 | 94 | 95 | 96 | 97 | 450 | 451, true) => {
+                Verdict::Run
+            }
+            (500 | 601 | 602 | 603 | 700 | 710, true) => Verdict::Run,
+            (2 | 3, true) => refused("circular interpolation"),
+            (74 | 75, true) => refused("reference or fixed point approach"),
+            (53 | 153 | 158 | 159, true) => refused("frame or machine coordinates"),
+            (110..=112, true) => refused("polar coordinates"),
+            (331 | 332, true) => refused("tapping"),
+            _ => Verdict::Unknown(format!(
+                "G{} is not a {} code vpcut knows",
+                fmt(code),
+                name(dialect)
+            )),
+        },
+        Dialect::Linuxcnc => match (g, whole) {
+            (0 | 1 | 4 | 7 | 8 | 17 | 18 | 19 | 20 | 21 | 33 | 40 | 41 | 42 | 43 | 49, true) => {
+                Verdict::Run
+            }
+            (54..=59 | 61 | 64 | 76 | 90 | 91 | 93 | 94 | 95 | 96 | 97 | 98 | 99, true) => {
+                Verdict::Run
+            }
+            (2 | 3, true) => refused("circular interpolation"),
+            (28 | 30, true) => refused("go to a predefined position"),
+            (10 | 52 | 53 | 92, _) => refused("coordinate system offset"),
+            (33, false) => refused("rigid tapping"),
+            (38, false) => refused("probing"),
+            (73 | 74 | 80..=89, true) => refused("canned cycle"),
+            _ => Verdict::Unknown(format!(
+                "G{} is not a {} code vpcut knows",
+                fmt(code),
+                name(dialect)
+            )),
+        },
+    }
+}
+
+/// An M code of `dialect`.
+pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
+    let c = tenths(code);
+    if c % 10 != 0 {
+        return Verdict::Unknown(format!("M{} is not an M code vpcut knows", fmt(code)));
+    }
+    let m = c / 10;
+    let known = match dialect {
+        Dialect::Fanuc | Dialect::Gsk980 => {
+            matches!(m, 0..=5 | 8 | 9 | 13 | 14 | 19 | 23 | 24 | 30 | 41..=44 | 98 | 99)
+        }
+        Dialect::Siemens802d => {
+            if m == 98 || m == 99 {
+                return Verdict::Refused(format!(
+                    "M{m} is not a Siemens word: call subprograms by name"
+                ));
+            }
+            matches!(m, 0..=5 | 8 | 9 | 17 | 19 | 30 | 40..=45)
+        }
+        Dialect::Linuxcnc => matches!(m, 0..=9 | 30 | 48 | 49 | 50..=53 | 60),
+    };
+    if known {
+        Verdict::Run
+    } else {
+        Verdict::Unknown(format!(
+            "M{m} is not a {} M code vpcut knows (a machine-specific function?)",
+            name(dialect)
+        ))
+    }
+}
+
+/// Address letters the FANUC-syntax interpreter reads.
+pub(super) fn fanuc_address(_dialect: Dialect, letter: char) -> bool {
+    matches!(
+        letter,
+        'X' | 'Z'
+            | 'U'
+            | 'W'
+            | 'F'
+            | 'K'
+            | 'Q'
+            | 'S'
+            | 'T'
+            | 'R'
+            | 'P'
+            | 'L'
+            | 'J'
+            | 'I'
+            | 'H'
+            | 'E'
+            | 'G'
+            | 'M'
+            | 'N'
+            | 'O'
+    )
+}
+
+/// Siemens addresses the interpreter reads (`X20`, `X=R1+2`, `SF=90`).
+pub(super) fn siemens_address(name: &str) -> bool {
+    matches!(
+        name,
+        "G" | "M" | "S" | "T" | "X" | "Z" | "F" | "K" | "I" | "SF" | "D" | "P"
+    )
+}
+
+/// Siemens words that are statements of their own and do nothing vpcut simulates; the rest
+/// of their block is skipped with a warning.
+pub(super) fn siemens_keyword(name: &str) -> bool {
+    matches!(
+        name,
+        "MSG"
+            | "DIAMON"
+            | "DIAMOF"
+            | "DIAM"
+            | "STOPRE"
+            | "SUPA"
+            | "WAITM"
+            | "SETMS"
+            | "SPOS"
+            | "SOFT"
+            | "BRISK"
+            | "FFWON"
+            | "FFWOF"
+            | "CFC"
+            | "CFTCP"
+            | "G64"
+            | "LIMS"
+            | "TRANS"
+            | "ATRANS"
+            | "ROT"
+            | "AROT"
+            | "SCALE"
+            | "ASCALE"
+            | "MIRROR"
+            | "AMIRROR"
+            | "DEF"
+            | "CYCLE"
+            | "CYCLE95"
+            | "CYCLE97"
+            | "CYCLE99"
+            | "LCYC"
+            | "LCYC97"
+            | "STOPFIFO"
+            | "STARTFIFO"
+            | "GOTOC"
+    )
+}
+
+/// Where a FANUC program `O<n>` may be found beside the main file (for messages).
+pub(super) fn fanuc_file_name(name: &str) -> String {
+    match name.strip_prefix('O').and_then(|n| n.parse::<u32>().ok()) {
+        Some(n) => format!("O{n:04}"),
+        None => name.to_string(),
+    }
+}
+
+fn name(d: Dialect) -> &'static str {
+    match d {
+        Dialect::Fanuc => "FANUC lathe",
+        Dialect::Gsk980 => "GSK 980TDC",
+        Dialect::Siemens802d => "Siemens 802D",
+        Dialect::Linuxcnc => "LinuxCNC lathe",
+    }
+}
+
+fn fmt(code: f64) -> String {
+    if code.fract() == 0.0 {
+        format!("{}", code as i64)
+    } else {
+        format!("{code}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn g90_is_absolute_on_siemens_and_a_cycle_on_fanuc() {
+        assert_eq!(g_code(Dialect::Siemens802d, 90.0), Verdict::Run);
+        assert!(matches!(g_code(Dialect::Fanuc, 90.0), Verdict::Refused(_)));
+        assert!(matches!(g_code(Dialect::Fanuc, 91.0), Verdict::Unknown(_)));
+        assert!(matches!(
+            g_code(Dialect::Linuxcnc, 33.1),
+            Verdict::Refused(_)
+        ));
+        assert_eq!(g_code(Dialect::Linuxcnc, 33.0), Verdict::Run);
+        assert!(matches!(m_code(Dialect::Fanuc, 123.0), Verdict::Unknown(_)));
+        assert!(matches!(
+            m_code(Dialect::Siemens802d, 98.0),
+            Verdict::Refused(_)
+        ));
+    }
+}
