@@ -142,11 +142,17 @@ impl Machine<'_> {
     }
     pub(super) fn or(&self, c: &mut Cur) -> Result<f64, Fail> {
         let mut v = self.and(c)?;
-        while c.eat("OR") {
-            let w = self.and(c)?;
-            v = f64::from(z(v) != 0.0 || z(w) != 0.0);
+        loop {
+            if c.eat("OR") {
+                let w = self.and(c)?;
+                v = f64::from(z(v) != 0.0 || z(w) != 0.0);
+            } else if c.eat("XOR") {
+                let w = self.and(c)?;
+                v = f64::from((z(v) != 0.0) != (z(w) != 0.0));
+            } else {
+                return Ok(v);
+            }
         }
-        Ok(v)
     }
     pub(super) fn and(&self, c: &mut Cur) -> Result<f64, Fail> {
         let mut v = self.cmp(c)?;
@@ -216,6 +222,14 @@ impl Machine<'_> {
                     return Err((at + 1, "division by zero".into()));
                 }
                 v = z(v) / w;
+            } else if c.eat("MOD") || (c.dialect == Dialect::Siemens802d && c.eat("DIV")) {
+                let div = c.s[..c.i].ends_with(b"DIV");
+                let at = c.i;
+                let w = z(self.unary(c)?);
+                if w == 0.0 {
+                    return Err((at + 1, "division by zero".into()));
+                }
+                v = if div { (z(v) / w).trunc() } else { z(v) % w };
             } else {
                 return Ok(v);
             }
@@ -227,6 +241,9 @@ impl Machine<'_> {
         }
         if c.eat("+") {
             return self.unary(c);
+        }
+        if c.dialect == Dialect::Siemens802d && c.eat("NOT") {
+            return Ok(f64::from(z(self.unary(c)?) == 0.0));
         }
         self.primary(c)
     }
@@ -275,6 +292,14 @@ impl Machine<'_> {
             ("ABS", None) => a.abs(),
             ("SQRT", None) if a >= 0.0 => a.sqrt(),
             ("SQRT", None) => return Err((at + 1, "square root of a negative number".into())),
+            ("ASIN", None) | ("ACOS", None) if a.abs() > 1.0 => {
+                return Err((
+                    at + 1,
+                    format!("{name} of {a}: the argument must lie in -1..1"),
+                ))
+            }
+            ("ASIN", None) => a.asin().to_degrees(),
+            ("ACOS", None) => a.acos().to_degrees(),
             ("SIN", None) => deg(a).sin(),
             ("COS", None) => deg(a).cos(),
             ("TAN", None) => deg(a).tan(),

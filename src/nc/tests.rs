@@ -366,3 +366,20 @@ fn fanuc_loops_are_matched_statically() {
     assert!(e.message.contains("subprogram `O9010` not found"), "{e}");
     assert_eq!(e.others.len(), 0, "{e}");
 }
+
+#[test]
+fn operators_and_inverse_functions() {
+    // FANUC: 7 MOD 3 = 1; ASIN[0.5] = 30 deg; ACOS[0] = 90; 1 XOR 1 = 0.
+    let t = "#1=[7 MOD 3]\n#2=ASIN[0.5]\n#3=ACOS[0]\n#4=[1 XOR 1]\nG0 X[#1*10+#4] Z[#2+#3]\n";
+    let m = run(t, Dialect::Fanuc).unwrap();
+    assert_eq!((m[0].x_dia, m[0].z), (10.0, 120.0));
+    let e = run("#1=ASIN[2]\n", Dialect::Fanuc).unwrap_err();
+    assert!(e.message.contains("must lie in -1..1"), "{e}");
+    // Siemens: 7 DIV 2 = 3 (integer division), 7 MOD 2 = 1, NOT 0 = 1.
+    let m = run(
+        "R1=7 DIV 2\nR2=7 MOD 2\nR3=NOT 0\nG0 X=R1*10+R2 Z=R3\n",
+        Dialect::Siemens802d,
+    )
+    .unwrap();
+    assert_eq!((m[0].x_dia, m[0].z), (31.0, 1.0));
+}
