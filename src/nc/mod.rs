@@ -589,6 +589,7 @@ impl Machine<'_> {
                     ),
                 ));
             }
+            let before = m.moves.len();
             let step = match dialect {
                 Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
                 Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
@@ -614,6 +615,11 @@ impl Machine<'_> {
                 Ok(s) => s,
                 Err((col, msg)) => return Err(fail(&stack, col + offset, msg)),
             };
+            for mv in &m.moves[before..] {
+                if let Some(msg) = lead_problem(mv) {
+                    return Err(fail(&stack, 0, msg));
+                }
+            }
             match step {
                 Step::Next => pc += 1,
                 Step::Jump(to) => pc = to,
@@ -667,6 +673,31 @@ impl Machine<'_> {
         }
         Ok(std::mem::take(&mut m.moves))
     }
+}
+
+/// Why a thread move cannot be cut as programmed, if it cannot: a lead that is not positive
+/// at the start or that reaches zero before the end (`L^2 = F^2 + 2 K s` along z: a real
+/// control alarms), or a move without axial travel.
+fn lead_problem(mv: &Move) -> Option<String> {
+    let (f, k) = (mv.lead?, mv.lead_change.unwrap_or(0.0));
+    let s = (mv.z - mv.z_start).abs();
+    if !(f > 0.0 && f.is_finite() && k.is_finite()) {
+        return Some(format!(
+            "a thread move needs a positive lead, got {f} mm/rev"
+        ));
+    }
+    if s == 0.0 {
+        return Some(
+            "a thread move without travel along Z (a face thread) is not simulated".into(),
+        );
+    }
+    if f * f + 2.0 * k * s <= 0.0 {
+        return Some(format!(
+            "the lead {f} mm/rev changing by {k} mm/rev^2 reaches zero after {:.4} mm of this {s:.4} mm thread move (a real control alarms)",
+            f * f / (2.0 * k.abs())
+        ));
+    }
+    None
 }
 
 /// A subprogram call in progress: where to return, how many more runs of the callee, and

@@ -383,3 +383,17 @@ fn operators_and_inverse_functions() {
     .unwrap();
     assert_eq!((m[0].x_dia, m[0].z), (31.0, 1.0));
 }
+
+/// A decreasing lead that would reach zero inside the block is an alarm with the block's
+/// line: `F^2 + 2 K s = 16 - 2 * 0.5 * 20 = -4 < 0`; it reaches zero after 16 mm.
+#[test]
+fn a_lead_reaching_zero_is_an_error_at_its_block() {
+    let e = run("G0 X30 Z0\nG34 Z-20 F4 K-0.5\n", Dialect::Fanuc).unwrap_err();
+    assert_eq!(e.line, 2, "{e}");
+    assert!(e.message.contains("reaches zero after 16.0000 mm"), "{e}");
+    // 18 mm would leave sqrt(16 - 18) = imaginary as well; 15 mm leaves lead 1.
+    let m = run("G0 X30 Z0\nG34 Z-15 F4 K-0.5\n", Dialect::Fanuc).unwrap();
+    assert_eq!(m.len(), 2);
+    let e = run("G0 X30 Z0\nG33 X40 Z0 K2\n", Dialect::Siemens802d).unwrap_err();
+    assert!(e.message.contains("face thread"), "{e}");
+}
