@@ -205,6 +205,28 @@ struct RawJob {
 struct RawProgram {
     file: String,
     dialect: String,
+    /// Thread chamfer (pull-out) of G92/G76 in leads (FANUC parameter 5130 / 10).
+    #[serde(default)]
+    thread_chamfer: f64,
+    /// Work offsets `G54`..`G59` = { x = diameter, z }.
+    #[serde(default)]
+    work_offsets: std::collections::BTreeMap<String, RawOffset>,
+    /// Skip blocks that start with `/` (the operator's block-skip switch).
+    #[serde(default = "yes")]
+    block_skip: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOffset {
+    #[serde(default)]
+    x: f64,
+    #[serde(default)]
+    z: f64,
+}
+
+fn yes() -> bool {
+    true
 }
 
 #[derive(Deserialize)]
@@ -759,7 +781,7 @@ fn program_passes(
     cx: &Ctx,
     load: &dyn Fn(&str) -> Option<String>,
 ) -> Result<Vec<Pass>, JobError> {
-    use crate::nc::{interpret, Dialect, Limits, MoveKind, NcError, Source};
+    use crate::nc::{interpret_with, Dialect, Limits, MoveKind, NcError, Settings, Source};
     let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
         cx.err(
             "program.dialect",
@@ -785,7 +807,38 @@ fn program_passes(
             text,
         })
     };
-    let moves = interpret(&main, dialect, &loader, Limits::default()).map_err(JobError::Program)?;
+    let mut settings = Settings {
+        thread_chamfer: cx.non_negative("program.thread_chamfer", pr.thread_chamfer)?,
+        block_skip: pr.block_skip,
+        ..Settings::default()
+    };
+    if settings.thread_chamfer > 9.9 {
+        return Err(cx.err(
+            "program.thread_chamfer",
+            format!(
+                "expected at most 9.9 leads (FANUC's 99 x 0.1 L), got {}",
+                settings.thread_chamfer
+            ),
+        ));
+    }
+    for (name, off) in &pr.work_offsets {
+        let key = format!("program.work_offsets.{name}");
+        let i = match name.as_str() {
+            "G54" => 0,
+            "G55" => 1,
+            "G56" => 2,
+            "G57" => 3,
+            "G58" => 4,
+            "G59" => 5,
+            _ => return Err(cx.err(&key, format!("expected one of G54..G59, got `{name}`"))),
+        };
+        settings.work_offsets[i] = (
+            cx.finite(&format!("{key}.x"), off.x)?,
+            cx.finite(&format!("{key}.z"), off.z)?,
+        );
+    }
+    let moves = interpret_with(&main, dialect, &loader, Limits::default(), &settings)
+        .map_err(JobError::Program)?;
     let fail = |m: &crate::nc::Move, message: String| {
         JobError::Program(NcError {
             file: m.file.clone(),

@@ -58,7 +58,10 @@ pub use compare::{compare, Deviation, Extreme, TurnDeviation};
 pub use helix::{Hand, Helix, LeadLaw, Spindle};
 pub use job::{Blank, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
 pub use measure::{measure, MeasureConfig, TurnMeasure};
-pub use nc::{interpret, to_csv, Dialect, Limits, Move, MoveKind, NcError, Source};
+pub use nc::{
+    interpret, interpret_with, to_csv, ArcGeometry, Dialect, Limits, Move, MoveKind, NcError,
+    Settings, Source,
+};
 pub use pass::Pass;
 pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
 pub use stock::{Grid, Stock, Surface};

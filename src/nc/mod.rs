@@ -12,6 +12,8 @@
 //! - `linuxcnc`: LinuxCNC G76;
 //! - `motion`: modal state, motion words, and recording moves.
 
+#[cfg(test)]
+mod cycle_tests;
 mod expr;
 mod fanuc;
 mod linuxcnc;
@@ -79,10 +81,12 @@ pub struct Source {
 pub enum MoveKind {
     /// G0.
     Rapid,
-    /// G1 (and arcs, later).
+    /// G1.
     Feed,
     /// A spindle-synchronised threading move.
     Thread,
+    /// A circular move G02/G03 in the XZ plane (not a thread move; see [`Move::arc`]).
+    Arc,
 }
 
 impl MoveKind {
@@ -92,6 +96,7 @@ impl MoveKind {
             MoveKind::Rapid => "rapid",
             MoveKind::Feed => "feed",
             MoveKind::Thread => "thread",
+            MoveKind::Arc => "arc",
         }
     }
 }
@@ -123,6 +128,41 @@ pub struct Move {
     pub tool: Option<u32>,
     /// Spindle direction.
     pub spindle: Spindle,
+    /// Centre and sense of an arc move (`MoveKind::Arc`).
+    pub arc: Option<ArcGeometry>,
+}
+
+/// The circle of an arc move, in the XZ plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcGeometry {
+    /// Centre, as a diameter (twice the centre's distance from the axis, signed).
+    pub x_centre_dia: f64,
+    /// Centre z.
+    pub z_centre: f64,
+    /// G02: clockwise seen from +Y with Z to the right and X up (the textbook lathe view).
+    pub clockwise: bool,
+}
+
+/// What a program cannot say about the machine it runs on: set by the job (`[program]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Thread chamfer (pull-out) length of G92 and G76 in leads: FANUC parameter 5130
+    /// (in 0.1 L there). G76 `P(mmrraa)` overwrites it with `rr`/10, as on FANUC. 0 = none.
+    pub thread_chamfer: f64,
+    /// Work offsets G54..G59: (X as a diameter, Z) of each work zero in the job's frame.
+    pub work_offsets: [(f64, f64); 6],
+    /// Skip blocks that start with `/` (the block-skip switch on); false runs them.
+    pub block_skip: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Settings {
+        Settings {
+            thread_chamfer: 0.0,
+            work_offsets: [(0.0, 0.0); 6],
+            block_skip: true,
+        }
+    }
 }
 
 /// An error while interpreting.
@@ -213,20 +253,43 @@ struct Machine<'l> {
     moves: Vec<Move>,
     blocks: u64,
     g76: G76Setup,
-    /// Modal G92 target z and lead.
-    g92: Option<(f64, f64)>,
+    /// Modal G92 target z, lead and taper R (radius, start minus end).
+    g92: Option<(f64, f64, f64)>,
+    /// Thread chamfer length in leads (FANUC parameter 5130; G76 P rr sets it).
+    chamfer: f64,
+    /// Thread chamfering switched on (M23) or off (M24).
+    chamfer_on: bool,
+    /// Work offsets G54..G59 and the active one (0 = G54).
+    offsets: [(f64, f64); 6],
+    work: usize,
+    /// G96 constant surface speed (else G97 rpm), and the last S value.
+    css: bool,
+    speed: Option<f64>,
+    /// G99 feed per revolution (else G98 per minute).
+    per_rev: bool,
 }
 
 pub(super) fn deg(x: f64) -> f64 {
     x.to_radians()
 }
 
-/// Interpret a program into moves.
+/// Interpret a program into moves, with default [`Settings`].
 pub fn interpret(
     main: &Source,
     dialect: Dialect,
     loader: &dyn Fn(&str) -> Option<Source>,
     limits: Limits,
+) -> Result<Vec<Move>, NcError> {
+    interpret_with(main, dialect, loader, limits, &Settings::default())
+}
+
+/// Interpret a program into moves on a machine set up as `settings` says.
+pub fn interpret_with(
+    main: &Source,
+    dialect: Dialect,
+    loader: &dyn Fn(&str) -> Option<Source>,
+    limits: Limits,
+    settings: &Settings,
 ) -> Result<Vec<Move>, NcError> {
     let gsk = dialect == Dialect::Gsk980;
     let lcnc = dialect == Dialect::Linuxcnc;
@@ -259,8 +322,16 @@ pub fn interpret(
             d: 0.0,
         },
         g92: None,
+        chamfer: settings.thread_chamfer,
+        chamfer_on: true,
+        offsets: settings.work_offsets,
+        work: 0,
+        css: false,
+        speed: None,
+        per_rev: true,
     };
-    let mut all = load_programs(main, dialect).into_iter();
+    let skip = settings.block_skip;
+    let mut all = load_programs(main, dialect, skip).into_iter();
     let prog = std::rc::Rc::new(all.next().expect("a file gives at least one program"));
     m.register(prog.clone());
     for p in all {
@@ -362,6 +433,34 @@ pub fn interpret(
                 }
                 None => break,
             },
+            Step::ReturnTo(n) => {
+                // M99 P<n>: back to the caller's block N<n> once the last repetition ends;
+                // in the main program it ends the run, as M99 does (see `Step::ReturnTo`).
+                let target = match stack.last() {
+                    Some(top) if top.repeats_left <= 1 => match top.caller.numbers.get(&n) {
+                        Some(&k) => Some(k),
+                        None => {
+                            return Err(fail(
+                                &stack,
+                                1,
+                                format!("M99 P{n}: the calling program has no block N{n}"),
+                            ))
+                        }
+                    },
+                    _ => None,
+                };
+                match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                    Some(popped_macro) => {
+                        if popped_macro {
+                            m.locals.pop();
+                        }
+                        if let Some(k) = target {
+                            pc = k;
+                        }
+                    }
+                    None => break,
+                }
+            }
             Step::Call(name, times, args) => {
                 if stack.len() + 1 > m.limits.max_depth {
                     return Err(fail(
@@ -391,7 +490,7 @@ pub fn interpret(
                         let Some(src) = candidates.iter().find_map(|c| (m.loader)(c)) else {
                             return Err(fail(&stack, 1, format!("subprogram `{name}` not found (in this file or as {} beside it)", candidates[0])));
                         };
-                        let mut loaded = load_programs(&src, dialect).into_iter();
+                        let mut loaded = load_programs(&src, dialect, skip).into_iter();
                         let first = std::rc::Rc::new(loaded.next().expect("one program"));
                         m.register(first.clone());
                         m.programs.insert(name.clone(), first);
@@ -438,6 +537,9 @@ enum Step {
     Jump(usize),
     End,
     Return,
+    /// `M99 P<n>`: return to the block N<n> of the caller. FANUC loops a main program
+    /// from its start (or from N<n>) on M99; vpcut ends the run there instead, as on M30.
+    ReturnTo(u32),
     /// A subprogram call: name, runs, and for a G65 macro call its arguments (a new level
     /// of local variables).
     Call(String, u32, Option<Vec<(u32, f64)>>),

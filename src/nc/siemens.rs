@@ -51,7 +51,18 @@ impl Machine<'_> {
                 addr if addr.len() <= 2
                     && matches!(
                         addr,
-                        "G" | "M" | "S" | "T" | "X" | "Z" | "F" | "K" | "I" | "SF" | "D" | "P"
+                        "G" | "M"
+                            | "S"
+                            | "T"
+                            | "X"
+                            | "Z"
+                            | "F"
+                            | "K"
+                            | "I"
+                            | "SF"
+                            | "D"
+                            | "P"
+                            | "CR"
                     ) =>
                 {
                     let v = if c.eat("=") {
