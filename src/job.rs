@@ -214,6 +214,15 @@ struct RawProgram {
     /// Skip blocks that start with `/` (the operator's block-skip switch).
     #[serde(default = "yes")]
     block_skip: bool,
+    /// Where G28 goes: { x = diameter, z } in the job's frame.
+    reference_point: Option<RawPoint>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPoint {
+    x: f64,
+    z: f64,
 }
 
 #[derive(Deserialize)]
@@ -819,6 +828,12 @@ fn program_passes(
                 "expected at most 9.9 leads (FANUC's 99 x 0.1 L), got {}",
                 settings.thread_chamfer
             ),
+        ));
+    }
+    if let Some(p) = &pr.reference_point {
+        settings.reference_point = Some((
+            cx.finite("program.reference_point.x", p.x)?,
+            cx.finite("program.reference_point.z", p.z)?,
         ));
     }
     for (name, off) in &pr.work_offsets {

@@ -433,3 +433,32 @@ fn lathe_modes_are_accepted() {
     .unwrap();
     assert_eq!(moves[1].lead, Some(1.5));
 }
+
+/// G28 U0 W0 from (X30, Z5) with the reference point at (X200, Z150): the intermediate
+/// point is the current one, then one rapid home. `G28 X40` goes via X40 (same Z) and homes
+/// X only: (X40, Z5) then (X200, Z5). Without a reference point G28 is an error.
+#[test]
+fn g28_returns_via_the_intermediate_point() {
+    let s = Settings {
+        reference_point: Some((200.0, 150.0)),
+        ..Settings::default()
+    };
+    let moves = run_with(
+        "G0 X30 Z5\nG28 U0 W0\nG0 X30 Z5\nG28 X40\nG0 W-1\n",
+        Dialect::Fanuc,
+        &s,
+    )
+    .unwrap();
+    assert_path(
+        &path(&moves)[1..],
+        &[
+            (R, 30.0, 5.0, 200.0, 150.0),
+            (R, 200.0, 150.0, 30.0, 5.0),
+            (R, 30.0, 5.0, 40.0, 5.0),
+            (R, 40.0, 5.0, 200.0, 5.0),
+            (R, 200.0, 5.0, 200.0, 4.0),
+        ],
+    );
+    let e = run("G28 U0 W0\n", Dialect::Fanuc).unwrap_err();
+    assert!(e.message.contains("reference_point"), "{e}");
+}

@@ -309,6 +309,10 @@ impl Machine<'_> {
     /// passes at `d_n = max(dd*sqrt(n), d_(n-1) + dmin)` until `k - d`, one at `k - d`, then
     /// `m` at `k`, each on single-flank infeed: shifted against the cutting direction by
     /// `(k - d_n) tan(a/2)` so the trailing flank follows the final groove's wall.
+    /// Taper: `R(i)` of block 2 is the radius at the start minus the radius at the end (as
+    /// G92's R); every pass starts 2i (diameter) off its end X, both ends shifted alike.
+    /// Chamfer: `rr` of block 1 (0.1 L steps; it is FANUC's parameter 5130, so it also sets
+    /// G92's) ends every pass in a 45 deg pull-out (`cycle_pass_chamfered`).
     pub(super) fn g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
         let scale = if self.inch { 25.4 } else { 1.0 };
         let val = |k: &str| w.vals.get(k).map(|v| v.0);

@@ -153,6 +153,8 @@ pub struct Settings {
     pub work_offsets: [(f64, f64); 6],
     /// Skip blocks that start with `/` (the block-skip switch on); false runs them.
     pub block_skip: bool,
+    /// The reference point G28 returns to: (X as a diameter, Z) in the job's frame.
+    pub reference_point: Option<(f64, f64)>,
 }
 
 impl Default for Settings {
@@ -161,6 +163,7 @@ impl Default for Settings {
             thread_chamfer: 0.0,
             work_offsets: [(0.0, 0.0); 6],
             block_skip: true,
+            reference_point: None,
         }
     }
 }
@@ -267,6 +270,8 @@ struct Machine<'l> {
     speed: Option<f64>,
     /// G99 feed per revolution (else G98 per minute).
     per_rev: bool,
+    /// The G28 reference point (diameter, z), if the job gives one.
+    reference: Option<(f64, f64)>,
 }
 
 pub(super) fn deg(x: f64) -> f64 {
@@ -329,6 +334,7 @@ pub fn interpret_with(
         css: false,
         speed: None,
         per_rev: true,
+        reference: settings.reference_point,
     };
     let skip = settings.block_skip;
     let mut all = load_programs(main, dialect, skip).into_iter();

@@ -30,6 +30,7 @@ impl Machine<'_> {
     pub(super) fn apply(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
         let scale = if self.inch { 25.4 } else { 1.0 };
         let mut set_position = false;
+        let mut home = false;
         for &g in &w.g {
             match g {
                 0..=3 | 32 | 33 | 34 | 35 => self.motion = g,
@@ -45,6 +46,9 @@ impl Machine<'_> {
                 8 if self.lcnc => self.diameter_mode = false,
                 // FANUC/GSK G50 with X/Z sets the coordinates of the current position.
                 50 if self.dialect == Dialect::Fanuc && !self.lcnc => set_position = true,
+                // FANUC/GSK G28 (non-modal): rapid to the intermediate point, then to the
+                // reference point in the named axes.
+                28 if self.dialect == Dialect::Fanuc && !self.lcnc => home = true,
                 54..=59 => self.work = (g - 54) as usize,
                 96 => self.css = true,
                 97 => self.css = false,
@@ -149,6 +153,27 @@ impl Machine<'_> {
                 z = self.z + v * scale;
                 moved = true;
             }
+        }
+        if home {
+            let Some(reference) = self.reference else {
+                return Err((
+                    1,
+                    "G28 needs the machine's reference point: set [program] reference_point in the job".into(),
+                ));
+            };
+            let named = |a: &str, b: &str| w.vals.contains_key(a) || w.vals.contains_key(b);
+            let end_point = (
+                if named("X", "U") { reference.0 } else { x },
+                if named("Z", "W") { reference.1 } else { z },
+            );
+            let path = [(self.x, self.z), (x, z), end_point];
+            for seg in path.windows(2) {
+                if seg[0] != seg[1] {
+                    self.emit(prog, pc, MoveKind::Rapid, seg[0], seg[1], None);
+                }
+            }
+            (self.x, self.z) = end_point;
+            return Ok(if end { Step::End } else { Step::Next });
         }
         if set_position {
             self.x = x;

@@ -104,3 +104,82 @@ fn program_errors_name_file_line_and_caller() {
     assert!(err.contains("SUBA.SPF:2:6: division by zero"), "{err}");
     assert!(err.contains("called from MAIN.MPF:2"), "{err}");
 }
+
+/// The seed003 job with its program replaced by `program` and `[program]` keys added.
+fn program_job(program: &str, keys: &[(&str, &str)]) -> Result<vpcut::Job, vpcut::JobError> {
+    let mut edits = vec![("program", "file", "\"T.NC\"")];
+    edits.extend(keys.iter().map(|(k, v)| ("program", *k, *v)));
+    let text = with(&crate::support::scene_text("seed003-g76-2in-12tpi"), &edits);
+    let program = program.to_string();
+    vpcut::Job::from_toml_with(&text, "job.toml", &move |f: &str| {
+        (f == "T.NC").then(|| program.clone())
+    })
+}
+
+/// `thread_chamfer = 1.0` turns a G92 pass into a main pass and a chained 45 deg pull-out
+/// pass. Oracle: the pass module's own helix. The pull-out starts where the main pass ends
+/// (Z-18, 2 mm = 1 lead before Z-20), on the main helix's angle there (theta0 - spin 2pi t
+/// at t = its revolutions, mod 2 pi), and leaves by its own Z travel (2 mm) in radius.
+#[test]
+fn g92_chamfer_pass_continues_the_main_helix() {
+    let prog = "G0 X60 Z3\nM03\nG92 X48 Z-20 F2 Q30000\nM30\n";
+    let job = program_job(prog, &[("thread_chamfer", "1.0")]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(job.passes.len(), 2);
+    let (a, b) = (&job.passes[0], &job.passes[1]);
+    assert_eq!(
+        (a.z_start, a.z_end, b.z_start, b.z_end),
+        (3.0, -18.0, -18.0, -20.0)
+    );
+    assert_eq!((a.x_end, b.x_start, b.x_end), (48.0, 48.0, 52.0));
+    assert_eq!((b.lead, b.lead_change), (2.0, 0.0));
+    let h = a.helix();
+    let end = h.theta0 - h.spin * std::f64::consts::TAU * a.revolutions().unwrap();
+    let diff = (end - b.start_angle).rem_euclid(std::f64::consts::TAU);
+    assert!(
+        diff < 1e-9 || std::f64::consts::TAU - diff < 1e-9,
+        "{end} vs {}",
+        b.start_angle
+    );
+    // Without the key: one pass, as before.
+    assert_eq!(program_job(prog, &[]).unwrap().passes.len(), 1);
+}
+
+/// `work_offsets`: the G32 pass under G55 = { x = 1, z = -12.5 } is the G54 pass shifted by
+/// exactly 1 in diameter and -12.5 in z.
+#[test]
+fn g55_work_offset_shifts_a_g32_pass() {
+    let prog = "G0 X48 Z3\nG32 Z-20 F2\nM30\n";
+    let off = [("work_offsets", "{ G55 = { x = 1, z = -12.5 } }")];
+    let base = program_job(prog, &off).unwrap();
+    let g55 = program_job(&format!("G55\n{prog}"), &off).unwrap();
+    let (p, q) = (&base.passes[0], &g55.passes[0]);
+    assert_eq!((p.x_start, p.z_start, p.z_end), (48.0, 3.0, -20.0));
+    assert_eq!(
+        (q.x_start, q.x_end, q.z_start, q.z_end),
+        (49.0, 49.0, -9.5, -32.5)
+    );
+}
+
+/// `block_skip = false` runs the `/` blocks; bad `[program]` values name their key.
+#[test]
+fn program_settings_block_skip_and_errors() {
+    let prog = "G0 X48 Z3\nG32 Z-20 F2\n/G0 X48 Z3\n/G32 Z-20 F2\nM30\n";
+    assert_eq!(program_job(prog, &[]).unwrap().passes.len(), 1);
+    let run = program_job(prog, &[("block_skip", "false")]).unwrap();
+    assert_eq!(run.passes.len(), 2);
+    let e = program_job(prog, &[("thread_chamfer", "-1")])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("program.thread_chamfer") && e.contains(">= 0"),
+        "{e}"
+    );
+    let e = program_job(prog, &[("work_offsets", "{ G60 = { x = 1 } }")])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("G54..G59"), "{e}");
+    let e = program_job(prog, &[("work_offsets", "{ G55 = { y = 1 } }")])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("unknown field"), "{e}");
+}
