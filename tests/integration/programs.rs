@@ -142,6 +142,32 @@ fn g92_chamfer_pass_continues_the_main_helix() {
     );
     // Without the key: one pass, as before.
     assert_eq!(program_job(prog, &[]).unwrap().passes.len(), 1);
+    // The cut: the pull-out tip runs r(z) = 24 + (-18 - z) over [-20, -18]; the tip flat
+    // (half width w = P/12 = 0.176389) reaches lowest at a slice z when centred at z + w, so
+    // the deepest cut there is r = 6 - z - w (25 - w at z = -19). At z = -10 it is the
+    // root, 24.
+    let mut job = job;
+    job.sim.angular_cells = 360;
+    job.sim.axial_spacing = 0.02;
+    job.sim.measure_generators = 2;
+    let out = simulate(&job, &Options::default()).unwrap();
+    let st = &out.stock;
+    let deepest = |z: f64| {
+        let j = ((z - st.grid.z0) / st.grid.dz).round() as usize;
+        let r = (0..st.grid.n_theta)
+            .map(|i| st.radius(vpcut::Surface::Outer, i, j).unwrap())
+            .fold(f64::INFINITY, f64::min);
+        (st.grid.z(j), r)
+    };
+    let w = 2.1166666666666667 / 12.0;
+    let (z, r) = deepest(-19.0);
+    assert!(
+        (r - (6.0 - z - w)).abs() < 0.01,
+        "z {z}: {r} vs {}",
+        6.0 - z - w
+    );
+    let (_, r) = deepest(-10.0);
+    assert!((r - 24.0).abs() < 1e-3, "{r}");
 }
 
 /// `work_offsets`: the G32 pass under G55 = { x = 1, z = -12.5 } is the G54 pass shifted by
