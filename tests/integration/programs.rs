@@ -209,3 +209,43 @@ fn program_settings_block_skip_and_errors() {
         .to_string();
     assert!(e.contains("unknown field"), "{e}");
 }
+
+/// `vpcut toolpath --json` names arcs `arc` and gives their centre: G03 X20 Z-10 R10 from
+/// (X0, Z0) turns about (X0, Z-10) counter-clockwise (the convex quarter round).
+#[test]
+fn toolpath_json_names_arcs_with_their_centre() {
+    let dir = std::env::temp_dir().join(format!("vpcut-arc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("ARC.NC");
+    std::fs::write(&file, "G0 X0 Z0\nG03 X20 Z-10 R10\nM30\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+        .args([
+            "toolpath",
+            file.to_str().unwrap(),
+            "--dialect",
+            "fanuc",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let arc = &v[1];
+    assert_eq!(arc["kind"], "arc");
+    assert_eq!(
+        (arc["x_dia"].as_f64(), arc["z"].as_f64()),
+        (Some(20.0), Some(-10.0))
+    );
+    let c = (
+        arc["arc"]["x_centre_dia"].as_f64().unwrap(),
+        arc["arc"]["z_centre"].as_f64().unwrap(),
+    );
+    assert!(c.0.abs() < 1e-9 && (c.1 + 10.0).abs() < 1e-9, "{c:?}");
+    assert_eq!(arc["arc"]["clockwise"], false);
+    assert!(v[0]["arc"].is_null());
+}
