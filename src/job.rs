@@ -210,6 +210,37 @@ struct RawProgram {
     /// Unknown words and codes are errors, not warnings.
     #[serde(default)]
     strict: bool,
+    /// Thread chamfer (pull-out) of G92/G76 in leads (FANUC parameter 5130 / 10).
+    #[serde(default)]
+    thread_chamfer: f64,
+    /// Work offsets `G54`..`G59` = { x = diameter, z }.
+    #[serde(default)]
+    work_offsets: std::collections::BTreeMap<String, RawOffset>,
+    /// Skip blocks that start with `/` (the operator's block-skip switch).
+    #[serde(default = "yes")]
+    block_skip: bool,
+    /// Where G28 goes: { x = diameter, z } in the job's frame.
+    reference_point: Option<RawPoint>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPoint {
+    x: f64,
+    z: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOffset {
+    #[serde(default)]
+    x: f64,
+    #[serde(default)]
+    z: f64,
+}
+
+fn yes() -> bool {
+    true
 }
 
 #[derive(Deserialize)]
@@ -785,7 +816,7 @@ fn program_passes(
     load: &dyn Fn(&str) -> Option<String>,
     strict: bool,
 ) -> Result<(Vec<Pass>, Vec<crate::nc::Diagnostic>), JobError> {
-    use crate::nc::{interpret_with, Dialect, MoveKind, NcError, Options, Source};
+    use crate::nc::{interpret_with, Dialect, MoveKind, NcError, Options, Settings, Source};
     let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
         cx.err(
             "program.dialect",
@@ -811,8 +842,45 @@ fn program_passes(
             text,
         })
     };
+    let mut settings = Settings {
+        thread_chamfer: cx.non_negative("program.thread_chamfer", pr.thread_chamfer)?,
+        block_skip: pr.block_skip,
+        ..Settings::default()
+    };
+    if settings.thread_chamfer > 9.9 {
+        return Err(cx.err(
+            "program.thread_chamfer",
+            format!(
+                "expected at most 9.9 leads (FANUC's 99 x 0.1 L), got {}",
+                settings.thread_chamfer
+            ),
+        ));
+    }
+    if let Some(p) = &pr.reference_point {
+        settings.reference_point = Some((
+            cx.finite("program.reference_point.x", p.x)?,
+            cx.finite("program.reference_point.z", p.z)?,
+        ));
+    }
+    for (name, off) in &pr.work_offsets {
+        let key = format!("program.work_offsets.{name}");
+        let i = match name.as_str() {
+            "G54" => 0,
+            "G55" => 1,
+            "G56" => 2,
+            "G57" => 3,
+            "G58" => 4,
+            "G59" => 5,
+            _ => return Err(cx.err(&key, format!("expected one of G54..G59, got `{name}`"))),
+        };
+        settings.work_offsets[i] = (
+            cx.finite(&format!("{key}.x"), off.x)?,
+            cx.finite(&format!("{key}.z"), off.z)?,
+        );
+    }
     let opts = Options {
         strict: strict || pr.strict,
+        settings,
         ..Options::default()
     };
     let toolpath = interpret_with(&main, dialect, &loader, &opts)

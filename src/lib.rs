@@ -62,8 +62,8 @@ pub use helix::{Hand, Helix, LeadLaw, Spindle};
 pub use job::{Blank, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
 pub use measure::{measure, MeasureConfig, TurnMeasure};
 pub use nc::{
-    interpret, interpret_with, to_csv, Diagnostic, Dialect, Limits, Move, MoveKind, NcError,
-    Options as NcOptions, Severity, Source, Toolpath,
+    interpret, interpret_with, to_csv, ArcGeometry, Diagnostic, Dialect, Limits, Move, MoveKind,
+    NcError, Options as NcOptions, Settings, Severity, Source, Toolpath,
 };
 pub use pass::Pass;
 pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};

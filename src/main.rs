@@ -190,6 +190,10 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
                     "x_dia": m.x_dia, "x_radius": m.x_dia / 2.0, "z": m.z,
                     "lead": m.lead, "lead_change": m.lead_change,
                     "sync_angle_deg": m.sync_angle_deg, "tool": m.tool,
+                    "arc": m.arc.map(|a| serde_json::json!({
+                        "x_centre_dia": a.x_centre_dia, "z_centre": a.z_centre,
+                        "clockwise": a.clockwise,
+                    })),
                 })
             })
             .collect();

@@ -295,7 +295,9 @@ struct BlockFacts {
 
 fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(), Stop> {
     l.ws();
-    let _ = l.eat("/");
+    if l.eat("/") && l.s.get(l.i).is_some_and(u8::is_ascii_digit) {
+        l.i += 1; // a block-skip level, /1../9
+    }
     let mut g65 = false;
     let mut m98 = false;
     let mut m99 = false;
@@ -545,7 +547,9 @@ fn siemens_block(
     calls: &mut Vec<(String, usize)>,
 ) -> Result<(), Stop> {
     l.ws();
-    let _ = l.eat("/");
+    if l.eat("/") && l.s.get(l.i).is_some_and(u8::is_ascii_digit) {
+        l.i += 1; // a block-skip level, /1../9
+    }
     l.ws();
     if l.s.get(l.i) == Some(&b'N') && l.s.get(l.i + 1).is_some_and(u8::is_ascii_digit) {
         l.i += 1;

@@ -35,12 +35,13 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
     };
     match dialect {
         Dialect::Fanuc | Dialect::Gsk980 => match (g, whole) {
-            (0 | 1 | 4 | 17 | 18 | 19 | 20 | 21 | 32 | 34 | 40 | 41 | 42 | 50, true) => {
+            (0..=4 | 17 | 18 | 19 | 20 | 21 | 28 | 32 | 34 | 40 | 41 | 42 | 50, true) => {
                 Verdict::Run
             }
             (54..=59 | 65 | 76 | 92 | 96 | 97 | 98 | 99, true) => Verdict::Run,
-            (2 | 3, true) => refused("circular interpolation"),
-            (28 | 30, true) => refused("reference point return: the position after it is unknown"),
+            (30, true) => {
+                refused("second reference point return: the position after it is unknown")
+            }
             (10 | 52 | 53, true) => refused("coordinate system setting"),
             (70..=75, true) => refused("multiple repetitive cycle"),
             (90, true) => refused("outer diameter cutting cycle"),
@@ -53,14 +54,13 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             )),
         },
         Dialect::Siemens802d => match (g, whole) {
-            (0 | 1 | 4 | 9 | 17 | 18 | 19 | 25 | 26 | 33 | 34 | 35 | 40 | 41 | 42, true) => {
+            (0..=4 | 9 | 17 | 18 | 19 | 25 | 26 | 33 | 34 | 35 | 40 | 41 | 42, true) => {
                 Verdict::Run
             }
             (54..=59 | 60 | 64 | 70 | 71 | 90 | 91 | 94 | 95 | 96 | 97 | 450 | 451, true) => {
                 Verdict::Run
             }
             (500 | 601 | 602 | 603 | 700 | 710, true) => Verdict::Run,
-            (2 | 3, true) => refused("circular interpolation"),
             (74 | 75, true) => refused("reference or fixed point approach"),
             (53 | 153 | 158 | 159, true) => refused("frame or machine coordinates"),
             (110..=112, true) => refused("polar coordinates"),
@@ -72,13 +72,12 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             )),
         },
         Dialect::Linuxcnc => match (g, whole) {
-            (0 | 1 | 4 | 7 | 8 | 17 | 18 | 19 | 20 | 21 | 33 | 40 | 41 | 42 | 43 | 49, true) => {
+            (0..=4 | 7 | 8 | 17 | 18 | 19 | 20 | 21 | 33 | 40 | 41 | 42 | 43 | 49, true) => {
                 Verdict::Run
             }
             (54..=59 | 61 | 64 | 76 | 90 | 91 | 93 | 94 | 95 | 96 | 97 | 98 | 99, true) => {
                 Verdict::Run
             }
-            (2 | 3, true) => refused("circular interpolation"),
             (28 | 30, true) => refused("go to a predefined position"),
             (10 | 52 | 53 | 92, _) => refused("coordinate system offset"),
             (33, false) => refused("rigid tapping"),
@@ -154,7 +153,7 @@ pub(super) fn fanuc_address(_dialect: Dialect, letter: char) -> bool {
 pub(super) fn siemens_address(name: &str) -> bool {
     matches!(
         name,
-        "G" | "M" | "S" | "T" | "X" | "Z" | "F" | "K" | "I" | "SF" | "D" | "P"
+        "G" | "M" | "S" | "T" | "X" | "Z" | "F" | "K" | "I" | "SF" | "D" | "P" | "CR"
     )
 }
 

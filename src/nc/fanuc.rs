@@ -128,8 +128,10 @@ impl Machine<'_> {
         let mut p: Option<(f64, bool)> = None; // (value, written as #n)
         let (mut q, mut r) = (0.0, 0.0);
         let mut repeats = 1.0;
-        // Macro call arguments (specification I): letter -> local variable.
+        // Macro call arguments (specifications I and II): (local variable, value), in order.
         let mut args: Vec<(u32, f64)> = Vec::new();
+        // How many I, J, K words were read (specification II sets).
+        let mut ijk = [0u32; 3];
         while !c.done() {
             let at = c.i;
             let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
@@ -151,17 +153,43 @@ impl Machine<'_> {
                         .ok_or((c.i + 1, "expected a number".to_string()))?;
                     p = Some((v, var));
                 }
-                b'Q' => q = z(self.fanuc_value(c)?),
-                b'R' => r = z(self.fanuc_value(c)?),
+                // In a macro call Q and R are the arguments #17 and #18, set in block order
+                // (a later argument for the same variable wins).
+                b'Q' => {
+                    let v = self.fanuc_value(c)?;
+                    args.push((17, v));
+                    q = z(v);
+                }
+                b'R' => {
+                    let v = self.fanuc_value(c)?;
+                    args.push((18, v));
+                    r = z(v);
+                }
                 b'L' => repeats = z(self.fanuc_value(c)?),
+                // Argument specification II (`controllers.md` 4.4): the n-th I, J, K of the
+                // block (n = 1..10) set #(3n+1), #(3n+2), #(3n+3). The first set is
+                // specification I's #4..#6; like FANUC, a letter that repeats opens the next
+                // set, and where I and II name the same variable the later word wins.
+                b'I' | b'J' | b'K' => {
+                    let slot = usize::from(letter - b'I');
+                    let n = ijk[slot];
+                    if n >= 10 {
+                        return Err((
+                            at + 1,
+                            format!(
+                                "more than 10 `{}` arguments in one G65 (specification II)",
+                                letter as char
+                            ),
+                        ));
+                    }
+                    ijk[slot] += 1;
+                    args.push((4 + slot as u32 + 3 * n, self.fanuc_value(c)?));
+                }
                 other => {
                     let var = match other {
                         b'A' => 1,
                         b'B' => 2,
                         b'C' => 3,
-                        b'I' => 4,
-                        b'J' => 5,
-                        b'K' => 6,
                         b'D' => 7,
                         b'E' => 8,
                         b'F' => 9,
@@ -189,12 +217,6 @@ impl Machine<'_> {
             // G65 P<program> L<repeats> <arguments>: a macro call with its own locals. Q and
             // R were read as Macro A operands above; as arguments they are #17 and #18.
             let (pv, _) = p.ok_or((1, "G65 needs P (the macro program) or H".to_string()))?;
-            if q != 0.0 {
-                args.push((17, q));
-            }
-            if r != 0.0 {
-                args.push((18, r));
-            }
             let times = repeats.round().clamp(1.0, 9999.0) as u32;
             return Ok(Step::Call(
                 format!("O{}", pv.round() as u64),
@@ -282,6 +304,10 @@ impl Machine<'_> {
     /// passes at `d_n = max(dd*sqrt(n), d_(n-1) + dmin)` until `k - d`, one at `k - d`, then
     /// `m` at `k`, each on single-flank infeed: shifted against the cutting direction by
     /// `(k - d_n) tan(a/2)` so the trailing flank follows the final groove's wall.
+    /// Taper: `R(i)` of block 2 is the radius at the start minus the radius at the end (as
+    /// G92's R); every pass starts 2i (diameter) off its end X, both ends shifted alike.
+    /// Chamfer: `rr` of block 1 (0.1 L steps; it is FANUC's parameter 5130, so it also sets
+    /// G92's) ends every pass in a 45 deg pull-out (`cycle_pass_chamfered`).
     pub(super) fn g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
         let scale = if self.inch { 25.4 } else { 1.0 };
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
@@ -291,6 +317,8 @@ impl Machine<'_> {
                 let p = p.round() as u32;
                 self.g76.m = (p / 10000).max(1);
                 self.g76.r = (p / 100) % 100;
+                // As on FANUC, rr is the chamfer parameter (5130) that G92 uses too.
+                self.chamfer = self.g76.r as f64 / 10.0;
                 self.g76.a = (p % 100) as f64;
             }
             if let Some(q) = self.increment_word(w, "Q")? {
@@ -302,22 +330,19 @@ impl Machine<'_> {
             return Ok(Step::Next);
         }
         let (x0, z0) = (self.x, self.z);
+        let (ox, oz) = self.offsets[self.work];
         let x_end = match (val("X"), val("U")) {
-            (Some(x), _) => x * scale,
+            (Some(x), _) => x * scale + ox,
             (None, Some(u)) => x0 + u * scale,
             _ => x0,
         };
         let z_end = match (val("Z"), val("W")) {
-            (Some(z), _) => z * scale,
+            (Some(z), _) => z * scale + oz,
             (None, Some(wv)) => z0 + wv * scale,
             _ => z0,
         };
-        if val("R").is_some_and(|r| r != 0.0) {
-            return Err((
-                1,
-                "taper G76 (R in the second block) is not supported yet".into(),
-            ));
-        }
+        // i: taper, radius at the start minus radius at the end (as G92's R).
+        let taper = val("R").unwrap_or(0.0) * scale;
         let k = self
             .increment_word(w, "P")?
             .ok_or((1, "G76 needs P (thread height)".to_string()))?;
@@ -332,6 +357,7 @@ impl Machine<'_> {
             ));
         }
         let s = self.g76;
+        let chamfer = self.thread_chamfer(lead, z_end - z0, w)?;
         let stop = (k - s.d).max(0.0);
         let mut depths = Vec::new();
         let mut prev = 0.0;
@@ -367,7 +393,15 @@ impl Machine<'_> {
                 change: 0.0,
                 angle: 0.0,
             };
-            self.cycle_pass(prog, pc, (x0, z0), (x, zs), (x, ze), sync);
+            self.cycle_pass_chamfered(
+                prog,
+                pc,
+                (x0, z0),
+                (x + 2.0 * taper, zs),
+                (x, ze),
+                sync,
+                chamfer,
+            );
         }
         Ok(Step::Next)
     }
@@ -421,8 +455,12 @@ impl Machine<'_> {
         Ok(Step::Next)
     }
 
-    /// FANUC G92 (modal): rapid to the X of the block, thread to its Z, rapid back out in
-    /// X and back in Z to the start point. Later X-only blocks repeat it at a new depth.
+    /// FANUC G92 (modal, `controllers.md` 2.2): rapid to the X of the block (plus 2R: R is
+    /// the taper, radius at the start minus radius at the end), thread to X at its Z,
+    /// rapid back out in X and back in Z to the start point. Z(W), F and R are modal, so
+    /// later X-only blocks repeat it at a new depth. With chamfering on (M23, the default)
+    /// and a chamfer length set (`Settings::thread_chamfer`, or G76's `rr`), the thread
+    /// ends in a 45 deg pull-out over the last `chamfer x F` of Z (`cycle_pass_chamfered`).
     pub(super) fn g92(
         &mut self,
         w: &Words,
@@ -448,17 +486,52 @@ impl Machine<'_> {
                 .map(|g| g.1)
                 .ok_or((1, "G92 needs F (the lead)".to_string()))?,
         };
-        if val("R").is_some_and(|r| r != 0.0) {
-            return Err((1, "taper G92 (R) is not supported yet".into()));
-        }
-        self.g92 = Some((z_target, lead));
+        let taper = match val("R") {
+            Some(r) => r * scale,
+            None => self.g92.map_or(0.0, |g| g.2),
+        };
+        let chamfer = self.thread_chamfer(lead, z_target - z0, w)?;
+        self.g92 = Some((z_target, lead, taper));
         let q = val("Q").unwrap_or(0.0) / 1000.0;
         let sync = Sync {
             lead,
             change: 0.0,
             angle: q,
         };
-        self.cycle_pass(prog, pc, (x0, z0), (x, z0), (x, z_target), sync);
+        self.cycle_pass_chamfered(
+            prog,
+            pc,
+            (x0, z0),
+            (x + 2.0 * taper, z0),
+            (x, z_target),
+            sync,
+            chamfer,
+        );
         Ok(Step::Next)
+    }
+
+    /// The chamfer (pull-out) length in mm of a threading cycle with lead `lead` over the
+    /// Z travel `travel`: 0 when chamfering is off (M24) or no length is set; an error when
+    /// it would not be shorter than the thread.
+    fn thread_chamfer(&self, lead: f64, travel: f64, w: &Words) -> Result<f64, Fail> {
+        if !self.chamfer_on || self.chamfer <= 0.0 {
+            return Ok(0.0);
+        }
+        let len = self.chamfer * lead;
+        if len >= travel.abs() {
+            let col = ["Z", "W"]
+                .iter()
+                .find_map(|k| w.vals.get(*k))
+                .map_or(1, |v| v.1);
+            return Err((
+                col,
+                format!(
+                    "the thread chamfer ({len} mm = {} leads) is not shorter than the thread's Z travel {}",
+                    self.chamfer,
+                    travel.abs()
+                ),
+            ));
+        }
+        Ok(len)
     }
 }

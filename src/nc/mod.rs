@@ -16,6 +16,8 @@
 
 mod check;
 mod codes;
+#[cfg(test)]
+mod cycle_tests;
 mod expr;
 mod fanuc;
 mod linuxcnc;
@@ -84,10 +86,12 @@ pub struct Source {
 pub enum MoveKind {
     /// G0.
     Rapid,
-    /// G1 (and arcs, later).
+    /// G1.
     Feed,
     /// A spindle-synchronised threading move.
     Thread,
+    /// A circular move G02/G03 in the XZ plane (not a thread move; see [`Move::arc`]).
+    Arc,
 }
 
 impl MoveKind {
@@ -97,6 +101,7 @@ impl MoveKind {
             MoveKind::Rapid => "rapid",
             MoveKind::Feed => "feed",
             MoveKind::Thread => "thread",
+            MoveKind::Arc => "arc",
         }
     }
 }
@@ -128,6 +133,44 @@ pub struct Move {
     pub tool: Option<u32>,
     /// Spindle direction.
     pub spindle: Spindle,
+    /// Centre and sense of an arc move (`MoveKind::Arc`).
+    pub arc: Option<ArcGeometry>,
+}
+
+/// The circle of an arc move, in the XZ plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcGeometry {
+    /// Centre, as a diameter (twice the centre's distance from the axis, signed).
+    pub x_centre_dia: f64,
+    /// Centre z.
+    pub z_centre: f64,
+    /// G02: clockwise seen from +Y with Z to the right and X up (the textbook lathe view).
+    pub clockwise: bool,
+}
+
+/// What a program cannot say about the machine it runs on: set by the job (`[program]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Thread chamfer (pull-out) length of G92 and G76 in leads: FANUC parameter 5130
+    /// (in 0.1 L there). G76 `P(mmrraa)` overwrites it with `rr`/10, as on FANUC. 0 = none.
+    pub thread_chamfer: f64,
+    /// Work offsets G54..G59: (X as a diameter, Z) of each work zero in the job's frame.
+    pub work_offsets: [(f64, f64); 6],
+    /// Skip blocks that start with `/` (the block-skip switch on); false runs them.
+    pub block_skip: bool,
+    /// The reference point G28 returns to: (X as a diameter, Z) in the job's frame.
+    pub reference_point: Option<(f64, f64)>,
+}
+
+impl Default for Settings {
+    fn default() -> Settings {
+        Settings {
+            thread_chamfer: 0.0,
+            work_offsets: [(0.0, 0.0); 6],
+            block_skip: true,
+            reference_point: None,
+        }
+    }
 }
 
 /// How bad a diagnostic is.
@@ -301,12 +344,14 @@ impl Default for Limits {
 }
 
 /// How to interpret.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Options {
     /// Limits on executed blocks and nesting.
     pub limits: Limits,
     /// Unknown words and codes are errors instead of warnings.
     pub strict: bool,
+    /// The machine's settings that the program cannot say.
+    pub settings: Settings,
 }
 
 /// An interpreted program: its moves and the warnings found on the way.
@@ -346,8 +391,24 @@ struct Machine<'l> {
     moves: Vec<Move>,
     blocks: u64,
     g76: G76Setup,
-    /// Modal G92 target z and lead.
-    g92: Option<(f64, f64)>,
+    /// Modal G92 target z, lead and taper R (radius, start minus end).
+    g92: Option<(f64, f64, f64)>,
+    /// Thread chamfer length in leads (FANUC parameter 5130; G76 P rr sets it).
+    chamfer: f64,
+    /// Thread chamfering switched on (M23) or off (M24).
+    chamfer_on: bool,
+    /// Work offsets G54..G59 and the active one (0 = G54).
+    offsets: [(f64, f64); 6],
+    work: usize,
+    /// G96 constant surface speed (else G97 rpm), and the last S value.
+    css: bool,
+    speed: Option<f64>,
+    /// G99 feed per revolution (else G98 per minute).
+    per_rev: bool,
+    /// The G28 reference point (diameter, z), if the job gives one.
+    reference: Option<(f64, f64)>,
+    /// Skip blocks that start with `/`.
+    block_skip: bool,
     /// Unknown words and codes are errors.
     strict: bool,
     /// Warnings of the block being run: (column, message).
@@ -368,7 +429,7 @@ pub fn interpret(
 ) -> Result<Vec<Move>, NcError> {
     let opts = Options {
         limits,
-        strict: false,
+        ..Options::default()
     };
     interpret_with(main, dialect, loader, &opts).map(|t| t.moves)
 }
@@ -416,8 +477,18 @@ pub fn interpret_with(
         g92: None,
         strict: opts.strict,
         pending: Vec::new(),
+        chamfer: opts.settings.thread_chamfer,
+        chamfer_on: true,
+        offsets: opts.settings.work_offsets,
+        work: 0,
+        css: false,
+        speed: None,
+        per_rev: true,
+        reference: opts.settings.reference_point,
+        block_skip: opts.settings.block_skip,
     };
-    let mut all = load_programs(main, dialect).into_iter();
+    let skip = opts.settings.block_skip;
+    let mut all = load_programs(main, dialect, skip).into_iter();
     let prog = std::rc::Rc::new(all.next().expect("a file gives at least one program"));
     m.register(prog.clone());
     let mut to_check = vec![prog.clone()];
@@ -478,7 +549,7 @@ impl Machine<'_> {
                 ],
             };
         let src = candidates.iter().find_map(|c| (self.loader)(c))?;
-        let mut loaded = load_programs(&src, self.dialect).into_iter();
+        let mut loaded = load_programs(&src, self.dialect, self.block_skip).into_iter();
         let first = std::rc::Rc::new(loaded.next().expect("one program"));
         self.register(first.clone());
         self.programs.insert(name.to_string(), first.clone());
@@ -632,6 +703,34 @@ impl Machine<'_> {
                     }
                     None => break,
                 },
+                Step::ReturnTo(n) => {
+                    // M99 P<n>: back to the caller's block N<n> once the last repetition ends;
+                    // in the main program it ends the run, as M99 does (see `Step::ReturnTo`).
+                    let target = match stack.last() {
+                        Some(top) if top.repeats_left <= 1 => match top.caller.numbers.get(&n) {
+                            Some(&k) => Some(k),
+                            None => {
+                                return Err(fail(
+                                    &stack,
+                                    1,
+                                    format!("M99 P{n}: the calling program has no block N{n}"),
+                                ))
+                            }
+                        },
+                        _ => None,
+                    };
+                    match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                        Some(popped_macro) => {
+                            if popped_macro {
+                                m.locals.pop();
+                            }
+                            if let Some(k) = target {
+                                pc = k;
+                            }
+                        }
+                        None => break,
+                    }
+                }
                 Step::Call(name, times, args) => {
                     if stack.len() + 1 > m.limits.max_depth {
                         return Err(fail(
@@ -716,6 +815,9 @@ enum Step {
     Jump(usize),
     End,
     Return,
+    /// `M99 P<n>`: return to the block N<n> of the caller. FANUC loops a main program
+    /// from its start (or from N<n>) on M99; vpcut ends the run there instead, as on M30.
+    ReturnTo(u32),
     /// A subprogram call: name, runs, and for a G65 macro call its arguments (a new level
     /// of local variables).
     Call(String, u32, Option<Vec<(u32, f64)>>),

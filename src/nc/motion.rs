@@ -3,17 +3,38 @@
 
 use super::codes::{self, Verdict};
 use super::expr::Fail;
-use super::{Dialect, Machine, Move, MoveKind, Program, Step, Sync, Words};
-use crate::helix::Spindle;
+use super::{ArcGeometry, Dialect, Machine, Move, MoveKind, Program, Step, Sync, Words};
+use crate::helix::{LeadLaw, Spindle};
+
+/// How far an arc's end may lie off the circle through its start (mm of radius).
+pub(super) const ARC_TOLERANCE: f64 = 0.002;
+
+impl Sync {
+    /// The sync of a move that continues this one without a new index wait after `travel`
+    /// mm of axial travel: the lead and the spindle angle (mod 360) reached there.
+    pub(super) fn after(&self, travel: f64) -> Sync {
+        let law = LeadLaw {
+            f: self.lead,
+            k: self.change,
+        };
+        let t = law.revs_at(travel.abs()).unwrap_or(0.0);
+        Sync {
+            lead: law.lead(t),
+            change: self.change,
+            angle: (self.angle + 360.0 * t).rem_euclid(360.0),
+        }
+    }
+}
 
 impl Machine<'_> {
     /// Modal state and motion of one block's words.
     pub(super) fn apply(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
         let scale = if self.inch { 25.4 } else { 1.0 };
         let mut set_position = false;
+        let mut home = false;
         for &g in &w.g {
             match g {
-                0 | 1 | 32 | 33 | 34 | 35 => self.motion = g,
+                0..=3 | 32 | 33 | 34 | 35 => self.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
                 92 if self.dialect == Dialect::Fanuc && !self.lcnc => self.motion = 92,
                 // Absolute/incremental on Siemens and LinuxCNC; FANUC/GSK lathes (G-code
@@ -28,6 +49,19 @@ impl Machine<'_> {
                 8 if self.lcnc => self.diameter_mode = false,
                 // FANUC/GSK G50 with X/Z sets the coordinates of the current position.
                 50 if self.dialect == Dialect::Fanuc && !self.lcnc => set_position = true,
+                // FANUC/GSK G28 (non-modal): rapid to the intermediate point, then to the
+                // reference point in the named axes.
+                28 if self.dialect == Dialect::Fanuc && !self.lcnc => home = true,
+                54..=59 => self.work = (g - 54) as usize,
+                96 => self.css = true,
+                97 => self.css = false,
+                // Feed per minute / per revolution: G98/G99 on FANUC lathes (system A),
+                // G94/G95 on LinuxCNC and Siemens. Thread leads (F of G32/G34/G92/G76) are
+                // per revolution whichever is active.
+                98 if self.dialect == Dialect::Fanuc && !self.lcnc => self.per_rev = false,
+                99 if self.dialect == Dialect::Fanuc && !self.lcnc => self.per_rev = true,
+                94 if self.lcnc || self.dialect == Dialect::Siemens802d => self.per_rev = false,
+                95 if self.lcnc || self.dialect == Dialect::Siemens802d => self.per_rev = true,
                 other => match codes::g_code(self.real_dialect(), f64::from(other)) {
                     // Nothing vpcut simulates changes (planes, dwell, feed and speed modes).
                     Verdict::Run => {}
@@ -42,6 +76,9 @@ impl Machine<'_> {
                 3 | 13 => self.spindle = Spindle::Cw,
                 4 | 14 => self.spindle = Spindle::Ccw,
                 5 | 8 | 9 | 0 | 1 => {}
+                // Thread chamfering in G92/G76 on (M23) and off (M24), as on Mach4 lathes.
+                23 if self.dialect == Dialect::Fanuc && !self.lcnc => self.chamfer_on = true,
+                24 if self.dialect == Dialect::Fanuc && !self.lcnc => self.chamfer_on = false,
                 2 | 30 => end = true,
                 17 if self.dialect == Dialect::Siemens802d => return Ok(Step::Return),
                 98 if self.dialect == Dialect::Fanuc => {
@@ -61,11 +98,11 @@ impl Machine<'_> {
                     return Ok(Step::Call(format!("O{prog}"), times, None));
                 }
                 99 if self.dialect == Dialect::Fanuc => {
-                    if w.vals.contains_key("P") {
-                        return Err((
-                            1,
-                            "M99 P (return to a sequence number) is not supported yet".into(),
-                        ));
+                    if let Some(&(p, col)) = w.vals.get("P") {
+                        if !(0.0..=99_999.0).contains(&p) || p.fract() != 0.0 {
+                            return Err((col, format!("M99 P{p}: expected a sequence number")));
+                        }
+                        return Ok(Step::ReturnTo(p as u32));
                     }
                     return Ok(Step::Return);
                 }
@@ -86,15 +123,21 @@ impl Machine<'_> {
         }
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let scale = if self.inch { 25.4 } else { scale };
+        if let Some(s) = val("S") {
+            self.speed = Some(s);
+        }
         let mut x = self.x;
         let mut z = self.z;
         let mut moved = false;
         let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+        // Absolute X/Z are in the active work system (G54..G59): its zero lies at the
+        // offset in the job's frame.
+        let (ox, oz) = self.offsets[self.work];
         if let Some(v) = val("X").map(|v| v * xs) {
             x = if self.incremental {
                 self.x + v * scale
             } else {
-                v * scale
+                v * scale + ox
             };
             moved = true;
         }
@@ -102,7 +145,7 @@ impl Machine<'_> {
             z = if self.incremental {
                 self.z + v * scale
             } else {
-                v * scale
+                v * scale + oz
             };
             moved = true;
         }
@@ -116,6 +159,27 @@ impl Machine<'_> {
                 moved = true;
             }
         }
+        if home {
+            let Some(reference) = self.reference else {
+                return Err((
+                    1,
+                    "G28 needs the machine's reference point: set [program] reference_point in the job".into(),
+                ));
+            };
+            let named = |a: &str, b: &str| w.vals.contains_key(a) || w.vals.contains_key(b);
+            let end_point = (
+                if named("X", "U") { reference.0 } else { x },
+                if named("Z", "W") { reference.1 } else { z },
+            );
+            let path = [(self.x, self.z), (x, z), end_point];
+            for seg in path.windows(2) {
+                if seg[0] != seg[1] {
+                    self.emit(prog, pc, MoveKind::Rapid, seg[0], seg[1], None);
+                }
+            }
+            (self.x, self.z) = end_point;
+            return Ok(if end { Step::End } else { Step::Next });
+        }
         if set_position {
             self.x = x;
             self.z = z;
@@ -123,6 +187,10 @@ impl Machine<'_> {
         }
         if moved && self.dialect == Dialect::Fanuc && self.motion == 92 && !self.lcnc {
             return self.g92(w, prog, pc, x, z, scale);
+        }
+        if moved && (self.motion == 2 || self.motion == 3) {
+            self.arc(w, prog, pc, (x, z), scale)?;
+            return Ok(if end { Step::End } else { Step::Next });
         }
         if moved {
             let (kind, lead, change, angle) = match (self.dialect, self.motion) {
@@ -207,7 +275,94 @@ impl Machine<'_> {
             sync_angle_deg: sync.map(|s| s.angle),
             tool: self.tool,
             spindle: self.spindle,
+            arc: None,
         });
+    }
+
+    /// G02/G03 in the XZ plane from the current point to `end` (diameter, z): centre from
+    /// `R` (Siemens `CR=`; positive: the arc of at most 180 deg, negative: the longer one)
+    /// or from `I`/`K` (centre minus start; I is a radius value in every X mode, as FANUC
+    /// and Siemens lathes and Beckhoff's G51 diameter mode write it). The end must lie on
+    /// the circle through the start within `ARC_TOLERANCE`.
+    fn arc(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        end: (f64, f64),
+        scale: f64,
+    ) -> Result<(), Fail> {
+        let g = self.motion;
+        let cw = g == 2;
+        let radius_word = if self.dialect == Dialect::Siemens802d {
+            "CR"
+        } else {
+            "R"
+        };
+        // (u, v) = (z, radius): the plane seen from +Y, Z to the right, X up.
+        let a = (self.z, self.x / 2.0);
+        let b = (end.1, end.0 / 2.0);
+        let centre = if let Some(&(r, col)) = w.vals.get(radius_word) {
+            let r = r * scale;
+            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+            let chord = dx.hypot(dy);
+            if chord == 0.0 || r == 0.0 {
+                return Err((
+                    col,
+                    format!("G{g:02} with {radius_word}: expected a nonzero radius and an end point away from the start"),
+                ));
+            }
+            let half = chord / 2.0;
+            if half > r.abs() + ARC_TOLERANCE {
+                return Err((
+                    col,
+                    format!(
+                        "G{g:02}: the end point is {chord:.4} mm from the start, more than the diameter {:.4} of radius {}",
+                        2.0 * r.abs(),
+                        r.abs()
+                    ),
+                ));
+            }
+            let h = (r * r - half * half).max(0.0).sqrt();
+            // A counter-clockwise minor arc has its centre left of the chord a -> b.
+            let left = (-dy / chord, dx / chord);
+            let s = if cw { -1.0 } else { 1.0 } * r.signum();
+            (
+                a.0 + dx / 2.0 + s * h * left.0,
+                a.1 + dy / 2.0 + s * h * left.1,
+            )
+        } else if w.vals.contains_key("I") || w.vals.contains_key("K") {
+            let i = w.vals.get("I").map_or(0.0, |v| v.0) * scale;
+            let k = w.vals.get("K").map_or(0.0, |v| v.0) * scale;
+            let c = (a.0 + k, a.1 + i);
+            let (ra, rb) = ((a.0 - c.0).hypot(a.1 - c.1), (b.0 - c.0).hypot(b.1 - c.1));
+            if (ra - rb).abs() > ARC_TOLERANCE {
+                let col = w.vals.get("I").or(w.vals.get("K")).map_or(1, |v| v.1);
+                return Err((
+                    col,
+                    format!(
+                        "G{g:02}: the end point is off the circle: {rb:.4} mm from the centre, the start {ra:.4} mm (tolerance {ARC_TOLERANCE} mm)"
+                    ),
+                ));
+            }
+            c
+        } else {
+            return Err((
+                1,
+                format!("G{g:02} needs {radius_word} (the radius) or I/K (the centre)"),
+            ));
+        };
+        self.emit(prog, pc, MoveKind::Arc, (self.x, self.z), end, None);
+        if let Some(last) = self.moves.last_mut() {
+            last.arc = Some(ArcGeometry {
+                x_centre_dia: 2.0 * centre.1,
+                z_centre: centre.0,
+                clockwise: cw,
+            });
+        }
+        self.x = end.0;
+        self.z = end.1;
+        Ok(())
     }
 
     /// One pass of a threading cycle: rapid from `home` to the start (Z first, then X),
@@ -222,13 +377,48 @@ impl Machine<'_> {
         end: (f64, f64),
         sync: Sync,
     ) {
+        self.cycle_pass_chamfered(prog, pc, home, start, end, sync, 0.0);
+    }
+
+    /// `cycle_pass` with a thread chamfer (pull-out) of `chamfer` mm (0 = none; less than
+    /// the Z travel): the thread runs to `chamfer` before `end`'s Z, then a second thread
+    /// move, continuing the same sync (lead and spindle phase, no new index wait: see
+    /// `Sync::after`), goes out by `chamfer` in radius (45 deg) towards home's X while Z
+    /// runs on to `end`'s Z. The rapid retract then starts from there.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn cycle_pass_chamfered(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        home: (f64, f64),
+        start: (f64, f64),
+        end: (f64, f64),
+        sync: Sync,
+        chamfer: f64,
+    ) {
         let path = [home, (home.0, start.1), start];
         for w in path.windows(2) {
             if w[0] != w[1] {
                 self.emit(prog, pc, MoveKind::Rapid, w[0], w[1], None);
             }
         }
-        self.emit(prog, pc, MoveKind::Thread, start, end, Some(sync));
+        let len = (end.1 - start.1).abs();
+        let end = if chamfer > 0.0 && chamfer < len {
+            let u = (len - chamfer) / len;
+            let split = (
+                start.0 + u * (end.0 - start.0),
+                start.1 + u * (end.1 - start.1),
+            );
+            let side = if home.0 >= end.0 { 1.0 } else { -1.0 };
+            let out = (split.0 + side * 2.0 * chamfer, end.1);
+            self.emit(prog, pc, MoveKind::Thread, start, split, Some(sync));
+            let chained = sync.after(len - chamfer);
+            self.emit(prog, pc, MoveKind::Thread, split, out, Some(chained));
+            out
+        } else {
+            self.emit(prog, pc, MoveKind::Thread, start, end, Some(sync));
+            end
+        };
         let back = [end, (home.0, end.1), home];
         for w in back.windows(2) {
             if w[0] != w[1] {

@@ -34,7 +34,10 @@ fn strip_comment(line: &str, dialect: Dialect) -> String {
 
 /// The programs of a file: for FANUC syntax each `O<number>` line starts a new program
 /// (named `O<number>`, the first one also by the file's name); Siemens files hold one.
-pub(super) fn load_programs(src: &Source, dialect: Dialect) -> Vec<Program> {
+///
+/// With `skip` (the block-skip switch on) blocks that start with `/` are left out; without
+/// it the `/` (and an optional skip level 1..9 after it) is dropped and the block runs.
+pub(super) fn load_programs(src: &Source, dialect: Dialect, skip: bool) -> Vec<Program> {
     let mut out = Vec::new();
     let mut name = src.name.clone();
     let mut alias: Option<String> = None;
@@ -52,7 +55,7 @@ pub(super) fn load_programs(src: &Source, dialect: Dialect) -> Vec<Program> {
                     !t.is_empty() && t != "%"
                 };
                 if lines.iter().any(|(_, l)| real(l)) {
-                    let mut p = load_program(&name, &lines, dialect);
+                    let mut p = load_program(&name, &lines, dialect, skip);
                     p.alias = alias.take();
                     out.push(p);
                     lines.clear();
@@ -65,19 +68,29 @@ pub(super) fn load_programs(src: &Source, dialect: Dialect) -> Vec<Program> {
         }
         lines.push((i, line));
     }
-    let mut p = load_program(&name, &lines, dialect);
+    let mut p = load_program(&name, &lines, dialect, skip);
     p.alias = alias;
     out.push(p);
     out
 }
 
-fn load_program(name: &str, lines: &[(usize, &str)], dialect: Dialect) -> Program {
+fn load_program(name: &str, lines: &[(usize, &str)], dialect: Dialect, skip: bool) -> Program {
     let mut blocks = Vec::new();
     let mut labels = HashMap::new();
     let mut numbers = HashMap::new();
     for &(i, line) in lines {
-        let text = strip_comment(line, dialect);
-        if text.is_empty() || text == "%" || text.starts_with('/') {
+        let mut text = strip_comment(line, dialect);
+        if let Some(rest) = text.strip_prefix('/') {
+            if skip {
+                continue;
+            }
+            let rest = match rest.as_bytes().first() {
+                Some(b'1'..=b'9') => &rest[1..],
+                _ => rest,
+            };
+            text = rest.trim_start().to_string();
+        }
+        if text.is_empty() || text == "%" {
             continue;
         }
         let idx = blocks.len();

@@ -52,12 +52,7 @@ impl Machine<'_> {
                     self.r.insert(n, v);
                 }
                 "" => return Err((at + 1, format!("unexpected `{}`", c.s[c.i] as char))),
-                addr if addr.len() <= 2
-                    && matches!(
-                        addr,
-                        "G" | "M" | "S" | "T" | "X" | "Z" | "F" | "K" | "I" | "SF" | "D" | "P"
-                    ) =>
-                {
+                addr if codes::siemens_address(addr) => {
                     let v = if c.eat("=") {
                         self.expr(&mut c)?
                     } else {

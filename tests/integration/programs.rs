@@ -107,3 +107,148 @@ fn program_errors_name_file_line_and_caller() {
     );
     assert!(err.contains("called from MAIN.MPF:2"), "{err}");
 }
+
+/// The seed003 job with its program replaced by `program` and `[program]` keys added.
+fn program_job(program: &str, keys: &[(&str, &str)]) -> Result<vpcut::Job, vpcut::JobError> {
+    let mut edits = vec![("program", "file", "\"T.NC\"")];
+    edits.extend(keys.iter().map(|(k, v)| ("program", *k, *v)));
+    let text = with(&crate::support::scene_text("seed003-g76-2in-12tpi"), &edits);
+    let program = program.to_string();
+    vpcut::Job::from_toml_with(&text, "job.toml", &move |f: &str| {
+        (f == "T.NC").then(|| program.clone())
+    })
+}
+
+/// `thread_chamfer = 1.0` turns a G92 pass into a main pass and a chained 45 deg pull-out
+/// pass. Oracle: the pass module's own helix. The pull-out starts where the main pass ends
+/// (Z-18, 2 mm = 1 lead before Z-20), on the main helix's angle there (theta0 - spin 2pi t
+/// at t = its revolutions, mod 2 pi), and leaves by its own Z travel (2 mm) in radius.
+#[test]
+fn g92_chamfer_pass_continues_the_main_helix() {
+    let prog = "G0 X60 Z3\nM03\nG92 X48 Z-20 F2 Q30000\nM30\n";
+    let job = program_job(prog, &[("thread_chamfer", "1.0")]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(job.passes.len(), 2);
+    let (a, b) = (&job.passes[0], &job.passes[1]);
+    assert_eq!(
+        (a.z_start, a.z_end, b.z_start, b.z_end),
+        (3.0, -18.0, -18.0, -20.0)
+    );
+    assert_eq!((a.x_end, b.x_start, b.x_end), (48.0, 48.0, 52.0));
+    assert_eq!((b.lead, b.lead_change), (2.0, 0.0));
+    let h = a.helix();
+    let end = h.theta0 - h.spin * std::f64::consts::TAU * a.revolutions().unwrap();
+    let diff = (end - b.start_angle).rem_euclid(std::f64::consts::TAU);
+    assert!(
+        diff < 1e-9 || std::f64::consts::TAU - diff < 1e-9,
+        "{end} vs {}",
+        b.start_angle
+    );
+    // Without the key: one pass, as before.
+    assert_eq!(program_job(prog, &[]).unwrap().passes.len(), 1);
+    // The cut: the pull-out tip runs r(z) = 24 + (-18 - z) over [-20, -18]; the tip flat
+    // (half width w = P/12 = 0.176389) reaches lowest at a slice z when centred at z + w, so
+    // the deepest cut there is r = 6 - z - w (25 - w at z = -19). At z = -10 it is the
+    // root, 24.
+    let mut job = job;
+    job.sim.angular_cells = 360;
+    job.sim.axial_spacing = 0.02;
+    job.sim.measure_generators = 2;
+    let out = simulate(&job, &Options::default()).unwrap();
+    let st = &out.stock;
+    let deepest = |z: f64| {
+        let j = ((z - st.grid.z0) / st.grid.dz).round() as usize;
+        let r = (0..st.grid.n_theta)
+            .map(|i| st.radius(vpcut::Surface::Outer, i, j).unwrap())
+            .fold(f64::INFINITY, f64::min);
+        (st.grid.z(j), r)
+    };
+    let w = 2.1166666666666667 / 12.0;
+    let (z, r) = deepest(-19.0);
+    assert!(
+        (r - (6.0 - z - w)).abs() < 0.01,
+        "z {z}: {r} vs {}",
+        6.0 - z - w
+    );
+    let (_, r) = deepest(-10.0);
+    assert!((r - 24.0).abs() < 1e-3, "{r}");
+}
+
+/// `work_offsets`: the G32 pass under G55 = { x = 1, z = -12.5 } is the G54 pass shifted by
+/// exactly 1 in diameter and -12.5 in z.
+#[test]
+fn g55_work_offset_shifts_a_g32_pass() {
+    let prog = "G0 X48 Z3\nG32 Z-20 F2\nM30\n";
+    let off = [("work_offsets", "{ G55 = { x = 1, z = -12.5 } }")];
+    let base = program_job(prog, &off).unwrap();
+    let g55 = program_job(&format!("G55\n{prog}"), &off).unwrap();
+    let (p, q) = (&base.passes[0], &g55.passes[0]);
+    assert_eq!((p.x_start, p.z_start, p.z_end), (48.0, 3.0, -20.0));
+    assert_eq!(
+        (q.x_start, q.x_end, q.z_start, q.z_end),
+        (49.0, 49.0, -9.5, -32.5)
+    );
+}
+
+/// `block_skip = false` runs the `/` blocks; bad `[program]` values name their key.
+#[test]
+fn program_settings_block_skip_and_errors() {
+    let prog = "G0 X48 Z3\nG32 Z-20 F2\n/G0 X48 Z3\n/G32 Z-20 F2\nM30\n";
+    assert_eq!(program_job(prog, &[]).unwrap().passes.len(), 1);
+    let run = program_job(prog, &[("block_skip", "false")]).unwrap();
+    assert_eq!(run.passes.len(), 2);
+    let e = program_job(prog, &[("thread_chamfer", "-1")])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("program.thread_chamfer") && e.contains(">= 0"),
+        "{e}"
+    );
+    let e = program_job(prog, &[("work_offsets", "{ G60 = { x = 1 } }")])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("G54..G59"), "{e}");
+    let e = program_job(prog, &[("work_offsets", "{ G55 = { y = 1 } }")])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("unknown field"), "{e}");
+}
+
+/// `vpcut toolpath --json` names arcs `arc` and gives their centre: G03 X20 Z-10 R10 from
+/// (X0, Z0) turns about (X0, Z-10) counter-clockwise (the convex quarter round).
+#[test]
+fn toolpath_json_names_arcs_with_their_centre() {
+    let dir = std::env::temp_dir().join(format!("vpcut-arc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("ARC.NC");
+    std::fs::write(&file, "G0 X0 Z0\nG03 X20 Z-10 R10\nM30\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+        .args([
+            "toolpath",
+            file.to_str().unwrap(),
+            "--dialect",
+            "fanuc",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let arc = &v[1];
+    assert_eq!(arc["kind"], "arc");
+    assert_eq!(
+        (arc["x_dia"].as_f64(), arc["z"].as_f64()),
+        (Some(20.0), Some(-10.0))
+    );
+    let c = (
+        arc["arc"]["x_centre_dia"].as_f64().unwrap(),
+        arc["arc"]["z_centre"].as_f64().unwrap(),
+    );
+    assert!(c.0.abs() < 1e-9 && (c.1 + 10.0).abs() < 1e-9, "{c:?}");
+    assert_eq!(arc["arc"]["clockwise"], false);
+    assert!(v[0]["arc"].is_null());
+}
