@@ -177,6 +177,31 @@ pub struct Job {
     pub machine: Machine,
     /// Simulation settings.
     pub sim: SimConfig,
+    /// Joints of continuous thread chains in the program (see [`ChainLink`]).
+    pub chains: Vec<ChainLink>,
+}
+
+/// A program's thread move that continues the previous one without a re-sync (a chained
+/// move, [`crate::nc::Move::chained`]): where it is, and the lead law on both sides of the
+/// joint. The `thread_chain` machine check compares them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChainLink {
+    /// Index of the chained pass in [`Job::passes`].
+    pub pass: usize,
+    /// Program file of its block.
+    pub file: String,
+    /// Line of its block.
+    pub line: usize,
+    /// z of the joint (mm).
+    pub z: f64,
+    /// Lead the previous pass ended with (mm/rev).
+    pub lead_before: f64,
+    /// Lead change per revolution of the previous pass (mm/rev^2).
+    pub change_before: f64,
+    /// Start lead of the chained pass (mm/rev).
+    pub lead_after: f64,
+    /// Its lead change per revolution (mm/rev^2).
+    pub change_after: f64,
 }
 
 // ---------------------------------------------------------------------------------------
@@ -731,8 +756,15 @@ fn resolve(raw: RawJob, cx: &Ctx, load: &dyn Fn(&str) -> Option<String>) -> Resu
         }
         passes.extend(generated);
     }
+    let mut chains = Vec::new();
     if let Some(pr) = &raw.program {
-        passes.extend(program_passes(pr, &tools, cx, load)?);
+        let (more, links) = program_passes(pr, &tools, cx, load)?;
+        let offset = passes.len();
+        chains.extend(links.into_iter().map(|mut l| {
+            l.pass += offset;
+            l
+        }));
+        passes.extend(more);
     }
     if passes.is_empty() {
         return Err(cx.err(
@@ -749,16 +781,20 @@ fn resolve(raw: RawJob, cx: &Ctx, load: &dyn Fn(&str) -> Option<String>) -> Resu
         passes,
         machine,
         sim,
+        chains,
     })
 }
 
-/// Interpret the job's program and turn its threading moves into passes.
+/// Interpret the job's program and turn its threading moves into passes, with the joints
+/// of its thread chains (pass indices counted from the program's first pass). A chained
+/// move's sync angle already continues the previous move's phase (`nc::chain`), so every
+/// pass is built the same way.
 fn program_passes(
     pr: &RawProgram,
     tools: &[Tool],
     cx: &Ctx,
     load: &dyn Fn(&str) -> Option<String>,
-) -> Result<Vec<Pass>, JobError> {
+) -> Result<(Vec<Pass>, Vec<ChainLink>), JobError> {
     use crate::nc::{interpret, Dialect, Limits, MoveKind, NcError, Source};
     let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
         cx.err(
@@ -796,7 +832,8 @@ fn program_passes(
             stack: Vec::new(),
         })
     };
-    let mut out = Vec::new();
+    let mut out: Vec<Pass> = Vec::new();
+    let mut links = Vec::new();
     for m in moves.iter().filter(|m| m.kind == MoveKind::Thread) {
         let tool = match m.tool {
             Some(id) => tools.iter().position(|t| t.id == id),
@@ -829,9 +866,23 @@ fn program_passes(
         if pass.lead <= 0.0 || pass.z_start == pass.z_end || pass.revolutions().is_none() {
             return Err(fail(m, format!("threading move to z = {}: the lead is not positive all the way (a real control alarms)", m.z)));
         }
+        if m.chained {
+            if let Some(prev) = out.last() {
+                links.push(ChainLink {
+                    pass: out.len(),
+                    file: m.file.clone(),
+                    line: m.line,
+                    z: pass.z_start,
+                    lead_before: prev.end_lead().unwrap_or(prev.lead),
+                    change_before: prev.lead_change,
+                    lead_after: pass.lead,
+                    change_after: pass.lead_change,
+                });
+            }
+        }
         out.push(pass);
     }
-    Ok(out)
+    Ok((out, links))
 }
 
 fn check_pass(p: &Pass, key: &dyn Fn(&str) -> String, cx: &Ctx) -> Result<(), JobError> {

@@ -56,7 +56,7 @@ mod tool;
 
 pub use compare::{compare, Deviation, Extreme, TurnDeviation};
 pub use helix::{Hand, Helix, LeadLaw, Spindle};
-pub use job::{Blank, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
+pub use job::{Blank, ChainLink, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
 pub use measure::{measure, MeasureConfig, TurnMeasure};
 pub use nc::{interpret, to_csv, Dialect, Limits, Move, MoveKind, NcError, Source};
 pub use pass::Pass;
@@ -234,7 +234,8 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     };
     let t_measure = t0.elapsed().as_secs_f64();
 
-    let machine_issues = machine::check(&job.passes, &job.machine, &job.blank);
+    let mut machine_issues = machine::check(&job.passes, &job.machine, &job.blank);
+    machine_issues.extend(machine::chain_check(&job.chains));
     let mut report = build_report(
         job,
         &stock,
@@ -397,6 +398,7 @@ fn build_report(
             unit: match mi.kind {
                 "feed_limit" => "mm/min",
                 "axis_acceleration" => "mm/s^2",
+                "thread_chain" => "mm/rev",
                 _ => "mm",
             },
             message: mi.message.clone(),
@@ -495,7 +497,7 @@ fn build_report(
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 11] = [
+const KINDS: [&str; 12] = [
     "hand",
     "gouge",
     "leftover",
@@ -507,6 +509,7 @@ const KINDS: [&str; 11] = [
     "split_feature",
     "run_in",
     "axis_acceleration",
+    "thread_chain",
 ];
 
 fn turn_findings(

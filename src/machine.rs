@@ -7,8 +7,17 @@
 //!   with a lagging lead.
 //! - **Acceleration**: a variable lead needs a constant axial acceleration `K * (rpm/60)^2`
 //!   during the cut; more than the axis can give and it falls behind.
+//! - **Thread chains**: a thread block that continues the previous one without waiting for
+//!   the one-rev signal (continuous threading, `nc::chain`) but programs another lead law
+//!   (a different start lead or lead change): the lead jumps at the joint, which no axis
+//!   can follow (a velocity step of `dL x rpm`); Rockwell 9/Series: "Do not re-program the
+//!   G34 command in consecutive threading blocks. Doing so will cause the control to pause
+//!   axis motion ... while the axis re-synchronizes with the spindle." A warning: vpcut
+//!   cuts the programmed laws with the phase running on, and what the real axis does at the
+//!   joint (lag, or a pause and re-sync) is control-specific, so the cut shown there may
+//!   not be the machine's.
 
-use crate::job::{Blank, Machine};
+use crate::job::{Blank, ChainLink, Machine};
 use crate::pass::Pass;
 
 /// A machine check that failed.
@@ -114,6 +123,40 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
         }
     }
     out
+}
+
+/// A chained block may program its start lead rounded to the least input increment
+/// (0.001 mm) and still continue the previous law: half of it is the tolerance.
+pub(crate) const CHAIN_LEAD_TOL: f64 = 0.0005;
+
+/// The `thread_chain` check: every chain joint whose lead law jumps.
+pub(crate) fn chain_check(links: &[ChainLink]) -> Vec<MachineIssue> {
+    links
+        .iter()
+        .filter(|l| {
+            (l.lead_after - l.lead_before).abs() > CHAIN_LEAD_TOL
+                || (l.change_after - l.change_before).abs() > 1e-9
+        })
+        .map(|l| MachineIssue {
+            kind: "thread_chain",
+            error: false,
+            pass: l.pass,
+            z: l.z,
+            value: l.lead_after - l.lead_before,
+            limit: CHAIN_LEAD_TOL,
+            message: format!(
+                "pass {} ({}:{}, z = {:.4}): a continuous thread block re-programs the lead law without a re-sync: lead {:.4} -> {:.4} mm/rev, change {} -> {} mm/rev^2; the axis cannot follow the jump (some controls pause and re-sync)",
+                l.pass + 1,
+                l.file,
+                l.line,
+                l.z,
+                l.lead_before,
+                l.lead_after,
+                l.change_before,
+                l.change_after
+            ),
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -10,8 +10,11 @@
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
 //! - `siemens`: Siemens 802D blocks, labels and jumps;
 //! - `linuxcnc`: LinuxCNC G76;
-//! - `motion`: modal state, motion words, and recording moves.
+//! - `motion`: modal state, motion words, and recording moves;
+//! - `chain`: continuous threading (thread blocks that follow each other without a re-sync)
+//!   and the GSK thread run-out J/K.
 
+mod chain;
 mod expr;
 mod fanuc;
 mod linuxcnc;
@@ -117,8 +120,14 @@ pub struct Move {
     pub lead: Option<f64>,
     /// Lead change per revolution (thread moves).
     pub lead_change: Option<f64>,
-    /// Spindle angle at the sync point (deg, thread moves).
+    /// Spindle angle at the sync point (deg, thread moves). For a chained move, the spindle
+    /// angle where the previous thread move ended (its Q/SF start angle is ignored).
     pub sync_angle_deg: Option<f64>,
+    /// A thread move that continues the previous one without waiting for the spindle's
+    /// one-rev signal (continuous threading: a thread block right after a thread block, or
+    /// the GSK run-out segment of its own block). Its phase continues; its lead is what its
+    /// block programs.
+    pub chained: bool,
     /// Active tool number (T0101 and T1 are tool 1).
     pub tool: Option<u32>,
     /// Spindle direction.
@@ -215,6 +224,13 @@ struct Machine<'l> {
     g76: G76Setup,
     /// Modal G92 target z and lead.
     g92: Option<(f64, f64)>,
+    /// GSK modal thread run-out: J (short axis, signed, radius) and K (long axis, `None` =
+    /// as long as |J|), in mm.
+    runout: (Option<f64>, Option<f64>),
+    /// Spindle angle (deg) where the last thread block's move ended, and its Z direction,
+    /// while the next thread block would continue it without a re-sync; `None` once
+    /// anything else moved.
+    chain_end: Option<(f64, f64)>,
 }
 
 pub(super) fn deg(x: f64) -> f64 {
@@ -259,6 +275,8 @@ pub fn interpret(
             d: 0.0,
         },
         g92: None,
+        runout: (None, None),
+        chain_end: None,
     };
     let mut all = load_programs(main, dialect).into_iter();
     let prog = std::rc::Rc::new(all.next().expect("a file gives at least one program"));
