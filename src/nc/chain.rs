@@ -39,15 +39,18 @@ use super::expr::Fail;
 use super::{Machine, MoveKind, Program, Sync, Words};
 use crate::helix::LeadLaw;
 
+/// A point of the tool path: (diameter, z) in mm.
+type Point = (f64, f64);
+
 /// Where a run-out splits a thread block from `start` to `end` (diameter, z) whose long
 /// axis is Z: the split point on the programmed line `k` before the end, and the run-out's
 /// end point `(x_end + 2j, z_end)`. `Err` says why not.
 pub(super) fn runout_split(
-    start: (f64, f64),
-    end: (f64, f64),
+    start: Point,
+    end: Point,
     j: f64,
     k: f64,
-) -> Result<((f64, f64), (f64, f64)), String> {
+) -> Result<(Point, Point), String> {
     let dz = end.1 - start.1;
     if (end.0 - start.0).abs() / 2.0 > dz.abs() {
         return Err(
@@ -100,7 +103,7 @@ impl Machine<'_> {
         w: &Words,
         prog: &Program,
         pc: usize,
-        end: (f64, f64),
+        end: Point,
         mut sync: Sync,
         scale: f64,
     ) -> Result<(), Fail> {

@@ -104,3 +104,36 @@ fn program_errors_name_file_line_and_caller() {
     assert!(err.contains("SUBA.SPF:2:6: division by zero"), "{err}");
     assert!(err.contains("called from MAIN.MPF:2"), "{err}");
 }
+
+/// A chained FANUC G32 that re-programs the lead shows in the report as a `thread_chain`
+/// warning on the chained pass (2), at the joint z = -7, with the jump 3 - 2 = 1 mm/rev;
+/// the same program with a rapid between the blocks (a re-sync) has none.
+#[test]
+fn thread_chain_finding_in_the_report() {
+    let toml = "[blank]\ndiameter = 30.0\nlength = 40.0\n\
+                [thread]\nform = \"square\"\nmajor_diameter = 30.0\nminor_diameter = 29.0\n\
+                pitch = 2.0\nturns = 3\nz_start = -2.0\nwidth = { groove = 1.0 }\n\
+                [[tool]]\nid = 1\nkind = \"grooving\"\nwidth = 1.0\n\
+                [program]\nfile = \"P.NC\"\ndialect = \"fanuc\"\n\
+                [simulation]\naxial_spacing = 0.05\nangular_cells = 90\nmeasure_generators = 1\n";
+    let report = |program: &'static str| {
+        let load = |f: &str| (f == "P.NC").then(|| program.to_string());
+        let job = vpcut::Job::from_toml_with(toml, "t.toml", &load).unwrap();
+        simulate(&job, &Options::default()).unwrap().report
+    };
+    let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG32 Z-20 F3\nM30\n");
+    let chain: Vec<_> = r
+        .findings
+        .iter()
+        .filter(|f| f.kind == "thread_chain")
+        .collect();
+    assert_eq!(chain.len(), 1, "{:?}", r.findings);
+    let f = chain[0];
+    assert_eq!(
+        (f.severity, f.pass, f.z_mm, f.value, f.unit),
+        ("warning", Some(2), Some(-7.0), 1.0, "mm/rev")
+    );
+    assert!(f.message.contains("P.NC:4"), "{}", f.message);
+    let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG0 X31\nG0 X29\nG32 Z-20 F3\nM30\n");
+    assert!(r.findings.iter().all(|f| f.kind != "thread_chain"));
+}
