@@ -322,5 +322,13 @@ mod tests {
         let e = interpret(&src, Dialect::Gsk980, &|_| None, Limits::default()).unwrap_err();
         assert_eq!((e.line, e.col), (2, 14), "{e}");
         assert!(e.message.contains("not shorter"), "{e}");
+        // F1 reaches lead 0 after 10 revolutions, 5 mm: never at the split (23 mm).
+        let src = Source {
+            name: "T.NC".into(),
+            text: "G0 X50 Z5\nG34 Z-20 F1 J1 K2 R-0.1\n".into(),
+        };
+        let e = interpret(&src, Dialect::Gsk980, &|_| None, Limits::default()).unwrap_err();
+        assert_eq!(e.line, 2, "{e}");
+        assert!(e.message.contains("lead would reach zero"), "{e}");
     }
 }
