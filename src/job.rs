@@ -179,6 +179,31 @@ pub struct Job {
     pub sim: SimConfig,
     /// Warnings from interpreting the `[program]` (skipped unknown words and codes).
     pub program_warnings: Vec<crate::nc::Diagnostic>,
+    /// Joints of continuous thread chains in the program (see [`ChainLink`]).
+    pub chains: Vec<ChainLink>,
+}
+
+/// A program's thread move that continues the previous one without a re-sync (a chained
+/// move, [`crate::nc::Move::chained`]): where it is, and the lead law on both sides of the
+/// joint. The `thread_chain` machine check compares them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChainLink {
+    /// Index of the chained pass in [`Job::passes`].
+    pub pass: usize,
+    /// Program file of its block.
+    pub file: String,
+    /// Line of its block.
+    pub line: usize,
+    /// z of the joint (mm).
+    pub z: f64,
+    /// Lead the previous pass ended with (mm/rev).
+    pub lead_before: f64,
+    /// Lead change per revolution of the previous pass (mm/rev^2).
+    pub change_before: f64,
+    /// Start lead of the chained pass (mm/rev).
+    pub lead_after: f64,
+    /// Its lead change per revolution (mm/rev^2).
+    pub change_after: f64,
 }
 
 // ---------------------------------------------------------------------------------------
@@ -784,9 +809,19 @@ fn resolve(
         passes.extend(generated);
     }
     let mut program_warnings = Vec::new();
+    let mut chains = Vec::new();
     if let Some(pr) = &raw.program {
-        let (p, w) = program_passes(pr, &tools, cx, load, strict)?;
-        passes.extend(p);
+        let ProgramPasses {
+            passes: more,
+            links,
+            warnings: w,
+        } = program_passes(pr, &tools, cx, load, strict)?;
+        let offset = passes.len();
+        chains.extend(links.into_iter().map(|mut l| {
+            l.pass += offset;
+            l
+        }));
+        passes.extend(more);
         program_warnings = w;
     }
     if passes.is_empty() {
@@ -805,17 +840,29 @@ fn resolve(
         machine,
         sim,
         program_warnings,
+        chains,
     })
 }
 
-/// Interpret the job's program and turn its threading moves into passes.
+/// What a job's program gives: its passes, the joints of its thread chains and the
+/// interpreter's warnings.
+struct ProgramPasses {
+    passes: Vec<Pass>,
+    links: Vec<ChainLink>,
+    warnings: Vec<crate::nc::Diagnostic>,
+}
+
+/// Interpret the job's program and turn its threading moves into passes, with the joints
+/// of its thread chains (pass indices counted from the program's first pass). A chained
+/// move's sync angle already continues the previous move's phase (`nc::chain`), so every
+/// pass is built the same way.
 fn program_passes(
     pr: &RawProgram,
     tools: &[Tool],
     cx: &Ctx,
     load: &dyn Fn(&str) -> Option<String>,
     strict: bool,
-) -> Result<(Vec<Pass>, Vec<crate::nc::Diagnostic>), JobError> {
+) -> Result<ProgramPasses, JobError> {
     use crate::nc::{interpret_with, Dialect, MoveKind, NcError, Options, Settings, Source};
     let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
         cx.err(
@@ -898,7 +945,8 @@ fn program_passes(
             others: Vec::new(),
         }))
     };
-    let mut out = Vec::new();
+    let mut out: Vec<Pass> = Vec::new();
+    let mut links = Vec::new();
     for m in moves.iter().filter(|m| m.kind == MoveKind::Thread) {
         let tool = match m.tool {
             Some(id) => tools.iter().position(|t| t.id == id),
@@ -931,9 +979,27 @@ fn program_passes(
         if pass.lead <= 0.0 || pass.z_start == pass.z_end || pass.revolutions().is_none() {
             return Err(fail(m, format!("threading move to z = {}: the lead is not positive all the way (a real control alarms)", m.z)));
         }
+        if m.chained {
+            if let Some(prev) = out.last() {
+                links.push(ChainLink {
+                    pass: out.len(),
+                    file: m.file.clone(),
+                    line: m.line,
+                    z: pass.z_start,
+                    lead_before: prev.end_lead().unwrap_or(prev.lead),
+                    change_before: prev.lead_change,
+                    lead_after: pass.lead,
+                    change_after: pass.lead_change,
+                });
+            }
+        }
         out.push(pass);
     }
-    Ok((out, toolpath.warnings))
+    Ok(ProgramPasses {
+        passes: out,
+        links,
+        warnings: toolpath.warnings,
+    })
 }
 
 fn check_pass(p: &Pass, key: &dyn Fn(&str) -> String, cx: &Ctx) -> Result<(), JobError> {

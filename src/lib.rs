@@ -59,7 +59,7 @@ mod tool;
 
 pub use compare::{compare, Deviation, Extreme, TurnDeviation};
 pub use helix::{Hand, Helix, LeadLaw, Spindle};
-pub use job::{Blank, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
+pub use job::{Blank, ChainLink, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
 pub use measure::{measure, MeasureConfig, TurnMeasure};
 pub use nc::{
     interpret, interpret_with, to_csv, ArcGeometry, Diagnostic, Dialect, Limits, Move, MoveKind,
@@ -240,7 +240,11 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     };
     let t_measure = t0.elapsed().as_secs_f64();
 
-    let machine_issues = machine::check(&job.passes, &job.machine, &job.blank);
+    let mut machine_issues = machine::check(&job.passes, &job.machine, &job.blank);
+    // A chained pass (continuous threading, a GSK run-out) is already at speed: it needs
+    // no run-in of its own.
+    machine_issues.retain(|i| i.kind != "run_in" || job.chains.iter().all(|c| c.pass != i.pass));
+    machine_issues.extend(machine::chain_check(&job.chains));
     let mut report = build_report(
         job,
         &stock,
@@ -403,6 +407,7 @@ fn build_report(
             unit: match mi.kind {
                 "feed_limit" => "mm/min",
                 "axis_acceleration" => "mm/s^2",
+                "thread_chain" => "mm/rev",
                 _ => "mm",
             },
             message: mi.message.clone(),
@@ -516,7 +521,7 @@ fn build_report(
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 12] = [
+const KINDS: [&str; 13] = [
     "hand",
     "gouge",
     "leftover",
@@ -529,6 +534,7 @@ const KINDS: [&str; 12] = [
     "run_in",
     "axis_acceleration",
     "program",
+    "thread_chain",
 ];
 
 fn turn_findings(

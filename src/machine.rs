@@ -7,8 +7,17 @@
 //!   with a lagging lead.
 //! - **Acceleration**: a variable lead needs a constant axial acceleration `K * (rpm/60)^2`
 //!   during the cut; more than the axis can give and it falls behind.
+//! - **Thread chains**: a thread block that continues the previous one without waiting for
+//!   the one-rev signal (continuous threading, `nc::chain`) but programs another lead law
+//!   (a different start lead or lead change): the lead jumps at the joint, which no axis
+//!   can follow (a velocity step of `dL x rpm`); Rockwell 9/Series: "Do not re-program the
+//!   G34 command in consecutive threading blocks. Doing so will cause the control to pause
+//!   axis motion ... while the axis re-synchronizes with the spindle." A warning: vpcut
+//!   cuts the programmed laws with the phase running on, and what the real axis does at the
+//!   joint (lag, or a pause and re-sync) is control-specific, so the cut shown there may
+//!   not be the machine's.
 
-use crate::job::{Blank, Machine};
+use crate::job::{Blank, ChainLink, Machine};
 use crate::pass::Pass;
 
 /// A machine check that failed.
@@ -116,6 +125,40 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
     out
 }
 
+/// A chained block may program its start lead rounded to the least input increment
+/// (0.001 mm) and still continue the previous law: half of it is the tolerance.
+pub(crate) const CHAIN_LEAD_TOL: f64 = 0.0005;
+
+/// The `thread_chain` check: every chain joint whose lead law jumps.
+pub(crate) fn chain_check(links: &[ChainLink]) -> Vec<MachineIssue> {
+    links
+        .iter()
+        .filter(|l| {
+            (l.lead_after - l.lead_before).abs() > CHAIN_LEAD_TOL
+                || (l.change_after - l.change_before).abs() > 1e-9
+        })
+        .map(|l| MachineIssue {
+            kind: "thread_chain",
+            error: false,
+            pass: l.pass,
+            z: l.z,
+            value: l.lead_after - l.lead_before,
+            limit: CHAIN_LEAD_TOL,
+            message: format!(
+                "pass {} ({}:{}, z = {:.4}): a continuous thread block re-programs the lead law without a re-sync: lead {:.4} -> {:.4} mm/rev, change {} -> {} mm/rev^2; the axis cannot follow the jump (some controls pause and re-sync)",
+                l.pass + 1,
+                l.file,
+                l.line,
+                l.z,
+                l.lead_before,
+                l.lead_after,
+                l.change_before,
+                l.change_after
+            ),
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -153,5 +196,97 @@ mod tests {
         assert!(feed.error);
         // Run-in: v = 4*200/60 = 13.33 mm/s, needs 0.0889 mm; 5.5 available.
         assert!(issues.iter().all(|i| i.kind != "run_in"));
+    }
+
+    /// A job whose `[program]` is `text` (dialect `dialect`), one 2 mm grooving tool.
+    fn program_job(text: &str, dialect: &str, spindle: &str) -> crate::job::Job {
+        let toml = format!(
+            "[blank]\ndiameter = 30.0\nlength = 60.0\n\
+             [thread]\nform = \"square\"\nmajor_diameter = 30.0\nminor_diameter = 28.0\n\
+             pitch = 2.0\nturns = 5\nwidth = {{ groove = 1.0 }}\n\
+             [[tool]]\nid = 1\nkind = \"grooving\"\nwidth = 1.0\n\
+             [program]\nfile = \"P.NC\"\ndialect = \"{dialect}\"\n\
+             [machine]\nspindle = \"{spindle}\"\n"
+        );
+        let load = |f: &str| (f == "P.NC").then(|| text.to_string());
+        crate::job::Job::from_toml_with(&toml, "t.toml", &load).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// Two chained G32 blocks of one lead cut exactly the helix of one block: at every
+    /// revolution of the second pass its point (angle on the part, z) is the single block's
+    /// at `t + 3.5` (F2 over the first 7 mm), in both spindle directions; closed form
+    /// `theta(t) = theta0 - spin 2 pi t`, `z(t) = z0 - 2t`.
+    #[test]
+    fn chained_g32_blocks_cut_one_helix() {
+        for (m, spindle) in [("M03", "cw"), ("M04", "ccw")] {
+            let one = program_job(
+                &format!("{m}\nG0 X28 Z5\nG32 Z-15 F2\nM30\n"),
+                "fanuc",
+                spindle,
+            );
+            let two = program_job(
+                &format!("{m}\nG0 X28 Z5\nG32 Z-2 F2 Q45000\nG32 Z-15 F2 Q90000\nM30\n"),
+                "fanuc",
+                spindle,
+            );
+            assert_eq!((one.passes.len(), two.passes.len()), (1, 2));
+            let single = one.passes[0].helix();
+            let spin = if spindle == "cw" { 1.0 } else { -1.0 };
+            // The first block's Q45000 is a real start angle: the whole chain is turned
+            // by it against the single block (Q0).
+            let q = -spin * 45f64.to_radians();
+            for (i, p) in two.passes.iter().enumerate() {
+                let t0 = if i == 0 { 0.0 } else { 3.5 };
+                let h = p.helix();
+                for k in 0..5 {
+                    let t = k as f64 * 0.7;
+                    let want_theta = single.theta0 + q - spin * std::f64::consts::TAU * (t + t0);
+                    let d = (h.theta0 - spin * std::f64::consts::TAU * t - want_theta)
+                        .rem_euclid(std::f64::consts::TAU);
+                    assert!(
+                        d < 1e-9 || std::f64::consts::TAU - d < 1e-9,
+                        "{m} pass {i} t {t}: {d}"
+                    );
+                    assert!((h.z(t) - single.z(t + t0)).abs() < 1e-9);
+                }
+            }
+            // A pure continuation: no thread_chain finding.
+            assert!(chain_check(&two.chains).is_empty());
+            assert_eq!(two.chains.len(), 1);
+        }
+    }
+
+    /// The thread_chain check fires where a chained block re-programs the lead (F) or the
+    /// lead change (K), and stays silent for a continuation whose F is the previous end
+    /// lead rounded to 0.001 (sqrt(16 + 2 x 12) = 6.32456 -> F6.325).
+    #[test]
+    fn thread_chain_fires_for_a_reprogrammed_law() {
+        let base = "M03\nG0 X28 Z5\nG34 Z-7 F4 K1\n";
+        let job = |second: &str| program_job(&format!("{base}{second}\nM30\n"), "fanuc", "cw");
+        let j = job("G34 Z-20 F6.325 K1");
+        assert_eq!(j.chains.len(), 1);
+        assert!(chain_check(&j.chains).is_empty());
+        let j = job("G34 Z-20 F7 K1");
+        let issues = chain_check(&j.chains);
+        assert_eq!(issues.len(), 1);
+        let i = &issues[0];
+        assert_eq!(
+            (i.kind, i.error, i.pass, i.z),
+            ("thread_chain", false, 1, -7.0)
+        );
+        assert!((i.value - (7.0 - 40f64.sqrt())).abs() < 1e-12, "{i:?}");
+        assert!(i.message.contains("P.NC:4"), "{}", i.message);
+        assert_eq!(chain_check(&job("G34 Z-20 F6.325 K2").chains).len(), 1);
+        assert_eq!(chain_check(&job("G32 Z-20 F6.325").chains).len(), 1);
+        // Not chained: a rapid between the blocks re-syncs, nothing to report.
+        assert!(job("G0 X29\nG34 Z-20 F7 K1").chains.is_empty());
+        // GSK: the run-out segment continues its block's law exactly.
+        let gsk = program_job(
+            "M03\nG0 X28 Z5\nG34 Z-20 F4 J1 K2 R0.5\nM30\n",
+            "gsk980",
+            "cw",
+        );
+        assert_eq!((gsk.passes.len(), gsk.chains.len()), (2, 1));
+        assert!(chain_check(&gsk.chains).is_empty());
     }
 }

@@ -262,8 +262,8 @@ pub struct TurnRow {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Finding {
     /// `gouge`, `leftover`, `lead`, `groove_width`, `tooth_width`, `missing_feature`,
-    /// `split_feature`, `feed_limit`, `run_in`, `axis_acceleration`, `program` (a warning
-    /// from interpreting the NC program: a skipped unknown word or code).
+    /// `split_feature`, `feed_limit`, `run_in`, `axis_acceleration`, `thread_chain`,
+    /// `program` (a warning from interpreting the NC program: a skipped unknown word or code).
     pub kind: &'static str,
     /// `error` (fails the job) or `warning`.
     pub severity: &'static str,
@@ -281,7 +281,7 @@ pub struct Finding {
     pub z_mm: Option<f64>,
     /// The value (unit in `unit`).
     pub value: f64,
-    /// `mm`, `mm/min`, `mm/s^2`.
+    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`.
     pub unit: &'static str,
     /// One line for a person.
     pub message: String,

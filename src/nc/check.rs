@@ -8,9 +8,11 @@
 //!   unknown functions in expressions;
 //! - words and codes: address letters, G and M codes that vpcut does not know are warnings
 //!   (errors in strict mode); at run time they are skipped ([`super::codes`]);
-//! - control flow that is written out: `GOTO n`/`IF .. GOTO n`/`M99 P n` targets, Siemens
-//!   `GOTOF`/`GOTOB` labels and their direction, `WHILE .. DOn`/`ENDn` pairs and their
-//!   numbers, subprograms called by a literal name or number that cannot be found.
+//! - control flow that is written out: `WHILE .. DOn`/`ENDn` pairs and their numbers and
+//!   Siemens `GOTOF`/`GOTOB` directions (errors); `GOTO n`/`IF .. GOTO n`/Macro A jump
+//!   targets, Siemens labels and subprograms called by a literal name or number that cannot
+//!   be found (warnings: a control alarms only when it reaches them, so a program whose
+//!   dead branch calls a missing program still runs; the run stops if one is reached).
 //!
 //! What needs the values of variables (a computed jump, a division by zero, a lead that
 //! reaches zero) is found at run time, where the interpreter stops at the first such error.
@@ -710,9 +712,9 @@ pub(super) fn check_program(
                     match prog.labels.get(&target) {
                         None => found.push((
                             col,
-                            Severity::Error,
+                            Severity::Warning,
                             format!("label `{target}` not found in {}", prog.name),
-                            Some("a label is written `NAME:` at the start of a block".into()),
+                            Some("a label is written `NAME:` at the start of a block; the run stops here if the jump is taken".into()),
                         )),
                         Some(&to) if kw == "GOTOF" && to <= idx => found.push((
                             col,
@@ -733,9 +735,9 @@ pub(super) fn check_program(
                     if !find(&name) {
                         found.push((
                             col,
-                            Severity::Error,
+                            Severity::Warning,
                             format!("subprogram `{name}` not found (in this file or as {name}.SPF beside it)"),
-                            None,
+                            Some("a control alarms only when the call or jump is reached, and so does vpcut".into()),
                         ));
                     }
                 }
@@ -753,9 +755,9 @@ pub(super) fn check_program(
                     if !prog.numbers.contains_key(&n) {
                         found.push((
                             col,
-                            Severity::Error,
+                            Severity::Warning,
                             format!("no block N{n} in {}", prog.name),
-                            None,
+                            Some("a control alarms only when the call or jump is reached, and so does vpcut".into()),
                         ));
                     }
                 }
@@ -789,12 +791,12 @@ pub(super) fn check_program(
                     if !find(&name) {
                         found.push((
                             col,
-                            Severity::Error,
+                            Severity::Warning,
                             format!(
-                                "subprogram `{name}` not found (in this file or as {} beside it)",
+                                "subprogram {} not found (in this file or as {0} beside it)",
                                 codes::fanuc_file_name(&name)
                             ),
-                            None,
+                            Some("a control alarms only when the call or jump is reached, and so does vpcut".into()),
                         ));
                     }
                 }

@@ -2,7 +2,7 @@
 //! G65 macro calls, the two-block G76, the modal G92 and GSK's G34.
 
 use super::expr::{z, Cur, Fail};
-use super::{Machine, MoveKind, Program, Step, Sync, Words};
+use super::{Machine, Program, Step, Sync, Words};
 
 impl Machine<'_> {
     pub(super) fn fanuc_block(
@@ -407,10 +407,8 @@ impl Machine<'_> {
     }
 
     /// GSK 980TDC `G34 X(U) Z(W) F(I) J K R` (`domain.md` section 3, seed 000): F start
-    /// lead (or I threads per inch), R lead change per revolution. The run-out words J/K
-    /// are refused for now: where the tool ends after a run-out (and so what the next
-    /// incremental move starts from) is not documented in our sources, and seed 000's
-    /// `U-10.2 ... U10` cycle only makes sense for one of the readings.
+    /// lead (or I threads per inch), R lead change per revolution, J/K the thread run-out
+    /// (`Machine::thread_block`, `chain.rs`).
     pub(super) fn gsk_g34(
         &mut self,
         w: &Words,
@@ -426,32 +424,13 @@ impl Machine<'_> {
             (None, Some(tpi)) if tpi > 0.0 => 25.4 / tpi,
             _ => return Err((1, "G34 needs F (lead) or I (threads per inch)".into())),
         };
-        for k in ["J", "K"] {
-            if let Some(&(v, col)) = w.vals.get(k) {
-                if v != 0.0 {
-                    return Err((
-                        col,
-                        format!("G34 thread run-out ({k}) is not supported yet"),
-                    ));
-                }
-            }
-        }
         let change = val("R").unwrap_or(0.0) * scale;
         let sync = Sync {
             lead,
             change,
             angle: 0.0,
         };
-        self.emit(
-            prog,
-            pc,
-            MoveKind::Thread,
-            (self.x, self.z),
-            (x, z),
-            Some(sync),
-        );
-        self.x = x;
-        self.z = z;
+        self.thread_block(w, prog, pc, (x, z), sync, scale)?;
         Ok(Step::Next)
     }
 

@@ -12,8 +12,11 @@
 //! - `linuxcnc`: LinuxCNC G76;
 //! - `motion`: modal state, motion words, and recording moves;
 //! - `codes`: which G/M codes and words each dialect runs, refuses or does not know;
-//! - `check`: the static check of every block before anything runs (all problems at once).
+//! - `check`: the static check of every block before anything runs (all problems at once);
+//! - `chain`: continuous threading (thread blocks that follow each other without a re-sync)
+//!   and the GSK thread run-out J/K.
 
+mod chain;
 mod check;
 mod codes;
 #[cfg(test)]
@@ -127,8 +130,14 @@ pub struct Move {
     pub lead: Option<f64>,
     /// Lead change per revolution (thread moves).
     pub lead_change: Option<f64>,
-    /// Spindle angle at the sync point (deg, thread moves).
+    /// Spindle angle at the sync point (deg, thread moves). For a chained move, the spindle
+    /// angle where the previous thread move ended (its Q/SF start angle is ignored).
     pub sync_angle_deg: Option<f64>,
+    /// A thread move that continues the previous one without waiting for the spindle's
+    /// one-rev signal (continuous threading: a thread block right after a thread block, or
+    /// the GSK run-out segment of its own block). Its phase continues; its lead is what its
+    /// block programs.
+    pub chained: bool,
     /// Active tool number (T0101 and T1 are tool 1).
     pub tool: Option<u32>,
     /// Spindle direction.
@@ -413,6 +422,13 @@ struct Machine<'l> {
     strict: bool,
     /// Warnings of the block being run: (column, message).
     pending: Vec<(usize, String)>,
+    /// GSK modal thread run-out: J (short axis, signed, radius) and K (long axis, `None` =
+    /// as long as |J|), in mm.
+    runout: (Option<f64>, Option<f64>),
+    /// Spindle angle (deg) where the last thread block's move ended, and its Z direction,
+    /// while the next thread block would continue it without a re-sync; `None` once
+    /// anything else moved.
+    chain_end: Option<(f64, f64)>,
 }
 
 pub(super) fn deg(x: f64) -> f64 {
@@ -486,6 +502,8 @@ pub fn interpret_with(
         per_rev: true,
         reference: opts.settings.reference_point,
         block_skip: opts.settings.block_skip,
+        runout: (None, None),
+        chain_end: None,
     };
     let skip = opts.settings.block_skip;
     let mut all = load_programs(main, dialect, skip).into_iter();

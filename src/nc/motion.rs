@@ -72,6 +72,11 @@ impl Machine<'_> {
         }
         let mut end = false;
         for &mc in &w.m {
+            if matches!(mc, 3..=5 | 13 | 14) {
+                // A spindle start, stop or reversal: the next thread block waits for the
+                // one-rev signal again.
+                self.chain_end = None;
+            }
             match mc {
                 3 | 13 => self.spindle = Spindle::Cw,
                 4 | 14 => self.spindle = Spindle::Ccw,
@@ -115,6 +120,8 @@ impl Machine<'_> {
         }
         if let Some(&(t, _)) = w.vals.get("T") {
             let t = t.round() as u32;
+            // A tool change: the next thread block starts a new chain.
+            self.chain_end = None;
             self.tool = Some(if self.dialect == Dialect::Fanuc && t >= 100 {
                 t / 100
             } else {
@@ -244,9 +251,14 @@ impl Machine<'_> {
                 change: change.unwrap_or(0.0),
                 angle: angle.unwrap_or(0.0),
             });
-            self.emit(prog, pc, kind, (self.x, self.z), (x, z), sync);
-            self.x = x;
-            self.z = z;
+            match sync {
+                Some(sync) => self.thread_block(w, prog, pc, (x, z), sync, scale)?,
+                None => {
+                    self.emit(prog, pc, kind, (self.x, self.z), (x, z), sync);
+                    self.x = x;
+                    self.z = z;
+                }
+            }
         }
         Ok(if end { Step::End } else { Step::Next })
     }
@@ -273,10 +285,13 @@ impl Machine<'_> {
             lead: sync.map(|s| s.lead),
             lead_change: sync.map(|s| s.change),
             sync_angle_deg: sync.map(|s| s.angle),
+            chained: false,
             tool: self.tool,
             spindle: self.spindle,
             arc: None,
         });
+        // Only a thread block (`Machine::thread_block`) leaves a chain open.
+        self.chain_end = None;
     }
 
     /// G02/G03 in the XZ plane from the current point to `end` (diameter, z): centre from

@@ -35,8 +35,11 @@ impl Machine<'_> {
                     let v = self.expr(&mut c)?;
                     let kw = c.ident();
                     let target = c.name_with_digits();
-                    let to = self.label(prog, pc, &kw, &target, at)?;
-                    return Ok(if v != 0.0 { Step::Jump(to) } else { Step::Next });
+                    // The label is looked for only when the jump is taken, as on the control.
+                    if v == 0.0 {
+                        return Ok(Step::Next);
+                    }
+                    return Ok(Step::Jump(self.label(prog, pc, &kw, &target, at)?));
                 }
                 "GOTOF" | "GOTOB" | "GOTO" => {
                     let target = c.name_with_digits();

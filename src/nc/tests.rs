@@ -125,8 +125,6 @@ fn m98_repeats_an_o_program_of_the_same_file() {
         );
         assert_eq!(m.tool, Some(1));
     }
-    let e = run("G0 X50 Z5\nG34 Z-70 F4 J1 K2 R1\n", Dialect::Gsk980).unwrap_err();
-    assert!(e.message.contains("run-out"), "{e}");
     let e = run("M98 P0003\nM30\n", Dialect::Fanuc).unwrap_err();
     assert!(e.message.contains("subprogram `O3` not found"), "{e}");
 }
@@ -265,12 +263,19 @@ fn all_problems_are_reported_at_once_with_line_and_column() {
     // line 4: GOTO 99 has no N99 (column 19, the 99); line 5: `=` where Z's value belongs
     // (column 9).
     assert_eq!(at, vec![(2, 8), (3, 5), (4, 19), (5, 9)], "{e}");
-    assert!(all.iter().all(|d| d.severity == Severity::Error));
+    let sev: Vec<Severity> = all.iter().map(|d| d.severity).collect();
+    use Severity::{Error, Warning};
+    // A missing jump target is a warning: a control alarms only when the jump is taken.
+    assert_eq!(sev, vec![Error, Error, Warning, Error], "{e}");
     assert!(all[1].message.contains("`1..5` is not a number"), "{e}");
     assert!(all[2].message.contains("no block N99"), "{e}");
     let shown = e.to_string();
     assert!(shown.contains("T.NC:3:5: error:"), "{shown}");
-    assert!(shown.ends_with("4 errors, 0 warnings"), "{shown}");
+    assert!(
+        shown.contains("T.NC:4:19: warning: no block N99"),
+        "{shown}"
+    );
+    assert!(shown.ends_with("3 errors, 1 warning"), "{shown}");
     // The caret stands under the column.
     assert!(shown.contains("3 | G1 X1..5\n  |     ^"), "{shown}");
 }
@@ -328,6 +333,24 @@ fn siemens_labels_loops_and_calls_are_checked_before_running() {
     );
     assert!(msgs[1].1.contains("label `NOWHERE` not found"), "{e}");
     assert!(msgs[2].1.contains("subprogram `NOPROG` not found"), "{e}");
+    let sev: Vec<Severity> = e.all().iter().map(|d| d.severity).collect();
+    assert_eq!(
+        sev,
+        vec![Severity::Error, Severity::Warning, Severity::Warning]
+    );
+    // Without the backward GOTOF the program runs: the missing label and subprogram sit in
+    // branches that are never taken (R1 is 1), as on a control, and stay warnings.
+    let ok = text.replace("IF R1==2 GOTOF TOP\n", "");
+    let t = run_opts(&ok, Dialect::Siemens802d, false).unwrap();
+    assert_eq!((t.moves.len(), t.warnings.len()), (1, 2));
+    // Taken, the jump to nowhere stops the run.
+    let e = run_opts(
+        "R1=3\nIF R1==3 GOTOB NOWHERE\n",
+        Dialect::Siemens802d,
+        false,
+    )
+    .unwrap_err();
+    assert!(e.message.contains("label `NOWHERE` not found"), "{e}");
     // Statements vpcut does not simulate are skipped with a warning.
     let t = run_opts(
         "MSG(\"ROUGHING\")\nG0 X10 Z5\nM30\n",
@@ -364,10 +387,16 @@ fn fanuc_loops_are_matched_statically() {
     );
     let e = run_opts("G0 X10 (no end\n", Dialect::Fanuc, false).unwrap_err();
     assert_eq!((e.line, e.col), (1, 8), "{e}");
-    // Arguments of a G65 macro call are letters of every kind.
+    // Arguments of a G65 macro call are letters of every kind: no warning about A, B, D;
+    // the only diagnostic is the missing program, a warning, then the error when called.
     let e = run_opts("G65 P9010 A1 B2 D3\n", Dialect::Fanuc, false).unwrap_err();
     assert!(e.message.contains("subprogram `O9010` not found"), "{e}");
-    assert_eq!(e.others.len(), 0, "{e}");
+    assert_eq!(e.others.len(), 1, "{e}");
+    assert!(
+        e.others[0].message.contains("subprogram O9010 not found"),
+        "{e}"
+    );
+    assert_eq!(e.others[0].severity, Severity::Warning);
 }
 
 #[test]

@@ -252,3 +252,47 @@ fn toolpath_json_names_arcs_with_their_centre() {
     assert_eq!(arc["arc"]["clockwise"], false);
     assert!(v[0]["arc"].is_null());
 }
+
+/// A chained FANUC G32 that re-programs the lead shows in the report as a `thread_chain`
+/// warning on the chained pass (2), at the joint z = -7, with the jump 3 - 2 = 1 mm/rev;
+/// the same program with a rapid between the blocks (a re-sync) has none. The chained pass
+/// starts inside the blank but is already at speed: no `run_in` warning for it (the
+/// re-synced one gets one: 0 mm of run-in for v = 3 x 200/60 = 10 mm/s at 1000 mm/s^2).
+#[test]
+fn thread_chain_finding_in_the_report() {
+    let toml = "[blank]\ndiameter = 30.0\nlength = 40.0\n\
+                [thread]\nform = \"square\"\nmajor_diameter = 30.0\nminor_diameter = 29.0\n\
+                pitch = 2.0\nturns = 3\nz_start = -2.0\nwidth = { groove = 1.0 }\n\
+                [[tool]]\nid = 1\nkind = \"grooving\"\nwidth = 1.0\n\
+                [program]\nfile = \"P.NC\"\ndialect = \"fanuc\"\n\
+                [machine]\nacceleration = 1000.0\n\
+                [simulation]\naxial_spacing = 0.05\nangular_cells = 90\nmeasure_generators = 1\n";
+    let report = |program: &'static str| {
+        let load = |f: &str| (f == "P.NC").then(|| program.to_string());
+        let job = vpcut::Job::from_toml_with(toml, "t.toml", &load).unwrap();
+        simulate(&job, &Options::default()).unwrap().report
+    };
+    let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG32 Z-20 F3\nM30\n");
+    let chain: Vec<_> = r
+        .findings
+        .iter()
+        .filter(|f| f.kind == "thread_chain")
+        .collect();
+    assert_eq!(chain.len(), 1, "{:?}", r.findings);
+    let f = chain[0];
+    assert_eq!(
+        (f.severity, f.pass, f.z_mm, f.value, f.unit),
+        ("warning", Some(2), Some(-7.0), 1.0, "mm/rev")
+    );
+    assert!(f.message.contains("P.NC:4"), "{}", f.message);
+    assert!(
+        r.findings.iter().all(|f| f.kind != "run_in"),
+        "{:?}",
+        r.findings
+    );
+    let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG0 X31\nG0 X29\nG32 Z-20 F3\nM30\n");
+    assert!(r.findings.iter().all(|f| f.kind != "thread_chain"));
+    let run_in: Vec<_> = r.findings.iter().filter(|f| f.kind == "run_in").collect();
+    assert_eq!(run_in.len(), 1, "{:?}", r.findings);
+    assert_eq!((run_in[0].pass, run_in[0].value), (Some(2), 0.0));
+}
