@@ -116,6 +116,9 @@ fn g92_chamfer_is_a_chained_45_degree_thread_move() {
     );
     let angle = |i: usize| moves[i].sync_angle_deg.unwrap();
     assert!(close(angle(1), 90.0) && close(angle(2), 270.0));
+    // Only the pull-outs continue a thread without a re-sync.
+    let chained: Vec<usize> = (0..moves.len()).filter(|&i| moves[i].chained).collect();
+    assert_eq!(chained, vec![2, 11]);
     assert!(close(angle(10), 0.0) && close(angle(11), 180.0));
     assert_eq!(
         (moves[2].lead, moves[2].lead_change),

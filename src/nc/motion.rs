@@ -429,6 +429,10 @@ impl Machine<'_> {
             self.emit(prog, pc, MoveKind::Thread, start, split, Some(sync));
             let chained = sync.after(len - chamfer);
             self.emit(prog, pc, MoveKind::Thread, split, out, Some(chained));
+            // The pull-out continues the thread without a re-sync (already at speed).
+            if let Some(last) = self.moves.last_mut() {
+                last.chained = true;
+            }
             out
         } else {
             self.emit(prog, pc, MoveKind::Thread, start, end, Some(sync));
