@@ -44,8 +44,7 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             }
             (10 | 52 | 53, true) => refused("coordinate system setting"),
             (70..=75, true) => refused("multiple repetitive cycle"),
-            (90, true) => refused("outer diameter cutting cycle"),
-            (94, true) => refused("end face cutting cycle"),
+            (90 | 94, true) => Verdict::Run,
             (33, true) if dialect == Dialect::Gsk980 => refused("tapping cycle"),
             _ => Verdict::Unknown(format!(
                 "G{} is not a {} code vpcut knows",
@@ -232,7 +231,7 @@ mod tests {
     #[test]
     fn g90_is_absolute_on_siemens_and_a_cycle_on_fanuc() {
         assert_eq!(g_code(Dialect::Siemens802d, 90.0), Verdict::Run);
-        assert!(matches!(g_code(Dialect::Fanuc, 90.0), Verdict::Refused(_)));
+        assert_eq!(g_code(Dialect::Fanuc, 90.0), Verdict::Run);
         assert!(matches!(g_code(Dialect::Fanuc, 91.0), Verdict::Unknown(_)));
         assert!(matches!(
             g_code(Dialect::Linuxcnc, 33.1),

@@ -473,3 +473,42 @@ fn g28_returns_via_the_intermediate_point() {
     let e = run("G28 U0 W0\n", Dialect::Fanuc).unwrap_err();
     assert!(e.message.contains("reference_point"), "{e}");
 }
+
+/// FANUC G90 (modal): from (X60, Z5) `G90 X50 Z-30 F0.2` is rapid to X50, feed to Z-30, feed
+/// out to X60, rapid back to Z5; `X45` repeats it; `X40 R-2` starts at 40 + 2(-2) = 36.
+/// G94 from (X60, Z5): `G94 X20 Z0` is rapid to Z0, feed to X20, feed back to Z5, rapid to
+/// X60. The tool ends where it started each time.
+#[test]
+fn g90_and_g94_cutting_cycles() {
+    let m = run(
+        "G0 X60 Z5\nG90 X50 Z-30 F0.2\nX45\nX40 R-2\nG94 X20 Z0\nZ-1\nG0 X70\n",
+        Dialect::Fanuc,
+    )
+    .unwrap();
+    use MoveKind::{Feed as F, Rapid as R};
+    let got: Vec<(MoveKind, f64, f64)> = m[1..].iter().map(|m| (m.kind, m.x_dia, m.z)).collect();
+    let want = vec![
+        (R, 50.0, 5.0),
+        (F, 50.0, -30.0),
+        (F, 60.0, -30.0),
+        (R, 60.0, 5.0),
+        (R, 45.0, 5.0),
+        (F, 45.0, -30.0),
+        (F, 60.0, -30.0),
+        (R, 60.0, 5.0),
+        (R, 36.0, 5.0),
+        (F, 40.0, -30.0),
+        (F, 60.0, -30.0),
+        (R, 60.0, 5.0),
+        (R, 60.0, 0.0),
+        (F, 20.0, 0.0),
+        (F, 20.0, 5.0),
+        (R, 60.0, 5.0),
+        (R, 60.0, -1.0),
+        (F, 20.0, -1.0),
+        (F, 20.0, 5.0),
+        (R, 60.0, 5.0),
+        (R, 70.0, 5.0),
+    ];
+    assert_eq!(got, want);
+}

@@ -2,7 +2,7 @@
 //! G65 macro calls, the two-block G76, the modal G92 and GSK's G34.
 
 use super::expr::{z, Cur, Fail};
-use super::{Machine, Program, Step, Sync, Words};
+use super::{Machine, MoveKind, Program, Step, Sync, Words};
 
 impl Machine<'_> {
     pub(super) fn fanuc_block(
@@ -486,6 +486,74 @@ impl Machine<'_> {
             sync,
             chamfer,
         );
+        Ok(Step::Next)
+    }
+
+    /// FANUC/GSK `G90 X(U) Z(W) R F` (outer or inner diameter cutting) and `G94 X(U) Z(W) R F`
+    /// (end face cutting), modal like G92: a later block with only X (G90) or only Z (G94)
+    /// repeats the cycle at a new depth. G90: rapid to X (+2R at the start Z for a taper),
+    /// feed to the end point, feed out to the start X, rapid back to the start Z. G94: rapid to
+    /// Z (+R at the start X), feed to the end point, feed back to the start Z, rapid to the
+    /// start X. They cut no thread; vpcut records their moves so that the tool's position
+    /// after them is right (the blank is taken as the job gives it).
+    pub(super) fn cutting_cycle(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        x: f64,
+        z: f64,
+        scale: f64,
+    ) -> Result<Step, Fail> {
+        let (x0, z0) = (self.x, self.z);
+        let g = self.motion;
+        let face = g == 94;
+        let given = |k: &[&str]| k.iter().any(|k| w.vals.contains_key(*k));
+        // The modal target of the other axis and the taper.
+        let (other, taper) = self
+            .cycle90
+            .filter(|c| c.0 == g)
+            .map_or((None, 0.0), |c| (Some(c.1), c.2));
+        let (x_end, z_end) = if face {
+            let x_end = if given(&["X", "U"]) {
+                x
+            } else {
+                other.ok_or((1, "G94 needs X (or U) the first time".to_string()))?
+            };
+            (x_end, z)
+        } else {
+            let z_end = if given(&["Z", "W"]) {
+                z
+            } else {
+                other.ok_or((1, "G90 needs Z (or W) the first time".to_string()))?
+            };
+            (x, z_end)
+        };
+        let r = w.vals.get("R").map_or(taper, |v| v.0 * scale);
+        self.cycle90 = Some((g, if face { x_end } else { z_end }, r));
+        use MoveKind::{Feed, Rapid};
+        let path: [(MoveKind, (f64, f64)); 4] = if face {
+            [
+                (Rapid, (x0, z_end + r)),
+                (Feed, (x_end, z_end)),
+                (Feed, (x_end, z0)),
+                (Rapid, (x0, z0)),
+            ]
+        } else {
+            [
+                (Rapid, (x_end + 2.0 * r, z0)),
+                (Feed, (x_end, z_end)),
+                (Feed, (x0, z_end)),
+                (Rapid, (x0, z0)),
+            ]
+        };
+        let mut at = (x0, z0);
+        for (kind, to) in path {
+            if to != at {
+                self.emit(prog, pc, kind, at, to, None);
+                at = to;
+            }
+        }
         Ok(Step::Next)
     }
 

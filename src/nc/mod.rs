@@ -416,6 +416,9 @@ struct Machine<'l> {
     per_rev: bool,
     /// The G28 reference point (diameter, z), if the job gives one.
     reference: Option<(f64, f64)>,
+    /// Modal G90/G94 cutting cycle: (G code, target of the axis a repeat block leaves out,
+    /// taper R).
+    cycle90: Option<(u32, f64, f64)>,
     /// Skip blocks that start with `/`.
     block_skip: bool,
     /// Unknown words and codes are errors.
@@ -502,6 +505,7 @@ pub fn interpret_with(
         per_rev: true,
         reference: opts.settings.reference_point,
         block_skip: opts.settings.block_skip,
+        cycle90: None,
         runout: (None, None),
         chain_end: None,
     };

@@ -37,6 +37,9 @@ impl Machine<'_> {
                 0..=3 | 32 | 33 | 34 | 35 => self.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
                 92 if self.dialect == Dialect::Fanuc && !self.lcnc => self.motion = 92,
+                // FANUC/GSK system A: G90 outer/inner diameter and G94 end face cutting
+                // cycles (modal, like G92).
+                90 | 94 if self.dialect == Dialect::Fanuc && !self.lcnc => self.motion = g,
                 // Absolute/incremental on Siemens and LinuxCNC; FANUC/GSK lathes (G-code
                 // system A) write U/W instead, and their G90 is a turning cycle.
                 90 if self.dialect == Dialect::Siemens802d || self.lcnc => self.incremental = false,
@@ -194,6 +197,9 @@ impl Machine<'_> {
         }
         if moved && self.dialect == Dialect::Fanuc && self.motion == 92 && !self.lcnc {
             return self.g92(w, prog, pc, x, z, scale);
+        }
+        if moved && self.dialect == Dialect::Fanuc && !self.lcnc && matches!(self.motion, 90 | 94) {
+            return self.cutting_cycle(w, prog, pc, x, z, scale);
         }
         if moved && (self.motion == 2 || self.motion == 3) {
             self.arc(w, prog, pc, (x, z), scale)?;
