@@ -9,11 +9,13 @@
 //! - `expr`: the block cursor and the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
 //! - `siemens`: Siemens 802D blocks, labels and jumps;
-//! - `linuxcnc`: LinuxCNC G76;
+//! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
+//! - `lcnc_expr`: LinuxCNC expressions and numbered/named parameters;
 //! - `motion`: modal state, motion words, and recording moves.
 
 mod expr;
 mod fanuc;
+mod lcnc_expr;
 mod linuxcnc;
 mod motion;
 mod program;
@@ -59,7 +61,7 @@ impl Dialect {
     /// The syntax family: GSK writes programs as FANUC does.
     fn syntax(self) -> Dialect {
         match self {
-            Dialect::Gsk980 | Dialect::Linuxcnc => Dialect::Fanuc,
+            Dialect::Gsk980 => Dialect::Fanuc,
             d => d,
         }
     }
@@ -215,6 +217,8 @@ struct Machine<'l> {
     g76: G76Setup,
     /// Modal G92 target z and lead.
     g92: Option<(f64, f64)>,
+    /// LinuxCNC named parameters, call levels and O-word tables.
+    lc: linuxcnc::Lcnc,
 }
 
 pub(super) fn deg(x: f64) -> f64 {
@@ -259,6 +263,7 @@ pub fn interpret(
             d: 0.0,
         },
         g92: None,
+        lc: Default::default(),
     };
     let mut all = load_programs(main, dialect).into_iter();
     let prog = std::rc::Rc::new(all.next().expect("a file gives at least one program"));
@@ -338,9 +343,8 @@ pub fn interpret(
         }
         let step = match dialect {
             Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
-            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
-                m.fanuc_block(&cur, pc, text, &mut loops)
-            }
+            Dialect::Linuxcnc => m.lcnc_block(&cur, pc, text),
+            Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
         };
         let step = match step {
             Ok(s) => s,

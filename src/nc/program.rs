@@ -35,6 +35,9 @@ fn strip_comment(line: &str, dialect: Dialect) -> String {
 /// The programs of a file: for FANUC syntax each `O<number>` line starts a new program
 /// (named `O<number>`, the first one also by the file's name); Siemens files hold one.
 pub(super) fn load_programs(src: &Source, dialect: Dialect) -> Vec<Program> {
+    if dialect == Dialect::Linuxcnc {
+        return super::linuxcnc::load(src);
+    }
     let mut out = Vec::new();
     let mut name = src.name.clone();
     let mut alias: Option<String> = None;
