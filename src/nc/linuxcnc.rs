@@ -9,8 +9,9 @@
 //! with a value sets `#<_value>` and `#<_value_returned>` (else both 0). Loops and `if`
 //! chains are matched by their O-word within one program: `while`/`endwhile`,
 //! `do`/`while`, `repeat`/`endrepeat` (count rounded half to even, as rs274), `if`/`elseif`/
-//! `else`/`endif`, `break` and `continue` (in a `do` loop `continue` evaluates the
-//! condition). Parameter assignments of a line take effect after the whole line is read.
+//! `else`/`endif`, `break` and `continue` (in a `do` loop, as rs274 2.9.0~pre1 does,
+//! `continue` runs the next line of the loop's O-word: the closing `while`, which tests, or
+//! a later `break` of that loop, which leaves it). Parameter assignments of a line take effect after the whole line is read.
 
 use super::expr::Fail;
 use super::lcnc_expr::{LCur, Param, Params};
@@ -396,9 +397,16 @@ impl Machine<'_> {
                         }
                     }
                     Step::Jump(end + 1)
+                } else if w == Kw::While {
+                    // A do loop: rs274 (2.9.0~pre1) skips to the next line of this O-word
+                    // and runs it: the closing while (which tests), or a later break or
+                    // continue of the same loop.
+                    let k = (pc + 1..flow.len())
+                        .find(|&k| matches!(&flow[k], Some((kk, _)) if *kk == key))
+                        .unwrap_or(end);
+                    Step::Jump(k)
                 } else {
-                    // Run the loop's end: endwhile goes back to the test, endrepeat counts,
-                    // the while of a do loop tests.
+                    // Run the loop's end: endwhile goes back to the test, endrepeat counts.
                     Step::Jump(end)
                 }
             }
