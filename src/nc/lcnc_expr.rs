@@ -248,7 +248,8 @@ impl Machine<'_> {
 
     /// Read a parameter after `#`.
     fn lc_read(&self, c: &mut LCur) -> Result<f64, Fail> {
-        let at = c.col();
+        // Errors point at the `#`.
+        let at = c.col_at(c.i.saturating_sub(1));
         match self.lc_param(c)? {
             Param::Num(n) if n <= 30 => Ok(self
                 .locals

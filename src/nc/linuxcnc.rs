@@ -19,6 +19,10 @@ use super::{Machine, MoveKind, Program, Source, Step, Sync, Words};
 use std::collections::HashMap;
 use std::rc::Rc;
 
+#[cfg(test)]
+#[path = "lcnc_tests.rs"]
+mod tests;
+
 /// O-word keywords.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Kw {
@@ -160,7 +164,10 @@ pub(super) fn load(src: &Source) -> Vec<Program> {
     let block = |i: usize, line: &str| -> Option<(usize, String, String)> {
         let text = blank_comments(line);
         let t = text.trim_start();
-        (!t.is_empty() && t != "%" && !t.starts_with('/')).then(|| (i + 1, line.to_string(), text))
+        // `(abort, ..)` is a comment that stops the program: keep its line.
+        let abort = line.to_ascii_uppercase().contains("(ABORT,");
+        ((!t.is_empty() || abort) && t != "%" && !t.starts_with('/'))
+            .then(|| (i + 1, line.to_string(), text))
     };
     let mut main = Vec::new();
     let mut subs: Vec<(String, Vec<(usize, String, String)>)> = Vec::new();
