@@ -28,6 +28,8 @@ pub(super) struct LCur {
     s: Vec<u8>,
     cols: Vec<usize>,
     pub(super) i: usize,
+    /// Values being read inside each other (bounded: no line can exhaust the stack).
+    nest: usize,
 }
 
 impl LCur {
@@ -41,7 +43,12 @@ impl LCur {
                 cols.push(k + 1);
             }
         }
-        LCur { s, cols, i: 0 }
+        LCur {
+            s,
+            cols,
+            i: 0,
+            nest: 0,
+        }
     }
     pub(super) fn peek(&self) -> Option<u8> {
         self.s.get(self.i).copied()
@@ -229,7 +236,7 @@ impl Machine<'_> {
         if (v - n).abs() > 1e-4 {
             return Err((at, format!("parameter number {v} is not an integer")));
         }
-        if n < 1.0 || n > 5601.0 {
+        if !(1.0..=5601.0).contains(&n) {
             return Err((
                 at,
                 format!("parameter number {n} is out of range (1..5601)"),
@@ -332,6 +339,16 @@ impl Machine<'_> {
     /// rs274's `read_real_value`: a number, `[expr]`, a parameter, a function or a sign
     /// followed by one of those.
     pub(super) fn lc_value(&self, c: &mut LCur) -> Result<f64, Fail> {
+        if c.nest >= 100 {
+            return c.err("values nested more than 100 deep");
+        }
+        c.nest += 1;
+        let v = self.lc_value_inner(c);
+        c.nest -= 1;
+        v
+    }
+
+    fn lc_value_inner(&self, c: &mut LCur) -> Result<f64, Fail> {
         let at = c.col();
         match c.peek() {
             None => c.err("expected a value"),

@@ -252,6 +252,15 @@ fn bad_lines_are_errors_with_columns() {
     assert!(e.message.contains("outside a subroutine"), "{e}");
     let e = run("o1 sub\nG0 X1\n").unwrap_err();
     assert!(e.message.contains("no matching o1 endsub"), "{e}");
+    // No line can exhaust the stack: nesting, signs and parameters of parameters.
+    for deep in [
+        "[".repeat(100_000),
+        "-".repeat(100_000) + "1",
+        "#".repeat(100_000) + "1",
+    ] {
+        let e = run(&format!("G0 X{deep}\n")).unwrap_err();
+        assert_eq!(e.line, 1, "{e}");
+    }
     let e = run("(abort, tool not set)\n").unwrap_err();
     assert!(e.message.contains("aborted: tool not set"), "{e}");
 }

@@ -23,6 +23,9 @@ use std::rc::Rc;
 #[path = "lcnc_tests.rs"]
 mod tests;
 
+/// A block as `Program` keeps it: (1-based line, the line, the text parsed).
+type Block = (usize, String, String);
+
 /// O-word keywords.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Kw {
@@ -161,7 +164,7 @@ fn oword_of(text: &str) -> Option<(String, Kw)> {
 /// Split a LinuxCNC file into its main program and its subroutines (see the module docs).
 /// A `sub` without its `endsub` stays in the main program, where running it is an error.
 pub(super) fn load(src: &Source) -> Vec<Program> {
-    let block = |i: usize, line: &str| -> Option<(usize, String, String)> {
+    let block = |i: usize, line: &str| -> Option<Block> {
         let text = blank_comments(line);
         let t = text.trim_start();
         // `(abort, ..)` is a comment that stops the program: keep its line.
@@ -170,8 +173,8 @@ pub(super) fn load(src: &Source) -> Vec<Program> {
             .then(|| (i + 1, line.to_string(), text))
     };
     let mut main = Vec::new();
-    let mut subs: Vec<(String, Vec<(usize, String, String)>)> = Vec::new();
-    let mut open: Option<(String, Vec<(usize, String, String)>)> = None;
+    let mut subs: Vec<(String, Vec<Block>)> = Vec::new();
+    let mut open: Option<(String, Vec<Block>)> = None;
     for (i, line) in src.text.lines().enumerate() {
         let Some(b) = block(i, line) else { continue };
         let ow = oword_of(&b.2);
@@ -532,10 +535,10 @@ impl Machine<'_> {
         }
         // L1 entry taper, L2 exit taper, L3 both; rs274 tapers nothing when E is 0.
         let (entry, exit) = match val("L").unwrap_or(0.0) {
-            l if l == 0.0 => (false, false),
-            l if l == 1.0 => (true, false),
-            l if l == 2.0 => (false, true),
-            l if l == 3.0 => (true, true),
+            0.0 => (false, false),
+            1.0 => (true, false),
+            2.0 => (false, true),
+            3.0 => (true, true),
             l => return Err((1, format!("G76 L{l}: expected L0, L1, L2 or L3"))),
         };
         let (entry, exit) = (entry && taper_len > 0.0, exit && taper_len > 0.0);

@@ -34,8 +34,9 @@ use std::fmt;
 pub enum Dialect {
     /// FANUC lathe, G-code system A, Custom Macro B (and Macro A `G65 H..`).
     Fanuc,
-    /// LinuxCNC (rs274ngc) lathe: FANUC-like syntax, `G33 Z K`, `G76 P Z I J K R Q H`,
-    /// radius mode G8 by default, diameter mode G7.
+    /// LinuxCNC (rs274ngc) lathe: O-word subroutines and control flow, numbered and named
+    /// parameters, `G33 Z K`, `G76 P Z I J K R Q H E L`, radius mode G8 by default,
+    /// diameter mode G7.
     Linuxcnc,
     /// GSK 980TDC: FANUC syntax; `G34 F J K R` with R the lead change per revolution and
     /// J/K the thread run-out.
