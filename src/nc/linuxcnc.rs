@@ -216,7 +216,11 @@ impl Machine<'_> {
         let id = prog as *const Program as usize;
         let jumped = self.lc.jumped.take() == Some((id, pc));
         let orig = &prog.blocks[pc].1;
-        if let Some(k) = orig.to_ascii_uppercase().find("(ABORT,") {
+        let abort = orig
+            .as_bytes()
+            .windows(7)
+            .position(|w| w.eq_ignore_ascii_case(b"(ABORT,"));
+        if let Some(k) = abort {
             return Err((
                 k + 1,
                 format!(
