@@ -5,7 +5,7 @@
 //! Binary operators are left-associative on five levels, lowest first: `AND OR XOR`;
 //! `EQ NE GT GE LT LE`; `+ -`; `* / MOD`; `**` (so `2**3**2` is 64 and `-2**2` is 4, the sign
 //! binding to its value). `EQ`/`NE` compare with rs274's tolerance 1e-4, the others exactly;
-//! `MOD` is never negative; `FIX` is floor, `FUP` ceil, `ROUND` rounds half away from zero;
+//! `MOD` is never negative (and not a number for `MOD 0`, as in rs274); `FIX` is floor, `FUP` ceil, `ROUND` rounds half away from zero;
 //! angles are in degrees; `ATAN[a]/[b]` is atan2. All checked against rs274 2.9.0~pre1.
 //!
 //! Parameters: `#1..#30` are local to a subroutine call, `#31..#5160` global, both read 0
@@ -277,9 +277,15 @@ impl Machine<'_> {
         if !c.eat("[") {
             return c.err("expected `[` starting an expression");
         }
+        let at = c.col_at(c.i.saturating_sub(1));
         let v = self.lc_binary(c, 0)?;
         if !c.eat("]") {
             return c.err("expected an operator or `]`");
+        }
+        if v.is_nan() {
+            // rs274 checks each bracket's value (`[1 NE 1 MOD 0]` is 0, `[[1 MOD 0] NE 0]`
+            // an error).
+            return Err((at, "the calculation resulted in `not a number`".into()));
         }
         Ok(v)
     }
@@ -312,7 +318,10 @@ impl Machine<'_> {
                 "+" => v + w,
                 "-" => v - w,
                 "*" => v * w,
-                "/" | "MOD" if w == 0.0 => return Err((at, "division by zero".into())),
+                "/" if w == 0.0 => return Err((at, "division by zero".into())),
+                // rs274 computes fmod(v, 0), not a number, and goes on: a comparison or
+                // logic operator can make a number of it again before the bracket closes.
+                "MOD" if w == 0.0 => f64::NAN,
                 "/" => v / w,
                 "MOD" => {
                     let r = v % w;

@@ -183,7 +183,7 @@ fn an_endless_loop_hits_the_block_limit() {
 /// rs274 2.9.0~pre1 (a.ngc, b.ngc, c.ngc), printed with `(debug, ..)`.
 #[test]
 fn expressions_as_rs274() {
-    let cases: [(&str, f64); 24] = [
+    let cases: [(&str, f64); 28] = [
         ("[1 EQ 1.00005]", 1.0),
         ("[1 NE 1.00005]", 0.0),
         ("[1 LT 1.00005]", 1.0),
@@ -209,6 +209,12 @@ fn expressions_as_rs274() {
         ("[12/3/2]", 2.0),
         ("-[1+2]", -3.0),
         ("[cos[60] + tan[45]]", 1.5),
+        // rs274: fmod by 0 is not a number, which comparisons make 0 and OR 1 before the
+        // bracket closes (rs274 printed ne=0 eq=0 lt=0 or=1).
+        ("[1 NE 1 MOD 0]", 0.0),
+        ("[1 EQ 1 MOD 0]", 0.0),
+        ("[1 LT 1 MOD 0]", 0.0),
+        ("[1 OR 1 MOD 0]", 1.0),
     ];
     for (e, want) in cases {
         let got = xs(&format!("g0 x{e}\n"));
@@ -228,7 +234,7 @@ fn expressions_as_rs274() {
 
 #[test]
 fn bad_lines_are_errors_with_columns() {
-    let cases: [(&str, usize, usize, &str); 13] = [
+    let cases: [(&str, usize, usize, &str); 14] = [
         ("#1=1+2\n", 1, 5, "expected a word"),
         ("G0 X[1+]\n", 1, 8, "expected a value"),
         ("G0 X[1/0]\n", 1, 7, "division by zero"),
@@ -242,6 +248,8 @@ fn bad_lines_are_errors_with_columns() {
         ("G0 U5\n", 1, 4, "`U` is not supported"),
         ("o9 call\n", 1, 1, "o9 is not defined"),
         ("G0 X1 X2\n", 1, 7, "more than one X word"),
+        // rs274: "Calculation resulted in 'not a number'".
+        ("G0 X[[1 MOD 0] NE 0]\n", 1, 6, "not a number"),
     ];
     for (text, line, col, msg) in cases {
         let e = run(text).unwrap_err();

@@ -252,6 +252,9 @@ impl Machine<'_> {
             }
             c.i += 1;
             let v = self.lc_value(&mut c)?;
+            if !v.is_finite() {
+                return Err((at, format!("the {} word's value is {v}", letter as char)));
+            }
             let code = |v: f64| -> Result<u32, Fail> {
                 let tenth = (v * 10.0).round();
                 if v < 0.0 || (v * 10.0 - tenth).abs() > 1e-6 || tenth % 10.0 != 0.0 {

@@ -43,7 +43,7 @@ fn canon_threads(text: &str) -> Vec<[f64; 5]> {
 }
 
 /// Programs whose every synchronised feed is one vpcut thread move, with the pass count.
-const PLAIN: [(&str, usize); 6] = [
+const PLAIN: [(&str, usize); 7] = [
     ("g33-g7", 2),
     ("g76-g7-external-r2-q29.5-h1", 16),
     ("g76-g8-external-r1", 9),
@@ -56,6 +56,9 @@ const PLAIN: [(&str, usize); 6] = [
     // K1200 H1, K1600 H1 with J250 R1.5 gives 5+1, 10+1+1, 16+1+1 passes (hand:
     // 250 n^(2/3) < K), then 2 passes of the external o<spring_pass> (spring_pass.ngc).
     ("oword-sub-g76", 6 + 12 + 18 + 2),
+    // 150 random expressions (all operators and functions, numbered and named parameters),
+    // each value the X of a G33 pass: vpcut's evaluator against rs274's.
+    ("oword-expressions", 150),
 ];
 
 /// Reads the subroutine files beside the programs (rs274 finds them in its working folder).
