@@ -132,6 +132,70 @@ impl LCur {
     }
 }
 
+/// rs274's predefined (read-only) named parameters, upper-cased, with the `_ini[..]` and
+/// `_hal[..]` forms.
+pub(super) fn predefined(name: &str) -> bool {
+    const NAMES: [&str; 56] = [
+        "_VMAJOR",
+        "_VMINOR",
+        "_LINE",
+        "_MOTION_MODE",
+        "_PLANE",
+        "_CCOMP",
+        "_METRIC",
+        "_IMPERIAL",
+        "_ABSOLUTE",
+        "_INCREMENTAL",
+        "_INVERSE_TIME",
+        "_UNITS_PER_MINUTE",
+        "_UNITS_PER_REV",
+        "_COORD_SYSTEM",
+        "_TOOL_OFFSET",
+        "_RETRACT_R",
+        "_RETRACT_OLD",
+        "_SPINDLE_RPM_MODE",
+        "_SPINDLE_CSS_MODE",
+        "_IJK_ABSOLUTE_MODE",
+        "_LATHE_DIAMETER_MODE",
+        "_LATHE_RADIUS_MODE",
+        "_SPINDLE_ON",
+        "_SPINDLE_CW",
+        "_MIST",
+        "_FLOOD",
+        "_SPEED_OVERRIDE",
+        "_FEED_OVERRIDE",
+        "_ADAPTIVE_FEED",
+        "_FEED_HOLD",
+        "_FEED",
+        "_RPM",
+        "_X",
+        "_Y",
+        "_Z",
+        "_A",
+        "_B",
+        "_C",
+        "_U",
+        "_V",
+        "_W",
+        "_ABS_X",
+        "_ABS_Y",
+        "_ABS_Z",
+        "_ABS_A",
+        "_ABS_B",
+        "_ABS_C",
+        "_CURRENT_TOOL",
+        "_CURRENT_POCKET",
+        "_SELECTED_TOOL",
+        "_SELECTED_POCKET",
+        "_VALUE",
+        "_VALUE_RETURNED",
+        "_TASK",
+        "_CALL_LEVEL",
+        "_REMAP_LEVEL",
+    ];
+    NAMES.contains(&name) || name.starts_with("_INI[") || name.starts_with("_HAL[")
+}
+
 /// A parameter a line sets.
 #[derive(Clone, Debug, PartialEq)]
 pub(super) enum Param {
@@ -265,10 +329,15 @@ impl Machine<'_> {
                 .copied()
                 .unwrap_or(0.0)),
             Param::Num(n) => Ok(self.vars.get(&n).copied().unwrap_or(0.0)),
-            Param::Named(name) => self.lc_named(&name).ok_or((
-                at,
-                format!("named parameter #<{}> is not defined", name.to_lowercase()),
-            )),
+            Param::Named(name) => self.lc_named(&name).ok_or_else(|| {
+                let name = name.to_lowercase();
+                let msg = if predefined(&name.to_uppercase()) {
+                    format!("the predefined parameter #<{name}> (machine state) is not modelled")
+                } else {
+                    format!("named parameter #<{name}> is not defined")
+                };
+                (at, msg)
+            }),
         }
     }
 

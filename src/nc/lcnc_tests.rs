@@ -234,7 +234,7 @@ fn expressions_as_rs274() {
 
 #[test]
 fn bad_lines_are_errors_with_columns() {
-    let cases: [(&str, usize, usize, &str); 14] = [
+    let cases: [(&str, usize, usize, &str); 20] = [
         ("#1=1+2\n", 1, 5, "expected a word"),
         ("G0 X[1+]\n", 1, 8, "expected a value"),
         ("G0 X[1/0]\n", 1, 7, "division by zero"),
@@ -250,6 +250,19 @@ fn bad_lines_are_errors_with_columns() {
         ("G0 X1 X2\n", 1, 7, "more than one X word"),
         // rs274: "Calculation resulted in 'not a number'".
         ("G0 X[[1 MOD 0] NE 0]\n", 1, 6, "not a number"),
+        // rs274: "Cannot assign to read-only parameter #<_x>", "Nested comment found",
+        // "Unclosed comment found", "duplicate O-word label - already defined in line 2".
+        ("G0 X1 #<_x>=1\n", 1, 7, "read-only parameter #<_x>"),
+        ("#<_value>=3\n", 1, 1, "read-only parameter #<_value>"),
+        ("G0 X1 (a (b) c)\n", 1, 10, "nested comment"),
+        ("G0 X1 (abc\n", 1, 7, "unclosed comment"),
+        (
+            "G0 X1\no1 if [1]\no1 endif\no1 if [1]\no1 endif\n",
+            4,
+            1,
+            "already opened a block at line 2",
+        ),
+        ("G0 X#<_z>\n", 1, 5, "#<_z> (machine state) is not modelled"),
     ];
     for (text, line, col, msg) in cases {
         let e = run(text).unwrap_err();

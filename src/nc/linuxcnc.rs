@@ -88,8 +88,43 @@ impl Kw {
     }
 }
 
-/// The O-words of a program's blocks: (key such as `O100` or `O<NAME>`, keyword).
-type Flow = Vec<Option<(String, Kw)>>;
+/// The O-words of a program's blocks: (key such as `O100` or `O<NAME>`, keyword), and for
+/// a block opening an `if`, loop or `repeat` whose O-word already opened one earlier in the
+/// program, that earlier block (rs274: "duplicate O-word label").
+struct Flow {
+    words: Vec<Option<(String, Kw)>>,
+    dup_of: Vec<Option<usize>>,
+}
+
+impl Flow {
+    fn new(prog: &Program) -> Flow {
+        let words: Vec<Option<(String, Kw)>> = prog.blocks.iter().map(|b| oword_of(&b.2)).collect();
+        let mut dup_of = vec![None; words.len()];
+        let mut opened: HashMap<&str, usize> = HashMap::new();
+        for (i, w) in words.iter().enumerate() {
+            let Some((key, kw)) = w else { continue };
+            let opens = match kw {
+                Kw::If | Kw::Do | Kw::Repeat => true,
+                // A while opens a loop when its endwhile comes before any other line of its
+                // O-word (else it closes a do loop).
+                Kw::While => words[i + 1..]
+                    .iter()
+                    .flatten()
+                    .find(|(k, w)| k == key && !matches!(w, Kw::Break | Kw::Continue))
+                    .is_some_and(|(_, w)| *w == Kw::Endwhile),
+                _ => false,
+            };
+            if opens {
+                if let Some(&j) = opened.get(key.as_str()) {
+                    dup_of[i] = Some(j);
+                } else {
+                    opened.insert(key, i);
+                }
+            }
+        }
+        Flow { words, dup_of }
+    }
+}
 
 /// LinuxCNC interpreter state kept beside the shared `Machine` fields.
 #[derive(Default)]
@@ -125,6 +160,27 @@ fn blank_comments(line: &str) -> String {
         }
     }
     out.trim_end().to_string()
+}
+
+/// rs274's comment errors: a `(` inside a comment, or one not closed on its line (column of
+/// the `(`).
+fn comment_error(line: &str) -> Option<Fail> {
+    let mut open = None;
+    for (k, b) in line.bytes().enumerate() {
+        match (b, open) {
+            (b';', None) => return None,
+            (b'(', None) => open = Some(k + 1),
+            (b'(', Some(_)) => return Some((k + 1, "nested comment: `(` inside a comment".into())),
+            (b')', Some(_)) => open = None,
+            _ => {}
+        }
+    }
+    open.map(|col| {
+        (
+            col,
+            "unclosed comment: expected `)` on this line".to_string(),
+        )
+    })
 }
 
 /// The O-word at the start of a line (after an optional N number): key and keyword; the
@@ -167,9 +223,10 @@ pub(super) fn load(src: &Source) -> Vec<Program> {
     let block = |i: usize, line: &str| -> Option<Block> {
         let text = blank_comments(line);
         let t = text.trim_start();
-        // `(abort, ..)` is a comment that stops the program: keep its line.
-        let abort = line.to_ascii_uppercase().contains("(ABORT,");
-        ((!t.is_empty() || abort) && t != "%" && !t.starts_with('/'))
+        // `(abort, ..)` is a comment that stops the program, and a bad comment an error:
+        // keep their lines.
+        let keep = line.to_ascii_uppercase().contains("(ABORT,") || comment_error(line).is_some();
+        ((!t.is_empty() || keep) && t != "%" && !t.starts_with('/'))
             .then(|| (i + 1, line.to_string(), text))
     };
     let mut main = Vec::new();
@@ -216,6 +273,9 @@ impl Machine<'_> {
         let id = prog as *const Program as usize;
         let jumped = self.lc.jumped.take() == Some((id, pc));
         let orig = &prog.blocks[pc].1;
+        if let Some(e) = comment_error(orig) {
+            return Err(e);
+        }
         let abort = orig
             .as_bytes()
             .windows(7)
@@ -239,6 +299,17 @@ impl Machine<'_> {
             let at = c.col();
             if c.eat("#") {
                 let p = self.lc_param(&mut c)?;
+                if let Param::Named(n) = &p {
+                    if super::lcnc_expr::predefined(n) {
+                        return Err((
+                            at,
+                            format!(
+                                "cannot assign to read-only parameter #<{}>",
+                                n.to_lowercase()
+                            ),
+                        ));
+                    }
+                }
                 if !c.eat("=") {
                     return c.err("expected `=` after the parameter");
                 }
@@ -309,7 +380,7 @@ impl Machine<'_> {
         self.lc
             .flow
             .entry(id)
-            .or_insert_with(|| Rc::new(prog.blocks.iter().map(|b| oword_of(&b.2)).collect()))
+            .or_insert_with(|| Rc::new(Flow::new(prog)))
             .clone()
     }
 
@@ -328,12 +399,12 @@ impl Machine<'_> {
         let lname = key.to_lowercase();
         // The next (or previous) line of this O-word, break and continue left out.
         let is = |k: usize| -> Option<Kw> {
-            match &flow[k] {
+            match &flow.words[k] {
                 Some((kk, w)) if *kk == key && !matches!(w, Kw::Break | Kw::Continue) => Some(*w),
                 _ => None,
             }
         };
-        let next = || (pc + 1..flow.len()).find_map(|k| is(k).map(|w| (k, w)));
+        let next = || (pc + 1..flow.words.len()).find_map(|k| is(k).map(|w| (k, w)));
         let prev = |want: Kw| (0..pc).rev().find(|&k| is(k) == Some(want));
         let missing = |what: &str| -> Fail {
             (
@@ -341,6 +412,15 @@ impl Machine<'_> {
                 format!("{lname} {}: no matching {lname} {what}", kw.name()),
             )
         };
+        if let Some(j) = flow.dup_of[pc] {
+            return Err((
+                1,
+                format!(
+                    "duplicate O-word label: {lname} already opened a block at line {} (use another number)",
+                    prog.blocks[j].0
+                ),
+            ));
+        }
         let cond = |m: &Self, c: &mut LCur| -> Result<bool, Fail> {
             let v = m.lc_bracket(c)?;
             Ok(v != 0.0)
@@ -418,8 +498,8 @@ impl Machine<'_> {
                     // A do loop: rs274 (2.9.0~pre1) skips to the next line of this O-word
                     // and runs it: the closing while (which tests), or a later break or
                     // continue of the same loop.
-                    let k = (pc + 1..flow.len())
-                        .find(|&k| matches!(&flow[k], Some((kk, _)) if *kk == key))
+                    let k = (pc + 1..flow.words.len())
+                        .find(|&k| matches!(&flow.words[k], Some((kk, _)) if *kk == key))
                         .unwrap_or(end);
                     Step::Jump(k)
                 } else {
@@ -460,7 +540,7 @@ impl Machine<'_> {
                     Kw::If => true,
                     _ if !jumped => {
                         // The branch before was taken: leave the chain.
-                        let end = (pc + 1..flow.len())
+                        let end = (pc + 1..flow.words.len())
                             .find(|&k| is(k) == Some(Kw::Endif))
                             .ok_or_else(|| missing("endif"))?;
                         return Ok(Step::Jump(end + 1));
