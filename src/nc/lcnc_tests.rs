@@ -104,11 +104,18 @@ fn break_and_continue() {
     let f = "#20=0\no500 do\n#20=[#20+1]\no501 if [#20 LT 3]\no500 continue\no501 endif\n\
              G0 X#20\no500 while [#20 LT 9]\nG0 X[100+#20]\n";
     close(&xs(f), &[3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 109.0]);
-    // break out of a repeat; a do loop runs its body once even when the test is false.
-    close(
-        &xs("#1=0\no1 repeat [10]\n#1=[#1+1]\no2 if [#1 EQ 3]\no1 break\no2 endif\no1 endrepeat\nG0 X#1\no3 do\nG0 X7\no3 while [0]\n"),
-        &[3.0, 7.0],
-    );
+    // A do loop runs its body once even when the test is false.
+    close(&xs("o3 do\nG0 X7\no3 while [0]\n"), &[7.0]);
+    // rs274 2.9.0~pre1 refuses break and continue in a repeat, even not run: "no matching
+    // while/do label: 'o1 break' (found 'repeat' in line 2)"; vpcut says so at the repeat.
+    for word in ["break", "continue"] {
+        let e = run(&format!(
+            "#1=0\no1 repeat [10]\n#1=[#1+1]\no2 if [#1 EQ 3]\no1 {word}\no2 endif\no1 endrepeat\n"
+        ))
+        .unwrap_err();
+        assert_eq!(e.line, 2, "{e}");
+        assert!(e.message.contains("at line 5 cannot leave a repeat"), "{e}");
+    }
 }
 
 /// rs274 (b.ngc): a chain if/elseif/else inside a while, an `if` nested in the elseif

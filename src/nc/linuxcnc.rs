@@ -9,7 +9,7 @@
 //! with a value sets `#<_value>` and `#<_value_returned>` (else both 0). Loops and `if`
 //! chains are matched by their O-word within one program: `while`/`endwhile`,
 //! `do`/`while`, `repeat`/`endrepeat` (count rounded half to even, as rs274), `if`/`elseif`/
-//! `else`/`endif`, `break` and `continue` (in a `do` loop, as rs274 2.9.0~pre1 does,
+//! `else`/`endif`, `break` and `continue` (of `while` and `do` loops only, as in rs274; in a `do` loop, as rs274 2.9.0~pre1 does,
 //! `continue` runs the next line of the loop's O-word: the closing `while`, which tests, or
 //! a later `break` of that loop, which leaves it). Parameter assignments of a line take effect after the whole line is read.
 
@@ -484,15 +484,17 @@ impl Machine<'_> {
             Kw::Endwhile => Step::Jump(prev(Kw::While).ok_or_else(|| missing("while"))?),
             Kw::Break | Kw::Continue => {
                 let (end, w) = next().ok_or_else(|| missing("endwhile, endrepeat or while"))?;
-                if !matches!(w, Kw::Endwhile | Kw::Endrepeat | Kw::While) {
-                    return Err(missing("endwhile, endrepeat or while"));
+                if w == Kw::Endrepeat {
+                    // rs274 2.9.0~pre1: "no matching while/do label .. (found 'repeat')".
+                    return Err((
+                        1,
+                        format!("{lname} {}: only while and do loops can be left or continued, not repeat", kw.name()),
+                    ));
+                }
+                if !matches!(w, Kw::Endwhile | Kw::While) {
+                    return Err(missing("endwhile or while"));
                 }
                 if kw == Kw::Break {
-                    if w == Kw::Endrepeat {
-                        if let Some(r) = (0..end).rev().find(|&k| is(k) == Some(Kw::Repeat)) {
-                            self.lc_level().repeats.remove(&(id, r));
-                        }
-                    }
                     Step::Jump(end + 1)
                 } else if w == Kw::While {
                     // A do loop: rs274 (2.9.0~pre1) skips to the next line of this O-word
@@ -503,7 +505,7 @@ impl Machine<'_> {
                         .unwrap_or(end);
                     Step::Jump(k)
                 } else {
-                    // Run the loop's end: endwhile goes back to the test, endrepeat counts.
+                    // The endwhile, which goes back to the test.
                     Step::Jump(end)
                 }
             }
@@ -513,6 +515,16 @@ impl Machine<'_> {
                     Some((k, Kw::Endrepeat)) => k,
                     _ => return Err(missing("endrepeat")),
                 };
+                // rs274 2.9.0~pre1 refuses these even where they would not run.
+                let exit = (pc + 1..end).find(|&k| {
+                    matches!(&flow.words[k], Some((kk, Kw::Break | Kw::Continue)) if *kk == key)
+                });
+                if let Some(k) = exit {
+                    return Err((
+                        1,
+                        format!("{lname} repeat: the break or continue at line {} cannot leave a repeat (only while and do loops)", prog.blocks[k].0),
+                    ));
+                }
                 if n >= 1.0 {
                     self.lc_level().repeats.insert((id, pc), n.min(1e15) as i64);
                     Step::Next

@@ -43,7 +43,7 @@ fn canon_threads(text: &str) -> Vec<[f64; 5]> {
 }
 
 /// Programs whose every synchronised feed is one vpcut thread move, with the pass count.
-const PLAIN: [(&str, usize); 7] = [
+const PLAIN: [(&str, usize); 11] = [
     ("g33-g7", 2),
     ("g76-g7-external-r2-q29.5-h1", 16),
     ("g76-g8-external-r1", 9),
@@ -59,6 +59,12 @@ const PLAIN: [(&str, usize); 7] = [
     // 150 random expressions (all operators and functions, numbered and named parameters),
     // each value the X of a G33 pass: vpcut's evaluator against rs274's.
     ("oword-expressions", 150),
+    // Random programs of nested if/elseif/else, while, do, repeat, break, continue and sub
+    // calls with return values (a seeded generator); each G33 pass's X records the state.
+    ("oword-random-flow-21", 54),
+    ("oword-random-flow-23", 25),
+    ("oword-random-flow-72", 24),
+    ("oword-random-flow-44", 21),
 ];
 
 /// Reads the subroutine files beside the programs (rs274 finds them in its working folder).
