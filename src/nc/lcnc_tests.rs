@@ -104,6 +104,21 @@ fn break_and_continue() {
     let f = "#20=0\no500 do\n#20=[#20+1]\no501 if [#20 LT 3]\no500 continue\no501 endif\n\
              G0 X#20\no500 while [#20 LT 9]\nG0 X[100+#20]\n";
     close(&xs(f), &[3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 109.0]);
+    // rs274 2.9.0~pre1: after a break out of a while loop (even in a sub) the next do loop's
+    // closing while falls through once ("t 1; a 1; u 1; u 2; u 3; b 3"); a break out of a
+    // do loop in between clears that ("t 1; t 2; t 3; a 3").
+    let dos = "o138 do\n#1=[#1+1]\nG0 X#1\no138 while [#1 LT 3]\nG0 X[10+#1]\n\
+               #1=0\no139 do\n#1=[#1+1]\nG0 X[20+#1]\no139 while [#1 LT 3]\nG0 X[30+#1]\n";
+    close(
+        &xs(&format!(
+            "#1=0\no1 sub\no133 while [1]\no133 break\no133 endwhile\no1 endsub\no1 call\n{dos}"
+        )),
+        &[1.0, 11.0, 21.0, 22.0, 23.0, 33.0],
+    );
+    close(
+        &xs(&format!("#1=0\no133 while [1]\no133 break\no133 endwhile\no135 do\no135 break\no135 while [1]\n{dos}")),
+        &[1.0, 2.0, 3.0, 13.0, 21.0, 22.0, 23.0, 33.0],
+    );
     // A do loop runs its body once even when the test is false.
     close(&xs("o3 do\nG0 X7\no3 while [0]\n"), &[7.0]);
     // rs274 2.9.0~pre1 refuses break and continue in a repeat, even not run: "no matching
@@ -116,6 +131,10 @@ fn break_and_continue() {
         assert_eq!(e.line, 2, "{e}");
         assert!(e.message.contains("at line 5 cannot leave a repeat"), "{e}");
     }
+    // Even in a repeat that does not run (rs274: "no matching while/do label", random
+    // seed 87).
+    let e = run("o1 repeat [0]\no1 break\no1 endrepeat\nG0 X4\n").unwrap_err();
+    assert!(e.message.contains("at line 2 cannot leave a repeat"), "{e}");
 }
 
 /// rs274 (b.ngc): a chain if/elseif/else inside a while, an `if` nested in the elseif

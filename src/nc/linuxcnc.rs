@@ -11,7 +11,8 @@
 //! `do`/`while`, `repeat`/`endrepeat` (count rounded half to even, as rs274), `if`/`elseif`/
 //! `else`/`endif`, `break` and `continue` (of `while` and `do` loops only, as in rs274; in a `do` loop, as rs274 2.9.0~pre1 does,
 //! `continue` runs the next line of the loop's O-word: the closing `while`, which tests, or
-//! a later `break` of that loop, which leaves it). Parameter assignments of a line take effect after the whole line is read.
+//! a later `break` of that loop, which leaves it; and after a `break` out of a `while` loop
+//! the next closing `while` of a `do` loop does not loop). Parameter assignments of a line take effect after the whole line is read.
 
 use super::expr::Fail;
 use super::lcnc_expr::{LCur, Param, Params};
@@ -134,6 +135,9 @@ pub(super) struct Lcnc {
     flow: HashMap<usize, Rc<Flow>>,
     /// The block an `if` chain jumped to (an `elseif`/`else` reached this way is taken).
     jumped: Option<(usize, usize)>,
+    /// rs274 2.9.0~pre1: after a `break` out of a while loop, the next closing `while` of a
+    /// do loop does not loop (whatever its test); a `break` out of a do loop clears this.
+    broke_while: bool,
 }
 
 /// A line upper-cased with comments (`( .. )`, `;` to the end) blanked, so columns stay.
@@ -474,7 +478,10 @@ impl Machine<'_> {
                 _ => {
                     let start =
                         prev(Kw::Do).ok_or_else(|| missing("endwhile (or do before it)"))?;
-                    if cond(self, c)? {
+                    let test = cond(self, c)?;
+                    if std::mem::take(&mut self.lc.broke_while) {
+                        Step::Next
+                    } else if test {
                         Step::Jump(start + 1)
                     } else {
                         Step::Next
@@ -495,6 +502,7 @@ impl Machine<'_> {
                     return Err(missing("endwhile or while"));
                 }
                 if kw == Kw::Break {
+                    self.lc.broke_while = w == Kw::Endwhile;
                     Step::Jump(end + 1)
                 } else if w == Kw::While {
                     // A do loop: rs274 (2.9.0~pre1) skips to the next line of this O-word
@@ -515,7 +523,9 @@ impl Machine<'_> {
                     Some((k, Kw::Endrepeat)) => k,
                     _ => return Err(missing("endrepeat")),
                 };
-                // rs274 2.9.0~pre1 refuses these even where they would not run.
+                // rs274 2.9.0~pre1 refuses these when it reads them, run or skipped, even in
+                // a repeat [0]; vpcut refuses the repeat (a program that leaves the repeat by
+                // another loop's break before rs274 reads the line is refused too).
                 let exit = (pc + 1..end).find(|&k| {
                     matches!(&flow.words[k], Some((kk, Kw::Break | Kw::Continue)) if *kk == key)
                 });
