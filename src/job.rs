@@ -947,7 +947,13 @@ fn program_passes(
     };
     let mut out: Vec<Pass> = Vec::new();
     let mut links = Vec::new();
-    for m in moves.iter().filter(|m| m.kind == MoveKind::Thread) {
+    // A thread move that goes nowhere (a repeated block) cuts nothing.
+    let goes = |m: &&crate::nc::Move| m.z != m.z_start || m.x_dia != m.x_start;
+    for m in moves
+        .iter()
+        .filter(|m| m.kind == MoveKind::Thread)
+        .filter(goes)
+    {
         let tool = match m.tool {
             Some(id) => tools.iter().position(|t| t.id == id),
             None if tools.len() == 1 => Some(0),

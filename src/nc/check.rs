@@ -60,7 +60,7 @@ impl Line<'_> {
                         self.out.push((
                             start + 1,
                             Severity::Error,
-                            "comment not closed".into(),
+                            "unclosed comment: `(` without `)`".into(),
                             Some("add `)` at the end of the comment".into()),
                         ));
                     }

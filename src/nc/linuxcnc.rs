@@ -1,9 +1,622 @@
-//! LinuxCNC: the G76 threading cycle, as `Interp::convert_threading_cycle` computes it.
+//! LinuxCNC (rs274ngc): blocks, O-word subroutines and control flow, and the G76 threading
+//! cycle as `Interp::convert_threading_cycle` computes it.
+//!
+//! A file is split when loaded: each `oN sub` .. `oN endsub` (numbered or `o<name>`) becomes
+//! a program of its own, registered as `ON` / `O<NAME>`, and the main program keeps the
+//! other lines (a definition is skipped where it stands and runs when called). `o<name>
+//! call` of a subroutine not in the file loads `name.ngc` beside it, as rs274 does. Every
+//! call is a new level of `#1..#30` (the arguments) and of named locals; `endsub`/`return`
+//! with a value sets `#<_value>` and `#<_value_returned>` (else both 0). Loops and `if`
+//! chains are matched by their O-word within one program: `while`/`endwhile`,
+//! `do`/`while`, `repeat`/`endrepeat` (count rounded half to even, as rs274), `if`/`elseif`/
+//! `else`/`endif`, `break` and `continue` (of `while` and `do` loops only, as in rs274; in a `do` loop, as rs274 2.9.0~pre1 does,
+//! `continue` runs the next line of the loop's O-word: the closing `while`, which tests, or
+//! a later `break` of that loop, which leaves it; and after a `break` out of a `while` loop
+//! the next closing `while` of a `do` loop does not loop). Parameter assignments of a line take effect after the whole line is read.
 
 use super::expr::Fail;
-use super::{Machine, MoveKind, Program, Step, Sync, Words};
+use super::lcnc_expr::{LCur, Param, Params};
+use super::{Machine, MoveKind, Program, Source, Step, Sync, Words};
+use std::collections::HashMap;
+use std::rc::Rc;
+
+#[cfg(test)]
+#[path = "lcnc_tests.rs"]
+mod tests;
+
+/// A block as `Program` keeps it: (1-based line, the line, the text parsed).
+type Block = (usize, String, String);
+
+/// O-word keywords.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Kw {
+    Sub,
+    Endsub,
+    Call,
+    Return,
+    Do,
+    While,
+    Endwhile,
+    If,
+    Elseif,
+    Else,
+    Endif,
+    Break,
+    Continue,
+    Repeat,
+    Endrepeat,
+}
+
+impl Kw {
+    fn from_name(s: &str) -> Option<Kw> {
+        Some(match s {
+            "SUB" => Kw::Sub,
+            "ENDSUB" => Kw::Endsub,
+            "CALL" => Kw::Call,
+            "RETURN" => Kw::Return,
+            "DO" => Kw::Do,
+            "WHILE" => Kw::While,
+            "ENDWHILE" => Kw::Endwhile,
+            "IF" => Kw::If,
+            "ELSEIF" => Kw::Elseif,
+            "ELSE" => Kw::Else,
+            "ENDIF" => Kw::Endif,
+            "BREAK" => Kw::Break,
+            "CONTINUE" => Kw::Continue,
+            "REPEAT" => Kw::Repeat,
+            "ENDREPEAT" => Kw::Endrepeat,
+            _ => return None,
+        })
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Kw::Sub => "sub",
+            Kw::Endsub => "endsub",
+            Kw::Call => "call",
+            Kw::Return => "return",
+            Kw::Do => "do",
+            Kw::While => "while",
+            Kw::Endwhile => "endwhile",
+            Kw::If => "if",
+            Kw::Elseif => "elseif",
+            Kw::Else => "else",
+            Kw::Endif => "endif",
+            Kw::Break => "break",
+            Kw::Continue => "continue",
+            Kw::Repeat => "repeat",
+            Kw::Endrepeat => "endrepeat",
+        }
+    }
+}
+
+/// The O-words of a program's blocks: (key such as `O100` or `O<NAME>`, keyword), and for
+/// a block opening an `if`, loop or `repeat` whose O-word already opened one earlier in the
+/// program, that earlier block (rs274: "duplicate O-word label").
+struct Flow {
+    words: Vec<Option<(String, Kw)>>,
+    dup_of: Vec<Option<usize>>,
+}
+
+impl Flow {
+    fn new(prog: &Program) -> Flow {
+        let words: Vec<Option<(String, Kw)>> = prog.blocks.iter().map(|b| oword_of(&b.2)).collect();
+        let mut dup_of = vec![None; words.len()];
+        let mut opened: HashMap<&str, usize> = HashMap::new();
+        for (i, w) in words.iter().enumerate() {
+            let Some((key, kw)) = w else { continue };
+            let opens = match kw {
+                Kw::If | Kw::Do | Kw::Repeat => true,
+                // A while opens a loop when its endwhile comes before any other line of its
+                // O-word (else it closes a do loop).
+                Kw::While => words[i + 1..]
+                    .iter()
+                    .flatten()
+                    .find(|(k, w)| k == key && !matches!(w, Kw::Break | Kw::Continue))
+                    .is_some_and(|(_, w)| *w == Kw::Endwhile),
+                _ => false,
+            };
+            if opens {
+                if let Some(&j) = opened.get(key.as_str()) {
+                    dup_of[i] = Some(j);
+                } else {
+                    opened.insert(key, i);
+                }
+            }
+        }
+        Flow { words, dup_of }
+    }
+}
+
+/// LinuxCNC interpreter state kept beside the shared `Machine` fields.
+#[derive(Default)]
+pub(super) struct Lcnc {
+    pub(super) params: Params,
+    /// O-word tables by program (its address: programs live as long as the run).
+    flow: HashMap<usize, Rc<Flow>>,
+    /// The block an `if` chain jumped to (an `elseif`/`else` reached this way is taken).
+    jumped: Option<(usize, usize)>,
+    /// rs274 2.9.0~pre1: after a `break` out of a while loop, the next closing `while` of a
+    /// do loop does not loop (whatever its test); a `break` out of a do loop clears this.
+    broke_while: bool,
+}
+
+/// A line upper-cased with comments (`( .. )`, `;` to the end) blanked, so columns stay.
+fn blank_comments(line: &str) -> String {
+    let mut out = String::with_capacity(line.len());
+    let mut depth = 0;
+    let mut rest_blank = false;
+    for ch in line.chars() {
+        if rest_blank {
+            break;
+        }
+        match ch {
+            ';' if depth == 0 => rest_blank = true,
+            '(' => {
+                depth += 1;
+                out.push(' ');
+            }
+            ')' if depth > 0 => {
+                depth -= 1;
+                out.push(' ');
+            }
+            _ if depth > 0 => out.extend(std::iter::repeat_n(' ', ch.len_utf8())),
+            _ => out.push(ch.to_ascii_uppercase()),
+        }
+    }
+    out.trim_end().to_string()
+}
+
+/// rs274's comment errors: a `(` inside a comment, or one not closed on its line (column of
+/// the `(`).
+fn comment_error(line: &str) -> Option<Fail> {
+    let mut open = None;
+    for (k, b) in line.bytes().enumerate() {
+        match (b, open) {
+            (b';', None) => return None,
+            (b'(', None) => open = Some(k + 1),
+            (b'(', Some(_)) => return Some((k + 1, "nested comment: `(` inside a comment".into())),
+            (b')', Some(_)) => open = None,
+            _ => {}
+        }
+    }
+    open.map(|col| {
+        (
+            col,
+            "unclosed comment: expected `)` on this line".to_string(),
+        )
+    })
+}
+
+/// The O-word at the start of a line (after an optional N number): key and keyword; the
+/// cursor is left after the keyword. `Ok(None)` when the line does not start with `O`.
+fn oword(c: &mut LCur) -> Result<Option<(String, Kw)>, Fail> {
+    if c.peek() == Some(b'N') && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
+        c.i += 1;
+        let _ = c.number();
+    }
+    if !c.eat("O") {
+        return Ok(None);
+    }
+    let key = if c.eat("<") {
+        format!("O<{}>", c.angle_name()?)
+    } else {
+        let at = c.col();
+        match c.number() {
+            Some(n) if n.fract() == 0.0 => format!("O{n}"),
+            _ => return Err((at, "expected an O-word number or <name>".into())),
+        }
+    };
+    let at = c.col();
+    let kw = c.ident();
+    match Kw::from_name(&kw) {
+        Some(k) => Ok(Some((key, k))),
+        None => Err((
+            at,
+            format!("expected sub, endsub, call, return, do, while, endwhile, if, elseif, else, endif, break, continue, repeat or endrepeat after {}, found `{}`", key.to_lowercase(), kw.to_lowercase()),
+        )),
+    }
+}
+
+fn oword_of(text: &str) -> Option<(String, Kw)> {
+    oword(&mut LCur::new(text)).ok().flatten()
+}
+
+/// Split a LinuxCNC file into its main program and its subroutines (see the module docs).
+/// A `sub` without its `endsub` stays in the main program, where running it is an error.
+pub(super) fn load(src: &Source) -> Vec<Program> {
+    let block = |i: usize, line: &str| -> Option<Block> {
+        let text = blank_comments(line);
+        let t = text.trim_start();
+        // `(abort, ..)` is a comment that stops the program, and a bad comment an error:
+        // keep their lines.
+        let keep = line.to_ascii_uppercase().contains("(ABORT,") || comment_error(line).is_some();
+        ((!t.is_empty() || keep) && t != "%" && !t.starts_with('/'))
+            .then(|| (i + 1, line.to_string(), text))
+    };
+    let mut main = Vec::new();
+    let mut subs: Vec<(String, Vec<Block>)> = Vec::new();
+    let mut open: Option<(String, Vec<Block>)> = None;
+    for (i, line) in src.text.lines().enumerate() {
+        let Some(b) = block(i, line) else { continue };
+        let ow = oword_of(&b.2);
+        match (&mut open, ow) {
+            (None, Some((key, Kw::Sub))) => open = Some((key, vec![b])),
+            (Some((key, body)), Some((k, Kw::Endsub))) if *key == k => {
+                body.push(b);
+                let (key, mut body) = open.take().expect("open");
+                body.remove(0);
+                subs.push((key, body));
+            }
+            (Some((_, body)), _) => body.push(b),
+            (None, _) => main.push(b),
+        }
+    }
+    if let Some((_, body)) = open {
+        main.extend(body);
+    }
+    let program = |alias: Option<String>, blocks| Program {
+        name: src.name.clone(),
+        alias,
+        blocks,
+        labels: HashMap::new(),
+        numbers: HashMap::new(),
+    };
+    let mut out = vec![program(None, main)];
+    out.extend(subs.into_iter().map(|(k, b)| program(Some(k), b)));
+    out
+}
 
 impl Machine<'_> {
+    /// One LinuxCNC block: an O-word line, or words and parameter assignments.
+    pub(super) fn lcnc_block(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        text: &str,
+    ) -> Result<Step, Fail> {
+        let id = prog as *const Program as usize;
+        let jumped = self.lc.jumped.take() == Some((id, pc));
+        let orig = &prog.blocks[pc].1;
+        if let Some(e) = comment_error(orig) {
+            return Err(e);
+        }
+        let abort = orig
+            .as_bytes()
+            .windows(7)
+            .position(|w| w.eq_ignore_ascii_case(b"(ABORT,"));
+        if let Some(k) = abort {
+            return Err((
+                k + 1,
+                format!(
+                    "program aborted: {}",
+                    orig[k + 7..].trim_end_matches(')').trim()
+                ),
+            ));
+        }
+        let mut c = LCur::new(text);
+        if let Some((key, kw)) = oword(&mut c)? {
+            return self.lcnc_oword(prog, pc, id, key, kw, &mut c, jumped);
+        }
+        let mut w = Words::default();
+        let mut sets: Vec<(Param, f64)> = Vec::new();
+        while !c.done() {
+            let at = c.col();
+            if c.eat("#") {
+                let p = self.lc_param(&mut c)?;
+                if let Param::Named(n) = &p {
+                    if super::lcnc_expr::predefined(n) {
+                        return Err((
+                            at,
+                            format!(
+                                "cannot assign to read-only parameter #<{}>",
+                                n.to_lowercase()
+                            ),
+                        ));
+                    }
+                }
+                if !c.eat("=") {
+                    return c.err("expected `=` after the parameter");
+                }
+                let v = self.lc_value(&mut c)?;
+                sets.push((p, v));
+                continue;
+            }
+            let letter = c.peek().expect("not done");
+            if !letter.is_ascii_alphabetic() {
+                return Err((at, format!("expected a word, found `{}`", letter as char)));
+            }
+            c.i += 1;
+            let v = self.lc_value(&mut c)?;
+            if !v.is_finite() {
+                return Err((at, format!("the {} word's value is {v}", letter as char)));
+            }
+            let code = |v: f64| -> Result<u32, Fail> {
+                let tenth = (v * 10.0).round();
+                if v < 0.0 || (v * 10.0 - tenth).abs() > 1e-6 || tenth % 10.0 != 0.0 {
+                    return Err((at, format!("{}{v} is not supported", letter as char)));
+                }
+                Ok((tenth / 10.0) as u32)
+            };
+            match letter {
+                b'G' => w.g.push(code(v)?),
+                b'M' => {
+                    let m = code(v)?;
+                    if m == 98 || m == 99 {
+                        return Err((
+                            at,
+                            format!("M{m} (FANUC-style subprograms) is not supported: use o-word subroutines"),
+                        ));
+                    }
+                    w.m.push(m)
+                }
+                b'N' => {}
+                b'X' | b'Z' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P' | b'L' | b'J'
+                | b'I' | b'H' | b'E' => {
+                    let k = (letter as char).to_string();
+                    if w.vals.contains_key(&k) {
+                        return Err((at, format!("more than one {k} word on the line")));
+                    }
+                    w.vals.insert(k, (v, at));
+                }
+                b'O' => return Err((at, "an O-word must start the line".into())),
+                other => {
+                    return Err((
+                        at,
+                        format!(
+                            "the word `{}` is not supported on a LinuxCNC lathe (X Z axes)",
+                            other as char
+                        ),
+                    ))
+                }
+            }
+        }
+        // rs274: the line's parameter settings take effect after the whole line is read.
+        for (p, v) in sets {
+            self.lc_set(p, v);
+        }
+        if w.g.contains(&76) {
+            return self.lcnc_g76(&w, prog, pc);
+        }
+        self.apply(&w, prog, pc)
+    }
+
+    fn lc_flow(&mut self, prog: &Program, id: usize) -> Rc<Flow> {
+        self.lc
+            .flow
+            .entry(id)
+            .or_insert_with(|| Rc::new(Flow::new(prog)))
+            .clone()
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn lcnc_oword(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        id: usize,
+        key: String,
+        kw: Kw,
+        c: &mut LCur,
+        jumped: bool,
+    ) -> Result<Step, Fail> {
+        let flow = self.lc_flow(prog, id);
+        let lname = key.to_lowercase();
+        // The next (or previous) line of this O-word, break and continue left out.
+        let is = |k: usize| -> Option<Kw> {
+            match &flow.words[k] {
+                Some((kk, w)) if *kk == key && !matches!(w, Kw::Break | Kw::Continue) => Some(*w),
+                _ => None,
+            }
+        };
+        let next = || (pc + 1..flow.words.len()).find_map(|k| is(k).map(|w| (k, w)));
+        let prev = |want: Kw| (0..pc).rev().find(|&k| is(k) == Some(want));
+        let missing = |what: &str| -> Fail {
+            (
+                1,
+                format!("{lname} {}: no matching {lname} {what}", kw.name()),
+            )
+        };
+        if let Some(j) = flow.dup_of[pc] {
+            return Err((
+                1,
+                format!(
+                    "duplicate O-word label: {lname} already opened a block at line {} (use another number)",
+                    prog.blocks[j].0
+                ),
+            ));
+        }
+        let cond = |m: &Self, c: &mut LCur| -> Result<bool, Fail> {
+            let v = m.lc_bracket(c)?;
+            Ok(v != 0.0)
+        };
+        let step = match kw {
+            Kw::Sub => {
+                return Err((
+                    1,
+                    format!("{lname} sub: no matching {lname} endsub, or inside another sub"),
+                ))
+            }
+            Kw::Endsub | Kw::Return => {
+                if self.lc_depth() == 0 {
+                    return Err((1, format!("{lname} {} outside a subroutine", kw.name())));
+                }
+                let value = if c.done() {
+                    None
+                } else {
+                    Some(self.lc_bracket(c)?)
+                };
+                let g = &mut self.lc.params.globals;
+                g.insert("_VALUE".into(), value.unwrap_or(0.0));
+                g.insert("_VALUE_RETURNED".into(), f64::from(value.is_some()));
+                Step::Return
+            }
+            Kw::Call => {
+                let mut args = Vec::new();
+                while !c.done() {
+                    if args.len() == 30 {
+                        return c.err("more than 30 call arguments");
+                    }
+                    args.push((args.len() as u32 + 1, self.lc_bracket(c)?));
+                }
+                if !self.programs.contains_key(&key) {
+                    self.lc_load_sub(&key)?;
+                }
+                self.lc_push_level();
+                return Ok(Step::Call(key, 1, Some(args)));
+            }
+            Kw::Do | Kw::Endif => Step::Next,
+            Kw::While => match next() {
+                // A loop head: its endwhile follows.
+                Some((end, Kw::Endwhile)) => {
+                    if cond(self, c)? {
+                        Step::Next
+                    } else {
+                        Step::Jump(end + 1)
+                    }
+                }
+                // The end of a do loop.
+                _ => {
+                    let start =
+                        prev(Kw::Do).ok_or_else(|| missing("endwhile (or do before it)"))?;
+                    let test = cond(self, c)?;
+                    if std::mem::take(&mut self.lc.broke_while) {
+                        Step::Next
+                    } else if test {
+                        Step::Jump(start + 1)
+                    } else {
+                        Step::Next
+                    }
+                }
+            },
+            Kw::Endwhile => Step::Jump(prev(Kw::While).ok_or_else(|| missing("while"))?),
+            Kw::Break | Kw::Continue => {
+                let (end, w) = next().ok_or_else(|| missing("endwhile, endrepeat or while"))?;
+                if w == Kw::Endrepeat {
+                    // rs274 2.9.0~pre1: "no matching while/do label .. (found 'repeat')".
+                    return Err((
+                        1,
+                        format!("{lname} {}: only while and do loops can be left or continued, not repeat", kw.name()),
+                    ));
+                }
+                if !matches!(w, Kw::Endwhile | Kw::While) {
+                    return Err(missing("endwhile or while"));
+                }
+                if kw == Kw::Break {
+                    self.lc.broke_while = w == Kw::Endwhile;
+                    Step::Jump(end + 1)
+                } else if w == Kw::While {
+                    // A do loop: rs274 (2.9.0~pre1) skips to the next line of this O-word
+                    // and runs it: the closing while (which tests), or a later break or
+                    // continue of the same loop.
+                    let k = (pc + 1..flow.words.len())
+                        .find(|&k| matches!(&flow.words[k], Some((kk, _)) if *kk == key))
+                        .unwrap_or(end);
+                    Step::Jump(k)
+                } else {
+                    // The endwhile, which goes back to the test.
+                    Step::Jump(end)
+                }
+            }
+            Kw::Repeat => {
+                let n = self.lc_bracket(c)?.round_ties_even();
+                let end = match next() {
+                    Some((k, Kw::Endrepeat)) => k,
+                    _ => return Err(missing("endrepeat")),
+                };
+                // rs274 2.9.0~pre1 refuses these when it reads them, run or skipped, even in
+                // a repeat [0]; vpcut refuses the repeat (a program that leaves the repeat by
+                // another loop's break before rs274 reads the line is refused too).
+                let exit = (pc + 1..end).find(|&k| {
+                    matches!(&flow.words[k], Some((kk, Kw::Break | Kw::Continue)) if *kk == key)
+                });
+                if let Some(k) = exit {
+                    return Err((
+                        1,
+                        format!("{lname} repeat: the break or continue at line {} cannot leave a repeat (only while and do loops)", prog.blocks[k].0),
+                    ));
+                }
+                if n >= 1.0 {
+                    self.lc_level().repeats.insert((id, pc), n.min(1e15) as i64);
+                    Step::Next
+                } else {
+                    Step::Jump(end + 1)
+                }
+            }
+            Kw::Endrepeat => {
+                let start = prev(Kw::Repeat).ok_or_else(|| missing("repeat"))?;
+                let level = self.lc_level();
+                let left = level.repeats.get_mut(&(id, start)).ok_or((
+                    1,
+                    format!("{lname} endrepeat reached without running {lname} repeat"),
+                ))?;
+                *left -= 1;
+                if *left > 0 {
+                    Step::Jump(start + 1)
+                } else {
+                    level.repeats.remove(&(id, start));
+                    Step::Next
+                }
+            }
+            Kw::If | Kw::Elseif | Kw::Else => {
+                let test = match kw {
+                    Kw::If => true,
+                    _ if !jumped => {
+                        // The branch before was taken: leave the chain.
+                        let end = (pc + 1..flow.words.len())
+                            .find(|&k| is(k) == Some(Kw::Endif))
+                            .ok_or_else(|| missing("endif"))?;
+                        return Ok(Step::Jump(end + 1));
+                    }
+                    Kw::Elseif => true,
+                    _ => false,
+                };
+                if !test || cond(self, c)? {
+                    Step::Next
+                } else {
+                    match next() {
+                        Some((k, Kw::Elseif | Kw::Else)) => {
+                            self.lc.jumped = Some((id, k));
+                            Step::Jump(k)
+                        }
+                        Some((k, Kw::Endif)) => Step::Jump(k + 1),
+                        _ => return Err(missing("endif")),
+                    }
+                }
+            }
+        };
+        if !c.done() {
+            return c.err(format!("unexpected text after {lname} {}", kw.name()));
+        }
+        Ok(step)
+    }
+
+    /// `o<name> call` of a subroutine not in this file: `name.ngc` beside it.
+    fn lc_load_sub(&mut self, key: &str) -> Result<(), Fail> {
+        let lname = key.to_lowercase();
+        let Some(name) = lname.strip_prefix("o<").and_then(|n| n.strip_suffix('>')) else {
+            return Err((
+                1,
+                format!("{lname} is not defined: no {lname} sub in this file"),
+            ));
+        };
+        let file = format!("{name}.ngc");
+        let Some(src) = (self.loader)(&file) else {
+            return Err((
+                1,
+                format!("subroutine {lname} not found (in this file or as {file} beside it)"),
+            ));
+        };
+        for p in load(&src).into_iter().skip(1) {
+            if let Some(a) = p.alias.clone() {
+                self.programs.entry(a).or_insert_with(|| Rc::new(p));
+            }
+        }
+        if !self.programs.contains_key(key) {
+            return Err((1, format!("{file} does not define {lname} sub")));
+        }
+        Ok(())
+    }
+
     /// LinuxCNC G76 (`controllers.md` 2.5, from `Interp::convert_threading_cycle`): the
     /// drive line is the current X; pass n is cut `|I| + J n^(1/R)` from it while that is
     /// less than `|I| + K`, then at `|I| + K` once plus H spring passes; each pass is shifted
@@ -26,17 +639,18 @@ impl Machine<'_> {
             return Err((1, "G76 needs I != 0, J > 0, K > J and P > 0".into()));
         }
         let taper_len = val("E").unwrap_or(0.0) * scale;
-        let tapers = match val("L").unwrap_or(0.0).round() as i64 {
-            0 => false,
-            3 if taper_len > 0.0 => true,
-            3 => return Err((1, "G76 L3 needs a taper length E > 0".into())),
-            _ => {
-                return Err((
-                    1,
-                    "G76 entry-only or exit-only tapers (L1, L2) are not supported yet".into(),
-                ))
-            }
+        if taper_len < 0.0 {
+            return Err((1, "G76 E (the taper length) must not be negative".into()));
+        }
+        // L1 entry taper, L2 exit taper, L3 both; rs274 tapers nothing when E is 0.
+        let (entry, exit) = match val("L").unwrap_or(0.0) {
+            0.0 => (false, false),
+            1.0 => (true, false),
+            2.0 => (false, true),
+            3.0 => (true, true),
+            l => return Err((1, format!("G76 L{l}: expected L0, L1, L2 or L3"))),
         };
+        let (entry, exit) = (entry && taper_len > 0.0, exit && taper_len > 0.0);
         let mut degression = val("R").unwrap_or(1.0);
         if degression < 1.0 {
             degression = 1.0;
@@ -67,31 +681,49 @@ impl Machine<'_> {
             depths.push(end_depth);
         }
         let dir = if end_z < start_z { -1.0 } else { 1.0 };
-        if tapers && 2.0 * taper_len > (target_z - start_z).abs() {
-            return Err((1, "G76 E is greater than half the drive line length".into()));
+        // rs274 2.9.0~pre1 does not check this; tapers longer than the pass are refused.
+        let tapers = u8::from(entry) + u8::from(exit);
+        if f64::from(tapers) * taper_len > (target_z - start_z).abs() {
+            return Err((
+                1,
+                "G76 E: the tapers are longer than the drive line (E > half of it with L3)".into(),
+            ));
         }
         for d in depths {
             let zoff = (d - full) * angle.tan();
             let x = 2.0 * (x0 + side * d);
             let (zs, ze) = (start_z - zoff, target_z - zoff);
-            if tapers {
-                // rs274: from the retract line, a synchronised radial move (|I| long) to the
-                // taper start K above the pass, the entry taper over E, the pass, and the
-                // exit taper back up by K. Feeds are per path length (P hypot(E,K)/E on the
+            if tapers > 0 {
+                // rs274: with an entry taper, from the retract line a synchronised radial
+                // move (|I| long) to the taper start K above the pass, then the taper over E;
+                // else a rapid to the pass. Then the pass, and with an exit taper the taper
+                // back up by K over E. Feeds are per path length (P hypot(E,K)/E on the
                 // tapers), so the axial lead is P throughout; the radial move uses up
                 // |I| / (P hypot(E,K)/E) revolutions before the entry taper starts.
                 let kx = 2.0 * (x0 + side * (d - k.abs()));
                 let p_taper = pitch * taper_len.hypot(k.abs()) / taper_len;
-                let mut revs = full / p_taper;
-                let (z1, z2) = (zs + dir * taper_len, ze - dir * taper_len);
-                let segments = [(kx, zs, x, z1), (x, z1, x, z2), (x, z2, kx, ze)];
-                for (xa, za, xb, zb) in segments {
+                let mut revs = if entry { full / p_taper } else { 0.0 };
+                let z1 = if entry { zs + dir * taper_len } else { zs };
+                let z2 = if exit { ze - dir * taper_len } else { ze };
+                let mut segments = Vec::with_capacity(3);
+                if entry {
+                    segments.push((kx, zs, x, z1));
+                }
+                segments.push((x, z1, x, z2));
+                if exit {
+                    segments.push((x, z2, kx, ze));
+                }
+                for (i, (xa, za, xb, zb)) in segments.into_iter().enumerate() {
                     let sync = Sync {
                         lead: pitch,
                         change: 0.0,
                         angle: (revs * 360.0).rem_euclid(360.0),
                     };
                     self.emit(prog, pc, MoveKind::Thread, (xa, za), (xb, zb), Some(sync));
+                    // The segments after the first continue one synchronised motion.
+                    if let Some(last) = self.moves.last_mut() {
+                        last.chained = i > 0 || entry;
+                    }
                     revs += (zb - za).abs() / pitch;
                 }
                 continue;

@@ -9,7 +9,8 @@
 //! - `expr`: the block cursor and the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
 //! - `siemens`: Siemens 802D blocks, labels and jumps;
-//! - `linuxcnc`: LinuxCNC G76;
+//! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
+//! - `lcnc_expr`: LinuxCNC expressions and numbered/named parameters;
 //! - `motion`: modal state, motion words, and recording moves;
 //! - `codes`: which G/M codes and words each dialect runs, refuses or does not know;
 //! - `check`: the static check of every block before anything runs (all problems at once);
@@ -23,6 +24,7 @@ mod codes;
 mod cycle_tests;
 mod expr;
 mod fanuc;
+mod lcnc_expr;
 mod linuxcnc;
 mod motion;
 mod program;
@@ -42,8 +44,9 @@ use std::fmt;
 pub enum Dialect {
     /// FANUC lathe, G-code system A, Custom Macro B (and Macro A `G65 H..`).
     Fanuc,
-    /// LinuxCNC (rs274ngc) lathe: FANUC-like syntax, `G33 Z K`, `G76 P Z I J K R Q H`,
-    /// radius mode G8 by default, diameter mode G7.
+    /// LinuxCNC (rs274ngc) lathe: O-word subroutines and control flow, numbered and named
+    /// parameters, `G33 Z K`, `G76 P Z I J K R Q H E L`, radius mode G8 by default,
+    /// diameter mode G7.
     Linuxcnc,
     /// GSK 980TDC: FANUC syntax; `G34 F J K R` with R the lead change per revolution and
     /// J/K the thread run-out.
@@ -69,7 +72,7 @@ impl Dialect {
     /// The syntax family: GSK writes programs as FANUC does.
     fn syntax(self) -> Dialect {
         match self {
-            Dialect::Gsk980 | Dialect::Linuxcnc => Dialect::Fanuc,
+            Dialect::Gsk980 => Dialect::Fanuc,
             d => d,
         }
     }
@@ -432,6 +435,8 @@ struct Machine<'l> {
     /// while the next thread block would continue it without a re-sync; `None` once
     /// anything else moved.
     chain_end: Option<(f64, f64)>,
+    /// LinuxCNC named parameters, call levels and O-word tables.
+    lc: linuxcnc::Lcnc,
 }
 
 pub(super) fn deg(x: f64) -> f64 {
@@ -508,6 +513,7 @@ pub fn interpret_with(
         cycle90: None,
         runout: (None, None),
         chain_end: None,
+        lc: Default::default(),
     };
     let skip = opts.settings.block_skip;
     let mut all = load_programs(main, dialect, skip).into_iter();
@@ -581,7 +587,7 @@ impl Machine<'_> {
         Some(first)
     }
 
-    /// The dialect as the user named it (GSK and LinuxCNC share FANUC's syntax).
+    /// The dialect as the user named it (GSK shares FANUC's syntax).
     fn real_dialect(&self) -> Dialect {
         if self.gsk {
             Dialect::Gsk980
@@ -685,9 +691,8 @@ impl Machine<'_> {
             let before = m.moves.len();
             let step = match dialect {
                 Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
-                Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
-                    m.fanuc_block(&cur, pc, text, &mut loops)
-                }
+                Dialect::Linuxcnc => m.lcnc_block(&cur, pc, text),
+                Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
             };
             // Columns are in the comment-stripped text; map back roughly to the line.
             let offset = orig.to_ascii_uppercase().find(text.as_str()).unwrap_or(0);
@@ -802,6 +807,10 @@ impl Machine<'_> {
 fn lead_problem(mv: &Move) -> Option<String> {
     let (f, k) = (mv.lead?, mv.lead_change.unwrap_or(0.0));
     let s = (mv.z - mv.z_start).abs();
+    if s == 0.0 && mv.x_dia == mv.x_start {
+        // A thread move that goes nowhere (a repeated block): nothing to cut.
+        return None;
+    }
     if !(f > 0.0 && f.is_finite() && k.is_finite()) {
         return Some(format!(
             "a thread move needs a positive lead, got {f} mm/rev"

@@ -209,7 +209,7 @@ impl Machine<'_> {
             let (kind, lead, change, angle) = match (self.dialect, self.motion) {
                 (_, 0) => (MoveKind::Rapid, None, None, None),
                 (_, 1) => (MoveKind::Feed, None, None, None),
-                (Dialect::Fanuc, 33) if self.lcnc => {
+                (Dialect::Linuxcnc, 33) => {
                     let k = val("K").ok_or((1, "G33 needs K (the pitch)".to_string()))? * scale;
                     (MoveKind::Thread, Some(k), Some(0.0), Some(0.0))
                 }

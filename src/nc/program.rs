@@ -38,6 +38,9 @@ fn strip_comment(line: &str, dialect: Dialect) -> String {
 /// With `skip` (the block-skip switch on) blocks that start with `/` are left out; without
 /// it the `/` (and an optional skip level 1..9 after it) is dropped and the block runs.
 pub(super) fn load_programs(src: &Source, dialect: Dialect, skip: bool) -> Vec<Program> {
+    if dialect == Dialect::Linuxcnc {
+        return super::linuxcnc::load(src);
+    }
     let mut out = Vec::new();
     let mut name = src.name.clone();
     let mut alias: Option<String> = None;

@@ -42,16 +42,44 @@ fn canon_threads(text: &str) -> Vec<[f64; 5]> {
     out
 }
 
+/// Programs whose every synchronised feed is one vpcut thread move, with the pass count.
+const PLAIN: [(&str, usize); 11] = [
+    ("g33-g7", 2),
+    ("g76-g7-external-r2-q29.5-h1", 16),
+    ("g76-g8-external-r1", 9),
+    ("g76-g7-internal-r1.5-q30-h2", 25),
+    // O-words: a while loop calling o<pass> with depths 300, 566, 693, 800, 894, 980,
+    // 1058, 1131, 1200, 1265, 1327, 1386, 1442, 1497, 1534 (hand: 400 sqrt(n), rounded,
+    // the first pass 300, the last clamped to 1534) and 2 spring passes from a repeat.
+    ("oword-g33-loop", 15 + 2),
+    // o200 called for n = 1, 3, 5 (continue skips even n, break at 6): G76 K800 H0,
+    // K1200 H1, K1600 H1 with J250 R1.5 gives 5+1, 10+1+1, 16+1+1 passes (hand:
+    // 250 n^(2/3) < K), then 2 passes of the external o<spring_pass> (spring_pass.ngc).
+    ("oword-sub-g76", 6 + 12 + 18 + 2),
+    // 150 random expressions (all operators and functions, numbered and named parameters),
+    // each value the X of a G33 pass: vpcut's evaluator against rs274's.
+    ("oword-expressions", 150),
+    // Random programs of nested if/elseif/else, while, do, repeat, break, continue and sub
+    // calls with return values (a seeded generator); each G33 pass's X records the state.
+    ("oword-random-flow-21", 54),
+    ("oword-random-flow-23", 25),
+    ("oword-random-flow-72", 24),
+    ("oword-random-flow-44", 21),
+];
+
+/// Reads the subroutine files beside the programs (rs274 finds them in its working folder).
+fn beside(name: &str) -> Option<Source> {
+    let path = root().join("tests/data/linuxcnc").join(name);
+    std::fs::read_to_string(path).ok().map(|text| Source {
+        name: name.to_string(),
+        text,
+    })
+}
+
 #[test]
 fn g33_and_g76_match_linuxcnc() {
     let dir = root().join("tests/data/linuxcnc");
-    let mut checked = 0;
-    for name in [
-        "g33-g7",
-        "g76-g7-external-r2-q29.5-h1",
-        "g76-g8-external-r1",
-        "g76-g7-internal-r1.5-q30-h2",
-    ] {
+    for (name, passes) in PLAIN {
         let ngc = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
         let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
         let want = canon_threads(&canon);
@@ -63,7 +91,7 @@ fn g33_and_g76_match_linuxcnc() {
             name: format!("{name}.ngc"),
             text: ngc,
         };
-        let moves = interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default())
+        let moves = interpret(&src, Dialect::Linuxcnc, &beside, Limits::default())
             .unwrap_or_else(|e| panic!("{e}"));
         let got: Vec<[f64; 5]> = moves
             .iter()
@@ -78,6 +106,7 @@ fn g33_and_g76_match_linuxcnc() {
                 ]
             })
             .collect();
+        assert_eq!(want.len(), passes, "{name}: rs274's pass count");
         assert_eq!(got.len(), want.len(), "{name}: pass count");
         for (k, (g, w)) in got.iter().zip(&want).enumerate() {
             for c in 0..5 {
@@ -87,64 +116,77 @@ fn g33_and_g76_match_linuxcnc() {
                 );
             }
         }
-        checked += got.len();
     }
-    assert_eq!(checked, 2 + 16 + 9 + 25);
 }
 
-/// G76 with entry and exit tapers (E2 L3): per pass a synchronised radial move in the air,
-/// the entry taper, the pass and the exit taper, fed per path length. vpcut keeps the three
-/// cutting segments with the axial lead P and the spindle phase at which each starts; both
-/// are computed here from rs274's geometry alone.
+/// G76 with tapers: L3 (entry and exit, E2), L1 (entry only, E2) and L2 (exit only, E1.5,
+/// internal, G8). Per pass rs274 feeds, synchronised: with an entry taper a radial move in
+/// the air and the taper, then the pass, then with an exit taper the taper out, fed per path
+/// length. vpcut keeps the cutting segments with the axial lead P and the spindle phase at
+/// which each starts; both are computed here from rs274's geometry alone.
 #[test]
 fn g76_tapers_match_linuxcnc() {
     let dir = root().join("tests/data/linuxcnc");
-    let ngc = std::fs::read_to_string(dir.join("g76-g7-external-taper-e2-l3.ngc")).unwrap();
-    let canon = std::fs::read_to_string(dir.join("g76-g7-external-taper-e2-l3.canon")).unwrap();
-    let src = Source {
-        name: "t.ngc".into(),
-        text: ngc,
-    };
-    let moves = interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default()).unwrap();
-    let got: Vec<&vpcut::Move> = moves
-        .iter()
-        .filter(|m| m.kind == MoveKind::Thread)
-        .collect();
-    // rs274: 16 passes x (radial + entry + straight + exit) synchronised feeds.
-    let feeds = canon_threads(&canon);
-    assert_eq!(feeds.len(), 64);
-    assert_eq!(got.len(), 48);
-    let mut g = got.iter();
-    let mut revs = 0.0;
-    for f in &feeds {
-        let [xa, za, xb, zb, p] = *f;
-        let path = (xb - xa).hypot(zb - za);
-        if (zb - za).abs() < 1e-9 {
-            // The radial move starts the synchronised sequence of a pass.
-            revs = path / p;
-            continue;
+    // (file, rs274 synchronised feeds, vpcut thread moves): 16 passes x (radial, entry,
+    // pass, exit) for L3; 16 x (radial, entry, pass) for L1; 17 x (pass, exit) for L2
+    // (hand: 150 n^(2/3) < 900 for n <= 14, then K once and H2).
+    for (name, n_feeds, n_moves) in [
+        ("g76-g7-external-taper-e2-l3", 64, 48),
+        ("g76-g7-external-taper-e2-l1", 48, 32),
+        ("g76-g8-internal-taper-e1.5-l2", 34, 34),
+    ] {
+        let ngc = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+        let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
+        let src = Source {
+            name: "t.ngc".into(),
+            text: ngc,
+        };
+        let moves = interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default()).unwrap();
+        let got: Vec<&vpcut::Move> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect();
+        let feeds = canon_threads(&canon);
+        assert_eq!(feeds.len(), n_feeds, "{name}");
+        assert_eq!(got.len(), n_moves, "{name}");
+        let mut g = got.iter();
+        let mut revs = 0.0;
+        let mut last_end = [f64::NAN; 2];
+        for f in &feeds {
+            let [xa, za, xb, zb, p] = *f;
+            if (xa - last_end[0]).abs() > 1e-9 || (za - last_end[1]).abs() > 1e-9 {
+                // A pass's synchronised sequence starts here (after a rapid).
+                revs = 0.0;
+            }
+            last_end = [xb, zb];
+            let path = (xb - xa).hypot(zb - za);
+            if (zb - za).abs() < 1e-9 {
+                // The radial move in the air before an entry taper.
+                revs += path / p;
+                continue;
+            }
+            let m = g.next().unwrap();
+            for (a, b) in [
+                (m.x_start / 2000.0, xa),
+                (m.z_start / 1000.0, za),
+                (m.x_dia / 2000.0, xb),
+                (m.z / 1000.0, zb),
+            ] {
+                assert!((a - b).abs() < 1e-6, "{name}: {m:?} vs {f:?}");
+            }
+            let axial = p * (zb - za).abs() / path;
+            assert!(
+                (m.lead.unwrap() / 1000.0 - axial).abs() < 1e-6,
+                "{name}: lead {:?} vs {axial}",
+                m.lead
+            );
+            let phase = (revs * 360.0f64).rem_euclid(360.0);
+            assert!(
+                (m.sync_angle_deg.unwrap() - phase).abs() < 1e-3,
+                "{name}: phase {:?} vs {phase}",
+                m.sync_angle_deg
+            );
+            revs += path / p;
         }
-        let m = g.next().unwrap();
-        for (a, b) in [
-            (m.x_start / 2000.0, xa),
-            (m.z_start / 1000.0, za),
-            (m.x_dia / 2000.0, xb),
-            (m.z / 1000.0, zb),
-        ] {
-            assert!((a - b).abs() < 1e-6, "{m:?} vs {f:?}");
-        }
-        let axial = p * (zb - za).abs() / path;
-        assert!(
-            (m.lead.unwrap() / 1000.0 - axial).abs() < 1e-6,
-            "lead {:?} vs {axial}",
-            m.lead
-        );
-        let phase = (revs * 360.0f64).rem_euclid(360.0);
-        assert!(
-            (m.sync_angle_deg.unwrap() - phase).abs() < 1e-3,
-            "phase {:?} vs {phase}",
-            m.sync_angle_deg
-        );
-        revs += path / p;
     }
 }

@@ -1,0 +1,524 @@
+//! LinuxCNC (rs274ngc) expressions and parameters.
+//!
+//! rs274 reads a line with its white space removed and case folded; a value is a number, a
+//! `[ ]` expression, a parameter `#n`/`#<name>`/`#[expr]`, a function or a signed value.
+//! Binary operators are left-associative on five levels, lowest first: `AND OR XOR`;
+//! `EQ NE GT GE LT LE`; `+ -`; `* / MOD`; `**` (so `2**3**2` is 64 and `-2**2` is 4, the sign
+//! binding to its value). `EQ`/`NE` compare with rs274's tolerance 1e-4, the others exactly;
+//! `MOD` is never negative (and not a number for `MOD 0`, as in rs274); `FIX` is floor, `FUP` ceil, `ROUND` rounds half away from zero;
+//! angles are in degrees; `ATAN[a]/[b]` is atan2. All checked against rs274 2.9.0~pre1.
+//!
+//! Parameters: `#1..#30` are local to a subroutine call, `#31..#5160` global, both read 0
+//! until set; `#<name>` is local to the call and `#<_name>` global, and reading either
+//! before it is set is an error ("Named parameter not defined"). System parameters
+//! (`#5161` and up: homes, offsets, position) are not modelled and refused.
+
+use super::expr::Fail;
+use super::Machine;
+use std::collections::HashMap;
+
+/// rs274's `TOLERANCE_EQUAL` for `EQ` and `NE`.
+const TOLERANCE_EQUAL: f64 = 0.0001;
+/// The last numbered parameter a program may use.
+const LAST_PARAMETER: u32 = 5160;
+
+/// A cursor over one line with white space removed; `cols` maps back to 1-based columns of
+/// the line.
+pub(super) struct LCur {
+    s: Vec<u8>,
+    cols: Vec<usize>,
+    pub(super) i: usize,
+    /// Values being read inside each other (bounded: no line can exhaust the stack).
+    nest: usize,
+}
+
+impl LCur {
+    /// `text` is the upper-cased line with comments blanked (columns as in the file).
+    pub(super) fn new(text: &str) -> LCur {
+        let mut s = Vec::new();
+        let mut cols = Vec::new();
+        for (k, b) in text.bytes().enumerate() {
+            if !b.is_ascii_whitespace() {
+                s.push(b);
+                cols.push(k + 1);
+            }
+        }
+        LCur {
+            s,
+            cols,
+            i: 0,
+            nest: 0,
+        }
+    }
+    pub(super) fn peek(&self) -> Option<u8> {
+        self.s.get(self.i).copied()
+    }
+    pub(super) fn peek_at(&self, k: usize) -> Option<u8> {
+        self.s.get(self.i + k).copied()
+    }
+    pub(super) fn done(&self) -> bool {
+        self.i >= self.s.len()
+    }
+    pub(super) fn eat(&mut self, t: &str) -> bool {
+        if self.s[self.i..].starts_with(t.as_bytes()) {
+            self.i += t.len();
+            true
+        } else {
+            false
+        }
+    }
+    /// The 1-based column of the cursor (one past the last character at the end).
+    pub(super) fn col(&self) -> usize {
+        self.col_at(self.i)
+    }
+    pub(super) fn col_at(&self, i: usize) -> usize {
+        match self.cols.get(i) {
+            Some(&c) => c,
+            None => self.cols.last().map_or(1, |c| c + 1),
+        }
+    }
+    pub(super) fn err<T>(&self, msg: impl Into<String>) -> Result<T, Fail> {
+        Err((self.col(), msg.into()))
+    }
+    /// Letters and `_` (a keyword or function name).
+    pub(super) fn ident(&mut self) -> String {
+        let st = self.i;
+        while self
+            .peek()
+            .is_some_and(|b| b.is_ascii_alphabetic() || b == b'_')
+        {
+            self.i += 1;
+        }
+        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
+    }
+    /// An unsigned decimal number (`12`, `12.`, `.5`, `1.5`).
+    pub(super) fn number(&mut self) -> Option<f64> {
+        let st = self.i;
+        let mut points = 0;
+        while let Some(b) = self.peek() {
+            if b == b'.' {
+                points += 1;
+            } else if !b.is_ascii_digit() {
+                break;
+            }
+            self.i += 1;
+        }
+        let t = String::from_utf8_lossy(&self.s[st..self.i]);
+        match t.parse::<f64>() {
+            Ok(v) if points <= 1 => Some(v),
+            _ => {
+                self.i = st;
+                None
+            }
+        }
+    }
+    /// The name inside `<..>` after `#` or `O` (the `<` already read), upper-cased.
+    pub(super) fn angle_name(&mut self) -> Result<String, Fail> {
+        let st = self.i;
+        while self.peek().is_some_and(|b| b != b'>') {
+            self.i += 1;
+        }
+        if !self.eat(">") {
+            return Err((self.col_at(st), "expected `>` closing the name".into()));
+        }
+        let name = String::from_utf8_lossy(&self.s[st..self.i - 1]).into_owned();
+        if name.is_empty() {
+            return Err((
+                self.col_at(st),
+                "expected a name between `<` and `>`".into(),
+            ));
+        }
+        Ok(name)
+    }
+}
+
+/// rs274's predefined (read-only) named parameters, upper-cased, with the `_ini[..]` and
+/// `_hal[..]` forms.
+pub(super) fn predefined(name: &str) -> bool {
+    const NAMES: [&str; 56] = [
+        "_VMAJOR",
+        "_VMINOR",
+        "_LINE",
+        "_MOTION_MODE",
+        "_PLANE",
+        "_CCOMP",
+        "_METRIC",
+        "_IMPERIAL",
+        "_ABSOLUTE",
+        "_INCREMENTAL",
+        "_INVERSE_TIME",
+        "_UNITS_PER_MINUTE",
+        "_UNITS_PER_REV",
+        "_COORD_SYSTEM",
+        "_TOOL_OFFSET",
+        "_RETRACT_R",
+        "_RETRACT_OLD",
+        "_SPINDLE_RPM_MODE",
+        "_SPINDLE_CSS_MODE",
+        "_IJK_ABSOLUTE_MODE",
+        "_LATHE_DIAMETER_MODE",
+        "_LATHE_RADIUS_MODE",
+        "_SPINDLE_ON",
+        "_SPINDLE_CW",
+        "_MIST",
+        "_FLOOD",
+        "_SPEED_OVERRIDE",
+        "_FEED_OVERRIDE",
+        "_ADAPTIVE_FEED",
+        "_FEED_HOLD",
+        "_FEED",
+        "_RPM",
+        "_X",
+        "_Y",
+        "_Z",
+        "_A",
+        "_B",
+        "_C",
+        "_U",
+        "_V",
+        "_W",
+        "_ABS_X",
+        "_ABS_Y",
+        "_ABS_Z",
+        "_ABS_A",
+        "_ABS_B",
+        "_ABS_C",
+        "_CURRENT_TOOL",
+        "_CURRENT_POCKET",
+        "_SELECTED_TOOL",
+        "_SELECTED_POCKET",
+        "_VALUE",
+        "_VALUE_RETURNED",
+        "_TASK",
+        "_CALL_LEVEL",
+        "_REMAP_LEVEL",
+    ];
+    NAMES.contains(&name) || name.starts_with("_INI[") || name.starts_with("_HAL[")
+}
+
+/// A parameter a line sets.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum Param {
+    Num(u32),
+    /// Upper-cased; a leading `_` makes it global.
+    Named(String),
+}
+
+/// LinuxCNC parameter storage beside the FANUC variables: named parameters, and one level
+/// of named locals and repeat counters per subroutine call.
+#[derive(Default)]
+pub(super) struct Params {
+    pub(super) globals: HashMap<String, f64>,
+    /// Index = call depth (the main program is 0). Entries beyond the current depth are
+    /// stale (left by calls that returned) and replaced on the next call.
+    pub(super) levels: Vec<Level>,
+}
+
+/// One subroutine call's named locals and running `repeat` counters.
+#[derive(Default)]
+pub(super) struct Level {
+    pub(super) named: HashMap<String, f64>,
+    /// (program, block of the `repeat`) -> runs left.
+    pub(super) repeats: HashMap<(usize, usize), i64>,
+}
+
+/// Operator precedence levels, lowest first.
+const LEVELS: [&[&str]; 5] = [
+    &["AND", "XOR", "OR"],
+    &["EQ", "NE", "GT", "GE", "LT", "LE"],
+    &["+", "-"],
+    &["*", "/", "MOD"],
+    &["**"],
+];
+
+impl Machine<'_> {
+    /// The current call depth (0 in the main program).
+    pub(super) fn lc_depth(&self) -> usize {
+        self.locals.len() - 1
+    }
+
+    /// This call's level of named locals and repeat counters.
+    pub(super) fn lc_level(&mut self) -> &mut Level {
+        let d = self.lc_depth();
+        if self.lc.params.levels.len() <= d {
+            self.lc.params.levels.resize_with(d + 1, Level::default);
+        }
+        &mut self.lc.params.levels[d]
+    }
+
+    /// A fresh level for a call about to start.
+    pub(super) fn lc_push_level(&mut self) {
+        let d = self.lc_depth() + 1;
+        self.lc.params.levels.resize_with(d, Level::default);
+        self.lc.params.levels.truncate(d);
+        self.lc.params.levels.push(Level::default());
+    }
+
+    fn lc_named(&self, name: &str) -> Option<f64> {
+        if name.starts_with('_') {
+            let v = self.lc.params.globals.get(name).copied();
+            // rs274's predefined return-value parameters read 0 before any call returns.
+            v.or(matches!(name, "_VALUE" | "_VALUE_RETURNED").then_some(0.0))
+        } else {
+            self.lc
+                .params
+                .levels
+                .get(self.lc_depth())
+                .and_then(|l| l.named.get(name).copied())
+        }
+    }
+
+    /// Set a parameter (after its line was read).
+    pub(super) fn lc_set(&mut self, p: Param, v: f64) {
+        match p {
+            Param::Num(n) if n <= 30 => {
+                self.locals
+                    .last_mut()
+                    .expect("level 0 always exists")
+                    .insert(n, v);
+            }
+            Param::Num(n) => {
+                self.vars.insert(n, v);
+            }
+            Param::Named(name) if name.starts_with('_') => {
+                self.lc.params.globals.insert(name, v);
+            }
+            Param::Named(name) => {
+                self.lc_level().named.insert(name, v);
+            }
+        }
+    }
+
+    /// After `#`: which parameter (`n`, `[expr]`, `#..`, `<name>`).
+    pub(super) fn lc_param(&self, c: &mut LCur) -> Result<Param, Fail> {
+        let at = c.col();
+        if c.eat("<") {
+            return Ok(Param::Named(c.angle_name()?));
+        }
+        let v = self.lc_value(c)?;
+        let n = v.round();
+        if (v - n).abs() > 1e-4 {
+            return Err((at, format!("parameter number {v} is not an integer")));
+        }
+        if !(1.0..=5601.0).contains(&n) {
+            return Err((
+                at,
+                format!("parameter number {n} is out of range (1..5601)"),
+            ));
+        }
+        if n > f64::from(LAST_PARAMETER) {
+            return Err((
+                at,
+                format!(
+                    "system parameter #{n} (offsets, homes, position) is not modelled: use #1..#{LAST_PARAMETER} or named parameters"
+                ),
+            ));
+        }
+        Ok(Param::Num(n as u32))
+    }
+
+    /// Read a parameter after `#`.
+    fn lc_read(&self, c: &mut LCur) -> Result<f64, Fail> {
+        // Errors point at the `#`.
+        let at = c.col_at(c.i.saturating_sub(1));
+        match self.lc_param(c)? {
+            Param::Num(n) if n <= 30 => Ok(self
+                .locals
+                .last()
+                .and_then(|l| l.get(&n))
+                .copied()
+                .unwrap_or(0.0)),
+            Param::Num(n) => Ok(self.vars.get(&n).copied().unwrap_or(0.0)),
+            Param::Named(name) => self.lc_named(&name).ok_or_else(|| {
+                let name = name.to_lowercase();
+                let msg = if predefined(&name.to_uppercase()) {
+                    format!("the predefined parameter #<{name}> (machine state) is not modelled")
+                } else {
+                    format!("named parameter #<{name}> is not defined")
+                };
+                (at, msg)
+            }),
+        }
+    }
+
+    /// A bracketed expression `[..]`.
+    pub(super) fn lc_bracket(&self, c: &mut LCur) -> Result<f64, Fail> {
+        if !c.eat("[") {
+            return c.err("expected `[` starting an expression");
+        }
+        let at = c.col_at(c.i.saturating_sub(1));
+        let v = self.lc_binary(c, 0)?;
+        if !c.eat("]") {
+            return c.err("expected an operator or `]`");
+        }
+        if v.is_nan() {
+            // rs274 checks each bracket's value (`[1 NE 1 MOD 0]` is 0, `[[1 MOD 0] NE 0]`
+            // an error).
+            return Err((at, "the calculation resulted in `not a number`".into()));
+        }
+        Ok(v)
+    }
+
+    fn lc_binary(&self, c: &mut LCur, level: usize) -> Result<f64, Fail> {
+        if level == LEVELS.len() {
+            return self.lc_value(c);
+        }
+        let mut v = self.lc_binary(c, level + 1)?;
+        loop {
+            let at = c.col();
+            // `**` before `*`: the multiplicative level must not take the power's first star.
+            if level == 3 && c.s[c.i..].starts_with(b"**") {
+                return Ok(v);
+            }
+            let Some(op) = LEVELS[level].iter().find(|op| c.eat(op)) else {
+                return Ok(v);
+            };
+            let w = self.lc_binary(c, level + 1)?;
+            v = match *op {
+                "AND" => f64::from(v != 0.0 && w != 0.0),
+                "OR" => f64::from(v != 0.0 || w != 0.0),
+                "XOR" => f64::from((v != 0.0) != (w != 0.0)),
+                "EQ" => f64::from((v - w).abs() < TOLERANCE_EQUAL),
+                "NE" => f64::from((v - w).abs() >= TOLERANCE_EQUAL),
+                "GT" => f64::from(v > w),
+                "GE" => f64::from(v >= w),
+                "LT" => f64::from(v < w),
+                "LE" => f64::from(v <= w),
+                "+" => v + w,
+                "-" => v - w,
+                "*" => v * w,
+                "/" if w == 0.0 => return Err((at, "division by zero".into())),
+                // rs274 computes fmod(v, 0), not a number, and goes on: a comparison or
+                // logic operator can make a number of it again before the bracket closes.
+                "MOD" if w == 0.0 => f64::NAN,
+                "/" => v / w,
+                "MOD" => {
+                    let r = v % w;
+                    if r < 0.0 {
+                        r + w.abs()
+                    } else {
+                        r
+                    }
+                }
+                "**" => {
+                    if v < 0.0 && w.fract() != 0.0 {
+                        return Err((at, "a negative number to a non-integer power".into()));
+                    }
+                    if v == 0.0 && w < 0.0 {
+                        return Err((at, "zero to a negative power".into()));
+                    }
+                    v.powf(w)
+                }
+                _ => unreachable!("every operator of LEVELS is handled"),
+            };
+        }
+    }
+
+    /// rs274's `read_real_value`: a number, `[expr]`, a parameter, a function or a sign
+    /// followed by one of those.
+    pub(super) fn lc_value(&self, c: &mut LCur) -> Result<f64, Fail> {
+        if c.nest >= 100 {
+            return c.err("values nested more than 100 deep");
+        }
+        c.nest += 1;
+        let v = self.lc_value_inner(c);
+        c.nest -= 1;
+        v
+    }
+
+    fn lc_value_inner(&self, c: &mut LCur) -> Result<f64, Fail> {
+        let at = c.col();
+        match c.peek() {
+            None => c.err("expected a value"),
+            Some(b'[') => self.lc_bracket(c),
+            Some(b'#') => {
+                c.i += 1;
+                self.lc_read(c)
+            }
+            Some(s @ (b'+' | b'-'))
+                if !c
+                    .peek_at(1)
+                    .is_some_and(|b| b.is_ascii_digit() || b == b'.') =>
+            {
+                c.i += 1;
+                let v = self.lc_value(c)?;
+                Ok(if s == b'-' { -v } else { v })
+            }
+            Some(b'+' | b'-' | b'0'..=b'9' | b'.') => {
+                let neg = c.eat("-");
+                let _ = neg || c.eat("+");
+                match c.number() {
+                    Some(v) => Ok(if neg { -v } else { v }),
+                    None => c.err("expected a number"),
+                }
+            }
+            Some(b) if b.is_ascii_alphabetic() => {
+                let name = c.ident();
+                self.lc_function(c, &name, at)
+            }
+            Some(b) => Err((at, format!("expected a value, found `{}`", b as char))),
+        }
+    }
+
+    fn lc_function(&self, c: &mut LCur, name: &str, at: usize) -> Result<f64, Fail> {
+        if name == "EXISTS" {
+            if !(c.eat("[") && c.eat("#") && c.eat("<")) {
+                return c.err("expected EXISTS[#<name>]");
+            }
+            let n = c.angle_name()?;
+            if !c.eat("]") {
+                return c.err("expected `]`");
+            }
+            return Ok(f64::from(self.lc_named(&n).is_some()));
+        }
+        const KNOWN: [&str; 13] = [
+            "ABS", "ACOS", "ASIN", "ATAN", "COS", "EXP", "FIX", "FUP", "ROUND", "LN", "SIN",
+            "SQRT", "TAN",
+        ];
+        if !KNOWN.contains(&name) {
+            return Err((at, format!("unknown function or word `{name}`")));
+        }
+        let a = self.lc_bracket(c)?;
+        let domain = |ok: bool, what: &str| -> Result<(), Fail> {
+            if ok {
+                Ok(())
+            } else {
+                Err((at, format!("{name} of {a}: {what}")))
+            }
+        };
+        Ok(match name {
+            "ATAN" => {
+                if !c.eat("/") {
+                    return c.err("expected ATAN[y]/[x]");
+                }
+                let b = self.lc_bracket(c)?;
+                a.atan2(b).to_degrees()
+            }
+            "ABS" => a.abs(),
+            "ACOS" => {
+                domain((-1.0..=1.0).contains(&a), "outside -1..1")?;
+                a.acos().to_degrees()
+            }
+            "ASIN" => {
+                domain((-1.0..=1.0).contains(&a), "outside -1..1")?;
+                a.asin().to_degrees()
+            }
+            "COS" => a.to_radians().cos(),
+            "SIN" => a.to_radians().sin(),
+            "TAN" => a.to_radians().tan(),
+            "EXP" => a.exp(),
+            "FIX" => a.floor(),
+            "FUP" => a.ceil(),
+            "ROUND" => a.round(),
+            "LN" => {
+                domain(a > 0.0, "not positive")?;
+                a.ln()
+            }
+            "SQRT" => {
+                domain(a >= 0.0, "negative")?;
+                a.sqrt()
+            }
+            _ => unreachable!("KNOWN"),
+        })
+    }
+}
