@@ -93,6 +93,23 @@ fn bench_interpreter(c: &mut Criterion) {
     g.bench_function("g76-many-passes", |b| {
         b.iter(|| interpret(&g76, Dialect::Fanuc, &|_| None, Limits::default()).unwrap())
     });
+    // The same loop in LinuxCNC O-words (3 blocks per iteration) and Siemens R parameters
+    // with a label and a conditional backward jump (4 blocks per iteration).
+    let lcnc = Source {
+        name: "loop.ngc".into(),
+        text: "#1=0\no1 while [#1 LT 333333]\n#1=[#1+1]\n#2=[#1*2+SIN[#1]]\no1 endwhile\nM2\n"
+            .into(),
+    };
+    g.bench_function("linuxcnc-1e6-blocks", |b| {
+        b.iter(|| interpret(&lcnc, Dialect::Linuxcnc, &|_| None, Limits::default()).unwrap())
+    });
+    let siemens = Source {
+        name: "LOOP.MPF".into(),
+        text: "R1=0\nTOP: R1=R1+1\nR2=R1*2+SIN(R1)\nIF R1<250000 GOTOB TOP\nM30\n".into(),
+    };
+    g.bench_function("siemens-1e6-blocks", |b| {
+        b.iter(|| interpret(&siemens, Dialect::Siemens802d, &|_| None, Limits::default()).unwrap())
+    });
     g.finish();
 }
 

@@ -74,15 +74,46 @@ impl<'a> Cur<'a> {
         if st == self.i {
             return None;
         }
-        let t = String::from_utf8_lossy(&self.s[st..self.i]);
-        match t.parse::<f64>() {
-            Ok(v) => Some(v),
-            Err(_) => {
+        match ascii_number(&self.s[st..self.i]) {
+            Some(v) => Some(v),
+            None => {
                 self.i = st;
                 None
             }
         }
     }
+}
+
+/// An unsigned decimal of ASCII digits and at most one point (`12`, `12.`, `.5`, `1.5`).
+/// Up to 15 digits and 22 decimals it is the integer of all digits divided by a power of
+/// ten: one division of two exact values, so correctly rounded, as `str::parse` is (which
+/// takes the rest). The interpreters read numbers in every executed block: this is their
+/// hot path.
+pub(super) fn ascii_number(b: &[u8]) -> Option<f64> {
+    let mut int: u64 = 0;
+    let mut digits = 0;
+    let mut decimals = None;
+    for &c in b {
+        match c {
+            b'0'..=b'9' => {
+                int = int.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+                digits += 1;
+                if let Some(d) = decimals.as_mut() {
+                    *d += 1;
+                }
+            }
+            b'.' if decimals.is_none() => decimals = Some(0),
+            _ => return None,
+        }
+    }
+    if digits == 0 {
+        return None;
+    }
+    let k: i32 = decimals.unwrap_or(0);
+    if digits <= 15 && k <= 22 {
+        return Some(int as f64 / 10f64.powi(k));
+    }
+    std::str::from_utf8(b).ok()?.parse().ok()
 }
 
 /// Null (NaN) as 0, for arithmetic.

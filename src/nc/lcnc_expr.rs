@@ -35,8 +35,8 @@ pub(super) struct LCur {
 impl LCur {
     /// `text` is the upper-cased line with comments blanked (columns as in the file).
     pub(super) fn new(text: &str) -> LCur {
-        let mut s = Vec::new();
-        let mut cols = Vec::new();
+        let mut s = Vec::with_capacity(text.len());
+        let mut cols = Vec::with_capacity(text.len());
         for (k, b) in text.bytes().enumerate() {
             if !b.is_ascii_whitespace() {
                 s.push(b);
@@ -103,9 +103,8 @@ impl LCur {
             }
             self.i += 1;
         }
-        let t = String::from_utf8_lossy(&self.s[st..self.i]);
-        match t.parse::<f64>() {
-            Ok(v) if points <= 1 => Some(v),
+        match super::expr::ascii_number(&self.s[st..self.i]) {
+            Some(v) if points <= 1 => Some(v),
             _ => {
                 self.i = st;
                 None

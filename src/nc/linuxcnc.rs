@@ -202,6 +202,9 @@ fn oword(c: &mut LCur) -> Result<Option<(String, Kw)>, Fail> {
     } else {
         let at = c.col();
         match c.number() {
+            // Integer formatting: the same text as `{n}` for whole numbers, and cheap (this
+            // runs for every executed O-word line).
+            Some(n) if n.fract() == 0.0 && n.abs() < 1e15 => format!("O{}", n as i64),
             Some(n) if n.fract() == 0.0 => format!("O{n}"),
             _ => return Err((at, "expected an O-word number or <name>".into())),
         }
@@ -277,13 +280,17 @@ impl Machine<'_> {
         let id = prog as *const Program as usize;
         let jumped = self.lc.jumped.take() == Some((id, pc));
         let orig = &prog.blocks[pc].1;
-        if let Some(e) = comment_error(orig) {
+        let has_comment = orig.as_bytes().iter().any(|&b| b == b'(' || b == b')');
+        if let Some(e) = has_comment.then(|| comment_error(orig)).flatten() {
             return Err(e);
         }
-        let abort = orig
-            .as_bytes()
-            .windows(7)
-            .position(|w| w.eq_ignore_ascii_case(b"(ABORT,"));
+        let abort = if has_comment {
+            orig.as_bytes()
+                .windows(7)
+                .position(|w| w.eq_ignore_ascii_case(b"(ABORT,"))
+        } else {
+            None
+        };
         if let Some(k) = abort {
             return Err((
                 k + 1,

@@ -695,23 +695,26 @@ impl Machine<'_> {
                 Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
             };
             // Columns are in the comment-stripped text; map back roughly to the line.
-            let offset = orig.to_ascii_uppercase().find(text.as_str()).unwrap_or(0);
-            for (col, message) in std::mem::take(&mut m.pending) {
-                let e = fail(&stack, col + offset, message);
-                let mut d = e.diagnostic();
-                d.severity = Severity::Warning;
-                d.hint =
-                    Some("skipped: vpcut does not simulate it (an error with --strict)".into());
-                let seen = warnings.iter().any(|w| {
-                    (&w.file, w.line, w.col, &w.message) == (&d.file, d.line, d.col, &d.message)
-                });
-                if !seen {
-                    warnings.push(d);
+            let offset = || orig.to_ascii_uppercase().find(text.as_str()).unwrap_or(0);
+            if !m.pending.is_empty() {
+                let offset = offset();
+                for (col, message) in std::mem::take(&mut m.pending) {
+                    let e = fail(&stack, col + offset, message);
+                    let mut d = e.diagnostic();
+                    d.severity = Severity::Warning;
+                    d.hint =
+                        Some("skipped: vpcut does not simulate it (an error with --strict)".into());
+                    let seen = warnings.iter().any(|w| {
+                        (&w.file, w.line, w.col, &w.message) == (&d.file, d.line, d.col, &d.message)
+                    });
+                    if !seen {
+                        warnings.push(d);
+                    }
                 }
             }
             let step = match step {
                 Ok(s) => s,
-                Err((col, msg)) => return Err(fail(&stack, col + offset, msg)),
+                Err((col, msg)) => return Err(fail(&stack, col + offset(), msg)),
             };
             for mv in &m.moves[before..] {
                 if let Some(msg) = lead_problem(mv) {

@@ -429,3 +429,56 @@ fn a_lead_reaching_zero_is_an_error_at_its_block() {
     let e = run("G0 X30 Z0\nG33 X40 Z0 K2\n", Dialect::Siemens802d).unwrap_err();
     assert!(e.message.contains("face thread"), "{e}");
 }
+
+/// The fast number reader gives the same f64 as `str::parse` (correct rounding).
+#[test]
+fn numbers_read_as_str_parse_reads_them() {
+    let cases = [
+        "0",
+        "12",
+        "12.",
+        ".5",
+        "1.5",
+        "0.1",
+        "0.3",
+        "2.1166666666666667",
+        "25.4",
+        "123456789012345",
+        "1234567890123456789",
+        "0.0000000000000000000000001",
+        "99999.99999",
+        "3.14159265358979",
+        "0.083333",
+        "1.8978",
+        "100000000000000000000000000",
+    ];
+    for s in cases {
+        assert_eq!(
+            expr::ascii_number(s.as_bytes()),
+            s.parse::<f64>().ok(),
+            "{s}"
+        );
+    }
+    // 200,000 pseudo-random decimals of 1..18 digits with the point anywhere.
+    let mut seed: u64 = 0x2545_F491_4F6C_DD1D;
+    for _ in 0..200_000 {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        let len = 1 + (seed % 18) as usize;
+        let point = (seed >> 8) as usize % (len + 2);
+        let mut s: String = (0..len)
+            .map(|i| char::from(b'0' + ((seed >> (i % 50)) % 10) as u8))
+            .collect();
+        if point <= len {
+            s.insert(point, '.');
+        }
+        assert_eq!(
+            expr::ascii_number(s.as_bytes()),
+            s.parse::<f64>().ok(),
+            "{s}"
+        );
+    }
+    assert_eq!(expr::ascii_number(b"1..5"), None);
+    assert_eq!(expr::ascii_number(b"."), None);
+}
