@@ -81,8 +81,16 @@ fn corrupted_programs_never_panic() {
         ("seed003-g76-2in-12tpi", "G76-2IN-12TPI.NC", Dialect::Fanuc),
         ("seed000-gsk-equal-groove", "O0001.NC", Dialect::Gsk980),
         ("seed000-macro-a-equal-tooth", "O0003.NC", Dialect::Gsk980),
-        ("../tests/data/linuxcnc", "oword-sub-g76.ngc", Dialect::Linuxcnc),
-        ("../tests/data/linuxcnc", "oword-g33-loop.ngc", Dialect::Linuxcnc),
+        (
+            "../tests/data/linuxcnc",
+            "oword-sub-g76.ngc",
+            Dialect::Linuxcnc,
+        ),
+        (
+            "../tests/data/linuxcnc",
+            "oword-g33-loop.ngc",
+            Dialect::Linuxcnc,
+        ),
     ];
     let limits = Limits {
         max_blocks: 20_000,
