@@ -50,6 +50,7 @@ mod measure;
 #[allow(clippy::result_large_err)]
 mod nc;
 mod pass;
+mod plot;
 mod process;
 mod report;
 mod stock;
@@ -66,6 +67,7 @@ pub use nc::{
     NcError, Options as NcOptions, Settings, Severity, Source, Toolpath,
 };
 pub use pass::Pass;
+pub use plot::{developed_view, section_profile, section_view, signed_deviation};
 pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
 pub use stock::{Grid, Stock, Surface};
 pub use sweep::{sweep, sweep_column, Column, SweepStats};

@@ -67,6 +67,13 @@ struct SimulateArgs {
     /// Unknown words and codes in the job's NC program are errors, not warnings.
     #[arg(long)]
     strict: bool,
+    /// Write the pictures that need no GPU here: `developed.png` (the deviation field
+    /// unrolled, angle x z) and `section.png` (machined vs ideal profile along a generator).
+    #[arg(long, value_name = "DIR")]
+    plots: Option<PathBuf>,
+    /// Angle of the generator in `section.png` (deg on the part).
+    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
+    section_angle: f64,
 }
 
 fn main() -> ExitCode {
@@ -127,6 +134,16 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         vpcut::simulate(&job, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
     if let Some(path) = &args.report {
         write_atomic(path, out.report.to_json().as_bytes())?;
+    }
+    if let Some(dir) = &args.plots {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create the folder {}", dir.display()))?;
+        let tol = job.sim.tolerance;
+        let dev = vpcut::developed_view(&out.stock, &job.thread, tol, 1440, 900);
+        write_atomic(&dir.join("developed.png"), &png(&dev)?)?;
+        let angle = args.section_angle.to_radians();
+        let sec = vpcut::section_view(&out.stock, &job.thread, angle, tol, 1600, 600);
+        write_atomic(&dir.join("section.png"), &png(&sec)?)?;
     }
     if !args.quiet {
         print!("{}", out.report.summary());
@@ -202,6 +219,14 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
         print!("{}", vpcut::to_csv(&moves));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// An image as PNG bytes.
+fn png(img: &image::RgbImage) -> anyhow::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut bytes))
+        .context("cannot encode a PNG")?;
+    Ok(bytes)
 }
 
 /// Write a file through a temporary file in the same folder and a rename, so that a failed

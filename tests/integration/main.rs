@@ -13,6 +13,8 @@ mod invariance;
 mod linuxcnc;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
+/// The pictures that need no GPU against the report and the exact cut.
+mod plots;
 /// NC programs against the pass generators that transcribe the same methods.
 mod programs;
 /// Bad input never panics.

@@ -53,7 +53,7 @@ fn scenes_and_goldens_correspond() {
 fn no_io_in_the_geometry_core() {
     for f in [
         "helix", "thread", "tool", "pass", "stock", "sweep", "compare", "measure", "process",
-        "machine", "report", "job", "nc",
+        "machine", "report", "job", "nc", "plot",
     ] {
         // A module is `src/<f>.rs` or a folder `src/<f>/` of files.
         let file = root().join("src").join(format!("{f}.rs"));
