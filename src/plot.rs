@@ -185,6 +185,12 @@ pub fn developed_view(
     img
 }
 
+/// The dexel column nearest to the angle `theta` (rad).
+fn generator(stock: &Stock, theta: f64) -> usize {
+    let grid = stock.grid;
+    ((theta.rem_euclid(std::f64::consts::TAU) / grid.dtheta()).round() as usize) % grid.n_theta
+}
+
 /// Machined and ideal radius along the generator at `theta`: `(z, r_cut, r_ideal)` per cell
 /// of the grid, `r_ideal` `None` outside the compared span.
 pub fn section_profile(
@@ -197,8 +203,7 @@ pub fn section_profile(
     let Some(q) = stock.surface(s) else {
         return Vec::new();
     };
-    let i =
-        ((theta.rem_euclid(std::f64::consts::TAU) / grid.dtheta()).round() as usize) % grid.n_theta;
+    let i = generator(stock, theta);
     let ideal = thread.column(grid.theta(i), grid.z(0), grid.z(grid.n_z - 1));
     let (q_blank, sense) = (stock.blank_q(s), s.sense());
     let col = &q[i * grid.n_z..(i + 1) * grid.n_z];
@@ -229,10 +234,7 @@ pub fn section_view(
     }
     let grid = stock.grid;
     let ideal = thread.column(
-        grid.theta(
-            ((theta.rem_euclid(std::f64::consts::TAU) / grid.dtheta()).round() as usize)
-                % grid.n_theta,
-        ),
+        grid.theta(generator(stock, theta)),
         grid.z(0),
         grid.z(grid.n_z - 1),
     );

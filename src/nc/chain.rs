@@ -37,7 +37,6 @@
 
 use super::expr::Fail;
 use super::{Machine, MoveKind, Program, Sync, Words};
-use crate::helix::LeadLaw;
 
 /// A point of the tool path: (diameter, z) in mm.
 type Point = (f64, f64);
@@ -67,15 +66,6 @@ pub(super) fn runout_split(
     let z_split = end.1 - dz.signum() * k;
     let x_split = start.0 + (end.0 - start.0) * (z_split - start.1) / dz;
     Ok(((x_split, z_split), (end.0 + 2.0 * j, end.1)))
-}
-
-/// Revolutions a thread move of this law takes to travel `s` mm along Z.
-fn revs(sync: &Sync, s: f64) -> Option<f64> {
-    LeadLaw {
-        f: sync.lead,
-        k: sync.change,
-    }
-    .revs_at(s.abs())
 }
 
 impl Machine<'_> {
@@ -122,16 +112,11 @@ impl Machine<'_> {
         let mut segments = vec![(start, end, sync)];
         if let Some((j, k)) = runout {
             let (split, stop) = runout_split(start, end, j, k).map_err(|m| (col("K"), m))?;
-            let t = revs(&sync, split.1 - start.1).ok_or((
+            let rest = sync.after(split.1 - start.1).ok_or((
                 1,
                 "the lead would reach zero before the thread run-out (a real control alarms)"
                     .to_string(),
             ))?;
-            let rest = Sync {
-                lead: sync.lead + sync.change * t,
-                change: sync.change,
-                angle: (sync.angle + 360.0 * t).rem_euclid(360.0),
-            };
             segments = vec![(start, split, sync), (split, stop, rest)];
         }
         let mut end_angle = None;
@@ -140,7 +125,7 @@ impl Machine<'_> {
             if let Some(m) = self.moves.last_mut() {
                 m.chained = i > 0 || chained.is_some();
             }
-            end_angle = revs(&s, b.1 - a.1).map(|t| (s.angle + 360.0 * t).rem_euclid(360.0));
+            end_angle = s.after(b.1 - a.1).map(|s| s.angle);
         }
         let last = segments.last().map_or(end, |s| s.1);
         self.x = last.0;

@@ -415,7 +415,7 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
             }
             'H' => h_word = Some(v),
             'L' => l_word = true,
-            other if codes::fanuc_address(l.dialect, other) => {}
+            other if codes::fanuc_address(other) => {}
             other => strange.push((at + 1, other)),
         }
     }

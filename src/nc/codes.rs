@@ -123,7 +123,7 @@ pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
 }
 
 /// Address letters the FANUC-syntax interpreter reads.
-pub(super) fn fanuc_address(_dialect: Dialect, letter: char) -> bool {
+pub(super) fn fanuc_address(letter: char) -> bool {
     matches!(
         letter,
         'X' | 'Z'

@@ -112,11 +112,7 @@ impl Machine<'_> {
             }
         }
         if w.g.contains(&76) {
-            return if self.lcnc {
-                self.lcnc_g76(&w, prog, pc)
-            } else {
-                self.g76(&w, prog, pc)
-            };
+            return self.g76(&w, prog, pc);
         }
         self.apply(&w, prog, pc)
     }

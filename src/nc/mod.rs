@@ -381,8 +381,6 @@ struct Machine<'l> {
     dialect: Dialect,
     /// GSK 980TDC semantics for G34.
     gsk: bool,
-    /// LinuxCNC semantics (G33 K, G76 P..L, G7/G8).
-    lcnc: bool,
     /// X words are diameters (G7; always on FANUC/GSK/Siemens lathes), else radii (G8).
     diameter_mode: bool,
     loader: &'l dyn Fn(&str) -> Option<Source>,
@@ -469,13 +467,11 @@ pub fn interpret_with(
 ) -> Result<Toolpath, NcError> {
     let real = dialect;
     let gsk = dialect == Dialect::Gsk980;
-    let lcnc = dialect == Dialect::Linuxcnc;
     let dialect = dialect.syntax();
     let mut m = Machine {
         dialect,
         gsk,
-        lcnc,
-        diameter_mode: !lcnc,
+        diameter_mode: dialect != Dialect::Linuxcnc,
         loader,
         limits: opts.limits,
         programs: HashMap::new(),
@@ -591,8 +587,6 @@ impl Machine<'_> {
     fn real_dialect(&self) -> Dialect {
         if self.gsk {
             Dialect::Gsk980
-        } else if self.lcnc {
-            Dialect::Linuxcnc
         } else {
             self.dialect
         }

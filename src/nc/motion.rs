@@ -12,17 +12,17 @@ pub(super) const ARC_TOLERANCE: f64 = 0.002;
 impl Sync {
     /// The sync of a move that continues this one without a new index wait after `travel`
     /// mm of axial travel: the lead and the spindle angle (mod 360) reached there.
-    pub(super) fn after(&self, travel: f64) -> Sync {
+    pub(super) fn after(&self, travel: f64) -> Option<Sync> {
         let law = LeadLaw {
             f: self.lead,
             k: self.change,
         };
-        let t = law.revs_at(travel.abs()).unwrap_or(0.0);
-        Sync {
+        let t = law.revs_at(travel.abs())?;
+        Some(Sync {
             lead: law.lead(t),
             change: self.change,
             angle: (self.angle + 360.0 * t).rem_euclid(360.0),
-        }
+        })
     }
 }
 
@@ -36,35 +36,43 @@ impl Machine<'_> {
             match g {
                 0..=3 | 32 | 33 | 34 | 35 => self.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
-                92 if self.dialect == Dialect::Fanuc && !self.lcnc => self.motion = 92,
+                92 if self.dialect == Dialect::Fanuc => self.motion = 92,
                 // FANUC/GSK system A: G90 outer/inner diameter and G94 end face cutting
                 // cycles (modal, like G92).
-                90 | 94 if self.dialect == Dialect::Fanuc && !self.lcnc => self.motion = g,
+                90 | 94 if self.dialect == Dialect::Fanuc => self.motion = g,
                 // Absolute/incremental on Siemens and LinuxCNC; FANUC/GSK lathes (G-code
                 // system A) write U/W instead, and their G90 is a turning cycle.
-                90 if self.dialect == Dialect::Siemens802d || self.lcnc => self.incremental = false,
-                91 if self.dialect == Dialect::Siemens802d || self.lcnc => self.incremental = true,
+                90 if matches!(self.dialect, Dialect::Siemens802d | Dialect::Linuxcnc) => {
+                    self.incremental = false
+                }
+                91 if matches!(self.dialect, Dialect::Siemens802d | Dialect::Linuxcnc) => {
+                    self.incremental = true
+                }
                 20 => self.inch = true,
                 21 => self.inch = false,
                 70 if self.dialect == Dialect::Siemens802d => self.inch = true,
                 71 if self.dialect == Dialect::Siemens802d => self.inch = false,
-                7 if self.lcnc => self.diameter_mode = true,
-                8 if self.lcnc => self.diameter_mode = false,
+                7 if self.dialect == Dialect::Linuxcnc => self.diameter_mode = true,
+                8 if self.dialect == Dialect::Linuxcnc => self.diameter_mode = false,
                 // FANUC/GSK G50 with X/Z sets the coordinates of the current position.
-                50 if self.dialect == Dialect::Fanuc && !self.lcnc => set_position = true,
+                50 if self.dialect == Dialect::Fanuc => set_position = true,
                 // FANUC/GSK G28 (non-modal): rapid to the intermediate point, then to the
                 // reference point in the named axes.
-                28 if self.dialect == Dialect::Fanuc && !self.lcnc => home = true,
+                28 if self.dialect == Dialect::Fanuc => home = true,
                 54..=59 => self.work = (g - 54) as usize,
                 96 => self.css = true,
                 97 => self.css = false,
                 // Feed per minute / per revolution: G98/G99 on FANUC lathes (system A),
                 // G94/G95 on LinuxCNC and Siemens. Thread leads (F of G32/G34/G92/G76) are
                 // per revolution whichever is active.
-                98 if self.dialect == Dialect::Fanuc && !self.lcnc => self.per_rev = false,
-                99 if self.dialect == Dialect::Fanuc && !self.lcnc => self.per_rev = true,
-                94 if self.lcnc || self.dialect == Dialect::Siemens802d => self.per_rev = false,
-                95 if self.lcnc || self.dialect == Dialect::Siemens802d => self.per_rev = true,
+                98 if self.dialect == Dialect::Fanuc => self.per_rev = false,
+                99 if self.dialect == Dialect::Fanuc => self.per_rev = true,
+                94 if matches!(self.dialect, Dialect::Linuxcnc | Dialect::Siemens802d) => {
+                    self.per_rev = false
+                }
+                95 if matches!(self.dialect, Dialect::Linuxcnc | Dialect::Siemens802d) => {
+                    self.per_rev = true
+                }
                 other => match codes::g_code(self.real_dialect(), f64::from(other)) {
                     // Nothing vpcut simulates changes (planes, dwell, feed and speed modes).
                     Verdict::Run => {}
@@ -85,8 +93,8 @@ impl Machine<'_> {
                 4 | 14 => self.spindle = Spindle::Ccw,
                 5 | 8 | 9 | 0 | 1 => {}
                 // Thread chamfering in G92/G76 on (M23) and off (M24), as on Mach4 lathes.
-                23 if self.dialect == Dialect::Fanuc && !self.lcnc => self.chamfer_on = true,
-                24 if self.dialect == Dialect::Fanuc && !self.lcnc => self.chamfer_on = false,
+                23 if self.dialect == Dialect::Fanuc => self.chamfer_on = true,
+                24 if self.dialect == Dialect::Fanuc => self.chamfer_on = false,
                 2 | 30 => end = true,
                 17 if self.dialect == Dialect::Siemens802d => return Ok(Step::Return),
                 98 if self.dialect == Dialect::Fanuc => {
@@ -195,10 +203,10 @@ impl Machine<'_> {
             self.z = z;
             return Ok(if end { Step::End } else { Step::Next });
         }
-        if moved && self.dialect == Dialect::Fanuc && self.motion == 92 && !self.lcnc {
+        if moved && self.dialect == Dialect::Fanuc && self.motion == 92 {
             return self.g92(w, prog, pc, x, z, scale);
         }
-        if moved && self.dialect == Dialect::Fanuc && !self.lcnc && matches!(self.motion, 90 | 94) {
+        if moved && self.dialect == Dialect::Fanuc && matches!(self.motion, 90 | 94) {
             return self.cutting_cycle(w, prog, pc, x, z, scale);
         }
         if moved && (self.motion == 2 || self.motion == 3) {
@@ -433,7 +441,9 @@ impl Machine<'_> {
             let side = if home.0 >= end.0 { 1.0 } else { -1.0 };
             let out = (split.0 + side * 2.0 * chamfer, end.1);
             self.emit(prog, pc, MoveKind::Thread, start, split, Some(sync));
-            let chained = sync.after(len - chamfer);
+            // Constant lead: always defined (a lead that is not positive is refused below,
+            // at the block, as every thread move's is).
+            let chained = sync.after(len - chamfer).unwrap_or(sync);
             self.emit(prog, pc, MoveKind::Thread, split, out, Some(chained));
             // The pull-out continues the thread without a re-sync (already at speed).
             if let Some(last) = self.moves.last_mut() {
