@@ -41,10 +41,12 @@
 //! ```
 
 mod compare;
+mod glb;
 mod helix;
 mod job;
 mod machine;
 mod measure;
+mod mesh;
 // An `NcError` carries every diagnostic of a program (160 bytes); it is returned once per run,
 // never in a loop, so boxing it would only make the API clumsier.
 #[allow(clippy::result_large_err)]
@@ -53,15 +55,18 @@ mod pass;
 mod plot;
 mod process;
 mod report;
+mod scene;
 mod stock;
 mod sweep;
 mod thread;
 mod tool;
 
 pub use compare::{compare, Deviation, Extreme, TurnDeviation};
+pub use glb::{from_glb, to_glb, GlbError};
 pub use helix::{Hand, Helix, LeadLaw, Spindle};
 pub use job::{Blank, ChainLink, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
 pub use measure::{measure, MeasureConfig, TurnMeasure};
+pub use mesh::{build_scene, ideal_mesh, stock_mesh, tool_mesh, toolpath, SceneOptions};
 pub use nc::{
     interpret, interpret_with, to_csv, ArcGeometry, Diagnostic, Dialect, Limits, Move, MoveKind,
     NcError, Options as NcOptions, Settings, Severity, Source, Toolpath,
@@ -69,6 +74,7 @@ pub use nc::{
 pub use pass::Pass;
 pub use plot::{developed_view, section_profile, section_view, signed_deviation};
 pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
+pub use scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use stock::{Grid, Stock, Surface};
 pub use sweep::{sweep, sweep_column, Column, SweepStats};
 pub use thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};

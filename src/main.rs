@@ -74,6 +74,20 @@ struct SimulateArgs {
     /// Angle of the generator in `section.png` (deg on the part).
     #[arg(long, value_name = "DEG", default_value_t = 0.0)]
     section_angle: f64,
+    /// Write the cut part as binary glTF (`.glb`): the stock coloured by deviation, the
+    /// toolpath, the tool, and the report summary in `extras`; positions in metres.
+    #[arg(long, value_name = "FILE")]
+    gltf: Option<PathBuf>,
+    /// Also put the ideal thread surface (translucent) into the glTF.
+    #[arg(long)]
+    gltf_ideal: bool,
+    /// Largest distance (mm) the exported surface may stray from the dexel data
+    /// (default: the job's tolerance; the mesh is simplified to it).
+    #[arg(long, value_name = "MM", conflicts_with = "gltf_full")]
+    gltf_tolerance: Option<f64>,
+    /// Export every dexel as a vertex (no simplification; large files).
+    #[arg(long)]
+    gltf_full: bool,
 }
 
 fn main() -> ExitCode {
@@ -134,6 +148,25 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         vpcut::simulate(&job, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
     if let Some(path) = &args.report {
         write_atomic(path, out.report.to_json().as_bytes())?;
+    }
+    if let Some(path) = &args.gltf {
+        let e = if args.gltf_full {
+            Some(0.0)
+        } else {
+            args.gltf_tolerance
+        };
+        if e.is_some_and(|e| !e.is_finite() || e < 0.0) {
+            anyhow::bail!("--gltf-tolerance must be a finite number of mm, 0 or more");
+        }
+        let scene = vpcut::build_scene(
+            &job,
+            &out,
+            &vpcut::SceneOptions {
+                mesh_tolerance: e,
+                ideal: args.gltf_ideal,
+            },
+        );
+        write_atomic(path, &vpcut::to_glb(&scene)?)?;
     }
     if let Some(dir) = &args.plots {
         std::fs::create_dir_all(dir)

@@ -310,6 +310,28 @@ impl Report {
         s
     }
 
+    /// The summary a 3D model carries (glTF `extras`): schema, job, verdict, tolerance, the
+    /// thread, the deviation totals with the worst places, the findings counted by kind, and
+    /// the colour scale (`scale_mm`: deviations of this size get the full colour). No timing,
+    /// so the model's bytes do not change between runs.
+    pub fn summary_json(&self, scale_mm: f64) -> String {
+        let mut kinds = std::collections::BTreeMap::<&str, usize>::new();
+        for f in &self.findings {
+            *kinds.entry(f.kind).or_default() += 1;
+        }
+        serde_json::json!({
+            "schema": self.schema,
+            "job": self.job,
+            "verdict": self.verdict,
+            "tolerance_mm": self.tolerance_mm,
+            "thread": self.thread,
+            "deviation": self.deviation,
+            "findings": kinds,
+            "colour_scale_mm": r6(scale_mm),
+        })
+        .to_string()
+    }
+
     /// A short summary for a terminal.
     pub fn summary(&self) -> String {
         let mut s = String::new();

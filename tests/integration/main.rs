@@ -5,6 +5,8 @@ mod support;
 
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
+/// The glTF export against closed forms, the dexel data, the report and itself.
+mod gltf;
 /// The scenes' reports against reviewed goldens and hand-derived expectations.
 mod goldens;
 /// Same answer whatever the thread count; left and right hands mirror each other.

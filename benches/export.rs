@@ -1,0 +1,41 @@
+//! Criterion benchmarks of the export path on the seed scenes at their own resolution:
+//! mesh extraction from the dexel grid (one and two threads), `.glb` encoding, and the
+//! headless render of a 1024x768 picture with 4x MSAA. See benches/README.md.
+
+#![allow(missing_docs)] // criterion_group! generates undocumented functions.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use std::time::Duration;
+use vpcut::{build_scene, simulate, to_glb, Job, Options, SceneOptions};
+
+fn scene(name: &str) -> Job {
+    let dir = format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(format!("{dir}/job.toml")).expect("scene");
+    let load = |f: &str| std::fs::read_to_string(format!("{dir}/{f}")).ok();
+    Job::from_toml_with(&text, "job.toml", &load).expect("valid scene")
+}
+
+fn bench_mesh(c: &mut Criterion) {
+    for name in ["seed002-equal-tooth", "seed004-tr100x12"] {
+        let job = scene(name);
+        let out = simulate(&job, &Options::default()).unwrap();
+        let mut g = c.benchmark_group(format!("mesh/{name}"));
+        g.sample_size(10).measurement_time(Duration::from_secs(6));
+        g.throughput(Throughput::Elements(out.stock.stored_dexels() as u64));
+        for threads in [1, 2] {
+            let p = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            g.bench_function(format!("{threads}-thread"), |b| {
+                b.iter(|| p.install(|| build_scene(&job, &out, &SceneOptions::default())))
+            });
+        }
+        let s = build_scene(&job, &out, &SceneOptions::default());
+        g.bench_function("glb", |b| b.iter(|| to_glb(&s).unwrap()));
+        g.finish();
+    }
+}
+
+criterion_group!(benches, bench_mesh);
+criterion_main!(benches);

@@ -1,0 +1,773 @@
+//! Triangle meshes from the dexel stock, the ideal thread, the tool and the passes: the
+//! [`Scene`] that the glTF export writes and the renderer draws.
+//!
+//! **The cut part.** Each kept angular column of the stock becomes a profile polyline in
+//! `(z, r)` through its dexel samples, simplified (Douglas-Peucker in the axial plane, the
+//! plane in which `compare` measures deviations) to within a set fraction of the mesh
+//! tolerance, with vertices forced where the ideal profile has corners so the deviation
+//! colours follow the drawing. Neighbouring profiles are joined by a strip of triangles
+//! that advances along both in the thread's helical coordinate, so a groove wall at `z` on
+//! one column meets the same wall `L dtheta / 2pi` further on the next. End faces close the
+//! surface (a fan to the axis for a bar, an annulus for a tube): the mesh is watertight,
+//! every edge shared by exactly two triangles, wound counter-clockwise seen from outside.
+//!
+//! **Error bound.** The mesh stays within `e` (the job's tolerance unless asked otherwise)
+//! of the dexel data, in the axial plane. Kept profiles are simplified to `e/2`. Columns
+//! are first spread evenly so that the chord of the circle `r (1 - cos(dtheta/2))` plus the
+//! twist of a helical wall across one strip, `(L/2pi) (dtheta/2) (depth/r)` axially, stay
+//! under `e/4` (these are what the 3D triangles add to the strip's linear interpolation in
+//! `(theta, z, r)`). Then every strip is checked against the dexels of the column halfway
+//! between its two profiles; where it strays more than `3e/4` (a groove that ends, a wall
+//! that leaves through an end face: features that are not helical), the middle column is
+//! kept too and both halves are checked again. With `e = 0` every column and every dexel
+//! becomes a vertex (`--gltf-full`). The integration tests measure the bound on columns the
+//! mesh skipped (sections of the triangles against dexel data the mesh never saw).
+//!
+//! **Colours** are the developed view's colour map ([`crate::plot`]) of the signed normal
+//! deviation at each vertex (an exact dexel sample), so the 3D model, the developed view
+//! and the legend agree. Columns are built in parallel (rayon) and concatenated in column
+//! order, so the mesh does not depend on the thread count.
+
+use crate::helix::Hand;
+use crate::job::Job;
+use crate::pass::Pass;
+use crate::plot::{colour, signed_deviation};
+use crate::report::Report;
+use crate::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
+use crate::stock::{Stock, Surface};
+use crate::thread::{Side, ThreadSpec};
+use crate::tool::Tool;
+use crate::Outcome;
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
+
+/// Colour of the ideal surface (sRGB).
+pub(crate) const IDEAL_COLOUR: [u8; 3] = [60, 110, 230];
+/// Colour of the tool (sRGB).
+pub(crate) const TOOL_COLOUR: [u8; 3] = [150, 155, 165];
+
+/// How to build a scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SceneOptions {
+    /// Largest distance (mm, in the axial plane) the stock mesh may stray from the dexel
+    /// data; `None` takes the job's tolerance; `Some(0.0)` exports every dexel.
+    pub mesh_tolerance: Option<f64>,
+    /// Also mesh the ideal thread surface.
+    pub ideal: bool,
+}
+
+/// Build the 3D scene of a simulated job.
+pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
+    let tol = job.sim.tolerance;
+    let legend = legend(&out.report, tol);
+    let e = opts.mesh_tolerance.unwrap_or(tol).max(0.0);
+    let stock = stock_mesh(&out.stock, &job.thread, legend, e);
+    let ideal = opts
+        .ideal
+        .then(|| ideal_mesh(&job.thread, &out.stock, e.max(tol)));
+    Scene {
+        stock,
+        ideal,
+        toolpath: toolpath(
+            &job.passes,
+            &(job.blank.diameter / 2.0, job.blank.bore / 2.0),
+            &job.thread,
+        ),
+        tool: tool_mesh(job),
+        legend,
+        focus: focus(&out.report, &out.stock, &job.thread, tol),
+        summary: out.report.summary_json(legend.scale_mm),
+    }
+}
+
+/// The colour scale: the tolerance, and the largest deviation (at least twice the
+/// tolerance), as the developed view uses.
+fn legend(report: &Report, tol: f64) -> Legend {
+    let d = &report.deviation;
+    Legend {
+        tolerance_mm: tol,
+        scale_mm: (2.0 * tol).max(d.max_gouge_mm).max(d.max_leftover_mm),
+    }
+}
+
+/// The worst finding beyond the tolerance, on the cut surface.
+fn focus(report: &Report, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Option<Focus> {
+    let d = &report.deviation;
+    let (kind, value, at) = if d.max_gouge_mm >= d.max_leftover_mm {
+        ("gouge", d.max_gouge_mm, d.max_gouge_at.as_ref()?)
+    } else {
+        ("leftover", d.max_leftover_mm, d.max_leftover_at.as_ref()?)
+    };
+    if value <= tol {
+        return None;
+    }
+    let grid = stock.grid;
+    let theta = at.angle_deg.to_radians();
+    let i = ((theta - grid.theta0) / grid.dtheta())
+        .round()
+        .rem_euclid(grid.n_theta as f64) as usize
+        % grid.n_theta;
+    let j = ((at.z_mm - grid.z0) / grid.dz)
+        .round()
+        .clamp(0.0, (grid.n_z - 1) as f64) as usize;
+    let r = stock.radius(surface(thread), i, j)?;
+    Some(Focus {
+        kind: kind.to_string(),
+        value_mm: value,
+        point: point(r, theta, at.z_mm),
+    })
+}
+
+fn surface(thread: &ThreadSpec) -> Surface {
+    match thread.side {
+        Side::External => Surface::Outer,
+        Side::Internal => Surface::Inner,
+    }
+}
+
+fn point(r: f64, theta: f64, z: f64) -> [f32; 3] {
+    [(r * theta.cos()) as f32, (r * theta.sin()) as f32, z as f32]
+}
+
+/// The kept columns for a mesh tolerance `e`: every column for `e = 0`, else evenly spread
+/// columns whose spacing keeps the chord and the twist of a helical wall under `e/2`.
+pub(crate) fn kept_columns(stock: &Stock, thread: &ThreadSpec, e: f64) -> Vec<usize> {
+    let n = stock.grid.n_theta;
+    if e <= 0.0 {
+        return (0..n).collect();
+    }
+    let r_max = stock
+        .blank_outer
+        .max(thread.crest_radius.max(thread.root_radius));
+    let r_min = thread
+        .crest_radius
+        .min(thread.root_radius)
+        .max(stock.blank_inner)
+        .max(1e-3);
+    let law = thread.helix.law;
+    let lead = law.lead(0.0).abs().max(law.lead(thread.turns).abs());
+    let depth = (thread.crest_radius - thread.root_radius).abs();
+    let budget = 0.5 * e;
+    // Largest dtheta with r_max (1 - cos(dtheta/2)) + (lead/2pi)(dtheta/2)(depth/r_min)
+    // <= budget: the left side grows with dtheta, so bisect.
+    let err = |d: f64| r_max * (1.0 - (0.5 * d).cos()) + lead / TAU * 0.5 * d * depth / r_min;
+    let (mut lo, mut hi) = (0.0, PI / 8.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if err(mid) <= budget {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let m = ((TAU / lo.max(1e-9)).ceil() as usize).clamp(16.min(n), n);
+    (0..m).map(|k| k * n / m).collect()
+}
+
+/// One profile of the mesh: the kept samples of a column.
+#[derive(Clone, Debug)]
+struct Profile {
+    /// (z, r) of each vertex, z increasing.
+    zr: Vec<(f64, f64)>,
+    colors: Vec<[u8; 3]>,
+}
+
+/// Douglas-Peucker on the polyline `(z_j, r_j)` between forced indices: keep the fewest
+/// samples so that every sample lies within `eps` of the kept polyline (2D distance).
+fn simplify(pts: &[(f64, f64)], forced: &[usize], eps: f64, out: &mut Vec<usize>) {
+    out.clear();
+    let mut stack: Vec<(usize, usize)> = Vec::new();
+    for w in forced.windows(2) {
+        out.push(w[0]);
+        stack.push((w[0], w[1]));
+        while let Some((a, b)) = stack.pop() {
+            if b <= a + 1 {
+                continue;
+            }
+            let (worst, at) = pts[a + 1..b]
+                .iter()
+                .enumerate()
+                .map(|(k, &p)| (seg_dist2(p, pts[a], pts[b]), a + 1 + k))
+                .fold((0.0, a), |m, x| if x.0 > m.0 { x } else { m });
+            if worst > eps * eps {
+                stack.push((at, b));
+                stack.push((a, at));
+                out.push(at);
+            }
+        }
+    }
+    if let Some(&last) = forced.last() {
+        out.push(last);
+    }
+    out.sort_unstable();
+    out.dedup();
+}
+
+/// Squared distance from `p` to the segment `a b` in the axial plane.
+fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dz, dr) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dz * dz + dr * dr;
+    let s = if len2 > 0.0 {
+        (((p.0 - a.0) * dz + (p.1 - a.1) * dr) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (ez, er) = (p.0 - a.0 - s * dz, p.1 - a.1 - s * dr);
+    ez * ez + er * er
+}
+
+/// Whether some sample of `pts` lies further than `limit` from the polyline `line` (both
+/// in the axial plane; `line` need not be monotone in z). Segments are binned by z.
+fn strays(line: &[(f64, f64)], pts: &[(f64, f64)], limit: f64) -> bool {
+    if line.len() < 2 || pts.is_empty() {
+        return !pts.is_empty();
+    }
+    let lo = line
+        .iter()
+        .chain(pts)
+        .map(|p| p.0)
+        .fold(f64::INFINITY, f64::min)
+        - limit;
+    let hi = line
+        .iter()
+        .chain(pts)
+        .map(|p| p.0)
+        .fold(f64::NEG_INFINITY, f64::max)
+        + limit;
+    let width = ((hi - lo) / (2 * pts.len()).max(1) as f64)
+        .max(limit)
+        .max(1e-9);
+    let nb = (((hi - lo) / width).ceil() as usize).max(1);
+    let bin = |z: f64| (((z - lo) / width) as usize).min(nb - 1);
+    // Segments per bin, in one flat array (counts, prefix sums, fill).
+    let range = |w: &[(f64, f64)]| {
+        let (a, b) = (w[0].0.min(w[1].0) - limit, w[0].0.max(w[1].0) + limit);
+        bin(a)..=bin(b)
+    };
+    let mut start = vec![0u32; nb + 1];
+    for w in line.windows(2) {
+        for b in range(w) {
+            start[b + 1] += 1;
+        }
+    }
+    for b in 0..nb {
+        start[b + 1] += start[b];
+    }
+    let mut fill = start.clone();
+    let mut segs = vec![0u32; start[nb] as usize];
+    for (k, w) in line.windows(2).enumerate() {
+        for b in range(w) {
+            segs[fill[b] as usize] = k as u32;
+            fill[b] += 1;
+        }
+    }
+    let l2 = limit * limit;
+    pts.iter().any(|&p| {
+        let b = bin(p.0);
+        !segs[start[b] as usize..start[b + 1] as usize]
+            .iter()
+            .any(|&k| seg_dist2(p, line[k as usize], line[k as usize + 1]) <= l2)
+    })
+}
+
+/// The rungs of the strip between two profiles: pairs `(i, j)` of vertices joined by an
+/// edge, from `(0, 0)` to the last pair. The walk advances on whichever profile's next
+/// vertex comes first in the helical coordinate halfway between the two generators
+/// (`shift(z)`: how far a helical feature at `z` moves from `a` to `b`), so a wall meets
+/// the same wall on the next generator.
+fn rungs(za: &[f64], zb: &[f64], shift: impl Fn(f64) -> f64) -> Vec<(u32, u32)> {
+    let (na, nb) = (za.len(), zb.len());
+    let (mut i, mut j) = (0usize, 0usize);
+    let mut out = Vec::with_capacity(na + nb);
+    out.push((0, 0));
+    while i + 1 < na || j + 1 < nb {
+        let advance_a = if i + 1 >= na {
+            false
+        } else if j + 1 >= nb {
+            true
+        } else {
+            za[i + 1] + 0.5 * shift(za[i + 1]) <= zb[j + 1] - 0.5 * shift(zb[j + 1])
+        };
+        if advance_a {
+            i += 1;
+        } else {
+            j += 1;
+        }
+        out.push((i as u32, j as u32));
+    }
+    out
+}
+
+/// Triangles of a strip from its rungs, `oa`/`ob` the profiles' first vertex indices.
+/// Wound outward for an outer surface when `b` is at the larger angle; `flip` reverses.
+fn strip_triangles(rungs: &[(u32, u32)], oa: u32, ob: u32, flip: bool, out: &mut Vec<u32>) {
+    for w in rungs.windows(2) {
+        let ((i, j), (i1, j1)) = (w[0], w[1]);
+        let third = if i1 > i { oa + i1 } else { ob + j1 };
+        let (p, q) = (oa + i, ob + j);
+        if flip {
+            out.extend_from_slice(&[p, third, q]);
+        } else {
+            out.extend_from_slice(&[p, q, third]);
+        }
+    }
+}
+
+/// Axial shift of a feature at `z` from one generator to the next, `dtheta` further on:
+/// the thread's local lead over 2 pi, with the sign of its hand.
+fn helical_shift(thread: &ThreadSpec, z: f64, dtheta: f64) -> f64 {
+    let h = &thread.helix;
+    let s = ((z - h.z0) * h.dir)
+        .max(0.0)
+        .min(h.law.travel(thread.turns).abs());
+    let t = h.law.revs_at(s).unwrap_or(0.0);
+    let lead = h.law.lead(t).max(0.0);
+    let sign = match h.hand() {
+        Hand::Right => 1.0,
+        Hand::Left => -1.0,
+    };
+    sign * lead * dtheta / TAU
+}
+
+/// What the profiles of one surface are built from.
+struct Surfacer<'a> {
+    stock: &'a Stock,
+    thread: &'a ThreadSpec,
+    s: Surface,
+    compared: bool,
+    legend: Legend,
+    e: f64,
+    window: (f64, f64),
+}
+
+impl Surfacer<'_> {
+    /// The raw dexel polyline `(z, r)` of column `i`.
+    fn points(&self, i: usize) -> Vec<(f64, f64)> {
+        let grid = self.stock.grid;
+        let q = self.stock.surface(self.s).expect("surface present");
+        let q0 = self.stock.blank_q(self.s);
+        let sense = self.s.sense();
+        q[i * grid.n_z..(i + 1) * grid.n_z]
+            .iter()
+            .enumerate()
+            .map(|(j, &v)| (grid.z(j), sense * (v as f64 + q0)))
+            .collect()
+    }
+
+    /// The profile of column `i`, simplified to `e/2` (every sample for `e = 0`).
+    fn profile(&self, i: usize) -> Profile {
+        let grid = self.stock.grid;
+        let pts = self.points(i);
+        let ideal = self.compared.then(|| {
+            self.thread
+                .column(grid.theta(i), self.window.0, self.window.1)
+        });
+        let n = pts.len();
+        let keep: Vec<usize> = if self.e <= 0.0 {
+            (0..n).collect()
+        } else {
+            // Forced: both ends, the samples either side of every ideal corner (colours
+            // follow the drawing), and one every 2 mm (colour interpolation stays local).
+            let mut forced = vec![0, n - 1];
+            if let Some(id) = &ideal {
+                for v in &id.verts {
+                    let x = (v.z - grid.z0) / grid.dz;
+                    if x > -1.0 && x < n as f64 {
+                        forced.push(x.floor().max(0.0) as usize);
+                        forced.push((x.ceil() as usize).min(n - 1));
+                    }
+                }
+            }
+            let step = ((2.0 / grid.dz).ceil() as usize).max(1);
+            forced.extend((0..n).step_by(step));
+            forced.sort_unstable();
+            forced.dedup();
+            let mut keep = Vec::new();
+            simplify(&pts, &forced, 0.5 * self.e, &mut keep);
+            keep
+        };
+        let (tol, scale) = (self.legend.tolerance_mm, self.legend.scale_mm);
+        let colors = keep
+            .iter()
+            .map(|&j| {
+                let d = ideal
+                    .as_ref()
+                    .and_then(|id| signed_deviation(self.thread, id, pts[j].0, pts[j].1));
+                colour(d, tol, scale)
+            })
+            .collect();
+        let mut zr: Vec<(f64, f64)> = keep.iter().map(|&j| pts[j]).collect();
+        // The first and last samples stand for their whole cells: the surface reaches the
+        // window's ends.
+        zr[0].0 = self.window.0;
+        let last = zr.len() - 1;
+        zr[last].0 = self.window.1;
+        Profile { zr, colors }
+    }
+
+    /// Unwrapped column `u` (may exceed `n_theta` for the closing strip) to its angle.
+    fn theta(&self, u: usize) -> f64 {
+        self.stock.grid.theta0 + self.stock.grid.dtheta() * u as f64
+    }
+
+    /// The strip's rungs between unwrapped columns `ua < ub`.
+    fn rungs(&self, ua: usize, a: &Profile, ub: usize, b: &Profile) -> Vec<(u32, u32)> {
+        let dtheta = self.theta(ub) - self.theta(ua);
+        let za: Vec<f64> = a.zr.iter().map(|v| v.0).collect();
+        let zb: Vec<f64> = b.zr.iter().map(|v| v.0).collect();
+        rungs(&za, &zb, |z| helical_shift(self.thread, z, dtheta))
+    }
+
+    /// Columns to add between kept unwrapped columns `ua < ub` so that the strip's section
+    /// at the middle skipped column stays within `limit` of that column's dexels, checked
+    /// again on both halves after a split.
+    fn refine(
+        &self,
+        ua: usize,
+        a: &Profile,
+        ub: usize,
+        b: &Profile,
+        limit: f64,
+    ) -> Vec<(usize, Profile)> {
+        if ub <= ua + 1 {
+            return Vec::new();
+        }
+        let um = (ua + ub) / 2;
+        let n = self.stock.grid.n_theta;
+        let u = (um - ua) as f64 / (ub - ua) as f64;
+        let section: Vec<(f64, f64)> = self
+            .rungs(ua, a, ub, b)
+            .iter()
+            .map(|&(i, j)| {
+                let (p, q) = (a.zr[i as usize], b.zr[j as usize]);
+                (p.0 + u * (q.0 - p.0), p.1 + u * (q.1 - p.1))
+            })
+            .collect();
+        if !strays(&section, &self.points(um % n), limit) {
+            return Vec::new();
+        }
+        let m = self.profile(um % n);
+        let mut out = self.refine(ua, a, um, &m, limit);
+        let right = self.refine(um, &m, ub, b, limit);
+        out.push((um, m));
+        out.extend(right);
+        out
+    }
+}
+
+/// The closed, coloured mesh of the cut stock, within `e` (mm) of the dexel data.
+///
+/// Columns: evenly spread ones whose chord and twist stay under `e/4`, then, wherever the
+/// strip between two kept columns strays more than `3e/4` from the dexels of the column
+/// halfway (the end of a groove, a wall leaving through an end face), the middle column
+/// too, recursively. Kept profiles are simplified to `e/2`.
+pub fn stock_mesh(stock: &Stock, thread: &ThreadSpec, legend: Legend, e: f64) -> Mesh {
+    let grid = stock.grid;
+    let n = grid.n_theta;
+    let window = (
+        grid.z(0) - 0.5 * grid.dz,
+        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
+    );
+    let surfacers: Vec<Surfacer<'_>> = [Surface::Outer, Surface::Inner]
+        .into_iter()
+        .filter(|s| stock.surface(*s).is_some())
+        .map(|s| Surfacer {
+            stock,
+            thread,
+            s,
+            compared: s == surface(thread),
+            legend,
+            e,
+            window,
+        })
+        .collect();
+    // Both surfaces of a tube use the same columns (the end annuli join them pairwise):
+    // refine each, then build what one surface's refinement did not.
+    let mut cols = kept_columns(stock, thread, 0.5 * e);
+    let mut built: Vec<Vec<(usize, Profile)>> = Vec::new();
+    for sf in &surfacers {
+        let profiles: Vec<Profile> = cols.par_iter().map(|&i| sf.profile(i)).collect();
+        let m = cols.len();
+        let added: Vec<Vec<(usize, Profile)>> = if e > 0.0 {
+            (0..m)
+                .into_par_iter()
+                .map(|k| {
+                    let ub = if k + 1 < m { cols[k + 1] } else { cols[0] + n };
+                    sf.refine(cols[k], &profiles[k], ub, &profiles[(k + 1) % m], 0.75 * e)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut all: Vec<(usize, Profile)> = cols.iter().copied().zip(profiles).collect();
+        all.extend(added.into_iter().flatten().map(|(u, p)| (u % n, p)));
+        all.sort_by_key(|c| c.0);
+        built.push(all);
+    }
+    cols = built.iter().flatten().map(|c| c.0).collect();
+    cols.sort_unstable();
+    cols.dedup();
+    let m = cols.len();
+    let mut mesh = Mesh::default();
+    // Per surface: first vertex and vertex count of every column's profile.
+    let mut layout: Vec<Vec<(u32, usize)>> = Vec::new();
+    for (sf, mine) in surfacers.iter().zip(built) {
+        let mut mine = mine.into_iter().peekable();
+        let profiles: Vec<Profile> = cols
+            .iter()
+            .map(|&i| mine.next_if(|c| c.0 == i).map(|(_, p)| p))
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .zip(cols.par_iter())
+            .map(|(p, &i)| p.unwrap_or_else(|| sf.profile(i)))
+            .collect();
+        let mut lay = Vec::with_capacity(m);
+        for (p, &i) in profiles.iter().zip(&cols) {
+            lay.push((mesh.positions.len() as u32, p.zr.len()));
+            let theta = grid.theta(i);
+            mesh.positions
+                .extend(p.zr.iter().map(|&(z, r)| point(r, theta, z)));
+            mesh.colors.extend_from_slice(&p.colors);
+        }
+        let flip = sf.s == Surface::Inner;
+        let strips: Vec<Vec<u32>> = (0..m)
+            .into_par_iter()
+            .map(|k| {
+                let k1 = (k + 1) % m;
+                let ub = if k1 == 0 { cols[0] + n } else { cols[k1] };
+                let r = sf.rungs(cols[k], &profiles[k], ub, &profiles[k1]);
+                let mut out = Vec::with_capacity(3 * r.len());
+                strip_triangles(&r, lay[k].0, lay[k1].0, flip, &mut out);
+                out
+            })
+            .collect();
+        for s in strips {
+            mesh.indices.extend(s);
+        }
+        layout.push(lay);
+    }
+    // End faces: z = window.0 (normal -z) and z = window.1 (normal +z).
+    let ring = |lay: &[(u32, usize)], end: bool| -> Vec<u32> {
+        lay.iter()
+            .map(|&(o, len)| if end { o + len as u32 - 1 } else { o })
+            .collect()
+    };
+    for (end, z) in [(false, window.0), (true, window.1)] {
+        let outer = ring(&layout[0], end);
+        if layout.len() == 2 {
+            let inner = ring(&layout[1], end);
+            for k in 0..m {
+                let k1 = (k + 1) % m;
+                let (o0, o1, i0, i1) = (outer[k], outer[k1], inner[k], inner[k1]);
+                if end {
+                    mesh.indices.extend_from_slice(&[i0, o0, o1, i0, o1, i1]);
+                } else {
+                    mesh.indices.extend_from_slice(&[i0, o1, o0, i0, i1, o1]);
+                }
+            }
+        } else {
+            let c = mesh.positions.len() as u32;
+            mesh.positions.push([0.0, 0.0, z as f32]);
+            mesh.colors.push(colour(None, 0.0, 1.0));
+            for k in 0..m {
+                let k1 = (k + 1) % m;
+                if end {
+                    mesh.indices.extend_from_slice(&[c, outer[k], outer[k1]]);
+                } else {
+                    mesh.indices.extend_from_slice(&[c, outer[k1], outer[k]]);
+                }
+            }
+        }
+    }
+    mesh
+}
+
+/// The ideal thread surface over the compared span of every kept column (a sheet, not a
+/// solid), in one colour.
+pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
+    let grid = stock.grid;
+    let cols = kept_columns(stock, thread, e);
+    let (lo, hi) = (
+        grid.z(0) - 0.5 * grid.dz,
+        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
+    );
+    let profiles: Vec<Vec<(f64, f64)>> = cols
+        .par_iter()
+        .map(|&i| {
+            let id = thread.column(grid.theta(i), lo, hi);
+            let Some((a, b)) = id.span else {
+                return Vec::new();
+            };
+            let mut zr: Vec<(f64, f64)> = Vec::new();
+            zr.push((a, thread.radius(id.height_at(a))));
+            zr.extend(
+                id.verts
+                    .iter()
+                    .filter(|v| v.z > a && v.z < b)
+                    .map(|v| (v.z, thread.radius(v.h))),
+            );
+            zr.push((b, thread.radius(id.height_at(b))));
+            zr
+        })
+        .collect();
+    let mut mesh = Mesh::default();
+    let mut offsets = Vec::with_capacity(cols.len());
+    for (p, &i) in profiles.iter().zip(&cols) {
+        offsets.push(mesh.positions.len() as u32);
+        let theta = grid.theta(i);
+        mesh.positions
+            .extend(p.iter().map(|&(z, r)| point(r, theta, z)));
+    }
+    mesh.colors = vec![IDEAL_COLOUR; mesh.positions.len()];
+    let m = cols.len();
+    let flip = thread.side == Side::Internal;
+    for k in 0..m {
+        let k1 = (k + 1) % m;
+        if profiles[k].len() < 2 || profiles[k1].len() < 2 {
+            continue;
+        }
+        let mut dtheta = grid.dtheta() * (cols[k1] as f64 - cols[k] as f64);
+        if k1 == 0 {
+            dtheta += TAU;
+        }
+        let za: Vec<f64> = profiles[k].iter().map(|v| v.0).collect();
+        let zb: Vec<f64> = profiles[k1].iter().map(|v| v.0).collect();
+        let r = rungs(&za, &zb, |z| helical_shift(thread, z, dtheta));
+        strip_triangles(&r, offsets[k], offsets[k1], flip, &mut mesh.indices);
+    }
+    mesh
+}
+
+/// Points per revolution of a drawn pass helix.
+const PATH_STEPS_PER_REV: f64 = 72.0;
+
+/// The toolpath: the reference point along every pass (feed), and schematic rapids
+/// between passes: out to a clearance radius 1 mm beyond the blank, across to the next
+/// start and in. A rapid has no spindle phase (the part turns under it); it is drawn from
+/// the angle where one pass ends to the angle where the next begins.
+pub fn toolpath(passes: &[Pass], blank: &(f64, f64), thread: &ThreadSpec) -> Vec<Polyline> {
+    let mut out = Vec::new();
+    let clear = match thread.side {
+        Side::External => blank.0 + 1.0,
+        Side::Internal => (blank.1 - 1.0).max(0.0),
+    };
+    let mut prev_end: Option<(f64, f64, f64)> = None; // (r, theta, z)
+    for p in passes {
+        let Some(t_end) = p.revolutions() else {
+            continue;
+        };
+        let h = p.helix();
+        let steps = ((t_end * PATH_STEPS_PER_REV).ceil() as usize).clamp(1, 1 << 16);
+        let pose = |t: f64| {
+            let z = h.z(t);
+            (p.radius_at(z), h.theta0 - h.spin * TAU * t, z)
+        };
+        let start = pose(0.0);
+        if let Some(e) = prev_end {
+            out.push(Polyline {
+                kind: PathKind::Rapid,
+                points: vec![
+                    point(e.0, e.1, e.2),
+                    point(clear, e.1, e.2),
+                    point(clear, start.1, start.2),
+                    point(start.0, start.1, start.2),
+                ],
+            });
+        }
+        let points: Vec<[f32; 3]> = (0..=steps)
+            .map(|k| {
+                let (r, th, z) = pose(t_end * k as f64 / steps as f64);
+                point(r, th, z)
+            })
+            .collect();
+        out.push(Polyline {
+            kind: PathKind::Feed,
+            points,
+        });
+        prev_end = Some(pose(t_end));
+    }
+    out
+}
+
+/// The tool's edge profile, extruded 3 mm tangentially and carried on a shank, at the end
+/// of the last pass (empty without passes).
+pub fn tool_mesh(job: &Job) -> Mesh {
+    let Some((p, tool, t_end)) = job.passes.iter().rev().find_map(|p| {
+        let tool = job.tools.get(p.tool)?;
+        Some((p, tool, p.revolutions()?))
+    }) else {
+        return Mesh::default();
+    };
+    let h = p.helix();
+    let z_ref = h.z(t_end);
+    let theta = h.theta0 - h.spin * TAU * t_end;
+    let r_tip = p.radius_at(z_ref);
+    let sense = job.thread.sense();
+    let depth = job.thread.depth();
+    edge_solid(
+        tool,
+        r_tip,
+        theta,
+        z_ref - tool.reference_offset(),
+        sense,
+        depth,
+    )
+}
+
+/// The prism of an edge profile: `h(v) <= h <= top` in the axial plane at `theta`, tip
+/// at radius `r_tip` and axial position `z_tip`, standing away from the part (`sense`).
+fn edge_solid(tool: &Tool, r_tip: f64, theta: f64, z_tip: f64, sense: f64, depth: f64) -> Mesh {
+    let top = depth.max(0.5) * 1.5;
+    let (v0, v1) = tool.span(top);
+    let n = 48;
+    // The profile polygon, counter-clockwise in (v, h): the edge from v1 down to the tip
+    // and up to v0 is convex, then the top edge closes it.
+    let mut poly: Vec<(f64, f64)> = (0..=n)
+        .map(|k| {
+            let v = v1 + (v0 - v1) * k as f64 / n as f64;
+            (v, tool.height(v).min(top))
+        })
+        .collect();
+    if let crate::tool::Edge::Trapezoid { tip, .. } = tool.edge {
+        // The tip corners exactly.
+        poly.push((-tip / 2.0, 0.0));
+        poly.push((tip / 2.0, 0.0));
+        poly.retain(|&(_, h)| h.is_finite());
+        poly.sort_by(|a, b| b.0.total_cmp(&a.0));
+        poly.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-12);
+    }
+    let half = 1.5;
+    let (c, s) = (theta.cos(), theta.sin());
+    let at = |v: f64, hh: f64, w: f64| -> [f32; 3] {
+        let r = r_tip + sense * hh;
+        [
+            (r * c - w * s) as f32,
+            (r * s + w * c) as f32,
+            (z_tip + v) as f32,
+        ]
+    };
+    let mut mesh = Mesh::default();
+    let k = poly.len() as u32;
+    for w in [-half, half] {
+        for &(v, hh) in &poly {
+            mesh.positions.push(at(v, hh, w));
+        }
+    }
+    mesh.colors = vec![TOOL_COLOUR; mesh.positions.len()];
+    // Caps (fans; the polygon is convex) and sides.
+    for a in 1..k - 1 {
+        mesh.indices.extend_from_slice(&[0, a + 1, a]);
+        mesh.indices.extend_from_slice(&[k, k + a, k + a + 1]);
+    }
+    for a in 0..k {
+        let b = (a + 1) % k;
+        mesh.indices
+            .extend_from_slice(&[a, b, k + b, a, k + b, k + a]);
+    }
+    if sense < 0.0 {
+        for t in mesh.indices.chunks_mut(3) {
+            t.swap(1, 2);
+        }
+    }
+    mesh
+}
