@@ -54,6 +54,7 @@ mod nc;
 mod pass;
 mod plot;
 mod process;
+mod render;
 mod report;
 mod scene;
 mod stock;
@@ -73,6 +74,7 @@ pub use nc::{
 };
 pub use pass::Pass;
 pub use plot::{developed_view, section_profile, section_view, signed_deviation};
+pub use render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};
 pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
 pub use scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use stock::{Grid, Stock, Surface};

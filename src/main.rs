@@ -1,4 +1,6 @@
-//! The `vpcut` command line: `vpcut simulate job.toml [--report report.json] [--check]`.
+//! The `vpcut` command line: `vpcut simulate job.toml [--report report.json] [--check]
+//! [--gltf out.glb] [--png out.png]`, `vpcut render model.glb --png view.png`,
+//! `vpcut toolpath program --dialect D`.
 //!
 //! Exit codes: 0 success, 1 only with `--check` when the verdict is fail, 2 bad input or
 //! an output that cannot be written.
@@ -21,6 +23,8 @@ enum Command {
     /// Simulate a job: sweep every pass through the stock, compare with the ideal thread,
     /// print a summary and optionally write the JSON report.
     Simulate(SimulateArgs),
+    /// Render a model written by `simulate --gltf` (headless, wgpu) to PNG pictures.
+    Render(RenderArgs),
     /// Interpret an NC program and print its moves (CSV by default), as the control would
     /// run them: end points in mm, leads for thread moves.
     Toolpath(ToolpathArgs),
@@ -42,6 +46,83 @@ struct ToolpathArgs {
     /// Unknown words and codes are errors, not warnings.
     #[arg(long)]
     strict: bool,
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// The model (`.glb` written by `vpcut simulate --gltf`).
+    model: PathBuf,
+    #[command(flatten)]
+    picture: PictureArgs,
+}
+
+/// Headless pictures of the cut part (wgpu: a GPU, or Mesa's software Vulkan).
+#[derive(clap::Args)]
+struct PictureArgs {
+    /// Render the cut part to this PNG (the camera is `--view`).
+    #[arg(long, value_name = "FILE")]
+    png: Option<PathBuf>,
+    /// Render every view into this folder as `iso.png`, `front.png`, `section.png` and
+    /// `closeup.png`.
+    #[arg(long, value_name = "DIR")]
+    renders: Option<PathBuf>,
+    /// Camera of `--png`: `iso`, `front`, `section` (the near half cut away along the axis:
+    /// the machined profile as a solid cut face with the ideal profile over it) or `closeup`
+    /// (a section through the worst finding).
+    #[arg(long, default_value = "iso", value_parser = parse_view)]
+    view: vpcut::View,
+    /// Picture size `WIDTHxHEIGHT` in pixels; the width a multiple of 64.
+    #[arg(long, default_value = "1024x768", value_name = "WxH", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Multisampling (anti-aliasing): 4 or 1 samples per pixel.
+    #[arg(long, default_value_t = 4, value_name = "N")]
+    msaa: u32,
+    /// Draw feature edges (crests, roots, flank corners) as dark lines.
+    #[arg(long)]
+    edges: bool,
+}
+
+fn parse_view(s: &str) -> Result<vpcut::View, String> {
+    vpcut::View::from_name(s)
+        .ok_or_else(|| format!("expected one of iso, front, section, closeup, not `{s}`"))
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT such as 1024x768, not `{s}`");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    Ok((w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?))
+}
+
+impl PictureArgs {
+    fn wanted(&self) -> bool {
+        self.png.is_some() || self.renders.is_some()
+    }
+
+    /// Draw what was asked for and write it atomically.
+    fn write(&self, scene: &vpcut::Scene) -> anyhow::Result<()> {
+        if !self.wanted() {
+            return Ok(());
+        }
+        let renderer = vpcut::Renderer::new(self.msaa)?;
+        let opts = |view| vpcut::RenderOptions {
+            view,
+            width: self.size.0,
+            height: self.size.1,
+            edges: self.edges,
+        };
+        if let Some(path) = &self.png {
+            write_atomic(path, &renderer.png(scene, &opts(self.view))?)?;
+        }
+        if let Some(dir) = &self.renders {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("cannot create the folder {}", dir.display()))?;
+            for view in vpcut::View::ALL {
+                let path = dir.join(format!("{}.png", view.name()));
+                write_atomic(&path, &renderer.png(scene, &opts(view))?)?;
+            }
+        }
+        Ok(())
+    }
 }
 
 #[derive(clap::Args)]
@@ -88,6 +169,8 @@ struct SimulateArgs {
     /// Export every dexel as a vertex (no simplification; large files).
     #[arg(long)]
     gltf_full: bool,
+    #[command(flatten)]
+    picture: PictureArgs,
 }
 
 fn main() -> ExitCode {
@@ -124,8 +207,21 @@ fn main() -> ExitCode {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Simulate(args) => simulate(args),
+        Command::Render(args) => render(args),
         Command::Toolpath(args) => toolpath(args),
     }
+}
+
+fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
+    if !args.picture.wanted() {
+        anyhow::bail!("nothing to do: give --png FILE or --renders DIR");
+    }
+    let bytes = std::fs::read(&args.model)
+        .with_context(|| format!("cannot read the model {}", args.model.display()))?;
+    let scene =
+        vpcut::from_glb(&bytes).with_context(|| format!("{}", args.model.display()))?;
+    args.picture.write(&scene)?;
+    Ok(ExitCode::SUCCESS)
 }
 
 fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
@@ -149,24 +245,45 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some(path) = &args.report {
         write_atomic(path, out.report.to_json().as_bytes())?;
     }
-    if let Some(path) = &args.gltf {
-        let e = if args.gltf_full {
-            Some(0.0)
-        } else {
-            args.gltf_tolerance
-        };
-        if e.is_some_and(|e| !e.is_finite() || e < 0.0) {
-            anyhow::bail!("--gltf-tolerance must be a finite number of mm, 0 or more");
-        }
-        let scene = vpcut::build_scene(
+    let e = if args.gltf_full {
+        Some(0.0)
+    } else {
+        args.gltf_tolerance
+    };
+    if e.is_some_and(|e| !e.is_finite() || e < 0.0) {
+        anyhow::bail!("--gltf-tolerance must be a finite number of mm, 0 or more");
+    }
+    // Pictures use the default mesh and the ideal (drawn on section planes); the model
+    // shares that mesh unless it asks for another tolerance.
+    let picture_scene = args.picture.wanted().then(|| {
+        vpcut::build_scene(
             &job,
             &out,
             &vpcut::SceneOptions {
-                mesh_tolerance: e,
-                ideal: args.gltf_ideal,
+                mesh_tolerance: None,
+                ideal: true,
             },
-        );
+        )
+    });
+    if let Some(path) = &args.gltf {
+        let scene = match (&picture_scene, e) {
+            (Some(s), None) => vpcut::Scene {
+                ideal: if args.gltf_ideal { s.ideal.clone() } else { None },
+                ..s.clone()
+            },
+            _ => vpcut::build_scene(
+                &job,
+                &out,
+                &vpcut::SceneOptions {
+                    mesh_tolerance: e,
+                    ideal: args.gltf_ideal,
+                },
+            ),
+        };
         write_atomic(path, &vpcut::to_glb(&scene)?)?;
+    }
+    if let Some(scene) = &picture_scene {
+        args.picture.write(scene)?;
     }
     if let Some(dir) = &args.plots {
         std::fs::create_dir_all(dir)

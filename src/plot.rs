@@ -160,8 +160,13 @@ pub fn developed_view(
             img.put_pixel(px as u32, py as u32, Rgb(c));
         }
     }
-    // Colour bar: top +scale (leftover) to bottom -scale (gouge).
-    let (bx, by, bh) = (width + 12, 20u32, 160u32);
+    colour_bar(&mut img, width + 12, 20, 160, tol, scale);
+    img
+}
+
+/// A vertical colour bar at `(bx, by)`, `bh` pixels high, from `+scale` (leftover, top) to
+/// `-scale` (gouge, bottom), with mm labels at the ends, the tolerance and zero, and a unit.
+pub(crate) fn colour_bar(img: &mut RgbImage, bx: u32, by: u32, bh: u32, tol: f64, scale: f64) {
     for k in 0..bh {
         let d = scale * (1.0 - 2.0 * (k as f64 + 0.5) / bh as f64);
         for x in bx..bx + 18 {
@@ -179,10 +184,9 @@ pub fn developed_view(
         for x in bx + 18..bx + 22 {
             img.put_pixel(x, y, Rgb(INK));
         }
-        text(&mut img, bx + 25, y.saturating_sub(3), &format!("{v:+.4}"));
+        text(img, bx + 25, y.saturating_sub(3), &format!("{v:+.4}"));
     }
-    text(&mut img, bx + 25, by + bh + 8, "MM");
-    img
+    text(img, bx + 25, by + bh + 8, "MM");
 }
 
 /// The dexel column nearest to the angle `theta` (rad).
@@ -324,9 +328,10 @@ pub fn section_view(
     img
 }
 
-/// A 3x5 pixel font (drawn 2x) for the legend: digits, `+ - . : ` and capitals used here.
+/// A 3x5 pixel font (drawn 2x) for legends and captions: digits, capitals (lower case is
+/// drawn as upper case) and `+ - . : / _ ( ) = %`.
 fn glyph(c: char) -> [u8; 5] {
-    match c {
+    match c.to_ascii_uppercase() {
         '0' => [7, 5, 5, 5, 7],
         '1' => [2, 6, 2, 2, 7],
         '2' => [7, 1, 7, 4, 7],
@@ -340,22 +345,45 @@ fn glyph(c: char) -> [u8; 5] {
         '+' => [0, 2, 7, 2, 0],
         '-' => [0, 0, 7, 0, 0],
         '.' => [0, 0, 0, 0, 2],
+        ':' => [0, 2, 0, 2, 0],
+        '/' => [1, 1, 2, 4, 4],
+        '_' => [0, 0, 0, 0, 7],
+        '(' => [2, 4, 4, 4, 2],
+        ')' => [2, 1, 1, 1, 2],
+        '=' => [0, 7, 0, 7, 0],
+        '%' => [5, 1, 2, 4, 5],
         'A' => [2, 5, 7, 5, 5],
+        'B' => [6, 5, 6, 5, 6],
+        'C' => [7, 4, 4, 4, 7],
+        'D' => [6, 5, 5, 5, 6],
         'E' => [7, 4, 6, 4, 7],
+        'F' => [7, 4, 6, 4, 4],
         'G' => [7, 4, 5, 5, 7],
+        'H' => [5, 5, 7, 5, 5],
+        'I' => [7, 2, 2, 2, 7],
+        'J' => [1, 1, 1, 5, 7],
+        'K' => [5, 5, 6, 5, 5],
         'L' => [4, 4, 4, 4, 7],
         'M' => [5, 7, 7, 5, 5],
         'N' => [7, 5, 5, 5, 5],
         'O' => [7, 5, 5, 5, 7],
+        'P' => [7, 5, 7, 4, 4],
+        'Q' => [7, 5, 5, 7, 1],
         'R' => [6, 5, 6, 5, 5],
+        'S' => [7, 4, 7, 1, 7],
         'T' => [7, 2, 2, 2, 2],
+        'U' => [5, 5, 5, 5, 7],
+        'V' => [5, 5, 5, 5, 2],
+        'W' => [5, 5, 7, 7, 5],
+        'X' => [5, 5, 2, 5, 5],
+        'Y' => [5, 5, 2, 2, 2],
         'Z' => [7, 1, 2, 4, 7],
         _ => [0; 5],
     }
 }
 
 /// Write `s` at `(x, y)` in the 3x5 font, twice the size.
-fn text(img: &mut RgbImage, x: u32, y: u32, s: &str) {
+pub(crate) fn text(img: &mut RgbImage, x: u32, y: u32, s: &str) {
     for (k, c) in s.chars().enumerate() {
         let g = glyph(c);
         for (row, bits) in g.iter().enumerate() {

@@ -1,0 +1,227 @@
+//! The cameras of the rendered views: orthographic (an engineering drawing, no perspective
+//! foreshortening of the thread), framed on the cut part. Pure arithmetic, tested without a
+//! GPU.
+//!
+//! Screen conventions follow the lathe drawing: the part axis `z` runs left to right, the
+//! radius `x` points up. A section plane contains the axis; the half of the part on the
+//! camera's side of it is cut away.
+
+use crate::plot::OUTSIDE;
+use crate::scene::Scene;
+use glam::{DMat4, DVec3, DVec4};
+
+/// Which picture to take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum View {
+    /// The whole part from above the front end, at an angle.
+    Iso,
+    /// The whole part from the side: axis left to right, `x` up.
+    Front,
+    /// The front view with the near half cut away along the axis: the machined profile at
+    /// 0 deg (top) and 180 deg (bottom) as a solid cut face, the ideal profile over it.
+    Section,
+    /// A section through the worst finding (or, when the cut is within tolerance, the
+    /// middle of the compared surface), a few mm wide.
+    Closeup,
+}
+
+impl View {
+    /// Every view, in the order goldens and help texts list them.
+    pub const ALL: [View; 4] = [View::Iso, View::Front, View::Section, View::Closeup];
+
+    /// The view's name on the command line and in file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Iso => "iso",
+            View::Front => "front",
+            View::Section => "section",
+            View::Closeup => "closeup",
+        }
+    }
+
+    /// The view of a name, if it is one.
+    pub fn from_name(name: &str) -> Option<View> {
+        View::ALL.into_iter().find(|v| v.name() == name)
+    }
+}
+
+/// A camera: an orthographic projection, its frame, and the section plane if any.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Camera {
+    /// World (mm) to clip space, depth 0..1.
+    pub(crate) view_proj: DMat4,
+    /// Screen right, up and towards the camera, in world coordinates (orthonormal).
+    pub(crate) right: DVec3,
+    pub(crate) up: DVec3,
+    pub(crate) back: DVec3,
+    /// Fragments with `dot(n, p) > w` are cut away.
+    pub(crate) plane: Option<DVec4>,
+    /// Angle of the section's upper generator (rad), for the caption.
+    pub(crate) section_angle: Option<f64>,
+    /// Image size in pixels.
+    pub(crate) size: (u32, u32),
+    /// Millimetres per pixel.
+    pub(crate) mm_per_px: f64,
+    /// The eye's position across the view (along `right`, `up`) and the picture's
+    /// (left, right, bottom, top) around it, mm.
+    pub(crate) centre: (f64, f64),
+    pub(crate) window: (f64, f64, f64, f64),
+}
+
+impl Camera {
+    /// The section plane's quad covering the picture (a triangle strip), for sections.
+    pub(crate) fn cap_quad(&self) -> Option<[DVec3; 4]> {
+        self.plane?;
+        let (l, r, b, t) = self.window;
+        let at = |x: f64, y: f64| self.right * (self.centre.0 + x) + self.up * (self.centre.1 + y);
+        Some([at(l, b), at(r, b), at(l, t), at(r, t)])
+    }
+
+    /// The pixel `(x, y)` (from the top left, continuous) where `p` lands.
+    pub(crate) fn pixel(&self, p: DVec3) -> (f64, f64) {
+        let c = self.view_proj * p.extend(1.0);
+        (
+            (c.x / c.w + 1.0) * 0.5 * self.size.0 as f64,
+            (1.0 - c.y / c.w) * 0.5 * self.size.1 as f64,
+        )
+    }
+}
+
+/// Frame `view` of `scene` in a `width` x `height` image.
+pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Camera {
+    let pts = || {
+        scene
+            .stock
+            .positions
+            .iter()
+            .chain(&scene.tool.positions)
+            .chain(scene.toolpath.iter().flat_map(|p| &p.points))
+            .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
+    };
+    let stock = || {
+        scene
+            .stock
+            .positions
+            .iter()
+            .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
+    };
+    let z_axis = DVec3::Z;
+    // (right, up) of each view; `back = right x up` points at the camera.
+    let (right, up, theta) = match view {
+        View::Iso => {
+            // Looking down on the front end: from x (up) 0.55, y 1 (side) and z 0.45.
+            let back = DVec3::new(0.55, 1.0, 0.45).normalize();
+            let right = DVec3::X.cross(back).normalize();
+            (right, back.cross(right), None)
+        }
+        View::Front => (z_axis, DVec3::X, None),
+        View::Section => (z_axis, DVec3::X, Some(0.0)),
+        View::Closeup => {
+            let theta = closeup_target(scene).1;
+            (z_axis, DVec3::new(theta.cos(), theta.sin(), 0.0), Some(theta))
+        }
+    };
+    let back = right.cross(up);
+    // Extents of the part in the screen frame; depth over everything drawn.
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in stock() {
+        let s = DVec3::new(p.dot(right), p.dot(up), 0.0);
+        lo = lo.min(s);
+        hi = hi.max(s);
+    }
+    if !lo.x.is_finite() {
+        lo = DVec3::splat(-1.0);
+        hi = DVec3::splat(1.0);
+    }
+    let (mut d_lo, mut d_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in pts() {
+        d_lo = d_lo.min(p.dot(back));
+        d_hi = d_hi.max(p.dot(back));
+    }
+    // Pixels kept free for the legend (right), the title (top) and the key (bottom).
+    let (legend_px, top_px, bottom_px) = (160.0, 40.0, 24.0);
+    let (w_px, h_px) = (width as f64, height as f64);
+    // (left, right, bottom, top) of the picture around the eye, in mm.
+    let (centre, window) = match view {
+        View::Closeup => {
+            let (p, _) = closeup_target(scene);
+            // A window a sixth of the part long (two or three turns of the seed screws),
+            // at least 2 mm, centred on the target.
+            let half_w = ((hi.x - lo.x) / 6.0).max(2.0) * 0.5;
+            let half_h = half_w * h_px / w_px;
+            ((p.dot(right), p.dot(up)), (-half_w, half_w, -half_h, half_h))
+        }
+        _ => {
+            // The part fills the free area with a margin, centred in it.
+            let margin = 1.08;
+            let (free_w, free_h) = ((w_px - legend_px).max(1.0), (h_px - top_px - bottom_px).max(1.0));
+            let mm_per_px = ((hi.x - lo.x) / free_w)
+                .max((hi.y - lo.y) / free_h)
+                .max(1e-6)
+                * margin;
+            let (hw, hh) = (0.5 * free_w * mm_per_px, 0.5 * free_h * mm_per_px);
+            (
+                (0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)),
+                (
+                    -hw,
+                    -hw + w_px * mm_per_px,
+                    -hh - bottom_px * mm_per_px,
+                    hh + top_px * mm_per_px,
+                ),
+            )
+        }
+    };
+    let pad = 1.0 + 0.01 * (d_hi - d_lo).abs();
+    let eye_d = d_hi + pad;
+    let eye = right * centre.0 + up * centre.1 + back * eye_d;
+    let view_m = DMat4::look_to_rh(eye, -back, up);
+    let proj = DMat4::orthographic_rh(
+        window.0,
+        window.1,
+        window.2,
+        window.3,
+        0.0,
+        (eye_d - d_lo + pad).max(1e-3),
+    );
+    Camera {
+        view_proj: proj * view_m,
+        right,
+        up,
+        back,
+        plane: theta.map(|_| back.extend(0.0)),
+        section_angle: theta,
+        size: (width, height),
+        mm_per_px: (window.1 - window.0) / w_px,
+        centre,
+        window,
+    }
+}
+
+/// Where the close-up looks: the worst finding's point and angle, or, for a cut within
+/// tolerance, the compared surface vertex nearest to the middle of the part at 0 deg.
+pub(crate) fn closeup_target(scene: &Scene) -> (DVec3, f64) {
+    if let Some(f) = &scene.focus {
+        let p = DVec3::new(f.point[0] as f64, f.point[1] as f64, f.point[2] as f64);
+        return (p, p.y.atan2(p.x));
+    }
+    let m = &scene.stock;
+    let (z_lo, z_hi) = m
+        .bounds()
+        .map_or((0.0, 0.0), |(lo, hi)| (lo[2] as f64, hi[2] as f64));
+    let mid = 0.5 * (z_lo + z_hi);
+    let r_max = m
+        .positions
+        .iter()
+        .map(|p| (p[0] as f64).hypot(p[1] as f64))
+        .fold(0.0, f64::max);
+    let target = DVec3::new(r_max, 0.0, mid);
+    let best = m
+        .positions
+        .iter()
+        .zip(&m.colors)
+        .filter(|(_, c)| **c != OUTSIDE)
+        .map(|(p, _)| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
+        .min_by(|a, b| a.distance(target).total_cmp(&b.distance(target)));
+    let p = best.unwrap_or(target);
+    (p, p.y.atan2(p.x))
+}

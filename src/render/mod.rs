@@ -1,0 +1,418 @@
+//! Headless pictures of a [`Scene`] with wgpu: the cut part flat-shaded in its deviation
+//! colours, the toolpath, optional feature edges, the ideal profile on section planes, and a
+//! legend (colour bar with mm values, the job, the verdict, the view).
+//!
+//! No window and no surface: an offscreen target is drawn and read back, so the same code runs
+//! on a GPU or on Mesa's software Vulkan (lavapipe) in CI. The 3D part is drawn by the GPU
+//! (`gpu`, `shaders/scene.wgsl`); cameras are plain arithmetic (`camera`); captions, the
+//! colour bar and the close-up marker are drawn on the read-back image with the same font
+//! and colour bar as the pictures that need no GPU ([`crate::plot`]), so every picture vpcut
+//! makes uses one legend.
+//!
+//! Deterministic: the geometry sent to the GPU does not depend on the thread count, and a
+//! picture of the same scene on the same adapter has the same bytes. The PNG's text chunks
+//! record the adapter, driver and backend that drew it.
+
+mod camera;
+mod gpu;
+
+pub use camera::View;
+
+use crate::plot::{colour_bar, text};
+use crate::scene::{Mesh, PathKind, Scene};
+use camera::Camera;
+use glam::DVec3;
+use gpu::{Frame, Gpu, Uniforms, Vertex};
+use image::{Rgb, RgbImage};
+use std::collections::HashMap;
+
+/// The shader source (WGSL), validated by naga in the tests.
+pub const SHADER: &str = include_str!("../../shaders/scene.wgsl");
+
+/// Background (sRGB).
+const BACKGROUND: [u8; 3] = [244, 244, 240];
+/// Colour of the material on a section plane (sRGB).
+const CAP: [u8; 3] = [168, 176, 190];
+/// Toolpath colours (sRGB): feeds and rapids.
+const FEED: [u8; 3] = [240, 120, 0];
+const RAPID: [u8; 3] = [90, 90, 90];
+/// Feature edges and the ideal profile on a section plane (sRGB).
+const EDGE: [u8; 3] = [35, 35, 35];
+const IDEAL: [u8; 3] = [0, 150, 60];
+/// Edges between faces that meet at more than this angle are drawn with `edges`.
+const FEATURE_ANGLE_DEG: f64 = 35.0;
+
+/// A picture that cannot be made.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RenderError {
+    /// No graphics adapter (no GPU and no software Vulkan).
+    #[error("no graphics adapter: {0}. Without a GPU install Mesa's software Vulkan (apt-get install -y libvulkan1 mesa-vulkan-drivers)")]
+    NoAdapter(String),
+    /// The adapter cannot do what is asked (size, multisampling, buffer size).
+    #[error("the graphics adapter cannot draw this: {0}")]
+    Unsupported(String),
+    /// Options out of range.
+    #[error("{0}")]
+    Options(String),
+    /// The device failed while drawing.
+    #[error("the graphics device failed: {0}")]
+    Device(String),
+}
+
+/// What to draw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// The camera.
+    pub view: View,
+    /// Image width in pixels: a multiple of 64 (rows are read back in 256-byte units), at
+    /// least 256.
+    pub width: u32,
+    /// Image height in pixels, at least 192.
+    pub height: u32,
+    /// Draw the feature edges (crests, roots, flank corners) as dark lines.
+    pub edges: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            view: View::Iso,
+            width: 1024,
+            height: 768,
+            edges: false,
+        }
+    }
+}
+
+impl RenderOptions {
+    fn check(&self) -> Result<(), RenderError> {
+        if self.width % 64 != 0 || self.width < 256 || self.height < 192 {
+            return Err(RenderError::Options(format!(
+                "image size {}x{}: the width must be a multiple of 64 and at least 256, the height at least 192",
+                self.width, self.height
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// A headless renderer on one adapter.
+pub struct Renderer {
+    gpu: Gpu,
+}
+
+impl std::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("adapter", &self.adapter())
+            .field("samples", &self.gpu.samples)
+            .finish()
+    }
+}
+
+impl Renderer {
+    /// A renderer with `samples`x multisampling (1 or 4) on the adapter wgpu picks
+    /// (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME` select one).
+    pub fn new(samples: u32) -> Result<Renderer, RenderError> {
+        if samples != 1 && samples != 4 {
+            return Err(RenderError::Options(format!(
+                "{samples}x multisampling: 1 or 4 are supported"
+            )));
+        }
+        Ok(Renderer {
+            gpu: Gpu::new(samples)?,
+        })
+    }
+
+    /// The adapter: name, backend and driver, as recorded in the PNGs.
+    pub fn adapter(&self) -> String {
+        let i = &self.gpu.info;
+        format!(
+            "{} ({:?}; driver {} {})",
+            i.name, i.backend, i.driver, i.driver_info
+        )
+    }
+
+    /// Draw `scene` as `opts` say.
+    pub fn render(&self, scene: &Scene, opts: &RenderOptions) -> Result<RgbImage, RenderError> {
+        opts.check()?;
+        let cam = camera::camera(scene, opts.view, opts.width, opts.height);
+        let stock = vertices(&scene.stock);
+        let tool = vertices(&scene.tool);
+        let mut lines = Vec::new();
+        // Sections show profiles; the toolpath would only hide them.
+        let toolpath = if cam.plane.is_some() {
+            &[][..]
+        } else {
+            &scene.toolpath[..]
+        };
+        for p in toolpath {
+            let c = match p.kind {
+                PathKind::Feed => FEED,
+                PathKind::Rapid => RAPID,
+            };
+            for w in p.points.windows(2) {
+                lines.push(vertex(w[0], c));
+                lines.push(vertex(w[1], c));
+            }
+        }
+        if opts.edges {
+            for [a, b] in feature_edges(&scene.stock, FEATURE_ANGLE_DEG) {
+                lines.push(vertex(scene.stock.positions[a as usize], EDGE));
+                lines.push(vertex(scene.stock.positions[b as usize], EDGE));
+            }
+        }
+        if let (Some(plane), Some(ideal)) = (cam.plane, &scene.ideal) {
+            // Just behind the plane, so the cut does not take the line away.
+            let n = plane.truncate();
+            let nudge = -n * (0.25 * cam.mm_per_px).max(1e-4);
+            for [a, b] in plane_section(ideal, n) {
+                for p in [a, b] {
+                    let q = p + nudge;
+                    lines.push(vertex([q.x as f32, q.y as f32, q.z as f32], IDEAL));
+                }
+            }
+        }
+        let uniforms = uniforms(&cam);
+        let frame = Frame {
+            size: (opts.width, opts.height),
+            background: BACKGROUND,
+            uniforms,
+            meshes: vec![(&stock, &scene.stock.indices), (&tool, &scene.tool.indices)],
+            cap: cam.cap_quad().map(|q| {
+                q.map(|p| vertex([p.x as f32, p.y as f32, p.z as f32], CAP))
+            }),
+            lines: &lines,
+        };
+        let rgba = self.gpu.draw(&frame)?;
+        let mut img = RgbImage::from_fn(opts.width, opts.height, |x, y| {
+            let k = 4 * (y as usize * opts.width as usize + x as usize);
+            Rgb([rgba[k], rgba[k + 1], rgba[k + 2]])
+        });
+        overlay(&mut img, scene, opts, &cam);
+        Ok(img)
+    }
+
+    /// Draw `scene` and encode it as PNG, with the adapter, the view and vpcut's version in
+    /// text chunks (no time stamp: the same picture gives the same bytes).
+    pub fn png(&self, scene: &Scene, opts: &RenderOptions) -> Result<Vec<u8>, RenderError> {
+        let img = self.render(scene, opts)?;
+        let i = &self.gpu.info;
+        let text = [
+            ("Software", format!("vpcut {}", env!("CARGO_PKG_VERSION"))),
+            ("vpcut view", opts.view.name().to_string()),
+            ("vpcut adapter", i.name.clone()),
+            ("vpcut backend", format!("{:?}", i.backend)),
+            ("vpcut driver", format!("{} {}", i.driver, i.driver_info)),
+            ("vpcut samples", self.gpu.samples.to_string()),
+        ];
+        encode_png(&img, &text).map_err(|e| RenderError::Device(format!("PNG encoding: {e}")))
+    }
+}
+
+/// An RGB image as PNG bytes with Latin-1 text chunks.
+pub fn encode_png(img: &RgbImage, text: &[(&str, String)]) -> Result<Vec<u8>, png::EncodingError> {
+    let mut out = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut out, img.width(), img.height());
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_compression(png::Compression::High);
+        for (k, v) in text {
+            // tEXt is Latin-1: keep what survives it.
+            let v: String = v.chars().filter(|c| (*c as u32) < 256).collect();
+            enc.add_text_chunk(k.to_string(), v)?;
+        }
+        let mut w = enc.write_header()?;
+        w.write_image_data(img.as_raw())?;
+        w.finish()?;
+    }
+    Ok(out)
+}
+
+fn vertex(p: [f32; 3], c: [u8; 3]) -> Vertex {
+    Vertex {
+        position: p,
+        colour: [c[0], c[1], c[2], 255],
+    }
+}
+
+fn vertices(m: &Mesh) -> Vec<Vertex> {
+    m.positions
+        .iter()
+        .zip(&m.colors)
+        .map(|(&p, &c)| vertex(p, c))
+        .collect()
+}
+
+fn f4(v: DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+fn uniforms(cam: &Camera) -> Uniforms {
+    // Key light from the upper left, in front of the part.
+    let light = (-0.45 * cam.right + 0.75 * cam.up + 0.5 * cam.back).normalize();
+    let m = cam.view_proj.to_cols_array_2d();
+    Uniforms {
+        view_proj: m.map(|c| c.map(|x| x as f32)),
+        light: f4(light, 0.0),
+        eye: f4(cam.back, 0.0),
+        plane: cam.plane.map_or([0.0; 4], |p| f4(p.truncate(), p.w)),
+        // Lines are pulled 0.2 % of the depth range towards the camera.
+        params: [cam.plane.is_some() as u8 as f32, 0.002, 0.0, 0.0],
+    }
+}
+
+/// Edges where two triangles meet at more than `angle_deg`, and edges with one triangle.
+/// Sorted, so the line list does not depend on hash order.
+pub(crate) fn feature_edges(m: &Mesh, angle_deg: f64) -> Vec<[u32; 2]> {
+    let p = |i: u32| {
+        let v = m.positions[i as usize];
+        DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
+    };
+    let normals: Vec<DVec3> = m
+        .indices
+        .chunks_exact(3)
+        .map(|t| (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).normalize_or_zero())
+        .collect();
+    let mut first: HashMap<[u32; 2], usize> = HashMap::with_capacity(m.indices.len());
+    let mut out = Vec::new();
+    let cos = angle_deg.to_radians().cos();
+    for (k, t) in m.indices.chunks_exact(3).enumerate() {
+        for e in [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]] {
+            let key = [e[0].min(e[1]), e[0].max(e[1])];
+            match first.remove(&key) {
+                Some(o) => {
+                    if normals[o].dot(normals[k]) < cos {
+                        out.push(key);
+                    }
+                }
+                None => {
+                    first.insert(key, k);
+                }
+            }
+        }
+    }
+    out.extend(first.into_keys());
+    out.sort_unstable();
+    out
+}
+
+/// The segments where the triangles of `m` cross the plane through the axis with normal `n`.
+pub(crate) fn plane_section(m: &Mesh, n: DVec3) -> Vec<[DVec3; 2]> {
+    let p = |i: u32| {
+        let v = m.positions[i as usize];
+        DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
+    };
+    let mut out = Vec::new();
+    for t in m.indices.chunks_exact(3) {
+        let v = [p(t[0]), p(t[1]), p(t[2])];
+        let d = v.map(|q| q.dot(n));
+        let mut hits = Vec::with_capacity(2);
+        for k in 0..3 {
+            let (a, b) = (k, (k + 1) % 3);
+            if (d[a] < 0.0) != (d[b] < 0.0) {
+                let s = d[a] / (d[a] - d[b]);
+                hits.push(v[a] + (v[b] - v[a]) * s);
+            }
+        }
+        if let [a, b] = hits[..] {
+            out.push([a, b]);
+        }
+    }
+    out
+}
+
+/// Captions, the colour bar and the close-up marker, drawn on the read-back picture.
+fn overlay(img: &mut RgbImage, scene: &Scene, opts: &RenderOptions, cam: &Camera) {
+    let summary: serde_json::Value = serde_json::from_str(&scene.summary).unwrap_or_default();
+    let job = summary["job"].as_str().unwrap_or("");
+    let verdict = summary["verdict"].as_str().unwrap_or("");
+    let (w, h) = (img.width(), img.height());
+    let panel = |img: &mut RgbImage, x0: u32, y0: u32, x1: u32, y1: u32| {
+        for y in y0..y1.min(h) {
+            for x in x0..x1.min(w) {
+                img.put_pixel(x, y, Rgb([255, 255, 255]));
+            }
+        }
+    };
+    // Title, top left.
+    let caption = match cam.section_angle {
+        Some(theta) => format!(
+            "{}: section at {:.1} (top) and {:.1} deg",
+            opts.view.name(),
+            theta.to_degrees().rem_euclid(360.0),
+            (theta.to_degrees() + 180.0).rem_euclid(360.0)
+        ),
+        None => opts.view.name().to_string(),
+    };
+    let title = format!("{job}  {verdict}");
+    let tw = 8 * title.len().max(caption.len()) as u32 + 12;
+    panel(img, 0, 0, tw, 36);
+    text(img, 6, 6, &title);
+    text(img, 6, 22, &caption);
+    // Colour bar, top right.
+    let (bw, bh) = (150u32, 160u32);
+    let bx = w - bw;
+    panel(img, bx - 6, 0, w, bh + 64);
+    text(img, bx, 6, "LEFTOVER");
+    colour_bar(
+        img,
+        bx,
+        22,
+        bh,
+        scene.legend.tolerance_mm,
+        scene.legend.scale_mm,
+    );
+    text(img, bx + 50, bh + 30, "GOUGE");
+    // Bottom left: what the lines are.
+    let key = match (cam.plane.is_some(), scene.ideal.is_some()) {
+        (false, _) => vec![("FEED", FEED), ("RAPID", RAPID)],
+        (true, true) => vec![("CUT FACE", CAP), ("IDEAL PROFILE", IDEAL)],
+        (true, false) => vec![("CUT FACE", CAP)],
+    };
+    let ky = h - 18;
+    panel(img, 0, ky - 6, 8 * 34, h);
+    let mut x = 6;
+    for (name, c) in key {
+        for dx in 0..16 {
+            for dy in 0..3 {
+                img.put_pixel(x + dx, ky + 4 + dy, Rgb(c));
+            }
+        }
+        text(img, x + 20, ky, name);
+        x += 20 + 8 * name.len() as u32 + 14;
+    }
+    // The close-up marks the worst finding.
+    if opts.view == View::Closeup {
+        if let Some(f) = &scene.focus {
+            let p = DVec3::new(f.point[0] as f64, f.point[1] as f64, f.point[2] as f64);
+            let (px, py) = cam.pixel(p);
+            ring(img, px, py, 14.0);
+            let label = format!("worst {} {:.4} mm", f.kind, f.value_mm);
+            let lx = (px as i64 + 20).clamp(0, (w as i64 - 8 * label.len() as i64).max(0)) as u32;
+            let ly = (py as i64 - 24).clamp(40, h as i64 - 40) as u32;
+            panel(img, lx - 2, ly - 2, lx + 8 * label.len() as u32 + 2, ly + 13);
+            text(img, lx, ly, &label);
+        }
+        let scale = format!("{:.2} mm wide", cam.mm_per_px * w as f64);
+        let sx = w - 8 * scale.len() as u32 - 8;
+        panel(img, sx - 4, h - 24, w, h);
+        text(img, sx, h - 18, &scale);
+    }
+}
+
+/// A 2-pixel ring of radius `r` around `(cx, cy)`.
+fn ring(img: &mut RgbImage, cx: f64, cy: f64, r: f64) {
+    let (w, h) = (img.width() as i64, img.height() as i64);
+    let k = (r + 3.0).ceil() as i64;
+    for y in cy as i64 - k..=cy as i64 + k {
+        for x in cx as i64 - k..=cx as i64 + k {
+            let d = ((x as f64 + 0.5 - cx).powi(2) + (y as f64 + 0.5 - cy).powi(2)).sqrt();
+            if (d - r).abs() <= 1.0 && x >= 0 && y >= 0 && x < w && y < h {
+                img.put_pixel(x as u32, y as u32, Rgb([0, 0, 0]));
+            }
+        }
+    }
+}
