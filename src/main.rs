@@ -218,8 +218,7 @@ fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
     }
     let bytes = std::fs::read(&args.model)
         .with_context(|| format!("cannot read the model {}", args.model.display()))?;
-    let scene =
-        vpcut::from_glb(&bytes).with_context(|| format!("{}", args.model.display()))?;
+    let scene = vpcut::from_glb(&bytes).with_context(|| format!("{}", args.model.display()))?;
     args.picture.write(&scene)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -268,7 +267,11 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some(path) = &args.gltf {
         let scene = match (&picture_scene, e) {
             (Some(s), None) => vpcut::Scene {
-                ideal: if args.gltf_ideal { s.ideal.clone() } else { None },
+                ideal: if args.gltf_ideal {
+                    s.ideal.clone()
+                } else {
+                    None
+                },
                 ..s.clone()
             },
             _ => vpcut::build_scene(

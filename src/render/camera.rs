@@ -118,7 +118,11 @@ pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Came
         View::Section => (z_axis, DVec3::X, Some(0.0)),
         View::Closeup => {
             let theta = closeup_target(scene).1;
-            (z_axis, DVec3::new(theta.cos(), theta.sin(), 0.0), Some(theta))
+            (
+                z_axis,
+                DVec3::new(theta.cos(), theta.sin(), 0.0),
+                Some(theta),
+            )
         }
     };
     let back = right.cross(up);
@@ -149,12 +153,18 @@ pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Came
             // at least 2 mm, centred on the target.
             let half_w = ((hi.x - lo.x) / 6.0).max(2.0) * 0.5;
             let half_h = half_w * h_px / w_px;
-            ((p.dot(right), p.dot(up)), (-half_w, half_w, -half_h, half_h))
+            (
+                (p.dot(right), p.dot(up)),
+                (-half_w, half_w, -half_h, half_h),
+            )
         }
         _ => {
             // The part fills the free area with a margin, centred in it.
             let margin = 1.08;
-            let (free_w, free_h) = ((w_px - legend_px).max(1.0), (h_px - top_px - bottom_px).max(1.0));
+            let (free_w, free_h) = (
+                (w_px - legend_px).max(1.0),
+                (h_px - top_px - bottom_px).max(1.0),
+            );
             let mm_per_px = ((hi.x - lo.x) / free_w)
                 .max((hi.y - lo.y) / free_h)
                 .max(1e-6)

@@ -201,7 +201,14 @@ impl Gpu {
             write_mask,
         };
         let all = wgpu::ColorWrites::ALL;
-        let mesh = pipeline("vs_mesh", "fs_mesh", tris, depth_test, Default::default(), all);
+        let mesh = pipeline(
+            "vs_mesh",
+            "fs_mesh",
+            tris,
+            depth_test,
+            Default::default(),
+            all,
+        );
         // Every clipped fragment flips the stencil: odd counts start inside the material.
         let stencil_pipeline = pipeline(
             "vs_mesh",

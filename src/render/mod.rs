@@ -180,9 +180,9 @@ impl Renderer {
             background: BACKGROUND,
             uniforms,
             meshes: vec![(&stock, &scene.stock.indices), (&tool, &scene.tool.indices)],
-            cap: cam.cap_quad().map(|q| {
-                q.map(|p| vertex([p.x as f32, p.y as f32, p.z as f32], CAP))
-            }),
+            cap: cam
+                .cap_quad()
+                .map(|q| q.map(|p| vertex([p.x as f32, p.y as f32, p.z as f32], CAP))),
             lines: &lines,
         };
         let rgba = self.gpu.draw(&frame)?;
@@ -274,7 +274,11 @@ pub(crate) fn feature_edges(m: &Mesh, angle_deg: f64) -> Vec<[u32; 2]> {
     let normals: Vec<DVec3> = m
         .indices
         .chunks_exact(3)
-        .map(|t| (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).normalize_or_zero())
+        .map(|t| {
+            (p(t[1]) - p(t[0]))
+                .cross(p(t[2]) - p(t[0]))
+                .normalize_or_zero()
+        })
         .collect();
     let mut first: HashMap<[u32; 2], usize> = HashMap::with_capacity(m.indices.len());
     let mut out = Vec::new();
@@ -393,7 +397,13 @@ fn overlay(img: &mut RgbImage, scene: &Scene, opts: &RenderOptions, cam: &Camera
             let label = format!("worst {} {:.4} mm", f.kind, f.value_mm);
             let lx = (px as i64 + 20).clamp(0, (w as i64 - 8 * label.len() as i64).max(0)) as u32;
             let ly = (py as i64 - 24).clamp(40, h as i64 - 40) as u32;
-            panel(img, lx - 2, ly - 2, lx + 8 * label.len() as u32 + 2, ly + 13);
+            panel(
+                img,
+                lx - 2,
+                ly - 2,
+                lx + 8 * label.len() as u32 + 2,
+                ly + 13,
+            );
             text(img, lx, ly, &label);
         }
         let scale = format!("{:.2} mm wide", cam.mm_per_px * w as f64);

@@ -19,6 +19,8 @@ mod oracle;
 mod plots;
 /// NC programs against the pass generators that transcribe the same methods.
 mod programs;
+/// The headless renderer: shader validity, pixel geometry, determinism, golden pictures.
+mod render;
 /// Bad input never panics.
 mod robust;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
