@@ -6,7 +6,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::time::Duration;
-use vpcut::{build_scene, simulate, to_glb, Job, Options, SceneOptions};
+use vpcut::{
+    build_scene, simulate, to_glb, Job, Options, RenderOptions, Renderer, SceneOptions, View,
+};
 
 fn scene(name: &str) -> Job {
     let dir = format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -37,5 +39,39 @@ fn bench_mesh(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench_mesh);
+/// One picture, 1024x768 with 4x MSAA, on the adapter wgpu picks (lavapipe on the CI
+/// machine), the device made once: upload, draw, read back, legend, PNG encoding.
+fn bench_render(c: &mut Criterion) {
+    let Ok(r) = Renderer::new(4) else {
+        eprintln!("no adapter: render benchmarks skipped");
+        return;
+    };
+    eprintln!("adapter: {}", r.adapter());
+    for name in ["seed002-equal-tooth", "seed004-tr100x12"] {
+        let job = scene(name);
+        let out = simulate(&job, &Options::default()).unwrap();
+        let scene = build_scene(
+            &job,
+            &out,
+            &SceneOptions {
+                mesh_tolerance: None,
+                ideal: true,
+            },
+        );
+        let mut g = c.benchmark_group(format!("render/{name}"));
+        g.sample_size(10).measurement_time(Duration::from_secs(5));
+        for view in [View::Iso, View::Section] {
+            let opts = RenderOptions {
+                view,
+                ..RenderOptions::default()
+            };
+            g.bench_function(format!("{}-1024x768-msaa4", view.name()), |b| {
+                b.iter(|| r.png(&scene, &opts).unwrap())
+            });
+        }
+        g.finish();
+    }
+}
+
+criterion_group!(benches, bench_mesh, bench_render);
 criterion_main!(benches);

@@ -235,3 +235,91 @@ pub(crate) fn closeup_target(scene: &Scene) -> (DVec3, f64) {
     let p = best.unwrap_or(target);
     (p, p.y.atan2(p.x))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Focus, Legend, Mesh};
+
+    /// The vertices of a bar of radius `r` from `z0` to `z1` (no triangles needed here).
+    fn bar(r: f64, z0: f64, z1: f64) -> Scene {
+        let mut positions = Vec::new();
+        for k in 0..360 {
+            let a = (k as f64).to_radians();
+            for z in [z0, z1] {
+                positions.push([(r * a.cos()) as f32, (r * a.sin()) as f32, z as f32]);
+            }
+        }
+        let colors = vec![[215, 215, 210]; positions.len()];
+        Scene {
+            stock: Mesh {
+                positions,
+                colors,
+                indices: Vec::new(),
+            },
+            ideal: None,
+            toolpath: Vec::new(),
+            tool: Mesh::default(),
+            legend: Legend {
+                tolerance_mm: 0.01,
+                scale_mm: 0.02,
+            },
+            focus: None,
+            summary: String::new(),
+        }
+    }
+
+    /// Whole-part views show every vertex inside the free area (left of the 160-pixel
+    /// legend, between the title and the key), in front of the camera; the front view puts
+    /// the axis left to right with `x` up.
+    #[test]
+    fn whole_part_views_frame_the_part() {
+        let s = bar(20.0, -120.0, 0.0);
+        for view in [View::Iso, View::Front, View::Section] {
+            let c = camera(&s, view, 640, 480);
+            for p in &s.stock.positions {
+                let q = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+                let (x, y) = c.pixel(q);
+                assert!((0.0..=480.0).contains(&x), "{view:?}: x {x}");
+                assert!((40.0..=456.0).contains(&y), "{view:?}: y {y}");
+                let d = (c.view_proj * q.extend(1.0)).z;
+                assert!((0.0..=1.0).contains(&d), "{view:?}: depth {d}");
+            }
+        }
+        let c = camera(&s, View::Front, 640, 480);
+        let (xa, ya) = c.pixel(DVec3::new(0.0, 0.0, -120.0));
+        let (xb, yb) = c.pixel(DVec3::new(0.0, 0.0, 0.0));
+        assert!(xb > xa && (ya - yb).abs() < 1e-9);
+        let (_, y_up) = c.pixel(DVec3::new(20.0, 0.0, -60.0));
+        assert!(y_up < ya);
+        // 120 mm over the free 480 pixels with the 8 % margin.
+        assert!((c.mm_per_px - 1.08 * 120.0 / 480.0).abs() < 1e-12);
+    }
+
+    /// The close-up centres the worst finding, and its section plane contains the axis and
+    /// the finding's generator, with the finding's side up.
+    #[test]
+    fn closeup_centres_the_finding_in_its_section_plane() {
+        let mut s = bar(20.0, -120.0, 0.0);
+        let theta = 2.0_f64;
+        let p = DVec3::new(19.0 * theta.cos(), 19.0 * theta.sin(), -47.0);
+        s.focus = Some(Focus {
+            kind: "gouge".into(),
+            value_mm: 0.3,
+            point: [p.x as f32, p.y as f32, p.z as f32],
+        });
+        let c = camera(&s, View::Closeup, 640, 480);
+        let (x, y) = c.pixel(p);
+        assert!(
+            (x - 320.0).abs() < 1e-3 && (y - 240.0).abs() < 1e-3,
+            "{x} {y}"
+        );
+        let plane = c.plane.unwrap();
+        assert!(plane.truncate().dot(p).abs() < 1e-5);
+        assert!(plane.truncate().dot(DVec3::Z).abs() < 1e-12);
+        assert!((c.section_angle.unwrap() - theta).abs() < 1e-6);
+        assert!(c.up.dot(p) > 0.0);
+        // A sixth of the part wide.
+        assert!((c.mm_per_px * 640.0 - 20.0).abs() < 1e-9);
+    }
+}

@@ -426,3 +426,72 @@ fn ring(img: &mut RgbImage, cx: f64, cy: f64, r: f64) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A closed prism of `n` sides: its feature edges at 35 deg are the two rims (end faces
+    /// meet the sides at 90 deg), none along the sides (360/n deg apart) nor inside the fans.
+    #[test]
+    fn feature_edges_of_a_prism_are_its_rims() {
+        for n in [8usize, 12, 90] {
+            let mut m = Mesh::default();
+            for z in [0.0f32, 5.0] {
+                for k in 0..n {
+                    let a = std::f32::consts::TAU * k as f32 / n as f32;
+                    m.positions.push([a.cos(), a.sin(), z]);
+                }
+            }
+            m.positions.push([0.0, 0.0, 0.0]);
+            m.positions.push([0.0, 0.0, 5.0]);
+            let (c0, c1) = (2 * n as u32, 2 * n as u32 + 1);
+            for k in 0..n as u32 {
+                let k1 = (k + 1) % n as u32;
+                let (a0, a1, b0, b1) = (k, k1, n as u32 + k, n as u32 + k1);
+                m.indices.extend_from_slice(&[a0, a1, b1, a0, b1, b0]);
+                m.indices.extend_from_slice(&[c0, a1, a0, c1, b0, b1]);
+            }
+            m.colors = vec![[0, 0, 0]; m.positions.len()];
+            let e = feature_edges(&m, 35.0);
+            let expected = if 360.0 / n as f64 > 35.0 {
+                3 * n
+            } else {
+                2 * n
+            };
+            assert_eq!(e.len(), expected, "n = {n}");
+            for [a, b] in &e {
+                assert!(*a < 2 * n as u32 && *b < 2 * n as u32);
+            }
+        }
+    }
+
+    /// A plane through the axis cuts a bar's side quads in two lines along z.
+    #[test]
+    fn plane_section_of_a_prism_side() {
+        let n = 16;
+        let mut m = Mesh::default();
+        for z in [0.0f32, 5.0] {
+            for k in 0..n {
+                let a = std::f32::consts::TAU * (k as f32 + 0.5) / n as f32;
+                m.positions.push([a.cos(), a.sin(), z]);
+            }
+        }
+        for k in 0..n as u32 {
+            let k1 = (k + 1) % n as u32;
+            m.indices
+                .extend_from_slice(&[k, k1, n as u32 + k1, k, n as u32 + k1, n as u32 + k]);
+        }
+        let segs = plane_section(&m, DVec3::Y);
+        // Two quads are crossed (at x > 0 and x < 0), two triangles each, each giving a
+        // segment on the plane y = 0 at |x| = cos(pi/n) ... 1 (the chord's crossing).
+        assert_eq!(segs.len(), 4);
+        let x = (std::f64::consts::PI / n as f64).cos();
+        for s in &segs {
+            for p in s {
+                assert!(p.y.abs() < 1e-6);
+                assert!((p.x.abs() - x).abs() < 1e-6, "{p}");
+            }
+        }
+    }
+}
