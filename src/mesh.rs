@@ -638,11 +638,26 @@ pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
     mesh
 }
 
+/// A schematic rapid from `a` to `b` (each `(r, theta, z)`): out to the clearance radius,
+/// around it (the shorter way, 5 deg a step, z moving evenly: a straight chord would cut
+/// through the part), and in.
+fn rapid(a: (f64, f64, f64), b: (f64, f64, f64), clear: f64) -> Vec<[f32; 3]> {
+    let turn = (b.1 - a.1 + PI).rem_euclid(TAU) - PI;
+    let steps = ((turn.abs() / 5f64.to_radians()).ceil() as usize).max(1);
+    let mut pts = vec![point(a.0, a.1, a.2)];
+    pts.extend((0..=steps).map(|k| {
+        let u = k as f64 / steps as f64;
+        point(clear, a.1 + u * turn, a.2 + u * (b.2 - a.2))
+    }));
+    pts.push(point(b.0, b.1, b.2));
+    pts
+}
+
 /// Points per revolution of a drawn pass helix.
 const PATH_STEPS_PER_REV: f64 = 72.0;
 
 /// The toolpath: the reference point along every pass (feed), and schematic rapids
-/// between passes: out to a clearance radius 1 mm beyond the blank, across to the next
+/// between passes: out to a clearance radius 1 mm beyond the blank, around it to the next
 /// start and in. A rapid has no spindle phase (the part turns under it); it is drawn from
 /// the angle where one pass ends to the angle where the next begins.
 pub fn toolpath(passes: &[Pass], blank: &(f64, f64), thread: &ThreadSpec) -> Vec<Polyline> {
@@ -666,12 +681,7 @@ pub fn toolpath(passes: &[Pass], blank: &(f64, f64), thread: &ThreadSpec) -> Vec
         if let Some(e) = prev_end {
             out.push(Polyline {
                 kind: PathKind::Rapid,
-                points: vec![
-                    point(e.0, e.1, e.2),
-                    point(clear, e.1, e.2),
-                    point(clear, start.1, start.2),
-                    point(start.0, start.1, start.2),
-                ],
+                points: rapid(e, start, clear),
             });
         }
         let points: Vec<[f32; 3]> = (0..=steps)
