@@ -399,7 +399,7 @@ fn overlay(img: &mut RgbImage, scene: &Scene, opts: &RenderOptions, cam: &Camera
             let ly = (py as i64 - 24).clamp(40, h as i64 - 40) as u32;
             panel(
                 img,
-                lx - 2,
+                lx.saturating_sub(2),
                 ly - 2,
                 lx + 8 * label.len() as u32 + 2,
                 ly + 13,
@@ -407,8 +407,8 @@ fn overlay(img: &mut RgbImage, scene: &Scene, opts: &RenderOptions, cam: &Camera
             text(img, lx, ly, &label);
         }
         let scale = format!("{:.2} mm wide", cam.mm_per_px * w as f64);
-        let sx = w - 8 * scale.len() as u32 - 8;
-        panel(img, sx - 4, h - 24, w, h);
+        let sx = w.saturating_sub(8 * scale.len() as u32 + 8);
+        panel(img, sx.saturating_sub(4), h - 24, w, h);
         text(img, sx, h - 18, &scale);
     }
 }
