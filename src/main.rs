@@ -80,6 +80,10 @@ struct PictureArgs {
     /// Draw feature edges (crests, roots, flank corners) as dark lines.
     #[arg(long)]
     edges: bool,
+    /// Leave the toolpath out of the whole-part views (programs with many passes hide the
+    /// part behind their lines).
+    #[arg(long)]
+    no_toolpath: bool,
 }
 
 fn parse_view(s: &str) -> Result<vpcut::View, String> {
@@ -109,6 +113,7 @@ impl PictureArgs {
             width: self.size.0,
             height: self.size.1,
             edges: self.edges,
+            toolpath: !self.no_toolpath,
         };
         if let Some(path) = &self.png {
             write_atomic(path, &renderer.png(scene, &opts(self.view))?)?;

@@ -72,6 +72,8 @@ pub struct RenderOptions {
     pub height: u32,
     /// Draw the feature edges (crests, roots, flank corners) as dark lines.
     pub edges: bool,
+    /// Draw the toolpath (whole-part views only: sections leave it out).
+    pub toolpath: bool,
 }
 
 impl Default for RenderOptions {
@@ -81,6 +83,7 @@ impl Default for RenderOptions {
             width: 1024,
             height: 768,
             edges: false,
+            toolpath: true,
         }
     }
 }
@@ -142,7 +145,7 @@ impl Renderer {
         let tool = vertices(&scene.tool);
         let mut lines = Vec::new();
         // Sections show profiles; the toolpath would only hide them.
-        let toolpath = if cam.plane.is_some() {
+        let toolpath = if cam.plane.is_some() || !opts.toolpath {
             &[][..]
         } else {
             &scene.toolpath[..]
@@ -372,12 +375,15 @@ fn overlay(img: &mut RgbImage, scene: &Scene, opts: &RenderOptions, cam: &Camera
     text(img, bx + 50, bh + 30, "GOUGE");
     // Bottom left: what the lines are.
     let key = match (cam.plane.is_some(), scene.ideal.is_some()) {
+        (false, _) if !opts.toolpath => vec![],
         (false, _) => vec![("FEED", FEED), ("RAPID", RAPID)],
         (true, true) => vec![("CUT FACE", CAP), ("IDEAL PROFILE", IDEAL)],
         (true, false) => vec![("CUT FACE", CAP)],
     };
     let ky = h - 18;
-    panel(img, 0, ky - 6, 8 * 34, h);
+    if !key.is_empty() {
+        panel(img, 0, ky - 6, 8 * 34, h);
+    }
     let mut x = 6;
     for (name, c) in key {
         for dx in 0..16 {

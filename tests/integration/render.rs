@@ -156,6 +156,7 @@ fn opts(view: View) -> RenderOptions {
         width: GOLDEN_SIZE.0,
         height: GOLDEN_SIZE.1,
         edges: false,
+        toolpath: true,
     }
 }
 
@@ -409,4 +410,39 @@ fn cli_renders_a_model() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot write"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The toolpath is drawn in the feed colour in the whole-part views, and not at all with
+/// `toolpath: false` or in the sections; `edges` adds dark lines only.
+#[test]
+fn toolpath_and_edges_are_drawn_as_asked() {
+    let Some(r) = renderer() else { return };
+    let name = "iso-m20x2.5-radial";
+    let scene = build_scene(&scene_job(name), &run_scene(name), &SceneOptions::default());
+    const FEED: [u8; 3] = [240, 120, 0];
+    const EDGE: [u8; 3] = [35, 35, 35];
+    let count = |img: &RgbImage, c: [u8; 3]| {
+        img.pixels()
+            .filter(|p| p.0.iter().zip(c).all(|(a, b)| a.abs_diff(b) <= 1))
+            .count()
+    };
+    let draw = |view, toolpath, edges| {
+        r.render(
+            &scene,
+            &RenderOptions {
+                toolpath,
+                edges,
+                ..opts(view)
+            },
+        )
+        .unwrap()
+    };
+    let with = draw(View::Front, true, false);
+    let without = draw(View::Front, false, false);
+    // The key's swatch is 16x3 feed pixels; the lines are many more.
+    assert!(count(&with, FEED) > 1000, "{}", count(&with, FEED));
+    assert_eq!(count(&without, FEED), 0);
+    assert_eq!(count(&draw(View::Section, true, false), FEED), 0);
+    let edged = draw(View::Front, false, true);
+    assert!(count(&edged, EDGE) > count(&without, EDGE) + 500);
 }
