@@ -9,7 +9,7 @@ use crate::helix::{Hand, Helix, LeadLaw, Spindle};
 use crate::pass::Pass;
 use crate::process::{self, Process};
 use crate::thread::{Side, ThreadSpec, WidthRule};
-use crate::tool::{Edge, Reference, Tool};
+use crate::tool::{Body, Edge, Reference, Tool};
 use serde::Deserialize;
 use std::fmt;
 
@@ -379,6 +379,11 @@ struct RawTool {
     flank_angles: Option<[f64; 2]>,
     #[serde(default)]
     reference: RefName,
+    thickness: Option<f64>,
+    side_clearance_left: Option<f64>,
+    side_clearance_right: Option<f64>,
+    front_clearance: Option<f64>,
+    inclination: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -1421,9 +1426,75 @@ fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
     if let Some((k, _)) = unused.iter().find(|(_, set)| *set) {
         return Err(cx.err(&key(k), "this key does not apply to this kind of tool"));
     }
+    let body = resolve_body(t, &edge, &key, cx)?;
     Ok(Tool {
         id: t.id,
         edge,
         reference,
+        body,
     })
+}
+
+/// The insert behind the edge: present with `thickness`, which then needs both side
+/// clearances (no default: a clearance is what the check is about).
+fn resolve_body(
+    t: &RawTool,
+    edge: &Edge,
+    key: &dyn Fn(&str) -> String,
+    cx: &Ctx,
+) -> Result<Option<Body>, JobError> {
+    let Some(thickness) = t.thickness else {
+        let stray = [
+            ("side_clearance_left", t.side_clearance_left.is_some()),
+            ("side_clearance_right", t.side_clearance_right.is_some()),
+            ("front_clearance", t.front_clearance.is_some()),
+            ("inclination", t.inclination.is_some()),
+        ];
+        if let Some((k, _)) = stray.iter().find(|(_, set)| *set) {
+            return Err(cx.err(
+                &key(k),
+                "a tool body needs `thickness` (mm behind the rake face) too",
+            ));
+        }
+        return Ok(None);
+    };
+    if matches!(edge, Edge::RoundV { .. }) {
+        return Err(cx.err(
+            &key("thickness"),
+            "a tool body is modelled for flat-tipped edges only (grooving, trapezoidal, threading with `tip_flat`)",
+        ));
+    }
+    let thickness = cx.positive(&key("thickness"), thickness)?;
+    if thickness > 50.0 {
+        return Err(cx.err(
+            &key("thickness"),
+            format!("expected at most 50 mm, got {thickness}"),
+        ));
+    }
+    let side = |k: &str, v: Option<f64>| -> Result<f64, JobError> {
+        let v = v.ok_or_else(|| {
+            cx.err(
+                &key("thickness"),
+                format!("a tool body needs `{k}` (degrees; negative when ground to stand out)"),
+            )
+        })?;
+        cx.angle(&key(k), v, -30.0, 45.0)
+    };
+    Ok(Some(Body {
+        thickness,
+        clearance_left: side("side_clearance_left", t.side_clearance_left)?,
+        clearance_right: side("side_clearance_right", t.side_clearance_right)?,
+        clearance_front: cx.angle(
+            &key("front_clearance"),
+            t.front_clearance.unwrap_or(0.0),
+            0.0,
+            45.0,
+        )?,
+        inclination: cx.angle(
+            &key("inclination"),
+            t.inclination.unwrap_or(0.0),
+            -30.0,
+            30.0,
+        )?,
+    }))
 }

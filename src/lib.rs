@@ -40,9 +40,11 @@
 //! assert!(out.report.deviation.max_gouge_mm < 0.01);
 //! ```
 
+mod body;
 mod compare;
 mod glb;
 mod helix;
+mod interference;
 mod job;
 mod machine;
 mod measure;
@@ -80,7 +82,7 @@ pub use scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use stock::{Grid, Stock, Surface};
 pub use sweep::{sweep, sweep_column, Column, SweepStats};
 pub use thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};
-pub use tool::{Edge, Reference, Tool};
+pub use tool::{Body, Edge, Reference, Tool};
 
 use report::{r4, r6};
 use std::collections::BTreeMap;
@@ -214,6 +216,24 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
 
     let t0 = Instant::now();
     let stats = sweep(&mut stock, surface, &job.passes, &job.tools);
+    // With tool bodies, the edges alone cut a second stock: the difference is what the
+    // bodies cut beyond their edges.
+    let bodies = interference::has_bodies(job).then(|| {
+        let edges: Vec<Tool> = job
+            .tools
+            .iter()
+            .map(|t| Tool {
+                body: None,
+                ..t.clone()
+            })
+            .collect();
+        let mut planar = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+        sweep(&mut planar, surface, &job.passes, &edges);
+        (
+            interference::measure(&planar, &stock, &job.thread, surface),
+            interference::clearances(job),
+        )
+    });
     let t_sweep = t0.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
@@ -263,6 +283,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
         &measures,
         spacing,
         &machine_issues,
+        bodies.as_ref(),
     );
     report.timing_s = report::Timing {
         setup: t_setup,
@@ -284,6 +305,7 @@ fn location(e: &Extreme) -> report::Location {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn build_report(
     job: &Job,
     stock: &Stock,
@@ -292,6 +314,7 @@ fn build_report(
     measures: &[Vec<TurnMeasure>],
     spacing: f64,
     machine_issues: &[machine::MachineIssue],
+    bodies: Option<&interference::Bodies>,
 ) -> Report {
     let thread = &job.thread;
     let tol = job.sim.tolerance;
@@ -372,6 +395,15 @@ fn build_report(
                     root: flank(Flank::Root),
                     crest: flank(Flank::Crest),
                 },
+                clearance_deg: bodies.and_then(|b| b.1.get(&(s, n))).map(|c| {
+                    report::ClearanceRow {
+                        left_crest: r4(c.left_crest),
+                        left_root: r4(c.left_root),
+                        right_crest: r4(c.right_crest),
+                        right_root: r4(c.right_root),
+                        pass: c.pass + 1,
+                    }
+                }),
             };
             turn_findings(&row, &td, all, tol, &mut findings);
             turns.push(row);
@@ -401,6 +433,43 @@ fn build_report(
                     name(thread.hand())
                 ),
             });
+        }
+    }
+    let mut interference_rows = Vec::new();
+    if let Some((hits, _)) = bodies {
+        for (&(start, turn), flanks) in hits {
+            for (k, h) in flanks.iter().enumerate() {
+                let Some(h) = h.filter(|h| r6(h.depth) > 0.0) else {
+                    continue;
+                };
+                let flank = interference::flank_name(k);
+                let angle = r4(h.theta.to_degrees().rem_euclid(360.0));
+                interference_rows.push(report::InterferenceRow {
+                    turn,
+                    start,
+                    flank,
+                    max_mm: r6(h.depth),
+                    angle_deg: angle,
+                    z_mm: r6(h.z),
+                    volume_mm3: r6(h.volume),
+                });
+                findings.push(Finding {
+                    kind: "flank_interference",
+                    severity: if h.depth > tol { "error" } else { "warning" },
+                    turn: Some(turn),
+                    start: Some(start),
+                    flank: Some(flank),
+                    pass: None,
+                    angle_deg: Some(angle),
+                    z_mm: Some(r6(h.z)),
+                    value: r6(h.depth),
+                    unit: "mm",
+                    message: format!(
+                        "turn {turn} {flank} flank: the tool body cut {:.4} mm past its edge's surface at {angle:.1} deg, z {:.3} ({:.3} mm3): the side clearance is smaller than the helix angle there",
+                        h.depth, h.z, h.volume
+                    ),
+                });
+            }
         }
     }
     for mi in machine_issues {
@@ -500,9 +569,32 @@ fn build_report(
             z_max_mm: r6(grid.z(grid.n_z - 1)),
         },
         passes: job.passes.len(),
-        kernel: report::KernelInfo {
-            placements: stats.placements,
-            dexel_updates: stats.dexel_updates,
+        kernel: {
+            // The sampled bodies (the same sections the sweep used).
+            let surface = match thread.side {
+                Side::External => Surface::Outer,
+                Side::Internal => Surface::Inner,
+            };
+            let q_blank = stock.blank_q(surface);
+            let sampled: Vec<(usize, f64)> = job
+                .passes
+                .iter()
+                .filter_map(|p| {
+                    let tool = job.tools.get(p.tool)?;
+                    let s = body::sections(p, tool, body::zone(p, q_blank, surface))?;
+                    Some((s.samples.len(), s.bound))
+                })
+                .collect();
+            report::KernelInfo {
+                placements: stats.placements,
+                dexel_updates: stats.dexel_updates,
+                body_sections: sampled.iter().map(|s| s.0).max(),
+                body_sampling_bound_mm: sampled
+                    .iter()
+                    .map(|s| s.1)
+                    .reduce(f64::max)
+                    .map(|b| r6(b.max(1e-6))),
+            }
         },
         measurement: report::MeasurementInfo {
             axial_spacing_mm: r6(spacing),
@@ -525,16 +617,18 @@ fn build_report(
             compared_dexels: dev.compared_dexels,
         },
         turns,
+        interference: interference_rows,
         findings,
         timing_s: report::Timing::default(),
     }
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 13] = [
+const KINDS: [&str; 14] = [
     "hand",
     "gouge",
     "leftover",
+    "flank_interference",
     "missing_feature",
     "lead",
     "groove_width",

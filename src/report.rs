@@ -65,6 +65,9 @@ pub struct Report {
     pub deviation: DeviationInfo,
     /// Per turn (and start).
     pub turns: Vec<TurnRow>,
+    /// Where a tool body cut beyond its edge's swept groove (jobs with tool bodies only).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub interference: Vec<InterferenceRow>,
     /// Findings, errors first.
     pub findings: Vec<Finding>,
     /// Wall-clock times (s): the one part that changes between runs.
@@ -128,6 +131,14 @@ pub struct KernelInfo {
     pub placements: u64,
     /// Dexel updates.
     pub dexel_updates: u64,
+    /// Tool bodies swept: the most sections behind one edge, and the bound on how far the
+    /// sampled body's cut can be from the continuous body's (mm). Absent without bodies, or
+    /// when no body can reach beyond its edge (then nothing is sampled).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub body_sections: Option<usize>,
+    /// See `body_sections`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub body_sampling_bound_mm: Option<f64>,
 }
 
 /// Measurement settings.
@@ -256,6 +267,45 @@ pub struct TurnRow {
     pub leftover_volume_mm3: f64,
     /// Per flank.
     pub flanks: Flanks,
+    /// Effective side clearance of the tool bodies in this turn (jobs with tool bodies).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance_deg: Option<ClearanceRow>,
+}
+
+/// Effective side clearance (deg) of the tool body in a turn: `atan(tan a + tan l +/- tan
+/// psi)` on each flank at the crest and root radii, the smallest over the passes; zero or
+/// less means the body reaches the groove wall.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ClearanceRow {
+    /// -z flank at the crest radius.
+    pub left_crest: f64,
+    /// -z flank at the root radius.
+    pub left_root: f64,
+    /// +z flank at the crest radius.
+    pub right_crest: f64,
+    /// +z flank at the root radius.
+    pub right_root: f64,
+    /// The pass (1-based) with the smallest value.
+    pub pass: usize,
+}
+
+/// A turn and flank where a tool body cut past the surface its edge cut.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct InterferenceRow {
+    /// Turn (1-based).
+    pub turn: i64,
+    /// Start.
+    pub start: u32,
+    /// Flank (`left`, `right`, `root`, `crest`).
+    pub flank: &'static str,
+    /// How far past the edge's surface (mm, axial plane).
+    pub max_mm: f64,
+    /// Where (deg, mm).
+    pub angle_deg: f64,
+    /// Axial position (mm).
+    pub z_mm: f64,
+    /// Volume the body cut (mm^3; an upper bound where it undercuts a flank).
+    pub volume_mm3: f64,
 }
 
 /// Something the user must know.

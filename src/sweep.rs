@@ -7,8 +7,13 @@
 //! angular sampling), and each column is independent, so columns run in parallel with
 //! rayon and the result does not depend on the thread count (`min` is order-free).
 //!
+//! A tool with a [`crate::tool::Body`] also cuts with the sections of its body behind the
+//! edge, at the instants after each crossing when they pass the column ([`crate::body`]);
+//! passes whose body cannot reach beyond the edge's own cut skip them.
+//!
 //! One *dexel update* is one dexel tested against one tool placement; the kernel counts them.
 
+use crate::body::{self, Sections};
 use crate::pass::Pass;
 use crate::stock::{Stock, Surface};
 use crate::tool::{Kernel, Tool};
@@ -34,12 +39,14 @@ impl std::ops::Add for SweepStats {
 }
 
 /// A pass made ready for the kernel: its helix, end revolution and tool data.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct Prepared {
     pass_idx: usize,
     t_end: f64,
     ref_offset: f64,
     kernel: Kernel,
+    /// The body's sections, when they can cut something the edge does not.
+    body: Option<Sections>,
 }
 
 /// Cut `surface` of the stock with every pass (passes whose lead vanishes are skipped;
@@ -47,7 +54,7 @@ struct Prepared {
 pub fn sweep(stock: &mut Stock, surface: Surface, passes: &[Pass], tools: &[Tool]) -> SweepStats {
     let grid = stock.grid;
     let q_blank = stock.blank_q(surface);
-    let prepared = prepare(passes, tools);
+    let prepared = prepare(passes, tools, q_blank, surface);
     let Some(q) = stock.surface_mut(surface) else {
         return SweepStats::default();
     };
@@ -86,23 +93,25 @@ pub struct Column {
 /// Cut one free-standing column (used for the fine measurement generators). `q` holds
 /// `q - q_blank` (zeros for the blank) and is cut in place.
 pub fn sweep_column(q: &mut [f32], c: Column, passes: &[Pass], tools: &[Tool]) -> SweepStats {
-    let prepared = prepare(passes, tools);
+    let prepared = prepare(passes, tools, c.q_blank, c.surface);
     cut_column(
         q, c.theta, c.z0, c.dz, c.q_blank, c.surface, passes, &prepared,
     )
 }
 
-fn prepare(passes: &[Pass], tools: &[Tool]) -> Vec<Prepared> {
+fn prepare(passes: &[Pass], tools: &[Tool], q_blank: f64, surface: Surface) -> Vec<Prepared> {
     passes
         .iter()
         .enumerate()
         .filter_map(|(pass_idx, p)| {
             let tool = tools.get(p.tool)?;
+            let zone = body::zone(p, q_blank, surface);
             Some(Prepared {
                 pass_idx,
                 t_end: p.revolutions()?,
                 ref_offset: tool.reference_offset(),
                 kernel: tool.kernel(),
+                body: body::sections(p, tool, zone),
             })
         })
         .collect()
@@ -148,6 +157,64 @@ fn cut_column(
             stats.placements += 1;
             stats.dexel_updates += seg.len() as u64;
             apply(seg, &pr.kernel, v_start, dz, q_tip - q_blank);
+            if let Some(b) = &pr.body {
+                stats = stats + body_sections(col, b, pass, pr, t, (z0, dz), q_blank, sense);
+            }
+        }
+    }
+    stats
+}
+
+/// The body's sections after the edge's crossing at `t`: each at its own instant, tip and
+/// axial position, over the bands along the flanks where it can reach beyond the edge.
+#[allow(clippy::too_many_arguments)]
+fn body_sections(
+    col: &mut [f32],
+    b: &Sections,
+    pass: &Pass,
+    pr: &Prepared,
+    t: f64,
+    (z0, dz): (f64, f64),
+    q_blank: f64,
+    sense: f64,
+) -> SweepStats {
+    let mut stats = SweepStats::default();
+    let n = col.len();
+    let helix = pass.helix();
+    let z_tip_edge = helix.z(t) - pr.ref_offset;
+    for &(dt, c, s) in &b.samples {
+        let ts = t + dt;
+        if ts > pr.t_end {
+            break;
+        }
+        let z_ref = helix.z(ts);
+        let z_tip = z_ref - pr.ref_offset;
+        let r_tip = pass.radius_at(z_ref);
+        let reach = q_blank - sense * r_tip;
+        if reach <= 0.0 {
+            continue;
+        }
+        // Two cells of slack around each band: the cells a corner falls between.
+        let delta = z_tip - z_tip_edge;
+        let mut last = None;
+        for (v_lo, v_hi) in b.bands(reach, 2.0 * dz, delta, s).into_iter().flatten() {
+            let j0 = ((z_tip + v_lo - z0) / dz).ceil().max(0.0);
+            let j1 = ((z_tip + v_hi - z0) / dz).floor().min(n as f64 - 1.0);
+            if j1 < j0 {
+                continue;
+            }
+            // Bands of a narrow tip may overlap: cut each cell once.
+            let j0 = (j0 as usize).max(last.map_or(0, |l: usize| l + 1));
+            let j1 = j1 as usize;
+            if j1 < j0 {
+                continue;
+            }
+            last = Some(j1);
+            let v_start = z0 + j0 as f64 * dz - z_tip;
+            let seg = &mut col[j0..=j1];
+            stats.placements += 1;
+            stats.dexel_updates += seg.len() as u64;
+            b.apply(seg, v_start, dz, c, s, r_tip, sense, q_blank);
         }
     }
     stats
@@ -231,6 +298,7 @@ mod tests {
                 half_angle: 30f64.to_radians(),
             },
             reference: Reference::Tip,
+            body: None,
         }];
         let pass = Pass {
             tool: 0,
@@ -266,6 +334,118 @@ mod tests {
             }
             let got = qj as f64 + 10.0;
             assert!((got - want).abs() < 1e-6, "j={j} {got} vs {want}");
+        }
+    }
+
+    /// A square tool with a body on a variable-lead pass (leads 8 to 30 mm over 5.5 turns
+    /// at radius 22: the helix angle at the tip grows from 3.3 to 12.2 deg).
+    fn bodied(left_deg: f64, right_deg: f64) -> (Pass, Tool) {
+        let pass = Pass {
+            tool: 0,
+            x_start: 44.0,
+            x_end: 44.0,
+            z_start: 8.0,
+            z_end: -100.0,
+            lead: 8.0,
+            lead_change: 4.0,
+            start_angle: 0.0,
+            spindle: Spindle::Cw,
+        };
+        let tool = Tool {
+            id: 1,
+            edge: Edge::Trapezoid {
+                tip: 5.0,
+                left_angle: 0.0,
+                right_angle: 0.0,
+            },
+            reference: Reference::Center,
+            body: Some(crate::tool::Body {
+                thickness: 4.0,
+                clearance_left: left_deg.to_radians(),
+                clearance_right: right_deg.to_radians(),
+                clearance_front: 5f64.to_radians(),
+                inclination: 0.0,
+            }),
+        };
+        (pass, tool)
+    }
+
+    /// One column cut by the pass, with the body's sections as given.
+    fn cut(pass: &Pass, tool: &Tool, body: Option<Sections>) -> Vec<f32> {
+        let (z0, dz, n) = (-110.0, 0.01, 12000);
+        let mut q = vec![0.0f32; n];
+        let prepared = [Prepared {
+            pass_idx: 0,
+            t_end: pass.revolutions().unwrap(),
+            ref_offset: tool.reference_offset(),
+            kernel: tool.kernel(),
+            body,
+        }];
+        cut_column(
+            &mut q,
+            0.7,
+            z0,
+            dz,
+            25.0,
+            Surface::Outer,
+            std::slice::from_ref(pass),
+            &prepared,
+        );
+        q
+    }
+
+    /// A body whose clearance exceeds the helix angle everywhere cuts nothing the edge did
+    /// not, even when its sections are swept (the skip rule is exact), and is skipped.
+    #[test]
+    fn a_cleared_body_cuts_what_the_edge_cuts() {
+        let (pass, tool) = bodied(20.0, 20.0);
+        let zone = (22.0, 25.0);
+        assert!(body::sections(&pass, &tool, zone).is_none(), "not skipped");
+        let forced = body::sample(&pass, &tool, zone, body::SAMPLING_ERROR_MM, true).unwrap();
+        assert!(forced.samples.len() > 10);
+        let planar = cut(&pass, &tool, None);
+        assert!(planar.iter().any(|&q| q < -2.9), "the edge cut the groove");
+        assert_eq!(planar, cut(&pass, &tool, Some(forced)));
+    }
+
+    /// An interfering body sampled at the default density is within its stated bound of
+    /// the same body sampled four times finer, and the body cut past the edge on the -z
+    /// flank (the pass travels towards -z).
+    #[test]
+    fn body_sampling_stays_within_its_bound() {
+        let (pass, tool) = bodied(3.0, 20.0);
+        let zone = (22.0, 25.0);
+        let coarse = body::sections(&pass, &tool, zone).expect("interferes");
+        let bound = coarse.bound;
+        assert!(bound <= body::SAMPLING_ERROR_MM * (1.0 + 1e-9), "{bound}");
+        let fine = body::sample(&pass, &tool, zone, body::SAMPLING_ERROR_MM / 4.0, false).unwrap();
+        assert!(fine.samples.len() >= 4 * coarse.samples.len() - 4);
+        let planar = cut(&pass, &tool, None);
+        let a = cut(&pass, &tool, Some(coarse));
+        let b = cut(&pass, &tool, Some(fine));
+        // Radial differences at a wall are heights: compare where the cuts differ by
+        // position instead: each coarse cell must lie within `bound` (axially) of a fine
+        // cell at least as deep, and vice versa.
+        let dz = 0.01;
+        let reach = (bound / dz).ceil() as usize + 1;
+        let within = |x: &[f32], y: &[f32]| {
+            (0..x.len()).all(|j| {
+                let lo = j.saturating_sub(reach);
+                let hi = (j + reach).min(y.len() - 1);
+                (lo..=hi).any(|k| y[k] <= x[j] + 1e-4 + bound as f32)
+            })
+        };
+        assert!(within(&a, &b) && within(&b, &a));
+        let extra: Vec<usize> = (0..a.len()).filter(|&j| a[j] < planar[j] - 1e-3).collect();
+        assert!(!extra.is_empty(), "the body cut nothing");
+        // Every extra cell lies just -z of a wall the edge cut: the next cells towards +z
+        // were cut by the edge, within the body's reach 4 mm x (tan psi - tan 3 deg) at
+        // most 4 x (30 / (2 pi 22) - 0.052) = 0.66 mm.
+        for &j in &extra {
+            assert!(
+                (j + 1..(j + 70).min(a.len())).any(|k| planar[k] < -2.9),
+                "cell {j} is not on a -z flank"
+            );
         }
     }
 }

@@ -1,7 +1,10 @@
 //! Planar tool profiles: the cutting edge in the axial plane, as a height function.
 //!
 //! A lathe tool on centre height cuts with the edge profile lying in the axial plane
-//! through the tool. The profile is a function `h(v) >= 0`: how far the edge stands back
+//! through the tool (the rake face, on centre). An optional [`Body`] gives the insert its
+//! thickness behind the rake face with side and front clearance and an inclination: the
+//! solid that can rub a flank when the helix angle outgrows the clearance (see
+//! [`crate::sweep`] for how it is swept). The profile is a function `h(v) >= 0`: how far the edge stands back
 //! from its tip at axial offset `v` from the tip centre, `+inf` outside the edge. The
 //! tool's reference point (the point the program drives) sits at the tip height and at
 //! axial offset [`Tool::reference_offset`] from the tip centre.
@@ -41,6 +44,40 @@ pub enum Edge {
     },
 }
 
+/// The insert behind its cutting edge: the edge profile extruded `thickness` back from the
+/// rake face (tangentially, on the side the freshly cut surface moves to), its flanks
+/// receding with the side clearances, its tip with the front clearance, and the whole
+/// section shifted axially by the inclination. At depth `y` behind the rake face the
+/// section is the edge profile with the -z flank moved `y (tan a_l + tan l)` towards +z,
+/// the +z flank moved `y (tan a_r - tan l)` towards -z, and the tip raised by
+/// `y tan a_f`. A positive inclination `l` leans the body towards +z with depth: it follows
+/// a pass that travels towards -z (a right-hand thread cut towards the chuck).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Body {
+    /// Tangential thickness behind the rake face (mm).
+    pub thickness: f64,
+    /// Side clearance of the -z flank (rad; negative: the body stands out).
+    pub clearance_left: f64,
+    /// Side clearance of the +z flank (rad).
+    pub clearance_right: f64,
+    /// Front (end) clearance under the tip (rad, >= 0).
+    pub clearance_front: f64,
+    /// Inclination (shim tilt) about the radial axis (rad).
+    pub inclination: f64,
+}
+
+impl Body {
+    /// How far the -z flank recedes per mm of depth behind the rake face.
+    pub(crate) fn slope_left(&self) -> f64 {
+        self.clearance_left.tan() + self.inclination.tan()
+    }
+
+    /// How far the +z flank recedes per mm of depth behind the rake face.
+    pub(crate) fn slope_right(&self) -> f64 {
+        self.clearance_right.tan() - self.inclination.tan()
+    }
+}
+
 /// A cutting tool.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tool {
@@ -50,6 +87,8 @@ pub struct Tool {
     pub edge: Edge,
     /// Reference point.
     pub reference: Reference,
+    /// The insert behind the edge, if modelled (else the edge alone: a planar profile).
+    pub body: Option<Body>,
 }
 
 /// The profile prepared for the sweep kernel: `h(v) = max(0, (vl - v)*cl, (v - vr)*cr)`
@@ -207,6 +246,7 @@ mod tests {
                 half_angle: 30f64.to_radians(),
             },
             reference: Reference::Tip,
+            body: None,
         };
         let k = t.kernel();
         if let Kernel::RoundV { vt, .. } = k {
@@ -233,6 +273,7 @@ mod tests {
                 right_angle: 0.0,
             },
             reference: Reference::Right,
+            body: None,
         };
         assert_eq!(t.reference_offset(), 1.5);
         t.reference = Reference::Left;

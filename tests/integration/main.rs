@@ -3,6 +3,8 @@
 /// Shared helpers: load scenes, tweak their settings, run them.
 mod support;
 
+/// Tool bodies behind the edge: interference against closed forms.
+mod bodies;
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
 /// The glTF export against closed forms, the dexel data, the report and itself.

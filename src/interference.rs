@@ -1,0 +1,230 @@
+//! Tool body interference: what the body behind the edge cut beyond the edge's own swept
+//! groove, and the effective side clearance that predicts it.
+//!
+//! - **Measured**: the stock is cut twice, with the edges alone (planar profiles) and with
+//!   the bodies too. Every dexel the bodies cut deeper is body interference; its size is the
+//!   distance in the axial plane from the body-cut point to the edge-cut profile of the same
+//!   generator (how far the body reached past the edge's surface), its volume the annular
+//!   sector between the two radii. Each is assigned to the turn and flank of the ideal
+//!   profile it lies on, as `compare` does. The radial dexels hold one surface per ray, so a
+//!   body that rubs a flank only below some radius (an undercut) is recorded as cut up to
+//!   the surface: the size and place are right, the volume is an upper bound.
+//! - **Predicted**: at depth `Y` behind the rake face the -z flank of the body is set back
+//!   by `Y (tan a_l + tan l)` and the section has travelled `dir L / (2 pi r)` per mm of
+//!   depth along the axis (the helix, `tan psi` at radius `r`), so it stays clear of the
+//!   groove wall while `tan a_l + tan l + dir tan psi > 0`; likewise the +z flank while
+//!   `tan a_r - tan l - dir tan psi > 0`. The effective clearances `atan` of these, at the
+//!   crest and root radii, per turn, are `alpha -/+ (psi - lambda)` of `domain.md` §4 in
+//!   tangent form.
+
+use crate::job::Job;
+use crate::stock::{Stock, Surface};
+use crate::thread::{Flank, ThreadSpec};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::f64::consts::TAU;
+
+/// Smallest body cut counted (mm): below it, rounding of the `f32` dexels.
+const EPS_MM: f64 = 1e-4;
+
+/// The worst body cut of a turn and flank.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Hit {
+    /// How far past the edge's surface (mm, axial plane).
+    pub(crate) depth: f64,
+    /// Where (rad, mm).
+    pub(crate) theta: f64,
+    pub(crate) z: f64,
+    /// Volume cut by the body (mm^3, an upper bound for undercuts).
+    pub(crate) volume: f64,
+}
+
+impl Hit {
+    fn merge(&mut self, o: &Hit) {
+        if o.depth > self.depth {
+            (self.depth, self.theta, self.z) = (o.depth, o.theta, o.z);
+        }
+        self.volume += o.volume;
+    }
+}
+
+/// Body interference per `(start, turn)` and flank ([`Flank::ALL`] order).
+pub(crate) type Interference = BTreeMap<(u32, i64), [Option<Hit>; 4]>;
+
+/// What the tool bodies did: the measured interference and the predicted clearances.
+pub(crate) type Bodies = (Interference, BTreeMap<(u32, i64), Clearance>);
+
+/// Compare the cut with bodies (`cut`) and without (`planar`).
+pub(crate) fn measure(
+    planar: &Stock,
+    cut: &Stock,
+    thread: &ThreadSpec,
+    surface: Surface,
+) -> Interference {
+    let grid = cut.grid;
+    let (Some(qp), Some(qc)) = (planar.surface(surface), cut.surface(surface)) else {
+        return Interference::new();
+    };
+    let q_blank = cut.blank_q(surface);
+    let sense = surface.sense();
+    let cell = grid.dtheta() * grid.dz;
+    let (z_first, z_last) = (grid.z(0), grid.z(grid.n_z.saturating_sub(1)));
+    let columns: Vec<Interference> = qp
+        .par_chunks(grid.n_z)
+        .zip(qc.par_chunks(grid.n_z))
+        .enumerate()
+        .map(|(i, (p, c))| {
+            let mut out = Interference::new();
+            // Cells the body cut deeper (a few per flank and turn, if any).
+            let hits: Vec<usize> = (0..grid.n_z)
+                .filter(|&j| sense * (p[j] as f64 - c[j] as f64) > EPS_MM)
+                .collect();
+            if hits.is_empty() {
+                return out;
+            }
+            let theta = grid.theta(i);
+            let ideal = thread.column(theta, z_first, z_last);
+            let r = |q: &[f32], j: usize| sense * (q[j] as f64 + q_blank);
+            // The edge-cut profile as points (z, r); the distance to it is searched over
+            // the cells within the body cut's own size either side.
+            for &j in &hits {
+                let (z, rc, rp) = (grid.z(j), r(c, j), r(p, j));
+                let radial = (rp - rc).abs();
+                let reach = (radial / grid.dz).ceil() as usize + 1;
+                let (k0, k1) = (j.saturating_sub(reach), (j + reach).min(grid.n_z - 1));
+                let mut d2 = radial * radial;
+                for k in k0..k1 {
+                    // Segment between planar points k and k+1.
+                    let (a, b) = ((grid.z(k), r(p, k)), (grid.z(k + 1), r(p, k + 1)));
+                    d2 = d2.min(seg_dist2((z, rc), a, b));
+                }
+                let feature = ideal.features.partition_point(|f| f.z < z);
+                let key = ideal
+                    .features
+                    .get(feature)
+                    .map_or((0, 0), |f| (f.start, f.turn()));
+                let (_, flank) = ideal.distance(z, thread.height(rc), f64::INFINITY);
+                let hit = Hit {
+                    depth: d2.sqrt(),
+                    theta,
+                    z,
+                    volume: (rp * rp - rc * rc).abs() * 0.5 * cell,
+                };
+                out.entry(key).or_default()[flank.index()]
+                    .get_or_insert_with(Hit::default)
+                    .merge(&hit);
+            }
+            out
+        })
+        .collect();
+    let mut total = Interference::new();
+    for c in columns {
+        for (k, flanks) in c {
+            let slot = total.entry(k).or_default();
+            for (s, f) in slot.iter_mut().zip(flanks) {
+                if let Some(f) = f {
+                    s.get_or_insert_with(Hit::default).merge(&f);
+                }
+            }
+        }
+    }
+    total
+}
+
+fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dz, dr) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dz * dz + dr * dr;
+    let s = if len2 > 0.0 {
+        (((p.0 - a.0) * dz + (p.1 - a.1) * dr) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (ez, er) = (p.0 - a.0 - s * dz, p.1 - a.1 - s * dr);
+    ez * ez + er * er
+}
+
+/// Effective side clearances (deg) of one turn: -z and +z flank at crest and root, each the
+/// smallest over the passes whose tool has a body; `pass` has the smallest of all.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Clearance {
+    pub(crate) left_crest: f64,
+    pub(crate) left_root: f64,
+    pub(crate) right_crest: f64,
+    pub(crate) right_root: f64,
+    /// The pass (index) with the smallest of the four.
+    pub(crate) pass: usize,
+}
+
+/// The effective clearances of the bodies per `(start, turn)`, from each pass's lead where
+/// it crosses the middle of the turn (`None` for turns no bodied pass reaches).
+pub(crate) fn clearances(job: &Job) -> BTreeMap<(u32, i64), Clearance> {
+    let thread = &job.thread;
+    let mut out: BTreeMap<(u32, i64), Clearance> = BTreeMap::new();
+    for (i, p) in job.passes.iter().enumerate() {
+        let Some(body) = job.tools.get(p.tool).and_then(|t| t.body) else {
+            continue;
+        };
+        let (Some(t_end), h) = (p.revolutions(), p.helix()) else {
+            continue;
+        };
+        let (sl, sr) = (body.slope_left(), body.slope_right());
+        for s in 0..thread.starts {
+            let sh = thread.start_helix(s);
+            for n in 1..=thread.whole_turns() {
+                let z = sh.z(n as f64 - 0.5);
+                let Some(t) = h.revs_at_z(z).filter(|t| *t <= t_end) else {
+                    continue;
+                };
+                let lead = h.law.lead(t).abs();
+                let eff = |r: f64| {
+                    let tan_psi = lead / (TAU * r);
+                    (
+                        (sl + h.dir * tan_psi).atan().to_degrees(),
+                        (sr - h.dir * tan_psi).atan().to_degrees(),
+                    )
+                };
+                let (lc, rc) = eff(thread.crest_radius);
+                let (lr, rr) = eff(thread.root_radius);
+                let c = Clearance {
+                    left_crest: lc,
+                    left_root: lr,
+                    right_crest: rc,
+                    right_root: rr,
+                    pass: i,
+                };
+                let worst = |c: &Clearance| {
+                    c.left_crest
+                        .min(c.left_root)
+                        .min(c.right_crest)
+                        .min(c.right_root)
+                };
+                let slot = out.entry((s, n)).or_insert(c);
+                let pass = if worst(&c) < worst(slot) {
+                    i
+                } else {
+                    slot.pass
+                };
+                *slot = Clearance {
+                    left_crest: slot.left_crest.min(c.left_crest),
+                    left_root: slot.left_root.min(c.left_root),
+                    right_crest: slot.right_crest.min(c.right_crest),
+                    right_root: slot.right_root.min(c.right_root),
+                    pass,
+                };
+            }
+        }
+    }
+    out
+}
+
+/// Whether any pass of the job has a tool body whose sections are swept.
+pub(crate) fn has_bodies(job: &Job) -> bool {
+    job.passes
+        .iter()
+        .any(|p| job.tools.get(p.tool).is_some_and(|t| t.body.is_some()))
+}
+
+/// Flank names for the findings.
+pub(crate) fn flank_name(k: usize) -> &'static str {
+    Flank::ALL[k].name()
+}

@@ -1,0 +1,144 @@
+//! Tool bodies: the insert behind the edge against closed forms. A body whose side
+//! clearance beats the helix angle leaves exactly the planar cut; one whose clearance the
+//! growing helix angle of a variable lead overtakes rubs the leading flank only, from the
+//! turn where the analytic helix angle at the root crosses the clearance, by the closed-form
+//! amount at the back of the insert.
+
+use crate::support::{job, run, scene_text, with};
+use std::f64::consts::TAU;
+
+/// seed 002's equal-groove screw (leads 10 to 30 mm, root radius 22) by radial layers,
+/// on a coarser grid, its grooving tool given a 4 mm body with these side clearances.
+fn screw(left: f64, right: f64) -> String {
+    let text = with(
+        &scene_text("seed002-equal-groove-radial"),
+        &[
+            ("simulation", "angular_cells", "720"),
+            ("simulation", "axial_spacing", "0.02"),
+            ("simulation", "measure_generators", "2"),
+        ],
+    );
+    text.replace(
+        "reference = \"center\"",
+        &format!(
+            "reference = \"center\"\nthickness = 4.0\nside_clearance_left = {left}\nside_clearance_right = {right}\nfront_clearance = 5.0"
+        ),
+    )
+}
+
+#[test]
+fn a_cleared_body_leaves_the_planar_cut() {
+    let plain = run(&with(
+        &scene_text("seed002-equal-groove-radial"),
+        &[
+            ("simulation", "angular_cells", "720"),
+            ("simulation", "axial_spacing", "0.02"),
+            ("simulation", "measure_generators", "2"),
+        ],
+    ));
+    // 14 deg beats the largest helix angle at the root, atan(30 / (2 pi 22)) = 12.2 deg.
+    let bodied = run(&screw(14.0, 14.0));
+    assert_eq!(plain.stock.outer, bodied.stock.outer);
+    assert!(bodied.report.interference.is_empty());
+    assert!(bodied
+        .report
+        .findings
+        .iter()
+        .all(|f| f.kind != "flank_interference"));
+    // The effective clearance is reported per turn, positive everywhere.
+    for t in &bodied.report.turns {
+        let c = t.clearance_deg.as_ref().expect("clearance per turn");
+        assert!(c.left_root > 0.0 && c.right_root > 0.0, "turn {}", t.turn);
+    }
+}
+
+#[test]
+fn the_helix_angle_overtaking_the_clearance_rubs_the_leading_flank() {
+    let alpha = 8.0f64;
+    let text = screw(alpha, 20.0);
+    let j = job(&text);
+    let out = run(&text);
+    let rows = &out.report.interference;
+    assert!(!rows.is_empty(), "no interference");
+    // The passes travel towards -z: the -z flank leads; the +z flank never rubs.
+    assert!(rows.iter().all(|r| r.flank == "left"), "{rows:?}");
+    // Onset: the thread's lead law L = F + K t reaches 2 pi r_root tan(alpha) at t*.
+    let law = j.thread.helix.law;
+    let r_root = j.thread.root_radius;
+    let t_star = (TAU * r_root * alpha.to_radians().tan() - law.f) / law.k;
+    let n_star = t_star.floor() as i64 + 1;
+    let first = rows
+        .iter()
+        .filter(|r| r.max_mm > 0.001)
+        .map(|r| r.turn)
+        .min()
+        .unwrap();
+    assert!(
+        first == n_star || first == n_star + 1,
+        "interference starts in turn {first}, the helix angle crosses {alpha} deg in turn {n_star} (t* = {t_star:.3})"
+    );
+    assert!(rows.iter().all(|r| r.turn >= n_star), "{rows:?}");
+    // The clearance row says the same: negative at the root from turn n*+1 on.
+    for t in &out.report.turns {
+        let c = t.clearance_deg.as_ref().unwrap();
+        assert_eq!(c.left_root < 0.0, t.turn > n_star, "turn {}: {c:?}", t.turn);
+        assert!(c.right_root > 0.0);
+    }
+    // Depth at the worst place of the drawing's turns (past them the pass ends before its
+    // body has gone by): the deepest ray through the back of the insert (Y = 4 mm) runs
+    // along its bottom face, which rises with the 5 deg front clearance: r sin phi = 4 and
+    // r (cos phi - sin phi tan 5) = r_root give tan phi = 4 / (r_root + 4 tan 5). That is a
+    // fraction phi / 2pi of a turn after the edge: the section has travelled
+    // L phi / 2pi + K (phi / 2pi)^2 / 2 along the axis and its flank receded 4 tan(alpha).
+    let worst = rows
+        .iter()
+        .filter(|r| r.turn <= j.thread.whole_turns())
+        .max_by(|a, b| a.max_mm.total_cmp(&b.max_mm))
+        .unwrap();
+    let last = j.passes.last().unwrap();
+    let h = last.helix();
+    let t = h.revs_at_z(worst.z_mm).unwrap();
+    let lead = h.law.lead(t);
+    let dt = (4.0 / (r_root + 4.0 * 5f64.to_radians().tan())).atan() / TAU;
+    let expected = lead * dt + 0.5 * h.law.k * dt * dt - 4.0 * alpha.to_radians().tan();
+    assert!(
+        // One axial cell (0.02 mm) of the dexel walls.
+        (worst.max_mm - expected).abs() <= 0.02,
+        "worst {} mm at z {}, closed form {expected:.4} (lead {lead:.3})",
+        worst.max_mm,
+        worst.z_mm
+    );
+    assert!(out
+        .report
+        .findings
+        .iter()
+        .any(|f| f.kind == "flank_interference" && f.severity == "error"));
+}
+
+#[test]
+fn body_keys_are_checked() {
+    let base = scene_text("seed002-equal-groove-radial");
+    for (extra, says) in [
+        ("thickness = 4.0", "side_clearance_left"),
+        ("side_clearance_left = 5.0", "needs `thickness`"),
+        (
+            "thickness = 4.0\nside_clearance_left = 5.0\nside_clearance_right = 50.0",
+            "side_clearance_right",
+        ),
+        (
+            "thickness = 4.0\nside_clearance_left = 5.0\nside_clearance_right = 5.0\nfront_clearance = -1.0",
+            "front_clearance",
+        ),
+        (
+            "thickness = -1.0\nside_clearance_left = 5.0\nside_clearance_right = 5.0",
+            "thickness",
+        ),
+    ] {
+        let text = base.replace(
+            "reference = \"center\"",
+            &format!("reference = \"center\"\n{extra}"),
+        );
+        let err = vpcut::Job::from_toml(&text, "job.toml").unwrap_err().to_string();
+        assert!(err.contains(says), "{extra}: {err}");
+    }
+}
