@@ -71,7 +71,7 @@ fn bench_simulate(c: &mut Criterion) {
 }
 
 criterion_group!(benches, bench_sweep, bench_compare, bench_simulate);
-criterion_main!(benches, interpreters);
+criterion_main!(bodies, benches, interpreters);
 
 fn bench_interpreter(c: &mut Criterion) {
     use vpcut::{interpret, Dialect, Limits, Source};
@@ -113,4 +113,42 @@ fn bench_interpreter(c: &mut Criterion) {
     g.finish();
 }
 
+/// The sweep with a tool body behind the edge (issue 5's target: within 10x the planar
+/// sweep), on the seed 002 equal-tooth scene at full resolution, two threads: the planar
+/// edge; a body whose 2 deg side clearances the helix angle (3 to 6 deg) overtakes, so its
+/// sections are swept along the flanks; and seed 000's 11/-1 deg grind, which stays clear
+/// and is skipped.
+fn bench_body(c: &mut Criterion) {
+    let job = scene("seed002-equal-tooth");
+    let (grid, _) = plan_grid(&job).unwrap();
+    let with_body = |left: f64, right: f64| {
+        let mut tools = job.tools.clone();
+        for t in &mut tools {
+            t.body = Some(vpcut::Body {
+                thickness: 4.0,
+                clearance_left: left.to_radians(),
+                clearance_right: right.to_radians(),
+                clearance_front: 5f64.to_radians(),
+                inclination: 0.0,
+            });
+        }
+        tools
+    };
+    let mut g = c.benchmark_group("sweep-body/seed002-equal-tooth");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    let p = pool(2);
+    for (name, tools) in [
+        ("planar", job.tools.clone()),
+        ("body-rubbing-2deg", with_body(2.0, 2.0)),
+        ("body-clear-11-minus-1deg", with_body(11.0, -1.0)),
+    ] {
+        let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+        g.bench_function(name, |b| {
+            b.iter(|| p.install(|| sweep(&mut stock, Surface::Outer, &job.passes, &tools)))
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(interpreters, bench_interpreter);
+criterion_group!(bodies, bench_body);

@@ -12,14 +12,16 @@
 //! `Y = thickness`). The first radius inside all of them is where the body meets the ray
 //! (external: the smallest; internal: the largest), and the column is cut there.
 //!
-//! **Sampling.** `phi` is sampled evenly up to the body's angular extent. Between two
-//! samples every face of the section moves by at most `dphi * speed` in the axial plane,
-//! where `speed = r_max (max(|a_l|, |a_r|) + tip_rise) + |L_max| / 2pi` bounds the motion
-//! of the flanks (receding with the clearance and shifted by the inclination, `r_max` per
-//! radian of depth), of the tip (`tip_rise`, from the tip face's radius
-//! `r_tip / (cos phi - sin phi tan a_f)` along the ray) and the helical travel. So the cut of the
-//! sampled sections is within `dphi * speed` of the cut of the continuous body: the sample
-//! count is chosen to keep that under [`SAMPLING_ERROR_MM`].
+//! **Sampling.** `phi` is sampled evenly up to the body's angular extent. What the body cuts
+//! beyond the edge lies between the edge's wall and the section's flank, which moves across
+//! the wall at `speed = |L/2pi + K phi/4pi^2 -/+ r cos(phi) slope|` mm per radian (the
+//! helical travel against the recession `Y slope` at depth `Y = r sin phi`), bounded over the
+//! pass's leads, the zone's radii and both flanks. A point the continuous body cuts between
+//! two samples lies, axially, within `dphi * speed` of the later sample's flank, which cuts
+//! everything on its side down to its own tip; the tip rises between samples too, but a
+//! point under the rising tip is also within that axial distance of the flank. So the
+//! sampled cut is within `dphi * speed` of the continuous body's, and the sample count keeps
+//! that under [`SAMPLING_ERROR_MM`] (a test checks it against four times the samples).
 //!
 //! **Skipped when harmless.** When no section can reach outside what the edge itself cut at
 //! the same crossing (the effective clearance stays positive on both flanks over the pass's
@@ -99,7 +101,6 @@ pub(crate) fn sample(
     let t_end = pass.revolutions()?;
     let law = pass.helix().law;
     let (l0, l1) = (law.lead(0.0).abs(), law.lead(t_end).abs());
-    let l_max = l0.max(l1);
     let (r_lo, r_hi) = (r_zone.0.min(r_zone.1).max(1e-3), r_zone.0.max(r_zone.1));
     // The body's angular extent: the largest phi at which some ray of the zone is still
     // within `thickness` of the rake face.
@@ -122,12 +123,19 @@ pub(crate) fn sample(
         body.slope_right(),
         body.clearance_front.tan(),
     );
-    // Per radian of phi: the flanks recede by r (|slope|) and travel L/2pi along the axis;
-    // the tip at r_tip / (cos phi - sin phi tan a_f) rises by at most r (sin phi + tan a_f)
-    // / (cos phi - sin phi tan a_f)^2.
-    let (c, s) = (phi_max.cos(), phi_max.sin());
-    let tip_rise = (s + tf) / (c - s * tf).max(1e-3).powi(2);
-    let speed = r_hi * (sl.abs().max(sr.abs()) + tip_rise) + l_max / TAU;
+    // Per radian of phi, how fast a flank of the section moves across the edge's wall: it
+    // travels `L/2pi + K phi/4pi^2` along the axis and recedes `r cos(phi) slope` (see the
+    // module docs for why the tip's rise does not count).
+    let speed = [l0, l1]
+        .into_iter()
+        .flat_map(|l| [r_lo, r_hi].map(move |r| (l, r)))
+        .flat_map(|(l, r)| [1.0, phi_max.cos()].map(move |c| (l, r * c)))
+        .flat_map(|(l, rc)| {
+            let travel = l / TAU + law.k.abs() * phi_max / (TAU * TAU);
+            [sl, sr].map(move |slope| (travel - rc * slope).abs().max((travel + rc * slope).abs()))
+        })
+        .fold(0.0, f64::max)
+        .max(1e-9);
     let n = ((phi_max * speed / error_mm).ceil() as usize).clamp(1, MAX_SAMPLES);
     let dphi = phi_max / n as f64;
     let samples = (1..=n)

@@ -8,13 +8,12 @@ use crate::support::{job, run, scene_text, with};
 use std::f64::consts::TAU;
 
 /// seed 002's equal-groove screw (leads 10 to 30 mm, root radius 22) by radial layers,
-/// on a coarser grid, its grooving tool given a 4 mm body with these side clearances.
+/// on fewer angular cells, its grooving tool given a 4 mm body with these side clearances.
 fn screw(left: f64, right: f64) -> String {
     let text = with(
         &scene_text("seed002-equal-groove-radial"),
         &[
             ("simulation", "angular_cells", "720"),
-            ("simulation", "axial_spacing", "0.02"),
             ("simulation", "measure_generators", "2"),
         ],
     );
@@ -32,7 +31,6 @@ fn a_cleared_body_leaves_the_planar_cut() {
         &scene_text("seed002-equal-groove-radial"),
         &[
             ("simulation", "angular_cells", "720"),
-            ("simulation", "axial_spacing", "0.02"),
             ("simulation", "measure_generators", "2"),
         ],
     ));
@@ -102,8 +100,9 @@ fn the_helix_angle_overtaking_the_clearance_rubs_the_leading_flank() {
     let dt = (4.0 / (r_root + 4.0 * 5f64.to_radians().tan())).atan() / TAU;
     let expected = lead * dt + 0.5 * h.law.k * dt * dt - 4.0 * alpha.to_radians().tan();
     assert!(
-        // One axial cell (0.02 mm) of the dexel walls.
-        (worst.max_mm - expected).abs() <= 0.02,
+        // Two axial cells (0.01 mm each: where the dexel wall of the edge's cut and the
+        // farthest body-cut cell fall between cells) and the 0.005 mm sampling bound.
+        (worst.max_mm - expected).abs() <= 0.025,
         "worst {} mm at z {}, closed form {expected:.4} (lead {lead:.3})",
         worst.max_mm,
         worst.z_mm
