@@ -52,8 +52,26 @@ fn scenes_and_goldens_correspond() {
 #[test]
 fn no_io_in_the_geometry_core() {
     for f in [
-        "helix", "thread", "tool", "pass", "stock", "sweep", "compare", "measure", "process",
-        "machine", "report", "job", "nc", "plot",
+        "helix",
+        "thread",
+        "tool",
+        "body",
+        "pass",
+        "stock",
+        "sweep",
+        "compare",
+        "interference",
+        "measure",
+        "process",
+        "machine",
+        "report",
+        "job",
+        "nc",
+        "plot",
+        "scene",
+        "mesh",
+        "glb",
+        "render",
     ] {
         // A module is `src/<f>.rs` or a folder `src/<f>/` of files.
         let file = root().join("src").join(format!("{f}.rs"));
