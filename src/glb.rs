@@ -327,7 +327,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, GlbError> {
             "legend": {
                 "tolerance_mm": scene.legend.tolerance_mm,
                 "scale_mm": scene.legend.scale_mm,
-                "colours": "gouge blue, within tolerance grey, leftover red, not compared dark grey",
+                "colours": "gouge blue, within tolerance grey, leftover red, not compared dark grey, cut by a tool body past its edge purple",
             },
             "focus": scene.focus.as_ref().map(|f| serde_json::json!({
                 "kind": f.kind, "value_mm": f.value_mm, "point_mm": f.point,

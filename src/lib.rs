@@ -144,6 +144,9 @@ pub struct Outcome {
     pub report: Report,
     /// The cut stock.
     pub stock: Stock,
+    /// With tool bodies: the stock as the edges alone cut it (where it differs from
+    /// `stock`, a body cut past its edge).
+    pub edge_stock: Option<Stock>,
 }
 
 /// The grid a job will use, and the number of dexels it stores.
@@ -230,10 +233,17 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
         let mut planar = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
         sweep(&mut planar, surface, &job.passes, &edges);
         (
-            interference::measure(&planar, &stock, &job.thread, surface),
-            interference::clearances(job),
+            (
+                interference::measure(&planar, &stock, &job.thread, surface),
+                interference::clearances(job),
+            ),
+            planar,
         )
     });
+    let (bodies, edge_stock) = match bodies {
+        Some((b, planar)) => (Some(b), Some(planar)),
+        None => (None, None),
+    };
     let t_sweep = t0.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
@@ -292,7 +302,11 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
         measure: t_measure,
         total: t_start.elapsed().as_secs_f64(),
     };
-    Ok(Outcome { report, stock })
+    Ok(Outcome {
+        report,
+        stock,
+        edge_stock,
+    })
 }
 
 fn location(e: &Extreme) -> report::Location {

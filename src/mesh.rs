@@ -31,7 +31,7 @@
 use crate::helix::Hand;
 use crate::job::Job;
 use crate::pass::Pass;
-use crate::plot::{colour, signed_deviation};
+use crate::plot::{colour, signed_deviation, BODY_RUB};
 use crate::report::Report;
 use crate::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 use crate::stock::{Stock, Surface};
@@ -61,7 +61,7 @@ pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
     let tol = job.sim.tolerance;
     let legend = legend(&out.report, tol);
     let e = opts.mesh_tolerance.unwrap_or(tol).max(0.0);
-    let stock = stock_mesh(&out.stock, &job.thread, legend, e);
+    let stock = stock_mesh_with(&out.stock, out.edge_stock.as_ref(), &job.thread, legend, e);
     let ideal = opts
         .ideal
         .then(|| ideal_mesh(&job.thread, &out.stock, e.max(tol)));
@@ -332,6 +332,8 @@ fn helical_shift(thread: &ThreadSpec, z: f64, dtheta: f64) -> f64 {
 /// What the profiles of one surface are built from.
 struct Surfacer<'a> {
     stock: &'a Stock,
+    /// The stock as the edges alone cut it, when tool bodies were swept.
+    edge: Option<&'a Stock>,
     thread: &'a ThreadSpec,
     s: Surface,
     compared: bool,
@@ -387,9 +389,21 @@ impl Surfacer<'_> {
             keep
         };
         let (tol, scale) = (self.legend.tolerance_mm, self.legend.scale_mm);
+        // Dexels a tool body cut past its edge get their own colour.
+        let edge = self.edge.and_then(|e| e.surface(self.s)).map(|q| {
+            let n_z = grid.n_z;
+            &q[i * n_z..(i + 1) * n_z]
+        });
+        let own = &self.stock.surface(self.s).expect("surface present")[i * grid.n_z..];
+        let rubbed = |j: usize| {
+            edge.is_some_and(|e| self.s.sense() * (e[j] as f64 - own[j] as f64) > RUB_MM)
+        };
         let colors = keep
             .iter()
             .map(|&j| {
+                if rubbed(j) {
+                    return BODY_RUB;
+                }
                 let d = ideal
                     .as_ref()
                     .and_then(|id| signed_deviation(self.thread, id, pts[j].0, pts[j].1));
@@ -455,13 +469,28 @@ impl Surfacer<'_> {
     }
 }
 
+/// A body cut deeper than this past its edge (mm) is coloured as a rub.
+const RUB_MM: f64 = 1e-3;
+
 /// The closed, coloured mesh of the cut stock, within `e` (mm) of the dexel data.
+pub fn stock_mesh(stock: &Stock, thread: &ThreadSpec, legend: Legend, e: f64) -> Mesh {
+    stock_mesh_with(stock, None, thread, legend, e)
+}
+
+/// [`stock_mesh`], with the dexels a tool body cut past its edge (deeper than in `edge`,
+/// the stock the edges alone cut) in the body-rub colour.
 ///
 /// Columns: evenly spread ones whose chord and twist stay under `e/4`, then, wherever the
 /// strip between two kept columns strays more than `3e/4` from the dexels of the column
 /// halfway (the end of a groove, a wall leaving through an end face), the middle column
 /// too, recursively. Kept profiles are simplified to `e/2`.
-pub fn stock_mesh(stock: &Stock, thread: &ThreadSpec, legend: Legend, e: f64) -> Mesh {
+pub(crate) fn stock_mesh_with(
+    stock: &Stock,
+    edge: Option<&Stock>,
+    thread: &ThreadSpec,
+    legend: Legend,
+    e: f64,
+) -> Mesh {
     let grid = stock.grid;
     let n = grid.n_theta;
     let window = (
@@ -473,6 +502,7 @@ pub fn stock_mesh(stock: &Stock, thread: &ThreadSpec, legend: Legend, e: f64) ->
         .filter(|s| stock.surface(*s).is_some())
         .map(|s| Surfacer {
             stock,
+            edge,
             thread,
             s,
             compared: s == surface(thread),

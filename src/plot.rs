@@ -31,6 +31,8 @@ pub(crate) const OUTSIDE: [u8; 3] = [70, 70, 70];
 pub(crate) const GOUGE: [u8; 3] = [25, 70, 200];
 /// Full leftover colour.
 pub(crate) const LEFTOVER: [u8; 3] = [200, 30, 30];
+/// Where a tool body cut past its edge (3D model and renders).
+pub(crate) const BODY_RUB: [u8; 3] = [160, 40, 200];
 const PALE_GOUGE: [u8; 3] = [150, 180, 240];
 const PALE_LEFTOVER: [u8; 3] = [245, 160, 150];
 const BAND: [u8; 3] = [200, 225, 250];

@@ -18,7 +18,7 @@ mod gpu;
 
 pub use camera::View;
 
-use crate::plot::{colour_bar, text};
+use crate::plot::{colour_bar, text, BODY_RUB};
 use crate::scene::{Mesh, PathKind, Scene};
 use camera::Camera;
 use glam::DVec3;
@@ -374,15 +374,19 @@ fn overlay(img: &mut RgbImage, scene: &Scene, opts: &RenderOptions, cam: &Camera
     );
     text(img, bx + 50, bh + 30, "GOUGE");
     // Bottom left: what the lines are.
-    let key = match (cam.plane.is_some(), scene.ideal.is_some()) {
+    let mut key = match (cam.plane.is_some(), scene.ideal.is_some()) {
         (false, _) if !opts.toolpath => vec![],
         (false, _) => vec![("FEED", FEED), ("RAPID", RAPID)],
         (true, true) => vec![("CUT FACE", CAP), ("IDEAL PROFILE", IDEAL)],
         (true, false) => vec![("CUT FACE", CAP)],
     };
+    if scene.stock.colors.contains(&BODY_RUB) {
+        key.push(("BODY RUB", BODY_RUB));
+    }
     let ky = h - 18;
     if !key.is_empty() {
-        panel(img, 0, ky - 6, 8 * 34, h);
+        let width: u32 = key.iter().map(|(n, _)| 34 + 8 * n.len() as u32).sum();
+        panel(img, 0, ky - 6, width + 6, h);
     }
     let mut x = 6;
     for (name, c) in key {

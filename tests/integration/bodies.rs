@@ -141,3 +141,44 @@ fn body_keys_are_checked() {
         assert!(err.contains(says), "{extra}: {err}");
     }
 }
+
+/// The 3D model colours the rub: no purple vertex with a cleared body; with the rubbing one,
+/// purple vertices only where the helix angle has passed the clearance (past the turn
+/// where the root's clearance crosses zero).
+#[test]
+fn the_model_shows_the_rub() {
+    const BODY_RUB: [u8; 3] = [160, 40, 200];
+    let scene = |text: &str| {
+        let j = job(text);
+        let out = run(text);
+        vpcut::build_scene(&j, &out, &vpcut::SceneOptions::default())
+    };
+    let clear = scene(&screw(14.0, 14.0));
+    assert!(!clear.stock.colors.contains(&BODY_RUB));
+    let alpha = 8.0f64;
+    let text = screw(alpha, 20.0);
+    let j = job(&text);
+    let rubbed = scene(&text);
+    let purple: Vec<[f32; 3]> = rubbed
+        .stock
+        .positions
+        .iter()
+        .zip(&rubbed.stock.colors)
+        .filter(|(_, c)| **c == BODY_RUB)
+        .map(|(p, _)| *p)
+        .collect();
+    assert!(purple.len() > 100, "{} purple vertices", purple.len());
+    // The thread's groove centre z(t) = -(F t + K t^2 / 2) at t* where the root clearance
+    // crosses zero; the rub cannot come before (towards +z of) it, less one lead of margin
+    // for the groove's width and the mesh.
+    let law = j.thread.helix.law;
+    let t_star = (TAU * j.thread.root_radius * alpha.to_radians().tan() - law.f) / law.k;
+    let z_star = j.thread.helix.z(t_star);
+    for p in &purple {
+        assert!(
+            (p[2] as f64) < z_star + 3.0,
+            "rub at z {} before {z_star}",
+            p[2]
+        );
+    }
+}
