@@ -372,6 +372,16 @@ mod tests {
 
     /// One column cut by the pass, with the body's sections as given.
     fn cut(pass: &Pass, tool: &Tool, body: Option<Sections>) -> Vec<f32> {
+        cut_surface(pass, tool, body, Surface::Outer, 25.0)
+    }
+
+    fn cut_surface(
+        pass: &Pass,
+        tool: &Tool,
+        body: Option<Sections>,
+        surface: Surface,
+        q_blank: f64,
+    ) -> Vec<f32> {
         let (z0, dz, n) = (-110.0, 0.01, 12000);
         let mut q = vec![0.0f32; n];
         let prepared = [Prepared {
@@ -386,8 +396,8 @@ mod tests {
             0.7,
             z0,
             dz,
-            25.0,
-            Surface::Outer,
+            q_blank,
+            surface,
             std::slice::from_ref(pass),
             &prepared,
         );
@@ -406,6 +416,39 @@ mod tests {
         let planar = cut(&pass, &tool, None);
         assert!(planar.iter().any(|&q| q < -2.9), "the edge cut the groove");
         assert_eq!(planar, cut(&pass, &tool, Some(forced)));
+    }
+
+    /// The same for a nut: an internal thread in a 20 mm bore cut 3 mm deep, the body
+    /// reaching towards the axis. In the bore the helix angle is larger (up to
+    /// atan(30 / (2 pi 10)) = 25.5 deg), so the clearance must be too: 35 deg. Sections
+    /// swept or not, the cut is the edge's; with 20 deg the body rubs (a check that the
+    /// internal case is not cleared by accident).
+    #[test]
+    fn a_cleared_body_in_a_bore_cuts_what_the_edge_cuts() {
+        let (mut pass, tool) = bodied(35.0, 35.0);
+        pass.x_start = 26.0;
+        pass.x_end = 26.0;
+        let zone = (10.0, 13.0);
+        assert!(body::sections(&pass, &tool, zone).is_none(), "not skipped");
+        let (_, rubbing) = bodied(20.0, 20.0);
+        let planar = cut_surface(&pass, &tool, None, Surface::Inner, -10.0);
+        let rubbed = cut_surface(
+            &pass,
+            &rubbing,
+            body::sections(&pass, &rubbing, zone),
+            Surface::Inner,
+            -10.0,
+        );
+        assert!(rubbed.iter().zip(&planar).any(|(r, p)| r < &(p - 0.01)));
+        let forced = body::sample(&pass, &tool, zone, body::SAMPLING_ERROR_MM, true).unwrap();
+        assert!(planar.iter().any(|&q| q < -2.9), "the edge cut the groove");
+        let bodied = cut_surface(&pass, &tool, Some(forced), Surface::Inner, -10.0);
+        let diff: Vec<(usize, f32, f32)> = (0..planar.len())
+            .filter(|&j| planar[j] != bodied[j])
+            .map(|j| (j, planar[j], bodied[j]))
+            .take(8)
+            .collect();
+        assert!(diff.is_empty(), "{diff:?}");
     }
 
     /// An interfering body sampled at the default density is within its stated bound of
