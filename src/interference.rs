@@ -18,6 +18,7 @@
 //!   tangent form.
 
 use crate::job::Job;
+use crate::mesh::seg_dist2;
 use crate::stock::{Stock, Surface};
 use crate::thread::{Flank, ThreadSpec};
 use rayon::prelude::*;
@@ -129,18 +130,6 @@ pub(crate) fn measure(
         }
     }
     total
-}
-
-fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    let (dz, dr) = (b.0 - a.0, b.1 - a.1);
-    let len2 = dz * dz + dr * dr;
-    let s = if len2 > 0.0 {
-        (((p.0 - a.0) * dz + (p.1 - a.1) * dr) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let (ez, er) = (p.0 - a.0 - s * dz, p.1 - a.1 - s * dr);
-    ez * ez + er * er
 }
 
 /// Effective side clearances (deg) of one turn: -z and +z flank at crest and root, each the

@@ -221,7 +221,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     let stats = sweep(&mut stock, surface, &job.passes, &job.tools);
     // With tool bodies, the edges alone cut a second stock: the difference is what the
     // bodies cut beyond their edges.
-    let bodies = interference::has_bodies(job).then(|| {
+    let edge_stock = interference::has_bodies(job).then(|| {
         let edges: Vec<Tool> = job
             .tools
             .iter()
@@ -232,18 +232,14 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
             .collect();
         let mut planar = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
         sweep(&mut planar, surface, &job.passes, &edges);
+        planar
+    });
+    let bodies = edge_stock.as_ref().map(|planar| {
         (
-            (
-                interference::measure(&planar, &stock, &job.thread, surface),
-                interference::clearances(job),
-            ),
-            planar,
+            interference::measure(planar, &stock, &job.thread, surface),
+            interference::clearances(job),
         )
     });
-    let (bodies, edge_stock) = match bodies {
-        Some((b, planar)) => (Some(b), Some(planar)),
-        None => (None, None),
-    };
     let t_sweep = t0.elapsed().as_secs_f64();
 
     let t0 = Instant::now();

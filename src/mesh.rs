@@ -204,7 +204,7 @@ fn simplify(pts: &[(f64, f64)], forced: &[usize], eps: f64, out: &mut Vec<usize>
 }
 
 /// Squared distance from `p` to the segment `a b` in the axial plane.
-fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+pub(crate) fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     let (dz, dr) = (b.0 - a.0, b.1 - a.1);
     let len2 = dz * dz + dr * dr;
     let s = if len2 > 0.0 {
