@@ -4,7 +4,7 @@
 //! axial plane both ways), every dexel in the full export, volumes, colours where the
 //! report says the extremes are, the `.glb` round trip and thread-count independence.
 
-use crate::support::{job, root, run_scene, scene_job, scene_text, with};
+use crate::support::{job, root, run_scene, scene_job, scene_text, with, INTERNAL_M20};
 use std::collections::HashMap;
 use std::f64::consts::TAU;
 use vpcut::{
@@ -219,7 +219,13 @@ fn uncut_blank_is_the_exact_prism() {
 /// at (the mesh never saw those columns), both ways in the axial plane.
 #[test]
 fn stock_mesh_is_closed_and_within_tolerance_of_the_dexels() {
-    let internal = job(INTERNAL);
+    let internal = job(&with(
+        INTERNAL_M20,
+        &[
+            ("simulation", "angular_cells", "720"),
+            ("simulation", "measure_generators", "2"),
+        ],
+    ));
     let cases: Vec<(&str, vpcut::Job)> = vec![
         ("seed002-equal-tooth", scene_job("seed002-equal-tooth")),
         ("seed004-tr100x12", scene_job("seed004-tr100x12")),
@@ -288,33 +294,6 @@ fn dexel_volume(stock: &Stock) -> f64 {
     }
     v
 }
-
-const INTERNAL: &str = r#"
-    [blank]
-    diameter = 40.0
-    bore = 17.29367
-    length = 30.0
-    [thread]
-    side = "internal"
-    form = "iso-metric"
-    major_diameter = 20.0
-    pitch = 2.5
-    length = 20.0
-    [[tool]]
-    id = 1
-    kind = "threading"
-    angle = 60.0
-    tip_flat = 0.3125
-    reference = "tip"
-    [process]
-    kind = "radial"
-    tool = 1
-    layers = 5
-    [simulation]
-    angular_cells = 720
-    axial_spacing = 0.01
-    measure_generators = 2
-"#;
 
 /// `--gltf-full`: every dexel is a vertex, at exactly its dexel's position.
 #[test]

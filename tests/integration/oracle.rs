@@ -1,7 +1,7 @@
 //! Geometry against independent oracles: closed forms, hand-computed passes, and a second
 //! numerical method.
 
-use crate::support::{run, scene_text, with};
+use crate::support::{run, scene_text, with, INTERNAL_M20};
 use std::f64::consts::{PI, TAU};
 
 /// A tool as wide as the groove on the groove's own helix cuts the ideal groove; the leads
@@ -223,32 +223,7 @@ fn helix_angle_of_m20() {
 /// with an insert whose tip flat is that root flat: the nut comes out ideal.
 #[test]
 fn internal_thread_by_radial_infeed_is_ideal() {
-    let text = r#"
-        [blank]
-        diameter = 40.0
-        bore = 17.29367
-        length = 30.0
-        [thread]
-        side = "internal"
-        form = "iso-metric"
-        major_diameter = 20.0
-        pitch = 2.5
-        length = 20.0
-        [[tool]]
-        id = 1
-        kind = "threading"
-        angle = 60.0
-        tip_flat = 0.3125
-        reference = "tip"
-        [process]
-        kind = "radial"
-        tool = 1
-        layers = 5
-        [simulation]
-        angular_cells = 360
-        axial_spacing = 0.01
-        measure_generators = 4
-    "#;
+    let text = INTERNAL_M20;
     let out = run(text);
     let r = &out.report;
     assert_eq!(r.thread.side, "internal");

@@ -89,3 +89,33 @@ pub(crate) fn blessing() -> bool {
 pub(crate) fn read(p: &Path) -> Option<String> {
     std::fs::read_to_string(p).ok()
 }
+
+/// An internal M20x2.5 (ISO 68-1: D1 = 17.2937, root flat P/8 at D) in a bore of D1, cut by
+/// five radial layers with an insert whose tip flat is that root flat: the nut comes out
+/// ideal (360 x 0.01 mm cells, 4 measurement generators; tests override what they need).
+pub(crate) const INTERNAL_M20: &str = r#"
+    [blank]
+    diameter = 40.0
+    bore = 17.29367
+    length = 30.0
+    [thread]
+    side = "internal"
+    form = "iso-metric"
+    major_diameter = 20.0
+    pitch = 2.5
+    length = 20.0
+    [[tool]]
+    id = 1
+    kind = "threading"
+    angle = 60.0
+    tip_flat = 0.3125
+    reference = "tip"
+    [process]
+    kind = "radial"
+    tool = 1
+    layers = 5
+    [simulation]
+    angular_cells = 360
+    axial_spacing = 0.01
+    measure_generators = 4
+"#;
