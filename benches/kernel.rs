@@ -115,9 +115,10 @@ fn bench_interpreter(c: &mut Criterion) {
 
 /// The sweep with a tool body behind the edge (issue 5's target: within 10x the planar
 /// sweep), on the seed 002 equal-tooth scene at full resolution, two threads: the planar
-/// edge; a body whose 2 deg side clearances the helix angle (3 to 6 deg) overtakes, so its
-/// sections are swept along the flanks; and seed 000's 11/-1 deg grind, which stays clear
-/// and is skipped.
+/// edge; a body whose 2 deg side clearances the helix angle (up to 13 deg at the root)
+/// overtakes on the leading flank all along the screw; seed 000's 11/-1 deg grind, which
+/// rubs at the root of the last turns only; and a 20 deg body that clears everywhere and is
+/// skipped. Each run includes the preparation of the sections and their tables.
 fn bench_body(c: &mut Criterion) {
     let job = scene("seed002-equal-tooth");
     let (grid, _) = plan_grid(&job).unwrap();
@@ -140,7 +141,8 @@ fn bench_body(c: &mut Criterion) {
     for (name, tools) in [
         ("planar", job.tools.clone()),
         ("body-rubbing-2deg", with_body(2.0, 2.0)),
-        ("body-clear-11-minus-1deg", with_body(11.0, -1.0)),
+        ("body-11-minus-1deg", with_body(11.0, -1.0)),
+        ("body-clear-20deg", with_body(20.0, 20.0)),
     ] {
         let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
         g.bench_function(name, |b| {

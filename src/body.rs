@@ -14,19 +14,27 @@
 //!
 //! **Sampling.** `phi` is sampled evenly up to the body's angular extent. What the body cuts
 //! beyond the edge lies between the edge's wall and the section's flank, which moves across
-//! the wall at `speed = |L/2pi + K phi/4pi^2 -/+ r cos(phi) slope|` mm per radian (the
-//! helical travel against the recession `Y slope` at depth `Y = r sin phi`), bounded over the
-//! pass's leads, the zone's radii and both flanks. A point the continuous body cuts between
-//! two samples lies, axially, within `dphi * speed` of the later sample's flank, which cuts
-//! everything on its side down to its own tip; the tip rises between samples too, but a
-//! point under the rising tip is also within that axial distance of the flank. So the
-//! sampled cut is within `dphi * speed` of the continuous body's, and the sample count keeps
-//! that under [`SAMPLING_ERROR_MM`] (a test checks it against four times the samples).
+//! the wall at `speed = |r cos(phi) slope +/- dir L/2pi|` mm per radian (the recession
+//! `Y slope` at depth `Y = r sin phi` against the helical travel at the section's lead `L`),
+//! bounded over the pass's leads, the zone's radii and the flanks that can reach beyond the
+//! edge. A point the continuous body cuts between two samples lies, axially, within
+//! `dphi * speed` of the later sample's flank, which cuts everything on its side down to its
+//! own tip; the tip rises between samples too, but a point under the rising tip is also
+//! within that axial distance of the flank. So the sampled cut is within `dphi * speed` of
+//! the continuous body's, and the sample count keeps that under half of
+//! [`SAMPLING_ERROR_MM`] (a test checks it against four times the samples).
+//!
+//! **Tables.** A grid sweep does not place every section at every crossing: on a straight
+//! pass the sections' cut beside the edge depends on the crossing only through its lead, so
+//! it is tabulated once per bin of revolutions and looked up ([`Tables`], the other half of
+//! the bound; a test checks the tables against the sections placed directly). That makes a
+//! rubbing body cost about ten planar sweeps instead of hundreds.
 //!
 //! **Skipped when harmless.** When no section can reach outside what the edge itself cut at
 //! the same crossing (the effective clearance stays positive on both flanks over the pass's
 //! leads and radii, and the tip clearance is not negative), the body cuts nothing the edge
-//! did not and the pass needs no sections: the result is exactly the planar one.
+//! did not and the pass needs no sections: the result is exactly the planar one. Likewise a
+//! flank that cannot reach out does not count in the sampling speed.
 
 use crate::pass::Pass;
 use crate::stock::Surface;
@@ -57,9 +65,55 @@ pub(crate) struct Sections {
     thickness: f64,
     /// The radii the body can meet (mm).
     r_zone: (f64, f64),
-    /// The bound on the sampling error (mm).
+    /// The bound on the error of the sections' cut against the continuous body's (mm): the
+    /// angular sampling's and, where the sweep uses [`Tables`], the tables' (see there).
     pub(crate) bound: f64,
+    /// The part of `error_mm` left to the tables (mm).
+    table_error: f64,
+    /// The pass's direction of travel and lead law.
+    dir: f64,
+    lead_f: f64,
+    lead_k: f64,
 }
+
+/// The sections' cut beside the edge's, tabulated once for a straight pass instead of
+/// being swept anew at every crossing.
+///
+/// For a pass of constant radius the sections after a crossing at revolution `t` depend on
+/// `t` only through the lead `L(t)`: section `phi` stands `dir (L(t) u + K u^2/2)` from the
+/// edge's tip, `u = phi/2pi`. So the revolutions are cut into bins, and per bin the
+/// sections at the bin's middle lead are applied once to a fine axial table (offsets from
+/// the edge's tip centre) over each flank's bands. A crossing in the bin then cuts each
+/// cell with the table's nearest entry. Against the sections swept at the crossing itself,
+/// each section stands at most `|K| (dt/2) u_max` off axially (the bin's half width) and
+/// the nearest entry at most `h/2`: the table's part of the bound, kept under a quarter of
+/// the error each. Crossings whose sections would run past the pass's end, and tapered
+/// passes, sweep the sections directly.
+#[derive(Clone, Debug)]
+pub(crate) struct Tables {
+    /// Revolutions per bin.
+    dt: f64,
+    /// Axial spacing of the entries (mm).
+    h: f64,
+    /// The last crossing (revolutions) whose sections all lie within the pass.
+    pub(crate) t_last: f64,
+    /// Per bin, the table of each flank (-z, +z) that can reach beyond the edge.
+    bins: Vec<[Option<Table>; 2]>,
+    /// Each sample's section on the rays (the tip's radius is the pass's), for the
+    /// crossings after `t_last`.
+    pub(crate) rays: Vec<Ray>,
+}
+
+/// One flank's table: the offset of entry 0 from the edge's tip centre (mm), and the
+/// entries `h` apart (stored values `q - q_blank`, at most 0).
+#[derive(Clone, Debug)]
+struct Table {
+    w0: f64,
+    entries: Vec<f32>,
+}
+
+/// Most bins per pass (beyond, the pass sweeps its sections directly).
+const MAX_BINS: usize = 4096;
 
 /// The radii a pass's body can meet on `surface`: from its tip to the blank (`q_blank`).
 pub(crate) fn zone(pass: &Pass, q_blank: f64, surface: Surface) -> (f64, f64) {
@@ -81,7 +135,7 @@ pub(crate) fn sections(pass: &Pass, tool: &Tool, r_zone: (f64, f64)) -> Option<S
 }
 
 /// The sections with the sampling error kept under `error_mm`; `force` samples even a body
-/// that [`harmless`] would skip (for the tests that check the skip).
+/// that [`reaches_out`] finds harmless (for the tests that check the skip).
 pub(crate) fn sample(
     pass: &Pass,
     tool: &Tool,
@@ -100,22 +154,20 @@ pub(crate) fn sample(
     };
     let t_end = pass.revolutions()?;
     let law = pass.helix().law;
-    let (l0, l1) = (law.lead(0.0).abs(), law.lead(t_end).abs());
     let (r_lo, r_hi) = (r_zone.0.min(r_zone.1).max(1e-3), r_zone.0.max(r_zone.1));
     // The body's angular extent: the largest phi at which some ray of the zone is still
     // within `thickness` of the rake face.
     let phi_max = (body.thickness / r_lo).min(1.0).asin().min(FRAC_PI_2);
-    if !force
-        && harmless(
-            &body,
-            law.lead(0.0),
-            law.lead(t_end),
-            law.k,
-            pass,
-            (r_lo, r_hi),
-            phi_max,
-        )
-    {
+    let out = reaches_out(
+        &body,
+        law.lead(0.0),
+        law.lead(t_end),
+        law.k,
+        pass,
+        (r_lo, r_hi),
+        phi_max,
+    );
+    if !force && out == [false, false] {
         return None;
     }
     let (sl, sr, tf) = (
@@ -124,19 +176,34 @@ pub(crate) fn sample(
         body.clearance_front.tan(),
     );
     // Per radian of phi, how fast a flank of the section moves across the edge's wall: it
-    // travels `L/2pi + K phi/4pi^2` along the axis and recedes `r cos(phi) slope` (see the
-    // module docs for why the tip's rise does not count).
-    let speed = [l0, l1]
+    // travels `dir L/2pi` along the axis (`L` the lead at the section's instant, between the
+    // pass's first and last) and recedes `r cos(phi) slope`; the rate of `Y slope_l + dir
+    // travel` on the -z flank and of `Y slope_r - dir travel` on the +z one. Linear in `L`
+    // and in `r cos phi`, so its largest size is at a corner. Only a flank that can reach
+    // beyond the edge's wall counts (a forced body counts both); see the module docs for
+    // why the tip's rise does not.
+    let dir = pass.helix().dir;
+    let counted = if out == [false, false] {
+        [true, true]
+    } else {
+        out
+    };
+    let speed = [(sl, dir), (sr, -dir)]
         .into_iter()
-        .flat_map(|l| [r_lo, r_hi].map(move |r| (l, r)))
-        .flat_map(|(l, r)| [1.0, phi_max.cos()].map(move |c| (l, r * c)))
-        .flat_map(|(l, rc)| {
-            let travel = l / TAU + law.k.abs() * phi_max / (TAU * TAU);
-            [sl, sr].map(move |slope| (travel - rc * slope).abs().max((travel + rc * slope).abs()))
+        .zip(counted)
+        .filter(|&(_, c)| c)
+        .flat_map(|((slope, d), _)| {
+            [law.lead(0.0), law.lead(t_end)]
+                .into_iter()
+                .flat_map(move |l| {
+                    [r_lo * phi_max.cos(), r_hi].map(move |rc| (rc * slope + d * l / TAU).abs())
+                })
         })
         .fold(0.0, f64::max)
         .max(1e-9);
-    let n = ((phi_max * speed / error_mm).ceil() as usize).clamp(1, MAX_SAMPLES);
+    // Half the error to the angular sampling, half to the tables (if the sweep uses them).
+    let phi_error = error_mm / 2.0;
+    let n = ((phi_max * speed / phi_error).ceil() as usize).clamp(1, MAX_SAMPLES);
     let dphi = phi_max / n as f64;
     let samples = (1..=n)
         .map(|s| {
@@ -162,17 +229,22 @@ pub(crate) fn sample(
         tan_front: tf,
         thickness: body.thickness,
         r_zone: (r_lo, r_hi),
-        bound: dphi * speed,
+        bound: dphi * speed + error_mm / 2.0,
+        table_error: error_mm / 2.0,
+        dir: pass.helix().dir,
+        lead_f: law.f,
+        lead_k: law.k,
     })
 }
 
-/// Whether no section of the body can reach outside the edge's own cut at the same crossing:
-/// at depth `Y = r sin phi` the -z flank has receded by `Y slope_l` and the section has
-/// travelled `dir * travel(phi / 2pi)` along the axis; it stays inside while
+/// Which flanks' sections can reach outside the edge's own cut at the same crossing (-z,
+/// +z): at depth `Y = r sin phi` the -z flank has receded by `Y slope_l` and the section
+/// has travelled `dir * travel(phi / 2pi)` along the axis; it stays inside while
 /// `Y slope_l + dir * travel >= 0`, and likewise `Y slope_r - dir * travel >= 0` on the +z
 /// flank. Checked at both ends of the pass (the lead is monotonic in revolutions) and both
-/// radii of the zone, on 64 angles up to `phi_max`.
-fn harmless(
+/// radii of the zone, on 64 angles up to `phi_max`. A tip without front clearance can cut
+/// below the edge's: both count then.
+fn reaches_out(
     body: &Body,
     lead_start: f64,
     lead_end: f64,
@@ -180,12 +252,13 @@ fn harmless(
     pass: &Pass,
     r: (f64, f64),
     phi_max: f64,
-) -> bool {
+) -> [bool; 2] {
     if body.clearance_front < 0.0 {
-        return false;
+        return [true, true];
     }
     let dir = pass.helix().dir;
     let (sl, sr) = (body.slope_left(), body.slope_right());
+    let mut out = [false, false];
     for lead in [lead_start, lead_end] {
         for rr in [r.0, r.1] {
             for i in 1..=64 {
@@ -193,16 +266,106 @@ fn harmless(
                 let dt = phi / TAU;
                 let travel = dir * (lead * dt + 0.5 * k * dt * dt);
                 let y = rr * phi.sin();
-                if y * sl + travel < 1e-9 || y * sr - travel < 1e-9 {
-                    return false;
-                }
+                out[0] |= y * sl + travel < 1e-9;
+                out[1] |= y * sr - travel < 1e-9;
             }
         }
     }
-    true
+    out
 }
 
 impl Sections {
+    /// How far (mm) section `dt` revolutions after a crossing at lead `lead` stands from
+    /// the edge's tip, along the axis.
+    fn delta(&self, lead: f64, dt: f64) -> f64 {
+        self.dir * (lead * dt + 0.5 * self.lead_k * dt * dt)
+    }
+
+    /// The tables of a straight pass (`None` for a tapered one, one whose tip does not
+    /// reach the blank, or one too short for its sections).
+    pub(crate) fn tabulate(&self, pass: &Pass, sense: f64, q_blank: f64) -> Option<Tables> {
+        if pass.x_start != pass.x_end {
+            return None;
+        }
+        let r_tip = pass.x_start / 2.0;
+        let reach = q_blank - sense * r_tip;
+        let u_max = self.samples.last()?.0;
+        let t_last = pass.revolutions()? - u_max;
+        if reach <= 0.0 || t_last <= 0.0 {
+            return None;
+        }
+        let share = self.table_error / 2.0;
+        let h = 2.0 * share;
+        let n_bins = if self.lead_k == 0.0 {
+            1
+        } else {
+            (t_last * self.lead_k.abs() * u_max / (2.0 * share)).ceil() as usize
+        };
+        if n_bins > MAX_BINS {
+            return None;
+        }
+        let dt = t_last / n_bins as f64;
+        let rays: Vec<Ray> = self
+            .samples
+            .iter()
+            .map(|&(_, c, s)| self.ray(c, s, r_tip, sense, q_blank))
+            .collect();
+        use rayon::prelude::*;
+        let bins = (0..n_bins)
+            .into_par_iter()
+            .map(|i| {
+                let lead = self.lead_f + self.lead_k * (i as f64 + 0.5) * dt;
+                self.table(lead, reach, h, &rays)
+            })
+            .collect();
+        Some(Tables {
+            dt,
+            h,
+            t_last,
+            bins,
+            rays,
+        })
+    }
+
+    /// The two flank tables for crossings at lead `lead`, from each sample's `rays`.
+    fn table(&self, lead: f64, reach: f64, h: f64, rays: &[Ray]) -> [Option<Table>; 2] {
+        // Each sample's bands, in offsets from the edge's tip centre.
+        let bands: Vec<[Option<(f64, f64)>; 2]> = self
+            .samples
+            .iter()
+            .map(|&(dt, _, s)| {
+                let delta = self.delta(lead, dt);
+                self.bands(reach, 2.0 * h, delta, s)
+                    .map(|b| b.map(|(lo, hi)| (lo + delta, hi + delta)))
+            })
+            .collect();
+        [0, 1].map(|f| {
+            let (lo, hi) = bands
+                .iter()
+                .filter_map(|b| b[f])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| {
+                    (a.min(lo), b.max(hi))
+                });
+            if lo > hi {
+                return None;
+            }
+            let w0 = (lo / h).floor() * h;
+            let n = ((hi - w0) / h).ceil() as usize + 1;
+            let mut entries = vec![0.0f32; n];
+            for ((&(dt, _, _), ray), b) in self.samples.iter().zip(rays).zip(&bands) {
+                let Some((b_lo, b_hi)) = b[f] else { continue };
+                let i0 = ((b_lo - w0) / h).ceil().max(0.0) as usize;
+                let i1 = (((b_hi - w0) / h).floor() as usize).min(n - 1);
+                if i1 < i0 {
+                    continue;
+                }
+                let delta = self.delta(lead, dt);
+                ray.cut(&mut entries[i0..=i1], w0 + i0 as f64 * h - delta, h);
+            }
+            Some(Table { w0, entries })
+        })
+    }
+
     /// The axial bands (offsets from the section's tip centre) where the section of sample
     /// `sin phi = s`, placed `delta` mm along the axis from where the edge cut the same
     /// column, can cut below that cut, for material `reach` mm above the tip. The edge's
@@ -247,71 +410,224 @@ impl Sections {
         sense: f64,
         q_blank: f64,
     ) {
-        // Constraints `a r >= b` on the radius along the ray; the v-independent ones first.
-        let mut lo = 0.0f64;
-        let mut hi = if s > 0.0 {
-            self.thickness / s
-        } else {
-            f64::INFINITY
+        self.ray(c, s, r_tip, sense, q_blank).cut(seg, v_start, dz);
+    }
+
+    /// The section of sample `(c, s)` with its tip at radius `r_tip`, as bounds on the
+    /// stored value along the rays at every axial offset `v` from its tip centre.
+    ///
+    /// Every face is a constraint `a r >= b0 + b1 v` on the radius along the ray; written
+    /// for the stored value `rho = sense r - q_blank` it is a lower bound (the body lies
+    /// above a line in `v`), an upper bound, or, when `a = 0`, a limit on `v` alone.
+    fn ray(&self, c: f64, s: f64, r_tip: f64, sense: f64, q_blank: f64) -> Ray {
+        let mut ray = Ray {
+            lower: Vec::with_capacity(RAY_LINES),
+            upper: Vec::with_capacity(RAY_LINES),
+            v_lo: f64::NEG_INFINITY,
+            v_hi: f64::INFINITY,
         };
-        let add = |a: f64, b: f64, lo: &mut f64, hi: &mut f64| {
+        let mut add = |a: f64, b0: f64, b1: f64| {
+            // a r >= b0 + b1 v with r = sense (rho + q_blank).
+            let a = a * sense;
+            let b0 = b0 - a * q_blank;
             if a > 0.0 {
-                *lo = lo.max(b / a);
+                ray.lower.push((b0 / a, b1 / a));
             } else if a < 0.0 {
-                *hi = hi.min(b / a);
-            } else if b > 0.0 {
-                *lo = f64::INFINITY;
+                ray.upper.push((b0 / a, b1 / a));
+            } else if b1 > 0.0 {
+                ray.v_hi = ray.v_hi.min(-b0 / b1);
+            } else if b1 < 0.0 {
+                ray.v_lo = ray.v_lo.max(-b0 / b1);
+            } else if b0 > 0.0 {
+                ray.v_lo = f64::INFINITY;
             }
         };
+        // The ray itself (r >= 0) and the back face (r s <= thickness).
+        add(1.0, 0.0, 0.0);
+        add(-s, -self.thickness, 0.0);
         // Tip: sense (r c - r_tip) >= Y tan_front.
-        add(
-            sense * c - s * self.tan_front,
-            sense * r_tip,
-            &mut lo,
-            &mut hi,
-        );
-        if lo > hi {
+        add(sense * c - s * self.tan_front, sense * r_tip, 0.0);
+        // -z flank: H >= (vl + Y slope_l - v) cl, or for a vertical flank v >= vl + Y slope_l.
+        if self.cl.is_finite() {
+            add(
+                sense * c - s * self.slope_l * self.cl,
+                sense * r_tip + self.vl * self.cl,
+                -self.cl,
+            );
+        } else {
+            add(-s * self.slope_l, self.vl, -1.0);
+        }
+        // +z flank: H >= (v - vr + Y slope_r) cr, or v <= vr - Y slope_r.
+        if self.cr.is_finite() {
+            add(
+                sense * c - s * self.slope_r * self.cr,
+                sense * r_tip - self.vr * self.cr,
+                self.cr,
+            );
+        } else {
+            add(-s * self.slope_r, -self.vr, 1.0);
+        }
+        ray
+    }
+}
+
+/// Lines per kind a section can have: of its five faces (the ray's start, the back, the
+/// tip, two flanks), the first two bound opposite sides.
+const RAY_LINES: usize = 4;
+
+/// One section on the rays of a column: lower and upper bounds `alpha + beta v` on the
+/// stored value at axial offset `v` from the section's tip centre, and the offsets
+/// `[v_lo, v_hi]` it spans.
+#[derive(Clone, Debug)]
+pub(crate) struct Ray {
+    lower: Vec<(f64, f64)>,
+    upper: Vec<(f64, f64)>,
+    v_lo: f64,
+    v_hi: f64,
+}
+
+impl Ray {
+    /// Cut `seg` (cells at offsets `v_start + k dz`). The material side meets the body at
+    /// the highest lower bound (the smallest radius outside, the largest inside), so a cell
+    /// is cut to it where that does not exceed the lowest upper bound. The lines are moved
+    /// to the first cell in f64 and evaluated per cell in f32, like the edge.
+    pub(crate) fn cut(&self, seg: &mut [f32], v_start: f64, dz: f64) {
+        let k0 = ((self.v_lo - v_start) / dz).ceil().max(0.0);
+        let k1 = ((self.v_hi - v_start) / dz)
+            .floor()
+            .min(seg.len() as f64 - 1.0);
+        if k0.is_nan() || k1.is_nan() || k0 > k1 {
             return;
         }
-        let (lo0, hi0) = (lo, hi);
-        for (k, cell) in seg.iter_mut().enumerate() {
-            let v = v_start + k as f64 * dz;
-            let (mut lo, mut hi) = (lo0, hi0);
-            // -z flank: H >= (vl + Y slope_l - v) cl, or for a vertical flank v >= vl + Y slope_l.
-            if self.cl.is_finite() {
-                add(
-                    sense * c - s * self.slope_l * self.cl,
-                    sense * r_tip + (self.vl - v) * self.cl,
-                    &mut lo,
-                    &mut hi,
-                );
-            } else {
-                add(-s * self.slope_l, self.vl - v, &mut lo, &mut hi);
-            }
-            // +z flank: H >= (v - vr + Y slope_r) cr, or v <= vr - Y slope_r.
-            if self.cr.is_finite() {
-                add(
-                    sense * c - s * self.slope_r * self.cr,
-                    sense * r_tip + (v - self.vr) * self.cr,
-                    &mut lo,
-                    &mut hi,
-                );
-            } else {
-                add(-s * self.slope_r, v - self.vr, &mut lo, &mut hi);
-            }
-            if lo > hi {
-                continue;
-            }
-            // The material side meets the body first: the smallest radius outside, the
-            // largest inside.
-            let r = if sense > 0.0 { lo } else { hi };
-            if !r.is_finite() {
-                continue;
-            }
-            let q = (sense * r - q_blank) as f32;
-            if q < *cell {
-                *cell = q;
-            }
+        let (k0, k1) = (k0 as usize, k1 as usize);
+        let v0 = v_start + k0 as f64 * dz;
+        let lower = Lines::<RAY_LINES>::new(&self.lower, v0, f32::NEG_INFINITY);
+        let upper = Lines::<RAY_LINES>::new(&self.upper, v0, f32::INFINITY);
+        let seg = &mut seg[k0..=k1];
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            unsafe { cut_avx2(seg, &lower, &upper, dz as f32) };
+            return;
         }
+        cut_cells(seg, &lower, &upper, dz as f32);
+    }
+}
+
+/// The cells' loop of [`Ray::cut`]: each cell cut to the highest lower bound where that
+/// does not exceed the lowest upper bound.
+#[inline(always)]
+fn cut_cells(seg: &mut [f32], lower: &Lines<RAY_LINES>, upper: &Lines<RAY_LINES>, dz: f32) {
+    for (k, cell) in seg.iter_mut().enumerate() {
+        let w = (k as i32) as f32 * dz;
+        let lo = lower.max_at(w);
+        let hi = upper.min_at(w);
+        let cut = if lo <= hi { lo } else { f32::INFINITY };
+        *cell = fmin(*cell, cut);
+    }
+}
+
+/// [`cut_cells`] compiled for AVX2: eight cells a step instead of four. The same f32
+/// operations in the same order (no fused multiply-add), so the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn cut_avx2(seg: &mut [f32], lower: &Lines<RAY_LINES>, upper: &Lines<RAY_LINES>, dz: f32) {
+    cut_cells(seg, lower, upper, dz);
+}
+
+/// Up to `N` lines `alpha + beta w` in f32.
+struct Lines<const N: usize> {
+    alpha: [f32; N],
+    beta: [f32; N],
+}
+
+impl<const N: usize> Lines<N> {
+    /// The lines `alpha + beta v` moved to `w = v - v0`, padded with the constant `fill`.
+    fn new(lines: &[(f64, f64)], v0: f64, fill: f32) -> Self {
+        let mut out = Lines {
+            alpha: [fill; N],
+            beta: [0.0; N],
+        };
+        for (i, &(alpha, beta)) in lines.iter().enumerate() {
+            out.alpha[i] = (alpha + beta * v0) as f32;
+            out.beta[i] = beta as f32;
+        }
+        out
+    }
+
+    #[inline(always)]
+    fn max_at(&self, w: f32) -> f32 {
+        let mut m = self.alpha[0] + self.beta[0] * w;
+        for i in 1..N {
+            m = fmax(m, self.alpha[i] + self.beta[i] * w);
+        }
+        m
+    }
+
+    #[inline(always)]
+    fn min_at(&self, w: f32) -> f32 {
+        let mut m = self.alpha[0] + self.beta[0] * w;
+        for i in 1..N {
+            m = fmin(m, self.alpha[i] + self.beta[i] * w);
+        }
+        m
+    }
+}
+
+#[inline(always)]
+fn fmin(a: f32, b: f32) -> f32 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+#[inline(always)]
+fn fmax(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+impl Tables {
+    /// Cut a column (cells `z0 + j dz`) with the tables of a crossing at revolution
+    /// `t <= t_last` whose edge tip centre stands at `z_tip`; returns the tables applied and
+    /// the cells they touched.
+    pub(crate) fn apply(
+        &self,
+        col: &mut [f32],
+        t: f64,
+        z_tip: f64,
+        (z0, dz): (f64, f64),
+    ) -> (u64, u64) {
+        let bin = ((t / self.dt) as usize).min(self.bins.len() - 1);
+        let (mut tables, mut cells) = (0, 0);
+        let last = col.len() as f64 - 1.0;
+        for Table { w0, entries } in self.bins[bin].iter().flatten() {
+            // Cells whose nearest entry is in the table: w within h/2 of its ends.
+            let w_hi = w0 + (entries.len() as f64 - 0.5) * self.h;
+            let j0 = ((z_tip + w0 - 0.5 * self.h - z0) / dz).ceil().max(0.0);
+            let j1 = ((z_tip + w_hi - z0) / dz).floor().min(last);
+            if j1 < j0 {
+                continue;
+            }
+            let (j0, j1) = (j0 as usize, j1 as usize);
+            // Entry index of cell j: round((z0 + j dz - z_tip - w0) / h).
+            let x0 = (z0 + j0 as f64 * dz - z_tip - w0) / self.h + 0.5;
+            let step = dz / self.h;
+            let top = entries.len() - 1;
+            for (k, cell) in col[j0..=j1].iter_mut().enumerate() {
+                // x >= 0 up to rounding (the first cell is within h/2 of entry 0), so the
+                // saturating cast floors it.
+                let i = ((x0 + k as f64 * step) as usize).min(top);
+                *cell = fmin(*cell, entries[i]);
+            }
+            tables += 1;
+            cells += (j1 - j0 + 1) as u64;
+        }
+        (tables, cells)
     }
 }

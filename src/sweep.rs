@@ -13,7 +13,7 @@
 //!
 //! One *dexel update* is one dexel tested against one tool placement; the kernel counts them.
 
-use crate::body::{self, Sections};
+use crate::body::{self, Ray, Sections, Tables};
 use crate::pass::Pass;
 use crate::stock::{Stock, Surface};
 use crate::tool::{Kernel, Tool};
@@ -47,6 +47,8 @@ struct Prepared {
     kernel: Kernel,
     /// The body's sections, when they can cut something the edge does not.
     body: Option<Sections>,
+    /// Their cut tabulated (grid sweeps of straight passes).
+    tables: Option<Tables>,
 }
 
 /// Cut `surface` of the stock with every pass (passes whose lead vanishes are skipped;
@@ -54,7 +56,7 @@ struct Prepared {
 pub fn sweep(stock: &mut Stock, surface: Surface, passes: &[Pass], tools: &[Tool]) -> SweepStats {
     let grid = stock.grid;
     let q_blank = stock.blank_q(surface);
-    let prepared = prepare(passes, tools, q_blank, surface);
+    let prepared = prepare(passes, tools, q_blank, surface, true);
     let Some(q) = stock.surface_mut(surface) else {
         return SweepStats::default();
     };
@@ -93,25 +95,39 @@ pub struct Column {
 /// Cut one free-standing column (used for the fine measurement generators). `q` holds
 /// `q - q_blank` (zeros for the blank) and is cut in place.
 pub fn sweep_column(q: &mut [f32], c: Column, passes: &[Pass], tools: &[Tool]) -> SweepStats {
-    let prepared = prepare(passes, tools, c.q_blank, c.surface);
+    let prepared = prepare(passes, tools, c.q_blank, c.surface, false);
     cut_column(
         q, c.theta, c.z0, c.dz, c.q_blank, c.surface, passes, &prepared,
     )
 }
 
-fn prepare(passes: &[Pass], tools: &[Tool], q_blank: f64, surface: Surface) -> Vec<Prepared> {
+/// The passes made ready; `tabulate` builds the bodies' [`Tables`], which pay off over a
+/// whole grid but not for one column.
+fn prepare(
+    passes: &[Pass],
+    tools: &[Tool],
+    q_blank: f64,
+    surface: Surface,
+    tabulate: bool,
+) -> Vec<Prepared> {
     passes
         .iter()
         .enumerate()
         .filter_map(|(pass_idx, p)| {
             let tool = tools.get(p.tool)?;
             let zone = body::zone(p, q_blank, surface);
+            let body = body::sections(p, tool, zone);
+            let tables = body
+                .as_ref()
+                .filter(|_| tabulate)
+                .and_then(|b| b.tabulate(p, surface.sense(), q_blank));
             Some(Prepared {
                 pass_idx,
                 t_end: p.revolutions()?,
                 ref_offset: tool.reference_offset(),
                 kernel: tool.kernel(),
-                body: body::sections(p, tool, zone),
+                body,
+                tables,
             })
         })
         .collect()
@@ -157,8 +173,18 @@ fn cut_column(
             stats.placements += 1;
             stats.dexel_updates += seg.len() as u64;
             apply(seg, &pr.kernel, v_start, dz, q_tip - q_blank);
-            if let Some(b) = &pr.body {
-                stats = stats + body_sections(col, b, pass, pr, t, (z0, dz), q_blank, sense);
+            match (&pr.tables, &pr.body) {
+                (Some(tables), _) if t <= tables.t_last => {
+                    let (placements, cells) = tables.apply(col, t, z_tip, (z0, dz));
+                    stats.placements += placements;
+                    stats.dexel_updates += cells;
+                }
+                (tables, Some(b)) => {
+                    let rays = tables.as_ref().map(|tb| tb.rays.as_slice());
+                    stats =
+                        stats + body_sections(col, b, rays, pass, pr, t, (z0, dz), q_blank, sense);
+                }
+                _ => {}
             }
         }
     }
@@ -167,10 +193,12 @@ fn cut_column(
 
 /// The body's sections after the edge's crossing at `t`: each at its own instant, tip and
 /// axial position, over the bands along the flanks where it can reach beyond the edge.
+/// `rays` are the samples' sections made ready, for a straight pass.
 #[allow(clippy::too_many_arguments)]
 fn body_sections(
     col: &mut [f32],
     b: &Sections,
+    rays: Option<&[Ray]>,
     pass: &Pass,
     pr: &Prepared,
     t: f64,
@@ -182,7 +210,7 @@ fn body_sections(
     let n = col.len();
     let helix = pass.helix();
     let z_tip_edge = helix.z(t) - pr.ref_offset;
-    for &(dt, c, s) in &b.samples {
+    for (i, &(dt, c, s)) in b.samples.iter().enumerate() {
         let ts = t + dt;
         if ts > pr.t_end {
             break;
@@ -214,7 +242,10 @@ fn body_sections(
             let seg = &mut col[j0..=j1];
             stats.placements += 1;
             stats.dexel_updates += seg.len() as u64;
-            b.apply(seg, v_start, dz, c, s, r_tip, sense, q_blank);
+            match rays {
+                Some(rays) => rays[i].cut(seg, v_start, dz),
+                None => b.apply(seg, v_start, dz, c, s, r_tip, sense, q_blank),
+            }
         }
     }
     stats
@@ -375,6 +406,18 @@ mod tests {
         cut_surface(pass, tool, body, Surface::Outer, 25.0)
     }
 
+    /// Whether every cell of `x` (cells `dz` apart) lies within `bound` along the axis of a
+    /// cell of `y` at least as deep. Radial differences at a wall are heights, so cuts are
+    /// compared by position.
+    fn within_axially(x: &[f32], y: &[f32], bound: f64, dz: f64) -> bool {
+        let reach = (bound / dz).ceil() as usize + 1;
+        (0..x.len()).all(|j| {
+            let lo = j.saturating_sub(reach);
+            let hi = (j + reach).min(y.len() - 1);
+            (lo..=hi).any(|k| y[k] <= x[j] + 1e-4 + bound as f32)
+        })
+    }
+
     fn cut_surface(
         pass: &Pass,
         tool: &Tool,
@@ -382,7 +425,19 @@ mod tests {
         surface: Surface,
         q_blank: f64,
     ) -> Vec<f32> {
-        let (z0, dz, n) = (-110.0, 0.01, 12000);
+        cut_with(pass, tool, body, None, surface, q_blank, 0.01)
+    }
+
+    fn cut_with(
+        pass: &Pass,
+        tool: &Tool,
+        body: Option<Sections>,
+        tables: Option<Tables>,
+        surface: Surface,
+        q_blank: f64,
+        dz: f64,
+    ) -> Vec<f32> {
+        let (z0, n) = (-110.0, (120.0 / dz) as usize);
         let mut q = vec![0.0f32; n];
         let prepared = [Prepared {
             pass_idx: 0,
@@ -390,6 +445,7 @@ mod tests {
             ref_offset: tool.reference_offset(),
             kernel: tool.kernel(),
             body,
+            tables,
         }];
         cut_column(
             &mut q,
@@ -466,19 +522,7 @@ mod tests {
         let planar = cut(&pass, &tool, None);
         let a = cut(&pass, &tool, Some(coarse));
         let b = cut(&pass, &tool, Some(fine));
-        // Radial differences at a wall are heights: compare where the cuts differ by
-        // position instead: each coarse cell must lie within `bound` (axially) of a fine
-        // cell at least as deep, and vice versa.
-        let dz = 0.01;
-        let reach = (bound / dz).ceil() as usize + 1;
-        let within = |x: &[f32], y: &[f32]| {
-            (0..x.len()).all(|j| {
-                let lo = j.saturating_sub(reach);
-                let hi = (j + reach).min(y.len() - 1);
-                (lo..=hi).any(|k| y[k] <= x[j] + 1e-4 + bound as f32)
-            })
-        };
-        assert!(within(&a, &b) && within(&b, &a));
+        assert!(within_axially(&a, &b, bound, 0.01) && within_axially(&b, &a, bound, 0.01));
         let extra: Vec<usize> = (0..a.len()).filter(|&j| a[j] < planar[j] - 1e-3).collect();
         assert!(!extra.is_empty(), "the body cut nothing");
         // Every extra cell lies just -z of a wall the edge cut: the next cells towards +z
@@ -490,5 +534,33 @@ mod tests {
                 "cell {j} is not on a -z flank"
             );
         }
+    }
+
+    /// The tabulated sections (the grid sweep's) against the same sections swept at every
+    /// crossing (the measurement columns'): within the tables' share of the bound, on a
+    /// variable-lead pass (the tables' bins) and with the body rubbing.
+    #[test]
+    fn tables_agree_with_direct_sections() {
+        let (pass, tool) = bodied(3.0, 20.0);
+        let sections = body::sections(&pass, &tool, (22.0, 25.0)).expect("interferes");
+        let tables = sections
+            .tabulate(&pass, 1.0, 25.0)
+            .expect("a straight pass");
+        assert!(tables.t_last > 5.0, "{}", tables.t_last);
+        // Cells of 1 um, finer than the tables' entries (2.5 um).
+        let dz = 0.001;
+        let column = |s: Option<Sections>, t: Option<Tables>| {
+            cut_with(&pass, &tool, s, t, Surface::Outer, 25.0, dz)
+        };
+        let planar = column(None, None);
+        let direct = column(Some(sections.clone()), None);
+        let tabled = column(Some(sections), Some(tables));
+        let share = body::SAMPLING_ERROR_MM / 2.0;
+        assert!(within_axially(&direct, &tabled, share, dz));
+        assert!(within_axially(&tabled, &direct, share, dz));
+        // The tables did cut beside the edge, and not everywhere alike.
+        let extra = |c: &[f32]| (0..c.len()).filter(|&j| c[j] < planar[j] - 1e-3).count();
+        assert!(extra(&tabled) > 500, "{}", extra(&tabled));
+        assert!(extra(&tabled).abs_diff(extra(&direct)) < extra(&direct) / 10);
     }
 }
