@@ -63,8 +63,9 @@ pub(crate) struct Sections {
     slope_r: f64,
     tan_front: f64,
     thickness: f64,
-    /// The radii the body can meet (mm).
+    /// The radii the body can meet (mm), and the surface's sense (+1 outer, -1 inner).
     r_zone: (f64, f64),
+    sense: f64,
     /// The bound on the error of the sections' cut against the continuous body's (mm): the
     /// angular sampling's and, where the sweep uses [`Tables`], the tables' (see there).
     pub(crate) bound: f64,
@@ -130,8 +131,13 @@ pub(crate) fn zone(pass: &Pass, q_blank: f64, surface: Surface) -> (f64, f64) {
 
 /// The sections of a pass's body for the radii `r_zone` it can meet (tip to blank), or
 /// `None` when the tool has no body or the body cannot cut beyond the edge.
-pub(crate) fn sections(pass: &Pass, tool: &Tool, r_zone: (f64, f64)) -> Option<Sections> {
-    sample(pass, tool, r_zone, SAMPLING_ERROR_MM, false)
+pub(crate) fn sections(
+    pass: &Pass,
+    tool: &Tool,
+    r_zone: (f64, f64),
+    sense: f64,
+) -> Option<Sections> {
+    sample(pass, tool, r_zone, sense, SAMPLING_ERROR_MM, false)
 }
 
 /// The sections with the sampling error kept under `error_mm`; `force` samples even a body
@@ -140,6 +146,7 @@ pub(crate) fn sample(
     pass: &Pass,
     tool: &Tool,
     r_zone: (f64, f64),
+    sense: f64,
     error_mm: f64,
     force: bool,
 ) -> Option<Sections> {
@@ -158,8 +165,11 @@ pub(crate) fn sample(
     // The body's angular extent: the largest phi at which some ray of the zone is still
     // within `thickness` of the rake face.
     let phi_max = (body.thickness / r_lo).min(1.0).asin().min(FRAC_PI_2);
+    let tan_flanks = [left_angle.max(0.0).tan(), right_angle.max(0.0).tan()];
     let out = reaches_out(
         &body,
+        tan_flanks,
+        sense,
         law.lead(0.0),
         law.lead(t_end),
         law.k,
@@ -175,32 +185,38 @@ pub(crate) fn sample(
         body.slope_right(),
         body.clearance_front.tan(),
     );
-    // Per radian of phi, how fast a flank of the section moves across the edge's wall: it
-    // travels `dir L/2pi` along the axis (`L` the lead at the section's instant, between the
-    // pass's first and last) and recedes `r cos(phi) slope`; the rate of `Y slope_l + dir
-    // travel` on the -z flank and of `Y slope_r - dir travel` on the +z one. Linear in `L`
-    // and in `r cos phi`, so its largest size is at a corner. Only a flank that can reach
-    // beyond the edge's wall counts (a forced body counts both); see the module docs for
-    // why the tip's rise does not.
+    // Per radian of phi, how fast a flank of the section moves across the edge's wall: the
+    // rate of `out_l` and `out_r` (see [`reaches_out`]), `-/+ dir L/2pi - r cos(phi) slope -
+    // sense r sin(phi) tan a` with `L` the lead at the section's instant (between the pass's
+    // first and last), plus, on a taper, the tip's radial travel along the sloped flank.
+    // Linear in `L`, `r cos phi` and `r sin phi` apart, so its largest size is at a corner.
+    // Only a flank that can reach beyond the edge's wall counts (a forced body counts both);
+    // see the module docs for why the tip's rise does not.
     let dir = pass.helix().dir;
+    let taper = if pass.z_end != pass.z_start {
+        ((pass.x_end - pass.x_start) / 2.0 / (pass.z_end - pass.z_start)).abs()
+    } else {
+        0.0
+    };
     let counted = if out == [false, false] {
         [true, true]
     } else {
         out
     };
-    let speed = [(sl, dir), (sr, -dir)]
-        .into_iter()
-        .zip(counted)
-        .filter(|&(_, c)| c)
-        .flat_map(|((slope, d), _)| {
-            [law.lead(0.0), law.lead(t_end)]
-                .into_iter()
-                .flat_map(move |l| {
-                    [r_lo * phi_max.cos(), r_hi].map(move |rc| (rc * slope + d * l / TAU).abs())
-                })
-        })
-        .fold(0.0, f64::max)
-        .max(1e-9);
+    let mut speed: f64 = 1e-9;
+    for (f, (slope, d)) in [(sl, -dir), (sr, dir)].into_iter().enumerate() {
+        if !counted[f] {
+            continue;
+        }
+        for l in [law.lead(0.0), law.lead(t_end)] {
+            for rc in [r_lo * phi_max.cos(), r_hi] {
+                for rs in [0.0, r_hi * phi_max.sin()] {
+                    let rate = d * l / TAU - rc * slope - sense * rs * tan_flanks[f];
+                    speed = speed.max(rate.abs() + taper * l.abs() / TAU * tan_flanks[f]);
+                }
+            }
+        }
+    }
     // Half the error to the angular sampling, half to the tables (if the sweep uses them).
     let phi_error = error_mm / 2.0;
     let n = ((phi_max * speed / phi_error).ceil() as usize).clamp(1, MAX_SAMPLES);
@@ -229,6 +245,7 @@ pub(crate) fn sample(
         tan_front: tf,
         thickness: body.thickness,
         r_zone: (r_lo, r_hi),
+        sense,
         bound: dphi * speed + error_mm / 2.0,
         table_error: error_mm / 2.0,
         dir: pass.helix().dir,
@@ -238,14 +255,20 @@ pub(crate) fn sample(
 }
 
 /// Which flanks' sections can reach outside the edge's own cut at the same crossing (-z,
-/// +z): at depth `Y = r sin phi` the -z flank has receded by `Y slope_l` and the section
-/// has travelled `dir * travel(phi / 2pi)` along the axis; it stays inside while
-/// `Y slope_l + dir * travel >= 0`, and likewise `Y slope_r - dir * travel >= 0` on the +z
-/// flank. Checked at both ends of the pass (the lead is monotonic in revolutions) and both
-/// radii of the zone, on 64 angles up to `phi_max`. A tip without front clearance can cut
-/// below the edge's: both count then.
+/// +z). At relative angle `phi`, radius `r` (depth `Y = r sin phi`) the section's -z flank
+/// stands `out_l = -dir travel - Y slope_l - sense r (1 - cos phi) tan a_l` beyond the
+/// edge's (towards the material): it has travelled with the helix, receded with its
+/// clearance, and, when sloped, moved with the ray's lower height above the tip
+/// (`r cos phi` instead of `r`), which recedes outside and reaches out inside a bore. The
+/// +z flank likewise with `+dir travel`. Checked at both ends of the pass (the lead is
+/// monotonic in revolutions), on 64 angles up to `phi_max`, at both ends of the radii the
+/// body spans on the ray. A tip without front clearance can cut below the edge's: both
+/// count then.
+#[allow(clippy::too_many_arguments)]
 fn reaches_out(
     body: &Body,
+    tan_flanks: [f64; 2],
+    sense: f64,
     lead_start: f64,
     lead_end: f64,
     k: f64,
@@ -260,14 +283,17 @@ fn reaches_out(
     let (sl, sr) = (body.slope_left(), body.slope_right());
     let mut out = [false, false];
     for lead in [lead_start, lead_end] {
-        for rr in [r.0, r.1] {
-            for i in 1..=64 {
-                let phi = phi_max * i as f64 / 64.0;
-                let dt = phi / TAU;
-                let travel = dir * (lead * dt + 0.5 * k * dt * dt);
+        for i in 1..=64 {
+            let phi = phi_max * i as f64 / 64.0;
+            let dt = phi / TAU;
+            let travel = dir * (lead * dt + 0.5 * k * dt * dt);
+            // `out` is linear in the radius: its largest is at an end of the radii the
+            // body has on this ray (within `thickness` of the rake face).
+            for rr in [r.0, r.1.min(body.thickness / phi.sin())] {
                 let y = rr * phi.sin();
-                out[0] |= y * sl + travel < 1e-9;
-                out[1] |= y * sr - travel < 1e-9;
+                let lift = sense * rr * (1.0 - phi.cos());
+                out[0] |= -travel - y * sl - lift * tan_flanks[0] > -1e-9;
+                out[1] |= travel - y * sr - lift * tan_flanks[1] > -1e-9;
             }
         }
     }
@@ -383,11 +409,21 @@ impl Sections {
         s: f64,
     ) -> [Option<(f64, f64)>; 2] {
         let run = |c: f64| if c.is_finite() { reach / c } else { 0.0 };
-        let y_lo = (self.r_zone.0 * s).min(self.thickness);
-        let y_hi = (self.r_zone.1 * s).min(self.thickness);
-        // Offsets of the section's flanks from the edge's, towards the material (+).
-        let out_l = -(y_lo * self.slope_l).min(y_hi * self.slope_l) - delta;
-        let out_r = -(y_lo * self.slope_r).min(y_hi * self.slope_r) + delta;
+        let tan = |c: f64| if c.is_finite() { 1.0 / c } else { 0.0 };
+        // Offsets of the section's flanks from the edge's, towards the material (+), at
+        // the zone's two radii (linear in the radius, so the larger is at one of them);
+        // see [`reaches_out`].
+        let lift = 1.0 - (1.0 - s * s).max(0.0).sqrt();
+        let out = |slope: f64, tan_a: f64, travel: f64| {
+            [self.r_zone.0, self.r_zone.1]
+                .map(|r| {
+                    travel - (r * s).min(self.thickness) * slope - self.sense * r * lift * tan_a
+                })
+                .into_iter()
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let out_l = out(self.slope_l, tan(self.cl), -delta);
+        let out_r = out(self.slope_r, tan(self.cr), delta);
         let (el, er) = (self.vl - delta, self.vr - delta);
         [
             (out_l > 0.0).then(|| (el - out_l - run(self.cl) - pad, el + pad)),

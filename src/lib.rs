@@ -591,7 +591,8 @@ fn build_report(
                 .iter()
                 .filter_map(|p| {
                     let tool = job.tools.get(p.tool)?;
-                    let s = body::sections(p, tool, body::zone(p, q_blank, surface))?;
+                    let s =
+                        body::sections(p, tool, body::zone(p, q_blank, surface), surface.sense())?;
                     Some((s.samples.len(), s.bound))
                 })
                 .collect();

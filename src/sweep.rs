@@ -116,7 +116,7 @@ fn prepare(
         .filter_map(|(pass_idx, p)| {
             let tool = tools.get(p.tool)?;
             let zone = body::zone(p, q_blank, surface);
-            let body = body::sections(p, tool, zone);
+            let body = body::sections(p, tool, zone, surface.sense());
             let tables = body
                 .as_ref()
                 .filter(|_| tabulate)
@@ -466,8 +466,11 @@ mod tests {
     fn a_cleared_body_cuts_what_the_edge_cuts() {
         let (pass, tool) = bodied(20.0, 20.0);
         let zone = (22.0, 25.0);
-        assert!(body::sections(&pass, &tool, zone).is_none(), "not skipped");
-        let forced = body::sample(&pass, &tool, zone, body::SAMPLING_ERROR_MM, true).unwrap();
+        assert!(
+            body::sections(&pass, &tool, zone, 1.0).is_none(),
+            "not skipped"
+        );
+        let forced = body::sample(&pass, &tool, zone, 1.0, body::SAMPLING_ERROR_MM, true).unwrap();
         assert!(forced.samples.len() > 10);
         let planar = cut(&pass, &tool, None);
         assert!(planar.iter().any(|&q| q < -2.9), "the edge cut the groove");
@@ -485,18 +488,21 @@ mod tests {
         pass.x_start = 26.0;
         pass.x_end = 26.0;
         let zone = (10.0, 13.0);
-        assert!(body::sections(&pass, &tool, zone).is_none(), "not skipped");
+        assert!(
+            body::sections(&pass, &tool, zone, -1.0).is_none(),
+            "not skipped"
+        );
         let (_, rubbing) = bodied(20.0, 20.0);
         let planar = cut_surface(&pass, &tool, None, Surface::Inner, -10.0);
         let rubbed = cut_surface(
             &pass,
             &rubbing,
-            body::sections(&pass, &rubbing, zone),
+            body::sections(&pass, &rubbing, zone, -1.0),
             Surface::Inner,
             -10.0,
         );
         assert!(rubbed.iter().zip(&planar).any(|(r, p)| r < &(p - 0.01)));
-        let forced = body::sample(&pass, &tool, zone, body::SAMPLING_ERROR_MM, true).unwrap();
+        let forced = body::sample(&pass, &tool, zone, -1.0, body::SAMPLING_ERROR_MM, true).unwrap();
         assert!(planar.iter().any(|&q| q < -2.9), "the edge cut the groove");
         let bodied = cut_surface(&pass, &tool, Some(forced), Surface::Inner, -10.0);
         let diff: Vec<(usize, f32, f32)> = (0..planar.len())
@@ -514,10 +520,18 @@ mod tests {
     fn body_sampling_stays_within_its_bound() {
         let (pass, tool) = bodied(3.0, 20.0);
         let zone = (22.0, 25.0);
-        let coarse = body::sections(&pass, &tool, zone).expect("interferes");
+        let coarse = body::sections(&pass, &tool, zone, 1.0).expect("interferes");
         let bound = coarse.bound;
         assert!(bound <= body::SAMPLING_ERROR_MM * (1.0 + 1e-9), "{bound}");
-        let fine = body::sample(&pass, &tool, zone, body::SAMPLING_ERROR_MM / 4.0, false).unwrap();
+        let fine = body::sample(
+            &pass,
+            &tool,
+            zone,
+            1.0,
+            body::SAMPLING_ERROR_MM / 4.0,
+            false,
+        )
+        .unwrap();
         assert!(fine.samples.len() >= 4 * coarse.samples.len() - 4);
         let planar = cut(&pass, &tool, None);
         let a = cut(&pass, &tool, Some(coarse));
@@ -542,7 +556,7 @@ mod tests {
     #[test]
     fn tables_agree_with_direct_sections() {
         let (pass, tool) = bodied(3.0, 20.0);
-        let sections = body::sections(&pass, &tool, (22.0, 25.0)).expect("interferes");
+        let sections = body::sections(&pass, &tool, (22.0, 25.0), 1.0).expect("interferes");
         let tables = sections
             .tabulate(&pass, 1.0, 25.0)
             .expect("a straight pass");
@@ -562,5 +576,109 @@ mod tests {
         let extra = |c: &[f32]| (0..c.len()).filter(|&j| c[j] < planar[j] - 1e-3).count();
         assert!(extra(&tabled) > 500, "{}", extra(&tabled));
         assert!(extra(&tabled).abs_diff(extra(&direct)) < extra(&direct) / 10);
+    }
+
+    /// A Tr-like tool (tip 1.9, 15 deg flanks) with a body on the variable-lead pass.
+    fn bodied_tr(clearance_deg: f64) -> (Pass, Tool) {
+        let (pass, mut tool) = bodied(clearance_deg, clearance_deg);
+        tool.edge = Edge::Trapezoid {
+            tip: 1.9,
+            left_angle: 15f64.to_radians(),
+            right_angle: 15f64.to_radians(),
+        };
+        (pass, tool)
+    }
+
+    /// Sloped flanks: the sampling bound holds against four times the samples, outside
+    /// and in a bore (where the ray's falling height above the tip moves a sloped flank
+    /// towards the material).
+    #[test]
+    fn sloped_body_sampling_stays_within_its_bound() {
+        for (surface, x, q_blank, zone) in [
+            (Surface::Outer, 44.0, 25.0, (22.0, 25.0)),
+            (Surface::Inner, 26.0, -10.0, (10.0, 13.0)),
+        ] {
+            let (mut pass, tool) = bodied_tr(3.0);
+            pass.x_start = x;
+            pass.x_end = x;
+            let sense = surface.sense();
+            let coarse = body::sections(&pass, &tool, zone, sense).expect("interferes");
+            let bound = coarse.bound;
+            let fine = body::sample(
+                &pass,
+                &tool,
+                zone,
+                sense,
+                body::SAMPLING_ERROR_MM / 4.0,
+                false,
+            )
+            .unwrap();
+            let dz = 0.001;
+            let a = cut_with(&pass, &tool, Some(coarse), None, surface, q_blank, dz);
+            let b = cut_with(&pass, &tool, Some(fine), None, surface, q_blank, dz);
+            let planar = cut_with(&pass, &tool, None, None, surface, q_blank, dz);
+            assert!(
+                (0..a.len()).filter(|&j| a[j] < planar[j] - 1e-3).count() > 100,
+                "{surface:?}: the body cut nothing"
+            );
+            assert!(
+                within_axially(&a, &b, bound, dz) && within_axially(&b, &a, bound, dz),
+                "{surface:?}"
+            );
+        }
+    }
+
+    /// The skip rule at its edge: the smallest whole-degree clearance that a sloped body
+    /// is skipped with cuts exactly what the edge cuts even when its sections are forced,
+    /// in a bore (where a sloped flank reaches out by `r (1 - cos phi) tan 15`) and
+    /// outside; one degree less is not skipped and does rub.
+    #[test]
+    fn the_skip_rule_is_exact_at_its_threshold() {
+        for (surface, x, q_blank, zone) in [
+            (Surface::Outer, 44.0, 25.0, (22.0, 25.0)),
+            (Surface::Inner, 26.0, -10.0, (10.0, 13.0)),
+        ] {
+            let sense = surface.sense();
+            // A constant lead, so that every crossing of the column sees the largest.
+            let setup = |deg: f64| {
+                let (mut pass, tool) = bodied_tr(deg);
+                pass.x_start = x;
+                pass.x_end = x;
+                pass.lead = 24.0;
+                pass.lead_change = 0.0;
+                (pass, tool)
+            };
+            let skipped = |deg: f64| {
+                let (pass, tool) = setup(deg);
+                body::sections(&pass, &tool, zone, sense).is_none()
+            };
+            let deg = (1..60)
+                .map(f64::from)
+                .find(|&d| skipped(d))
+                .expect("some clearance");
+            // How much deeper than the edge the forced sections cut.
+            let deeper = |deg: f64| {
+                let (pass, tool) = setup(deg);
+                let forced =
+                    body::sample(&pass, &tool, zone, sense, body::SAMPLING_ERROR_MM, true).unwrap();
+                let planar = cut_with(&pass, &tool, None, None, surface, q_blank, 0.01);
+                let bodied = cut_with(&pass, &tool, Some(forced), None, surface, q_blank, 0.01);
+                (0..planar.len())
+                    .map(|j| planar[j] - bodied[j])
+                    .fold(0f32, f32::max)
+            };
+            assert!(
+                deeper(deg) == 0.0,
+                "{surface:?} at {deg} deg: {}",
+                deeper(deg)
+            );
+            // One degree less rubs (the rule is sharp to a degree, not just safe).
+            assert!(!skipped(deg - 1.0));
+            assert!(
+                deeper(deg - 1.0) > 0.01,
+                "{surface:?}: {}",
+                deeper(deg - 1.0)
+            );
+        }
     }
 }
