@@ -113,8 +113,10 @@ struct Table {
     entries: Vec<f32>,
 }
 
-/// Most bins per pass (beyond, the pass sweeps its sections directly).
-const MAX_BINS: usize = 4096;
+/// Most bins per pass, and entries per table (beyond either, the pass sweeps its sections
+/// directly): at most 64 MB of tables per pass.
+const MAX_BINS: usize = 1024;
+const MAX_ENTRIES: usize = 8192;
 
 /// The radii a pass's body can meet on `surface`: from its tip to the blank (`q_blank`).
 pub(crate) fn zone(pass: &Pass, q_blank: f64, surface: Surface) -> (f64, f64) {
@@ -343,7 +345,7 @@ impl Sections {
                 let lead = self.lead_f + self.lead_k * (i as f64 + 0.5) * dt;
                 self.table(lead, reach, h, &rays)
             })
-            .collect();
+            .collect::<Option<Vec<_>>>()?;
         Some(Tables {
             dt,
             h,
@@ -353,8 +355,9 @@ impl Sections {
         })
     }
 
-    /// The two flank tables for crossings at lead `lead`, from each sample's `rays`.
-    fn table(&self, lead: f64, reach: f64, h: f64, rays: &[Ray]) -> [Option<Table>; 2] {
+    /// The two flank tables for crossings at lead `lead`, from each sample's `rays`; `None`
+    /// when one would exceed [`MAX_ENTRIES`].
+    fn table(&self, lead: f64, reach: f64, h: f64, rays: &[Ray]) -> Option<[Option<Table>; 2]> {
         // Each sample's bands, in offsets from the edge's tip centre.
         let bands: Vec<[Option<(f64, f64)>; 2]> = self
             .samples
@@ -365,7 +368,8 @@ impl Sections {
                     .map(|b| b.map(|(lo, hi)| (lo + delta, hi + delta)))
             })
             .collect();
-        [0, 1].map(|f| {
+        let mut out = [None, None];
+        for (f, slot) in out.iter_mut().enumerate() {
             let (lo, hi) = bands
                 .iter()
                 .filter_map(|b| b[f])
@@ -373,10 +377,14 @@ impl Sections {
                     (a.min(lo), b.max(hi))
                 });
             if lo > hi {
-                return None;
+                continue;
             }
             let w0 = (lo / h).floor() * h;
-            let n = ((hi - w0) / h).ceil() as usize + 1;
+            let n = ((hi - w0) / h).ceil() + 1.0;
+            if n.is_nan() || n > MAX_ENTRIES as f64 {
+                return None;
+            }
+            let n = n as usize;
             let mut entries = vec![0.0f32; n];
             for ((&(dt, _, _), ray), b) in self.samples.iter().zip(rays).zip(&bands) {
                 let Some((b_lo, b_hi)) = b[f] else { continue };
@@ -388,8 +396,9 @@ impl Sections {
                 let delta = self.delta(lead, dt);
                 ray.cut(&mut entries[i0..=i1], w0 + i0 as f64 * h - delta, h);
             }
-            Some(Table { w0, entries })
-        })
+            *slot = Some(Table { w0, entries });
+        }
+        Some(out)
     }
 
     /// The axial bands (offsets from the section's tip centre) where the section of sample

@@ -17,6 +17,7 @@
 //!   crest and root radii, per turn, are `alpha -/+ (psi - lambda)` of `domain.md` §4 in
 //!   tangent form.
 
+use crate::body;
 use crate::job::Job;
 use crate::mesh::seg_dist2;
 use crate::stock::{Stock, Surface};
@@ -52,8 +53,27 @@ impl Hit {
 /// Body interference per `(start, turn)` and flank ([`Flank::ALL`] order).
 pub(crate) type Interference = BTreeMap<(u32, i64), [Option<Hit>; 4]>;
 
-/// What the tool bodies did: the measured interference and the predicted clearances.
-pub(crate) type Bodies = (Interference, BTreeMap<(u32, i64), Clearance>);
+/// What the tool bodies did: the measured interference, the predicted clearances, and the
+/// passes whose bodies were swept (their section count and sampling bound).
+pub(crate) type Bodies = (
+    Interference,
+    BTreeMap<(u32, i64), Clearance>,
+    Vec<(usize, f64)>,
+);
+
+/// The section count and sampling bound of each pass whose body is swept (not skipped as
+/// unable to reach past its edge), for the blank's signed radius `q_blank`.
+pub(crate) fn swept_bodies(job: &Job, q_blank: f64, surface: Surface) -> Vec<(usize, f64)> {
+    job.passes
+        .iter()
+        .filter_map(|p| {
+            let tool = job.tools.get(p.tool)?;
+            let zone = body::zone(p, q_blank, surface);
+            let s = body::sections(p, tool, zone, surface.sense())?;
+            Some((s.samples.len(), s.bound))
+        })
+        .collect()
+}
 
 /// Compare the cut with bodies (`cut`) and without (`planar`).
 pub(crate) fn measure(

@@ -219,9 +219,11 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
 
     let t0 = Instant::now();
     let stats = sweep(&mut stock, surface, &job.passes, &job.tools);
-    // With tool bodies, the edges alone cut a second stock: the difference is what the
-    // bodies cut beyond their edges.
-    let edge_stock = interference::has_bodies(job).then(|| {
+    // With tool bodies whose sections are swept, the edges alone cut a second stock: the
+    // difference is what the bodies cut beyond their edges. Bodies that are all skipped
+    // (they cannot reach past their edges) cut exactly the edges' stock: no second sweep.
+    let swept = interference::swept_bodies(job, stock.blank_q(surface), surface);
+    let edge_stock = (!swept.is_empty()).then(|| {
         let edges: Vec<Tool> = job
             .tools
             .iter()
@@ -234,10 +236,14 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
         sweep(&mut planar, surface, &job.passes, &edges);
         planar
     });
-    let bodies = edge_stock.as_ref().map(|planar| {
+    let bodies = interference::has_bodies(job).then(|| {
         (
-            interference::measure(planar, &stock, &job.thread, surface),
+            edge_stock
+                .as_ref()
+                .map(|planar| interference::measure(planar, &stock, &job.thread, surface))
+                .unwrap_or_default(),
             interference::clearances(job),
+            swept,
         )
     });
     let t_sweep = t0.elapsed().as_secs_f64();
@@ -445,8 +451,8 @@ fn build_report(
             });
         }
     }
-    let mut interference_rows = Vec::new();
-    if let Some((hits, _)) = bodies {
+    let mut interference_rows = bodies.map(|_| Vec::new());
+    if let (Some((hits, _, _)), Some(rows)) = (bodies, interference_rows.as_mut()) {
         for (&(start, turn), flanks) in hits {
             for (k, h) in flanks.iter().enumerate() {
                 let Some(h) = h.filter(|h| r6(h.depth) > 0.0) else {
@@ -454,7 +460,7 @@ fn build_report(
                 };
                 let flank = interference::flank_name(k);
                 let angle = r4(h.theta.to_degrees().rem_euclid(360.0));
-                interference_rows.push(report::InterferenceRow {
+                rows.push(report::InterferenceRow {
                     turn,
                     start,
                     flank,
@@ -580,27 +586,13 @@ fn build_report(
         },
         passes: job.passes.len(),
         kernel: {
-            // The sampled bodies (the same sections the sweep used).
-            let surface = match thread.side {
-                Side::External => Surface::Outer,
-                Side::Internal => Surface::Inner,
-            };
-            let q_blank = stock.blank_q(surface);
-            let sampled: Vec<(usize, f64)> = job
-                .passes
-                .iter()
-                .filter_map(|p| {
-                    let tool = job.tools.get(p.tool)?;
-                    let s =
-                        body::sections(p, tool, body::zone(p, q_blank, surface), surface.sense())?;
-                    Some((s.samples.len(), s.bound))
-                })
-                .collect();
+            // The swept bodies' sections (the same the sweep used).
+            let swept = bodies.map_or(&[][..], |b| &b.2[..]);
             report::KernelInfo {
                 placements: stats.placements,
                 dexel_updates: stats.dexel_updates,
-                body_sections: sampled.iter().map(|s| s.0).max(),
-                body_sampling_bound_mm: sampled
+                body_sections: swept.iter().map(|s| s.0).max(),
+                body_sampling_bound_mm: swept
                     .iter()
                     .map(|s| s.1)
                     .reduce(f64::max)

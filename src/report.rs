@@ -65,9 +65,10 @@ pub struct Report {
     pub deviation: DeviationInfo,
     /// Per turn (and start).
     pub turns: Vec<TurnRow>,
-    /// Where a tool body cut beyond its edge's swept groove (jobs with tool bodies only).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub interference: Vec<InterferenceRow>,
+    /// Where a tool body cut beyond its edge's swept groove: present (maybe empty) for
+    /// jobs with tool bodies, absent without.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interference: Option<Vec<InterferenceRow>>,
     /// Findings, errors first.
     pub findings: Vec<Finding>,
     /// Wall-clock times (s): the one part that changes between runs.

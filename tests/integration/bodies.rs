@@ -37,7 +37,7 @@ fn a_cleared_body_leaves_the_planar_cut() {
     // 14 deg beats the largest helix angle at the root, atan(30 / (2 pi 22)) = 12.2 deg.
     let bodied = run(&screw(14.0, 14.0));
     assert_eq!(plain.stock.outer, bodied.stock.outer);
-    assert!(bodied.report.interference.is_empty());
+    assert_eq!(bodied.report.interference, Some(vec![]));
     assert!(bodied
         .report
         .findings
@@ -56,7 +56,7 @@ fn the_helix_angle_overtaking_the_clearance_rubs_the_leading_flank() {
     let text = screw(alpha, 20.0);
     let j = job(&text);
     let out = run(&text);
-    let rows = &out.report.interference;
+    let rows = out.report.interference.as_ref().unwrap();
     assert!(!rows.is_empty(), "no interference");
     // The passes travel towards -z: the -z flank leads; the +z flank never rubs.
     assert!(rows.iter().all(|r| r.flank == "left"), "{rows:?}");
@@ -180,5 +180,62 @@ fn the_model_shows_the_rub() {
             "rub at z {} before {z_star}",
             p[2]
         );
+    }
+}
+
+/// The Tr scene's shim: with it (2 deg) the laydown insert clears both flanks and the cut
+/// is seed 004's bit for bit; without it the leading flank rubs in every turn by the closed
+/// form of the scene's README (0.0550 mm along the axis at phi = 0.095, r = 44.14, so
+/// 0.0531 mm normal to the 15 deg flank), the trailing flank never.
+#[test]
+fn the_shim_clears_a_tr_insert() {
+    let cells = [("simulation", "angular_cells", "720")];
+    let shim = with(&scene_text("seed004-tr100x12-shim"), &cells);
+    let plain = run(&with(&scene_text("seed004-tr100x12"), &cells));
+    let shimmed = run(&shim);
+    assert_eq!(plain.stock.outer, shimmed.stock.outer);
+    assert_eq!(shimmed.report.interference, Some(vec![]));
+    assert!(
+        shimmed.edge_stock.is_none(),
+        "a skipped body needs no second sweep"
+    );
+    let bare = run(&shim.replace("inclination = 2.0", "inclination = 0.0"));
+    // In the drawn thread's turns the rub is on the -z flank, up to its top edge (rows of
+    // the crest); the last 2 mm before the pass ends at Z-80, where the body's sections stop
+    // with the pass and the edge leaves the groove, are the run-out's.
+    let j = job(&shim);
+    let rows: Vec<_> = bare
+        .report
+        .interference
+        .as_ref()
+        .unwrap()
+        .iter()
+        .filter(|r| (1..=j.thread.whole_turns()).contains(&r.turn) && r.z_mm > -78.0)
+        .collect();
+    assert!(
+        rows.iter().all(|r| r.flank == "left" || r.flank == "crest"),
+        "{rows:?}"
+    );
+    let left: Vec<_> = rows.iter().filter(|r| r.flank == "left").collect();
+    for turn in 1..=j.thread.whole_turns() {
+        assert!(
+            left.iter().any(|r| r.turn == turn),
+            "turn {turn} does not rub: {left:?}"
+        );
+    }
+    for r in &left {
+        // Two axial cells (0.01 mm) and the 0.005 mm sampling bound, as for seed 000's.
+        assert!(
+            (r.max_mm - 0.0531).abs() <= 0.025,
+            "turn {}: {} mm at z {}",
+            r.turn,
+            r.max_mm,
+            r.z_mm
+        );
+    }
+    for t in &bare.report.turns {
+        let c = t.clearance_deg.as_ref().unwrap();
+        assert!((c.left_root - -1.5151).abs() < 1e-4, "{c:?}");
+        assert!((c.right_crest - 3.1854).abs() < 1e-4, "{c:?}");
     }
 }

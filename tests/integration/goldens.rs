@@ -24,6 +24,8 @@ struct Check {
     equals: Option<toml::Value>,
     max: Option<f64>,
     min: Option<f64>,
+    /// The length of an array.
+    count: Option<usize>,
     why: String,
 }
 
@@ -80,6 +82,12 @@ fn check_expectations(scene: &str, report: &Value) -> Vec<String> {
                 };
                 if *g != want {
                     bad.push(fail(format!("= {g}, expected {want}")));
+                }
+            }
+            (Some(g), None, None) if c.count.is_some() => {
+                let n = g.as_array().map(Vec::len);
+                if n != c.count {
+                    bad.push(fail(format!("has {n:?} entries, expected {:?}", c.count)));
                 }
             }
             (Some(g), None, None) => {
