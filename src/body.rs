@@ -37,6 +37,7 @@
 //! flank that cannot reach out does not count in the sampling speed.
 
 use crate::pass::Pass;
+use crate::solid::Face;
 use crate::stock::Surface;
 use crate::tool::{Body, Edge, Tool};
 use std::f64::consts::{FRAC_PI_2, TAU};
@@ -53,16 +54,10 @@ pub(crate) const MAX_SAMPLES: usize = 4096;
 pub(crate) struct Sections {
     /// Per sample: `(dt, cos phi, sin phi)` with `dt = phi / 2pi` revolutions after the edge.
     pub(crate) samples: Vec<(f64, f64, f64)>,
-    /// Edge: tip corners and flank cotangents (`INFINITY` for a vertical flank).
-    vl: f64,
-    vr: f64,
-    cl: f64,
-    cr: f64,
-    /// Recession of the flanks and of the tip per mm of depth, and the depth.
-    slope_l: f64,
-    slope_r: f64,
-    tan_front: f64,
-    thickness: f64,
+    /// The solid's faces in the tool frame (the insert's, or a mesh's).
+    faces: Vec<Face>,
+    /// What the bands are made from.
+    shape: Shape,
     /// The radii the body can meet (mm), and the surface's sense (+1 outer, -1 inner).
     r_zone: (f64, f64),
     sense: f64,
@@ -103,6 +98,24 @@ pub(crate) struct Tables {
     /// Each sample's section on the rays (the tip's radius is the pass's), for the
     /// crossings after `t_last`.
     pub(crate) rays: Vec<Ray>,
+}
+
+/// The solid behind the edge, as far as the bands need it.
+#[derive(Clone, Debug)]
+enum Shape {
+    /// The parametric insert: tip corners, flank cotangents (`INFINITY` for a vertical
+    /// flank), the flanks' recession per mm of depth, and the depth.
+    Insert {
+        vl: f64,
+        vr: f64,
+        cl: f64,
+        cr: f64,
+        slope_l: f64,
+        slope_r: f64,
+        thickness: f64,
+    },
+    /// A mesh: its axial extent (a section lies within it).
+    Mesh { v_lo: f64, v_hi: f64 },
 }
 
 /// One flank's table: the offset of entry 0 from the edge's tip centre (mm), and the
@@ -152,73 +165,114 @@ pub(crate) fn sample(
     error_mm: f64,
     force: bool,
 ) -> Option<Sections> {
-    let body = tool.body?;
-    let Edge::Trapezoid {
-        tip,
-        left_angle,
-        right_angle,
-    } = tool.edge
-    else {
-        return None;
-    };
     let t_end = pass.revolutions()?;
     let law = pass.helix().law;
     let (r_lo, r_hi) = (r_zone.0.min(r_zone.1).max(1e-3), r_zone.0.max(r_zone.1));
-    // The body's angular extent: the largest phi at which some ray of the zone is still
-    // within `thickness` of the rake face.
-    let phi_max = (body.thickness / r_lo).min(1.0).asin().min(FRAC_PI_2);
-    let tan_flanks = [left_angle.max(0.0).tan(), right_angle.max(0.0).tan()];
-    let out = reaches_out(
-        &body,
-        tan_flanks,
-        sense,
-        law.lead(0.0),
-        law.lead(t_end),
-        law.k,
-        pass,
-        (r_lo, r_hi),
-        phi_max,
-    );
-    if !force && out == [false, false] {
-        return None;
-    }
-    let (sl, sr, tf) = (
-        body.slope_left(),
-        body.slope_right(),
-        body.clearance_front.tan(),
-    );
-    // Per radian of phi, how fast a flank of the section moves across the edge's wall: the
-    // rate of `out_l` and `out_r` (see [`reaches_out`]), `-/+ dir L/2pi - r cos(phi) slope -
-    // sense r sin(phi) tan a` with `L` the lead at the section's instant (between the pass's
-    // first and last), plus, on a taper, the tip's radial travel along the sloped flank.
-    // Linear in `L`, `r cos phi` and `r sin phi` apart, so its largest size is at a corner.
-    // Only a flank that can reach beyond the edge's wall counts (a forced body counts both);
-    // see the module docs for why the tip's rise does not.
+    let leads = [law.lead(0.0), law.lead(t_end)];
     let dir = pass.helix().dir;
-    let taper = if pass.z_end != pass.z_start {
-        ((pass.x_end - pass.x_start) / 2.0 / (pass.z_end - pass.z_start)).abs()
-    } else {
-        0.0
-    };
-    let counted = if out == [false, false] {
-        [true, true]
-    } else {
-        out
-    };
-    let mut speed: f64 = 1e-9;
-    for (f, (slope, d)) in [(sl, -dir), (sr, dir)].into_iter().enumerate() {
-        if !counted[f] {
-            continue;
-        }
-        for l in [law.lead(0.0), law.lead(t_end)] {
-            for rc in [r_lo * phi_max.cos(), r_hi] {
-                for rs in [0.0, r_hi * phi_max.sin()] {
-                    let rate = d * l / TAU - rc * slope - sense * rs * tan_flanks[f];
-                    speed = speed.max(rate.abs() + taper * l.abs() / TAU * tan_flanks[f]);
+    let (faces, shape, phi_max, speed) = match (&tool.edge, tool.body) {
+        (
+            &Edge::Trapezoid {
+                tip,
+                left_angle,
+                right_angle,
+            },
+            Some(body),
+        ) => {
+            // The body's angular extent: the largest phi at which some ray of the zone is
+            // still within `thickness` of the rake face.
+            let phi_max = (body.thickness / r_lo).min(1.0).asin().min(FRAC_PI_2);
+            let tan_flanks = [left_angle.max(0.0).tan(), right_angle.max(0.0).tan()];
+            let out = reaches_out(
+                &body,
+                tan_flanks,
+                sense,
+                leads,
+                law.k,
+                pass,
+                (r_lo, r_hi),
+                phi_max,
+            );
+            if !force && out == [false, false] {
+                return None;
+            }
+            let (sl, sr) = (body.slope_left(), body.slope_right());
+            // Per radian of phi, how fast a flank of the section moves across the edge's
+            // wall: the rate of `out_l` and `out_r` (see [`reaches_out`]), `-/+ dir L/2pi -
+            // r cos(phi) slope - sense r sin(phi) tan a` with `L` the lead at the section's
+            // instant (between the pass's first and last), plus, on a taper, the tip's
+            // radial travel along the sloped flank. Linear in `L`, `r cos phi` and
+            // `r sin phi` apart, so its largest size is at a corner. Only a flank that can
+            // reach beyond the edge's wall counts (a forced body counts both); see the
+            // module docs for why the tip's rise does not.
+            let taper = taper(pass);
+            let counted = if out == [false, false] {
+                [true, true]
+            } else {
+                out
+            };
+            let mut speed: f64 = 1e-9;
+            for (f, (slope, d)) in [(sl, -dir), (sr, dir)].into_iter().enumerate() {
+                if !counted[f] {
+                    continue;
+                }
+                for l in leads {
+                    for rc in [r_lo * phi_max.cos(), r_hi] {
+                        for rs in [0.0, r_hi * phi_max.sin()] {
+                            let rate = d * l / TAU - rc * slope - sense * rs * tan_flanks[f];
+                            speed = speed.max(rate.abs() + taper * l.abs() / TAU * tan_flanks[f]);
+                        }
+                    }
                 }
             }
+            let (vl, vr) = (-tip / 2.0, tip / 2.0);
+            let (cl, cr) = (cot(left_angle), cot(right_angle));
+            let faces = insert_faces(&body, vl, vr, cl, cr);
+            let shape = Shape::Insert {
+                vl,
+                vr,
+                cl,
+                cr,
+                slope_l: sl,
+                slope_r: sr,
+                thickness: body.thickness,
+            };
+            (faces, shape, phi_max, speed)
         }
-    }
+        (Edge::Mesh { solid, body: true }, _) => {
+            let phi_max = (solid.depth / r_lo).min(1.0).asin().min(FRAC_PI_2);
+            // Every face with an axial component moves along the axis at fixed radius at
+            // `dir L/2pi + (h sense r sin phi - y r cos phi) / v` (the insert's flank rate
+            // in a face's terms); faces parallel to the axis (tip, top, back) are covered
+            // by the neighbouring samples as the insert's tip is. A mesh is not skipped.
+            let taper = taper(pass);
+            let mut speed: f64 = 1e-9;
+            for f in solid.faces.iter().filter(|f| f.v.abs() > 1e-9) {
+                for l in leads {
+                    for rc in [r_lo * phi_max.cos(), r_hi] {
+                        for rs in [0.0, r_hi * phi_max.sin()] {
+                            let rate = dir * l / TAU + (f.h * sense * rs - f.y * rc) / f.v;
+                            speed =
+                                speed.max(rate.abs() + taper * l.abs() / TAU * (f.h / f.v).abs());
+                        }
+                    }
+                }
+            }
+            let (v_lo, v_hi) = solid
+                .vertices
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                    (a.min(p[2]), b.max(p[2]))
+                });
+            (
+                solid.faces.clone(),
+                Shape::Mesh { v_lo, v_hi },
+                phi_max,
+                speed,
+            )
+        }
+        _ => return None,
+    };
     // Half the error to the angular sampling, half to the tables (if the sweep uses them).
     let phi_error = error_mm / 2.0;
     let n = ((phi_max * speed / phi_error).ceil() as usize).clamp(1, MAX_SAMPLES);
@@ -229,31 +283,59 @@ pub(crate) fn sample(
             (phi / TAU, phi.cos(), phi.sin())
         })
         .collect();
-    let cot = |a: f64| {
-        if a <= 0.0 {
-            f64::INFINITY
-        } else {
-            1.0 / a.tan()
-        }
-    };
     Some(Sections {
         samples,
-        vl: -tip / 2.0,
-        vr: tip / 2.0,
-        cl: cot(left_angle),
-        cr: cot(right_angle),
-        slope_l: sl,
-        slope_r: sr,
-        tan_front: tf,
-        thickness: body.thickness,
+        faces,
+        shape,
         r_zone: (r_lo, r_hi),
         sense,
         bound: dphi * speed + error_mm / 2.0,
         table_error: error_mm / 2.0,
-        dir: pass.helix().dir,
+        dir,
         lead_f: law.f,
         lead_k: law.k,
     })
+}
+
+/// Cotangent, infinite at zero (a vertical flank).
+fn cot(a: f64) -> f64 {
+    if a <= 0.0 {
+        f64::INFINITY
+    } else {
+        1.0 / a.tan()
+    }
+}
+
+/// The radial change of a pass's tip per mm along the axis (0 for a straight pass).
+fn taper(pass: &Pass) -> f64 {
+    if pass.z_end != pass.z_start {
+        ((pass.x_end - pass.x_start) / 2.0 / (pass.z_end - pass.z_start)).abs()
+    } else {
+        0.0
+    }
+}
+
+/// The insert's faces in the tool frame (`h H + y Y + v V >= d`): the tip, raised by the
+/// front clearance with depth; each flank (sloped: `H >= (vl + Y slope_l - V) cl`;
+/// vertical: `V >= vl + Y slope_l`), set back by its clearance and the inclination; the back
+/// `Y <= thickness`.
+fn insert_faces(body: &Body, vl: f64, vr: f64, cl: f64, cr: f64) -> Vec<Face> {
+    let face = |h: f64, y: f64, v: f64, d: f64| Face { h, y, v, d };
+    let (sl, sr) = (body.slope_left(), body.slope_right());
+    vec![
+        face(1.0, -body.clearance_front.tan(), 0.0, 0.0),
+        if cl.is_finite() {
+            face(1.0, -sl * cl, cl, vl * cl)
+        } else {
+            face(0.0, -sl, 1.0, vl)
+        },
+        if cr.is_finite() {
+            face(1.0, -sr * cr, -cr, -vr * cr)
+        } else {
+            face(0.0, -sr, -1.0, -vr)
+        },
+        face(0.0, -1.0, 0.0, -body.thickness),
+    ]
 }
 
 /// Which flanks' sections can reach outside the edge's own cut at the same crossing (-z,
@@ -271,8 +353,7 @@ fn reaches_out(
     body: &Body,
     tan_flanks: [f64; 2],
     sense: f64,
-    lead_start: f64,
-    lead_end: f64,
+    leads: [f64; 2],
     k: f64,
     pass: &Pass,
     r: (f64, f64),
@@ -284,7 +365,7 @@ fn reaches_out(
     let dir = pass.helix().dir;
     let (sl, sr) = (body.slope_left(), body.slope_right());
     let mut out = [false, false];
-    for lead in [lead_start, lead_end] {
+    for lead in leads {
         for i in 1..=64 {
             let phi = phi_max * i as f64 / 64.0;
             let dt = phi / TAU;
@@ -417,6 +498,22 @@ impl Sections {
         delta: f64,
         s: f64,
     ) -> [Option<(f64, f64)>; 2] {
+        let Shape::Insert {
+            vl,
+            vr,
+            cl,
+            cr,
+            slope_l,
+            slope_r,
+            thickness,
+        } = self.shape
+        else {
+            // A mesh's section lies within the mesh's axial extent.
+            let Shape::Mesh { v_lo, v_hi } = self.shape else {
+                unreachable!()
+            };
+            return [Some((v_lo - pad, v_hi + pad)), None];
+        };
         let run = |c: f64| if c.is_finite() { reach / c } else { 0.0 };
         let tan = |c: f64| if c.is_finite() { 1.0 / c } else { 0.0 };
         // Offsets of the section's flanks from the edge's, towards the material (+), at
@@ -425,18 +522,16 @@ impl Sections {
         let lift = 1.0 - (1.0 - s * s).max(0.0).sqrt();
         let out = |slope: f64, tan_a: f64, travel: f64| {
             [self.r_zone.0, self.r_zone.1]
-                .map(|r| {
-                    travel - (r * s).min(self.thickness) * slope - self.sense * r * lift * tan_a
-                })
+                .map(|r| travel - (r * s).min(thickness) * slope - self.sense * r * lift * tan_a)
                 .into_iter()
                 .fold(f64::NEG_INFINITY, f64::max)
         };
-        let out_l = out(self.slope_l, tan(self.cl), -delta);
-        let out_r = out(self.slope_r, tan(self.cr), delta);
-        let (el, er) = (self.vl - delta, self.vr - delta);
+        let out_l = out(slope_l, tan(cl), -delta);
+        let out_r = out(slope_r, tan(cr), delta);
+        let (el, er) = (vl - delta, vr - delta);
         [
-            (out_l > 0.0).then(|| (el - out_l - run(self.cl) - pad, el + pad)),
-            (out_r > 0.0).then(|| (er - pad, er + out_r + run(self.cr) + pad)),
+            (out_l > 0.0).then(|| (el - out_l - run(cl) - pad, el + pad)),
+            (out_r > 0.0).then(|| (er - pad, er + out_r + run(cr) + pad)),
         ]
     }
 
@@ -465,59 +560,52 @@ impl Sections {
     /// for the stored value `rho = sense r - q_blank` it is a lower bound (the body lies
     /// above a line in `v`), an upper bound, or, when `a = 0`, a limit on `v` alone.
     fn ray(&self, c: f64, s: f64, r_tip: f64, sense: f64, q_blank: f64) -> Ray {
-        let mut ray = Ray {
-            lower: Vec::with_capacity(RAY_LINES),
-            upper: Vec::with_capacity(RAY_LINES),
-            v_lo: f64::NEG_INFINITY,
-            v_hi: f64::INFINITY,
-        };
-        let mut add = |a: f64, b0: f64, b1: f64| {
-            // a r >= b0 + b1 v with r = sense (rho + q_blank).
-            let a = a * sense;
-            let b0 = b0 - a * q_blank;
-            if a > 0.0 {
-                ray.lower.push((b0 / a, b1 / a));
-            } else if a < 0.0 {
-                ray.upper.push((b0 / a, b1 / a));
-            } else if b1 > 0.0 {
-                ray.v_hi = ray.v_hi.min(-b0 / b1);
-            } else if b1 < 0.0 {
-                ray.v_lo = ray.v_lo.max(-b0 / b1);
-            } else if b0 > 0.0 {
-                ray.v_lo = f64::INFINITY;
-            }
-        };
-        // The ray itself (r >= 0) and the back face (r s <= thickness).
-        add(1.0, 0.0, 0.0);
-        add(-s, -self.thickness, 0.0);
-        // Tip: sense (r c - r_tip) >= Y tan_front.
-        add(sense * c - s * self.tan_front, sense * r_tip, 0.0);
-        // -z flank: H >= (vl + Y slope_l - v) cl, or for a vertical flank v >= vl + Y slope_l.
-        if self.cl.is_finite() {
-            add(
-                sense * c - s * self.slope_l * self.cl,
-                sense * r_tip + self.vl * self.cl,
-                -self.cl,
-            );
-        } else {
-            add(-s * self.slope_l, self.vl, -1.0);
-        }
-        // +z flank: H >= (v - vr + Y slope_r) cr, or v <= vr - Y slope_r.
-        if self.cr.is_finite() {
-            add(
-                sense * c - s * self.slope_r * self.cr,
-                sense * r_tip - self.vr * self.cr,
-                self.cr,
-            );
-        } else {
-            add(-s * self.slope_r, -self.vr, 1.0);
-        }
-        ray
+        ray(&self.faces, c, s, r_tip, sense, q_blank)
     }
 }
 
-/// Lines per kind a section can have: of its five faces (the ray's start, the back, the
-/// tip, two flanks), the first two bound opposite sides.
+/// The section of a solid (`faces` in the tool frame) at relative angle `(c, s) = (cos phi,
+/// sin phi)` with its tip at radius `r_tip`, as bounds on the stored value along the rays at
+/// every axial offset `v` from its reference point. `(1, 0)` is the edge.
+///
+/// On the ray `H = sense (r c - r_tip)` and `Y = r s`, so a face `h H + y Y + v V >= d` is
+/// the constraint `(h sense c + y s) r >= d + h sense r_tip - v V` on the radius; written for
+/// the stored value `rho = sense r - q_blank` it is a lower bound (the solid lies above a
+/// line in `V`), an upper bound, or, when its factor is 0, a limit on `V` alone.
+pub(crate) fn ray(faces: &[Face], c: f64, s: f64, r_tip: f64, sense: f64, q_blank: f64) -> Ray {
+    let mut ray = Ray {
+        lower: Vec::with_capacity(faces.len()),
+        upper: Vec::with_capacity(faces.len()),
+        v_lo: f64::NEG_INFINITY,
+        v_hi: f64::INFINITY,
+    };
+    let mut add = |a: f64, b0: f64, b1: f64| {
+        // a r >= b0 + b1 v with r = sense (rho + q_blank).
+        let a = a * sense;
+        let b0 = b0 - a * q_blank;
+        if a > 0.0 {
+            ray.lower.push((b0 / a, b1 / a));
+        } else if a < 0.0 {
+            ray.upper.push((b0 / a, b1 / a));
+        } else if b1 > 0.0 {
+            ray.v_hi = ray.v_hi.min(-b0 / b1);
+        } else if b1 < 0.0 {
+            ray.v_lo = ray.v_lo.max(-b0 / b1);
+        } else if b0 > 0.0 {
+            ray.v_lo = f64::INFINITY;
+        }
+    };
+    // The ray itself (r >= 0).
+    add(1.0, 0.0, 0.0);
+    for f in faces {
+        add(f.h * sense * c + f.y * s, f.d + f.h * sense * r_tip, -f.v);
+    }
+    ray
+}
+
+/// Lines per kind an insert's section can have: of its five faces (the ray's start, the
+/// back, the tip, two flanks), the first two bound opposite sides. A mesh may have more
+/// (evaluated line by line).
 const RAY_LINES: usize = 4;
 
 /// One section on the rays of a column: lower and upper bounds `alpha + beta v` on the
@@ -546,9 +634,33 @@ impl Ray {
         }
         let (k0, k1) = (k0 as usize, k1 as usize);
         let v0 = v_start + k0 as f64 * dz;
+        let seg = &mut seg[k0..=k1];
+        let n = self.lower.len().max(self.upper.len());
+        if n > RAY_LINES {
+            // A mesh's many faces: each line over the cells in turn.
+            let dz = dz as f32;
+            let mut lo = vec![f32::NEG_INFINITY; seg.len()];
+            let mut hi = vec![f32::INFINITY; seg.len()];
+            for &(alpha, beta) in &self.lower {
+                let (a, b) = ((alpha + beta * v0) as f32, beta as f32);
+                for (k, l) in lo.iter_mut().enumerate() {
+                    *l = fmax(*l, a + b * ((k as i32) as f32 * dz));
+                }
+            }
+            for &(alpha, beta) in &self.upper {
+                let (a, b) = ((alpha + beta * v0) as f32, beta as f32);
+                for (k, h) in hi.iter_mut().enumerate() {
+                    *h = fmin(*h, a + b * ((k as i32) as f32 * dz));
+                }
+            }
+            for ((cell, l), h) in seg.iter_mut().zip(&lo).zip(&hi) {
+                let cut = if l <= h { *l } else { f32::INFINITY };
+                *cell = fmin(*cell, cut);
+            }
+            return;
+        }
         let lower = Lines::<RAY_LINES>::new(&self.lower, v0, f32::NEG_INFINITY);
         let upper = Lines::<RAY_LINES>::new(&self.upper, v0, f32::INFINITY);
-        let seg = &mut seg[k0..=k1];
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked just above).

@@ -22,6 +22,7 @@ use crate::job::Job;
 use crate::mesh::seg_dist2;
 use crate::stock::{Stock, Surface};
 use crate::thread::{Flank, ThreadSpec};
+use crate::tool::Tool;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -230,7 +231,7 @@ pub(crate) fn clearances(job: &Job) -> BTreeMap<(u32, i64), Clearance> {
 pub(crate) fn has_bodies(job: &Job) -> bool {
     job.passes
         .iter()
-        .any(|p| job.tools.get(p.tool).is_some_and(|t| t.body.is_some()))
+        .any(|p| job.tools.get(p.tool).is_some_and(Tool::has_body))
 }
 
 /// Flank names for the findings.

@@ -8,6 +8,7 @@
 use crate::helix::{Hand, Helix, LeadLaw, Spindle};
 use crate::pass::Pass;
 use crate::process::{self, Process};
+use crate::solid::Solid;
 use crate::thread::{Side, ThreadSpec, WidthRule};
 use crate::tool::{Body, Edge, Reference, Tool};
 use serde::Deserialize;
@@ -353,6 +354,7 @@ enum ToolKind {
     Grooving,
     Threading,
     Trapezoidal,
+    Mesh,
 }
 
 #[derive(Deserialize, Clone, Copy, Default, PartialEq)]
@@ -377,8 +379,12 @@ struct RawTool {
     tip_width: Option<f64>,
     flank_angle: Option<f64>,
     flank_angles: Option<[f64; 2]>,
-    #[serde(default)]
-    reference: RefName,
+    reference: Option<RefName>,
+    file: Option<String>,
+    mesh_origin: Option<[f64; 3]>,
+    mesh_axes: Option<[String; 3]>,
+    mesh_units: Option<String>,
+    mesh_body: Option<bool>,
     thickness: Option<f64>,
     side_clearance_left: Option<f64>,
     side_clearance_right: Option<f64>,
@@ -753,7 +759,7 @@ fn resolve(
                 format!("tool id {} is used twice", t.id),
             ));
         }
-        tools.push(resolve_tool(t, i, cx)?);
+        tools.push(resolve_tool(t, i, cx, load)?);
     }
     let tool_index = |id: u32, key: &str| -> Result<usize, JobError> {
         tools.iter().position(|t| t.id == id).ok_or_else(|| {
@@ -1333,9 +1339,14 @@ fn resolve_thread(
     Ok((spec, t.form))
 }
 
-fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
+fn resolve_tool(
+    t: &RawTool,
+    i: usize,
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+) -> Result<Tool, JobError> {
     let key = |k: &str| format!("tool[{i}].{k}");
-    let reference = match t.reference {
+    let reference = match t.reference.unwrap_or_default() {
         RefName::Center => Reference::Center,
         RefName::Left => Reference::Left,
         RefName::Right => Reference::Right,
@@ -1400,7 +1411,47 @@ fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
                 right_angle: cx.angle(&key("flank_angles"), r, 0.0, 80.0)?,
             }
         }
+        ToolKind::Mesh => resolve_mesh(t, &key, cx, load)?,
     };
+    let mesh_keys = [
+        ("file", t.file.is_some()),
+        ("mesh_origin", t.mesh_origin.is_some()),
+        ("mesh_axes", t.mesh_axes.is_some()),
+        ("mesh_units", t.mesh_units.is_some()),
+        ("mesh_body", t.mesh_body.is_some()),
+    ];
+    let shape_keys = [
+        ("width", t.width.is_some()),
+        ("angle", t.angle.is_some()),
+        ("tip_flat", t.tip_flat.is_some()),
+        ("nose_radius", t.nose_radius.is_some()),
+        ("tip_width", t.tip_width.is_some()),
+        ("flank_angle", t.flank_angle.is_some()),
+        ("flank_angles", t.flank_angles.is_some()),
+        ("reference", t.reference.is_some()),
+        ("thickness", t.thickness.is_some()),
+        ("side_clearance_left", t.side_clearance_left.is_some()),
+        ("side_clearance_right", t.side_clearance_right.is_some()),
+        ("front_clearance", t.front_clearance.is_some()),
+        ("inclination", t.inclination.is_some()),
+    ];
+    if t.kind == ToolKind::Mesh {
+        if let Some((k, _)) = shape_keys.iter().find(|(_, set)| *set) {
+            return Err(cx.err(
+                &key(k),
+                "this key does not apply to a mesh tool: the mesh gives its shape and body, `mesh_origin` its reference point",
+            ));
+        }
+        return Ok(Tool {
+            id: t.id,
+            edge,
+            reference,
+            body: None,
+        });
+    }
+    if let Some((k, _)) = mesh_keys.iter().find(|(_, set)| *set) {
+        return Err(cx.err(&key(k), "this key applies to `kind = \"mesh\"` tools only"));
+    }
     let unused: &[(&str, bool)] = match t.kind {
         ToolKind::Grooving => &[
             ("angle", t.angle.is_some()),
@@ -1422,6 +1473,7 @@ fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
             ("tip_flat", t.tip_flat.is_some()),
             ("nose_radius", t.nose_radius.is_some()),
         ],
+        ToolKind::Mesh => &[],
     };
     if let Some((k, _)) = unused.iter().find(|(_, set)| *set) {
         return Err(cx.err(&key(k), "this key does not apply to this kind of tool"));
@@ -1432,6 +1484,116 @@ fn resolve_tool(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tool, JobError> {
         edge,
         reference,
         body,
+    })
+}
+
+/// A mesh tool: the OBJ `file` (read through `load`, relative to the job file), placed by
+/// `mesh_origin` (the reference point: on the tip, in the rake face; OBJ units) and
+/// `mesh_axes` (the OBJ axes along the part's axis, the height above the tip away from the
+/// material, and the depth behind the rake face), in `mesh_units`.
+fn resolve_mesh(
+    t: &RawTool,
+    key: &dyn Fn(&str) -> String,
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+) -> Result<Edge, JobError> {
+    let file = t.file.as_deref().ok_or_else(|| {
+        cx.err(
+            &key("kind"),
+            "a mesh tool needs `file` (an OBJ file, relative to the job file)",
+        )
+    })?;
+    let text = load(file).ok_or_else(|| {
+        cx.err(
+            &key("file"),
+            format!("cannot read `{file}` (relative to the job file)"),
+        )
+    })?;
+    let scale = match t.mesh_units.as_deref().unwrap_or("mm") {
+        "mm" => 1.0,
+        "inch" => 25.4,
+        "m" => 1000.0,
+        other => {
+            return Err(cx.err(
+                &key("mesh_units"),
+                format!("expected \"mm\", \"inch\" or \"m\", got \"{other}\""),
+            ))
+        }
+    };
+    let origin = t.mesh_origin.unwrap_or([0.0; 3]);
+    for v in origin {
+        cx.finite(&key("mesh_origin"), v)?;
+    }
+    let names = t
+        .mesh_axes
+        .clone()
+        .unwrap_or_else(|| ["+x".into(), "+y".into(), "+z".into()]);
+    // (OBJ axis, sign) for the part's axis, the height and the depth.
+    let mut axes = [(0usize, 1.0f64); 3];
+    for (k, name) in names.iter().enumerate() {
+        let (sign, axis) = match name.as_str() {
+            "+x" | "x" => (1.0, 0),
+            "-x" => (-1.0, 0),
+            "+y" | "y" => (1.0, 1),
+            "-y" => (-1.0, 1),
+            "+z" | "z" => (1.0, 2),
+            "-z" => (-1.0, 2),
+            other => {
+                return Err(cx.err(
+                    &key("mesh_axes"),
+                    format!("expected three of \"+x\", \"-x\", \"+y\", \"-y\", \"+z\", \"-z\" (the part's axis, the height above the tip, the depth behind the rake face), got \"{other}\""),
+                ))
+            }
+        };
+        axes[k] = (axis, sign);
+    }
+    if axes[0].0 == axes[1].0 || axes[0].0 == axes[2].0 || axes[1].0 == axes[2].0 {
+        return Err(cx.err(
+            &key("mesh_axes"),
+            "expected each OBJ axis once (the part's axis, the height, the depth)",
+        ));
+    }
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &opts, |_| {
+        Err(tobj::LoadError::GenericFailure)
+    })
+    .map_err(|e| {
+        cx.err(
+            &key("file"),
+            format!("{file}: not a readable OBJ mesh: {e}"),
+        )
+    })?;
+    let mut vertices: Vec<[f64; 3]> = Vec::new();
+    let mut triangles: Vec<[usize; 3]> = Vec::new();
+    for m in &models {
+        let base = vertices.len();
+        for p in m.mesh.positions.chunks_exact(3) {
+            let tool = axes.map(|(axis, sign)| sign * (p[axis] - origin[axis]) * scale);
+            // [V, H, Y] -> the solid's [H, Y, V].
+            vertices.push([tool[1], tool[2], tool[0]]);
+        }
+        for t in m.mesh.indices.chunks_exact(3) {
+            triangles.push([
+                base + t[0] as usize,
+                base + t[1] as usize,
+                base + t[2] as usize,
+            ]);
+        }
+    }
+    if vertices.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(cx.err(
+            &key("file"),
+            format!("{file}: a vertex is not a finite number"),
+        ));
+    }
+    let solid = Solid::from_mesh(&vertices, &triangles)
+        .map_err(|e| cx.err(&key("file"), format!("{file}: {e}")))?;
+    Ok(Edge::Mesh {
+        solid: std::sync::Arc::new(solid),
+        body: t.mesh_body.unwrap_or(true),
     })
 }
 

@@ -59,6 +59,7 @@ mod process;
 mod render;
 mod report;
 mod scene;
+mod solid;
 mod stock;
 mod sweep;
 mod thread;
@@ -79,6 +80,7 @@ pub use plot::{developed_view, section_profile, section_view, signed_deviation};
 pub use render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};
 pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
 pub use scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
+pub use solid::{prism, Face, Solid, SolidError};
 pub use stock::{Grid, Stock, Surface};
 pub use sweep::{sweep, sweep_column, Column, SweepStats};
 pub use thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};
@@ -224,14 +226,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     // (they cannot reach past their edges) cut exactly the edges' stock: no second sweep.
     let swept = interference::swept_bodies(job, stock.blank_q(surface), surface);
     let edge_stock = (!swept.is_empty()).then(|| {
-        let edges: Vec<Tool> = job
-            .tools
-            .iter()
-            .map(|t| Tool {
-                body: None,
-                ..t.clone()
-            })
-            .collect();
+        let edges: Vec<Tool> = job.tools.iter().map(Tool::edge_only).collect();
         let mut planar = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
         sweep(&mut planar, surface, &job.passes, &edges);
         planar

@@ -172,7 +172,7 @@ fn cut_column(
             let seg = &mut col[j0..=j1];
             stats.placements += 1;
             stats.dexel_updates += seg.len() as u64;
-            apply(seg, &pr.kernel, v_start, dz, q_tip - q_blank);
+            apply(seg, &pr.kernel, v_start, dz, q_tip, q_blank, sense);
             match (&pr.tables, &pr.body) {
                 (Some(tables), _) if t <= tables.t_last => {
                     let (placements, cells) = tables.apply(col, t, z_tip, (z0, dz));
@@ -271,12 +271,26 @@ fn fmax(a: f32, b: f32) -> f32 {
 
 /// `seg[k] = min(seg[k], base + h(v_start + k*dz))` with `base = q_tip - q_blank`: the edge
 /// stands back from the tip away from the material, `+h` outside (external) and `-h`
-/// inside, which in signed radii is always `+h` since `q = -r` there.
-fn apply(seg: &mut [f32], kernel: &Kernel, v_start: f64, dz: f64, base: f64) {
+/// inside, which in signed radii is always `+h` since `q = -r` there. A solid's edge is its
+/// section at the rake face, cut per ray like its body's sections ([`body::ray`]).
+fn apply(
+    seg: &mut [f32],
+    kernel: &Kernel,
+    v_start: f64,
+    dz: f64,
+    q_tip: f64,
+    q_blank: f64,
+    sense: f64,
+) {
+    if let Kernel::Mesh(solid) = kernel {
+        body::ray(&solid.faces, 1.0, 0.0, sense * q_tip, sense, q_blank).cut(seg, v_start, dz);
+        return;
+    }
     let v0 = v_start as f32;
     let dz = dz as f32;
-    let base = base as f32;
+    let base = (q_tip - q_blank) as f32;
     match *kernel {
+        Kernel::Mesh(_) => {}
         Kernel::Trapezoid { vl, vr, cl, cr } => {
             // Vertical flanks only limit the span (done by the caller).
             let cl = if cl.is_finite() { cl as f32 } else { 0.0 };

@@ -9,6 +9,9 @@
 //! tool's reference point (the point the program drives) sits at the tip height and at
 //! axial offset [`Tool::reference_offset`] from the tip centre.
 
+use crate::solid::Solid;
+use std::sync::Arc;
+
 /// Which point of the tool the passes drive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Reference {
@@ -23,7 +26,7 @@ pub enum Reference {
 }
 
 /// The edge profile.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Edge {
     /// A flat tip of width `tip` with straight flanks; angles from the radial direction
     /// (0 = square grooving tool).
@@ -41,6 +44,14 @@ pub enum Edge {
         radius: f64,
         /// Half of the included angle (rad).
         half_angle: f64,
+    },
+    /// A convex solid from a mesh: its section at the rake face is the edge; with `body`,
+    /// the rest of it behind the rake face is swept too (a tool body).
+    Mesh {
+        /// The solid, in the tool frame with the reference point at the origin.
+        solid: Arc<Solid>,
+        /// Whether the solid behind the rake face cuts too (else the edge alone).
+        body: bool,
     },
 }
 
@@ -92,8 +103,8 @@ pub struct Tool {
 }
 
 /// The profile prepared for the sweep kernel: `h(v) = max(0, (vl - v)*cl, (v - vr)*cr)`
-/// inside `[v_min, v_max]`, or the round nose.
-#[derive(Clone, Copy, Debug)]
+/// inside `[v_min, v_max]`, the round nose, or a solid's section.
+#[derive(Clone, Debug)]
 pub(crate) enum Kernel {
     Trapezoid {
         vl: f64,
@@ -107,14 +118,38 @@ pub(crate) enum Kernel {
         ht: f64,
         cot: f64,
     },
+    Mesh(Arc<Solid>),
 }
 
 impl Tool {
+    /// Whether the tool has a body behind its edge that the sweep cuts with.
+    pub fn has_body(&self) -> bool {
+        self.body.is_some() || matches!(self.edge, Edge::Mesh { body: true, .. })
+    }
+
+    /// The same tool with its edge alone (no body).
+    pub fn edge_only(&self) -> Tool {
+        let edge = match &self.edge {
+            Edge::Mesh { solid, .. } => Edge::Mesh {
+                solid: solid.clone(),
+                body: false,
+            },
+            e => e.clone(),
+        };
+        Tool {
+            edge,
+            body: None,
+            ..self.clone()
+        }
+    }
+
     /// Axial offset of the reference point from the tip centre.
     pub fn reference_offset(&self) -> f64 {
-        let half = match self.edge {
+        let half = match &self.edge {
             Edge::Trapezoid { tip, .. } => tip / 2.0,
             Edge::RoundV { .. } => 0.0,
+            // The mesh is placed by its reference point: that is the origin.
+            Edge::Mesh { .. } => return 0.0,
         };
         match self.reference {
             Reference::Center | Reference::Tip => 0.0,
@@ -125,9 +160,10 @@ impl Tool {
 
     /// Width of the flat tip (0 for a round nose).
     pub fn tip_width(&self) -> f64 {
-        match self.edge {
-            Edge::Trapezoid { tip, .. } => tip,
+        match &self.edge {
+            Edge::Trapezoid { tip, .. } => *tip,
             Edge::RoundV { .. } => 0.0,
+            Edge::Mesh { solid, .. } => solid.tip_width(),
         }
     }
 
@@ -142,7 +178,7 @@ impl Tool {
     }
 
     pub(crate) fn kernel(&self) -> Kernel {
-        match self.edge {
+        match self.edge.clone() {
             Edge::Trapezoid {
                 tip,
                 left_angle,
@@ -159,6 +195,7 @@ impl Tool {
                 ht: radius * (1.0 - half_angle.sin()),
                 cot: cot(half_angle),
             },
+            Edge::Mesh { solid, .. } => Kernel::Mesh(solid),
         }
     }
 }
@@ -175,6 +212,7 @@ fn cot(a: f64) -> f64 {
 impl Kernel {
     pub(crate) fn height(&self, v: f64) -> f64 {
         match *self {
+            Kernel::Mesh(ref solid) => solid.height(v),
             Kernel::Trapezoid { vl, vr, cl, cr } => {
                 if v < vl {
                     if cl.is_infinite() {
@@ -211,6 +249,7 @@ impl Kernel {
     pub(crate) fn span(&self, reach: f64) -> (f64, f64) {
         let reach = reach.max(0.0);
         match *self {
+            Kernel::Mesh(ref solid) => solid.span(reach),
             Kernel::Trapezoid { vl, vr, cl, cr } => {
                 let l = if cl.is_infinite() { 0.0 } else { reach / cl };
                 let r = if cr.is_infinite() { 0.0 } else { reach / cr };

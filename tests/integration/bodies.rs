@@ -239,3 +239,172 @@ fn the_shim_clears_a_tr_insert() {
         assert!((c.right_crest - 3.1854).abs() < 1e-4, "{c:?}");
     }
 }
+
+/// An OBJ of the parametric insert (axes: x along the part, y the height above the tip, z
+/// the depth behind the rake face; the origin at the tip centre): the edge section at z = 0
+/// (tip `width` at y = 0, flanks at `left`/`right` deg from radial up to y = `top`), the same
+/// section at z = `thickness` with the tip raised by the front clearance and each flank set
+/// back by its side clearance, and the faces between. All faces are planes of the
+/// parametric insert, so the mesh has no faceting error.
+fn insert_obj(width: f64, flanks: [f64; 2], thickness: f64, sides: [f64; 2], front: f64) -> String {
+    let top = 20.0;
+    let (tl, tr) = (flanks[0].to_radians().tan(), flanks[1].to_radians().tan());
+    let (sl, sr) = (sides[0].to_radians().tan(), sides[1].to_radians().tan());
+    let (vl, vr) = (-width / 2.0, width / 2.0);
+    let lift = thickness * front.to_radians().tan();
+    // (V, H) at depth y: the tip at H = y tan(front), the flanks set back y tan(side).
+    let section = |y: f64, h_tip: f64| {
+        let (l, r) = (vl + y * sl, vr - y * sr);
+        [
+            (l - h_tip * tl, h_tip),
+            (r + h_tip * tr, h_tip),
+            (r + top * tr, top),
+            (l - top * tl, top),
+        ]
+    };
+    let mut obj = String::from("# the parametric insert as a mesh\n");
+    for (y, h_tip) in [(0.0, 0.0), (thickness, lift)] {
+        for (v, h) in section(y, h_tip) {
+            obj += &format!("v {v:.15} {h:.15} {y:.15}\n");
+        }
+    }
+    // Front 1-4, back 5-8; sides: tip (1 2 6 5), right (2 3 7 6), top (3 4 8 7), left (4 1 5 8).
+    obj += "f 1 2 3 4\nf 8 7 6 5\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\nf 4 8 5 1\n";
+    obj
+}
+
+/// A mesh tool of the insert's shape cuts what the parametric insert cuts: the same edge
+/// (to float rounding: the mesh's edge is its section at the rake face) and the same rub,
+/// on seed 002's screw (groove and tool 5 mm) with 8 deg sides that the helix outgrows.
+#[test]
+fn a_mesh_insert_cuts_as_the_parametric_one() {
+    let parametric = screw(8.0, 20.0);
+    let obj = insert_obj(5.0, [0.0, 0.0], 4.0, [8.0, 20.0], 5.0);
+    let mesh_tool = "kind = \"mesh\"\nfile = \"insert.obj\"\nmesh_origin = [0.0, 0.0, 0.0]\nmesh_axes = [\"+x\", \"+y\", \"+z\"]";
+    let start = parametric.find("[[tool]]").unwrap();
+    let end = parametric[start..].find("\n[").unwrap() + start;
+    let text = format!(
+        "{}[[tool]]\nid = 1\n{mesh_tool}\n{}",
+        &parametric[..start],
+        &parametric[end + 1..]
+    );
+    let load = |f: &str| (f == "insert.obj").then(|| obj.clone());
+    let mesh_job =
+        vpcut::Job::from_toml_with(&text, "job.toml", &load).unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(mesh_job.tools[0].edge, vpcut::Edge::Mesh { .. }));
+    let a = run(&parametric);
+    let b = vpcut::simulate(&mesh_job, &vpcut::Options::default()).unwrap();
+    // The edges alone: the same cut to float rounding, which may put a cell whose centre
+    // lies on a flank on the other side (the mesh's planes are normalized): then the cell
+    // beside it agrees.
+    let (ea, eb) = (
+        a.edge_stock.as_ref().unwrap(),
+        b.edge_stock.as_ref().unwrap(),
+    );
+    let nz = ea.grid.n_z;
+    let mut walls = 0;
+    for (k, (x, y)) in ea.outer.iter().zip(&eb.outer).enumerate() {
+        if (x - y).abs() <= 1e-4 {
+            continue;
+        }
+        walls += 1;
+        let j = k % nz;
+        let beside = [j.wrapping_sub(1), j + 1]
+            .into_iter()
+            .filter(|&jj| jj < nz)
+            .any(|jj| (x - eb.outer[k - j + jj]).abs() <= 1e-4);
+        assert!(beside, "cell {k}: {x} vs {y}");
+    }
+    assert!(walls < ea.grid.dexels() / 1000, "{walls} cells differ");
+    // The rub: the same turns and flanks, depths within the two sampling bounds.
+    let bound = a.report.kernel.body_sampling_bound_mm.unwrap()
+        + b.report.kernel.body_sampling_bound_mm.unwrap();
+    let (ra, rb) = (
+        a.report.interference.as_ref().unwrap(),
+        b.report.interference.as_ref().unwrap(),
+    );
+    assert!(!ra.is_empty());
+    assert_eq!(ra.len(), rb.len(), "{ra:?}\n{rb:?}");
+    for (x, y) in ra.iter().zip(rb) {
+        assert_eq!((x.turn, x.flank), (y.turn, y.flank));
+        assert!(
+            (x.max_mm - y.max_mm).abs() <= bound + 1e-4,
+            "turn {}: {} vs {} mm",
+            x.turn,
+            x.max_mm,
+            y.max_mm
+        );
+    }
+}
+
+#[test]
+fn mesh_tool_errors_name_the_key() {
+    let base = screw(8.0, 20.0);
+    let start = base.find("[[tool]]").unwrap();
+    let end = base[start..].find("\n[").unwrap() + start;
+    let good = insert_obj(5.0, [0.0, 0.0], 4.0, [8.0, 20.0], 5.0);
+    // The back corner of the tip on the +V side pulled out past the +V flank's plane.
+    let mut lines: Vec<String> = good.lines().map(String::from).collect();
+    let mut corner: Vec<f64> = lines[6][2..]
+        .split(' ')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    corner[0] += 0.7;
+    lines[6] = format!("v {} {} {}", corner[0], corner[1], corner[2]);
+    let dented = lines.join("\n");
+    for (tool, obj, says) in [
+        (
+            "file = \"missing.obj\"",
+            good.as_str(),
+            "cannot read `missing.obj`",
+        ),
+        (
+            "file = \"insert.obj\"\nmesh_axes = [\"+x\", \"+x\", \"+z\"]",
+            &good,
+            "each OBJ axis once",
+        ),
+        (
+            "file = \"insert.obj\"\nmesh_units = \"cubit\"",
+            &good,
+            "mesh_units",
+        ),
+        (
+            "file = \"insert.obj\"\nwidth = 3.0",
+            &good,
+            "does not apply to a mesh tool",
+        ),
+        (
+            "file = \"insert.obj\"\nmesh_origin = [0.0, 1.0, 0.0]",
+            &good,
+            "the reference point must be on the tip",
+        ),
+        (
+            "file = \"insert.obj\"\nmesh_origin = [0.0, 0.0, 1.0]",
+            &good,
+            "in front of it",
+        ),
+        (
+            "file = \"insert.obj\"",
+            "v 1 2\nf 1 2 3\n",
+            "not a readable OBJ mesh",
+        ),
+        (
+            "file = \"insert.obj\"",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+            "no volume",
+        ),
+        ("file = \"insert.obj\"", &dented, "not convex"),
+    ] {
+        let text = format!(
+            "{}[[tool]]\nid = 1\nkind = \"mesh\"\n{tool}\n{}",
+            &base[..start],
+            &base[end + 1..]
+        );
+        let load = |f: &str| (f == "insert.obj").then(|| obj.to_string());
+        let err = vpcut::Job::from_toml_with(&text, "job.toml", &load)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(says), "{tool}: {err}");
+        assert!(err.starts_with("job.toml:"), "{err}");
+    }
+}
