@@ -37,10 +37,11 @@
 //! flank that cannot reach out does not count in the sampling speed.
 
 use crate::pass::Pass;
-use crate::solid::Face;
+use crate::solid::{Face, Solid};
 use crate::stock::Surface;
 use crate::tool::{Body, Edge, Tool};
 use std::f64::consts::{FRAC_PI_2, TAU};
+use std::sync::Arc;
 
 /// Largest distance (mm) between the cut of the sampled body sections and that of the
 /// continuous body (the sample count keeps the bound under this).
@@ -114,8 +115,15 @@ enum Shape {
         slope_r: f64,
         thickness: f64,
     },
-    /// A mesh: its axial extent (a section lies within it).
-    Mesh { v_lo: f64, v_hi: f64 },
+    /// A mesh: its axial extent (a section lies within it), its lowest height `h_min`
+    /// above the tip, and the stretch of its edge no higher than that (outside).
+    Mesh {
+        solid: Arc<Solid>,
+        v_lo: f64,
+        v_hi: f64,
+        h_min: f64,
+        flat: Option<(f64, f64)>,
+    },
 }
 
 /// One flank's table: the offset of entry 0 from the edge's tip centre (mm), and the
@@ -264,9 +272,21 @@ pub(crate) fn sample(
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
                     (a.min(p[2]), b.max(p[2]))
                 });
+            let h_min = solid
+                .vertices
+                .iter()
+                .map(|p| p[0])
+                .fold(f64::INFINITY, f64::min);
+            let flat = (h_min >= 0.0).then(|| solid.span(h_min));
             (
                 solid.faces.clone(),
-                Shape::Mesh { v_lo, v_hi },
+                Shape::Mesh {
+                    solid: solid.clone(),
+                    v_lo,
+                    v_hi,
+                    h_min,
+                    flat,
+                },
                 phi_max,
                 speed,
             )
@@ -508,11 +528,7 @@ impl Sections {
             thickness,
         } = self.shape
         else {
-            // A mesh's section lies within the mesh's axial extent.
-            let Shape::Mesh { v_lo, v_hi } = self.shape else {
-                unreachable!()
-            };
-            return [Some((v_lo - pad, v_hi + pad)), None];
+            return self.mesh_bands(pad, delta, s);
         };
         let run = |c: f64| if c.is_finite() { reach / c } else { 0.0 };
         let tan = |c: f64| if c.is_finite() { 1.0 / c } else { 0.0 };
@@ -533,6 +549,40 @@ impl Sections {
             (out_l > 0.0).then(|| (el - out_l - run(cl) - pad, el + pad)),
             (out_r > 0.0).then(|| (er - pad, er + out_r + run(cr) + pad)),
         ]
+    }
+
+    /// A mesh's bands: its axial extent, less where the edge's own cut at the crossing is
+    /// already as deep as any point of the section can reach. Outside, a ray meets the
+    /// section no lower than `h_min` above the tip (`r >= X = r_tip + H`); inside a bore,
+    /// no lower than `h_min - r (1/cos phi - 1)` (the ray reaches out to `X / cos phi`).
+    /// Where the edge stands no higher than that, the section cuts nothing new.
+    fn mesh_bands(&self, pad: f64, delta: f64, s: f64) -> [Option<(f64, f64)>; 2] {
+        let Shape::Mesh {
+            ref solid,
+            v_lo,
+            v_hi,
+            h_min,
+            flat,
+        } = self.shape
+        else {
+            return [None, None];
+        };
+        let whole = [Some((v_lo - pad, v_hi + pad)), None];
+        let flat = if self.sense > 0.0 {
+            flat
+        } else {
+            let c = (1.0 - s * s).max(1e-12).sqrt();
+            let level = h_min - self.r_zone.1 * (1.0 / c - 1.0);
+            (level >= 0.0).then(|| solid.span(level))
+        };
+        // The flat in the section's frame, shrunk by the slack.
+        match flat {
+            Some((a, b)) if a - delta + pad < b - delta - pad => [
+                Some((v_lo - pad, a - delta + pad)),
+                Some((b - delta - pad, v_hi + pad)),
+            ],
+            _ => whole,
+        }
     }
 
     /// Cut `seg` (cells at axial offsets `v_start + k dz` from the section's tip centre,
