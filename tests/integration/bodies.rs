@@ -408,3 +408,68 @@ fn mesh_tool_errors_name_the_key() {
         assert!(err.starts_with("job.toml:"), "{err}");
     }
 }
+
+/// Faceting: a mesh whose nose is a polygon of `n` chords inscribed in the round nose of a
+/// threading tool (M20x2.5, 60 deg, nose radius 0.3) cuts no deeper than the round nose and
+/// at most one sagitta `r (1 - cos(dtheta / 2))` less, measured radially from the nose's
+/// centre; as a height above the tip that is at most `sagitta / cos 60` (the nose meets the
+/// flanks at 60 deg from the bottom). Finer facets, closer cut.
+#[test]
+fn a_faceted_round_nose_cuts_within_its_sagitta() {
+    let text = with(
+        &scene_text("iso-m20x2.5-radial"),
+        &[("simulation", "angular_cells", "180")],
+    )
+    .replace("tip_flat = 0.4166666667", "nose_radius = 0.3");
+    let round_job = job(&text);
+    assert!(matches!(
+        round_job.tools[0].edge,
+        vpcut::Edge::RoundV { .. }
+    ));
+    let round = vpcut::simulate(&round_job, &vpcut::Options::default()).unwrap();
+    let (r, reach) = (0.3f64, 60f64.to_radians());
+    let tan30 = 30f64.to_radians().tan();
+    let mut worst_by_n = Vec::new();
+    for n in [8usize, 32] {
+        // [H, V] around the profile: the -z flank's top, the nose's chords, the +z flank's top.
+        let top = 3.0;
+        let mut profile = Vec::new();
+        let tangent = |theta: f64| [r - r * theta.cos(), r * theta.sin()];
+        let [ht, vt] = tangent(-reach);
+        profile.push([top, vt - (top - ht) * tan30]);
+        for k in 0..=n {
+            profile.push(tangent(-reach + 2.0 * reach * k as f64 / n as f64));
+        }
+        let [ht, vt] = tangent(reach);
+        profile.push([top, vt + (top - ht) * tan30]);
+        let (vertices, triangles) = vpcut::prism(&profile, &profile, 2.0);
+        let solid = vpcut::Solid::from_mesh(&vertices, &triangles).unwrap();
+        let mut mesh_job = round_job.clone();
+        mesh_job.tools[0].edge = vpcut::Edge::Mesh {
+            solid: std::sync::Arc::new(solid),
+            body: false,
+        };
+        let mesh = vpcut::simulate(&mesh_job, &vpcut::Options::default()).unwrap();
+        let sagitta = r * (1.0 - (reach / n as f64).cos());
+        let bound = sagitta / reach.cos();
+        let (mut lo, mut hi) = (0f32, 0f32);
+        for (m, o) in mesh.stock.outer.iter().zip(&round.stock.outer) {
+            lo = lo.min(m - o);
+            hi = hi.max(m - o);
+        }
+        assert!(
+            lo > -1e-5,
+            "n = {n}: the facets cut {lo} mm deeper than the nose"
+        );
+        assert!(
+            (hi as f64) <= bound + 1e-5,
+            "n = {n}: {hi} mm above the nose, bound {bound:.6}"
+        );
+        assert!(
+            (hi as f64) >= 0.5 * sagitta,
+            "n = {n}: {hi} (sagitta {sagitta:.6})"
+        );
+        worst_by_n.push(hi);
+    }
+    assert!(worst_by_n[1] < worst_by_n[0] / 8.0, "{worst_by_n:?}");
+}
