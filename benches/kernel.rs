@@ -117,8 +117,9 @@ fn bench_interpreter(c: &mut Criterion) {
 /// sweep), on the seed 002 equal-tooth scene at full resolution, two threads: the planar
 /// edge; a body whose 2 deg side clearances the helix angle (up to 13 deg at the root)
 /// overtakes on the leading flank all along the screw; seed 000's 11/-1 deg grind, which
-/// rubs at the root of the last turns only; and a 20 deg body that clears everywhere and is
-/// skipped. Each run includes the preparation of the sections and their tables.
+/// rubs at the root of the last turns only; a 20 deg body that clears everywhere and is
+/// skipped; and the 2 deg insert given as a mesh. Each run includes the preparation of the
+/// sections and their tables.
 fn bench_body(c: &mut Criterion) {
     let job = scene("seed002-equal-tooth");
     let (grid, _) = plan_grid(&job).unwrap();
@@ -135,6 +136,30 @@ fn bench_body(c: &mut Criterion) {
         }
         tools
     };
+    // The rubbing 2 deg insert as a mesh (its six planes): the face-plane code a mesh tool
+    // runs, with its bands beside the edge's flat instead of the insert's along the flanks.
+    let mesh = {
+        let (s2, t5) = (2f64.to_radians().tan(), 5f64.to_radians().tan());
+        let (w, d, top) = (3.0f64, 4.0f64, 8.0f64);
+        // The scene's tool drives its right corner: the mesh's origin.
+        let front = [[0.0, -w], [0.0, 0.0], [top, 0.0], [top, -w]];
+        let back = [
+            [d * t5, -w + d * s2],
+            [d * t5, -d * s2],
+            [top, -d * s2],
+            [top, -w + d * s2],
+        ];
+        let (v, t) = vpcut::prism(&front, &back, d);
+        let solid = std::sync::Arc::new(vpcut::Solid::from_mesh(&v, &t).unwrap());
+        let mut tools = job.tools.clone();
+        for tool in &mut tools {
+            tool.edge = vpcut::Edge::Mesh {
+                solid: solid.clone(),
+                body: true,
+            };
+        }
+        tools
+    };
     let mut g = c.benchmark_group("sweep-body/seed002-equal-tooth");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
     let p = pool(2);
@@ -143,6 +168,7 @@ fn bench_body(c: &mut Criterion) {
         ("body-rubbing-2deg", with_body(2.0, 2.0)),
         ("body-11-minus-1deg", with_body(11.0, -1.0)),
         ("body-clear-20deg", with_body(20.0, 20.0)),
+        ("mesh-rubbing-2deg", mesh),
     ] {
         let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
         g.bench_function(name, |b| {

@@ -96,9 +96,6 @@ pub(crate) struct Tables {
     pub(crate) t_last: f64,
     /// Per bin, the table of each flank (-z, +z) that can reach beyond the edge.
     bins: Vec<[Option<Table>; 2]>,
-    /// Each sample's section on the rays (the tip's radius is the pass's), for the
-    /// crossings after `t_last`.
-    pub(crate) rays: Vec<Ray>,
 }
 
 /// The solid behind the edge, as far as the bands need it.
@@ -412,7 +409,13 @@ impl Sections {
 
     /// The tables of a straight pass (`None` for a tapered one, one whose tip does not
     /// reach the blank, or one too short for its sections).
-    pub(crate) fn tabulate(&self, pass: &Pass, sense: f64, q_blank: f64) -> Option<Tables> {
+    pub(crate) fn tabulate(
+        &self,
+        pass: &Pass,
+        sense: f64,
+        q_blank: f64,
+        rays: &[Ray],
+    ) -> Option<Tables> {
         if pass.x_start != pass.x_end {
             return None;
         }
@@ -434,17 +437,12 @@ impl Sections {
             return None;
         }
         let dt = t_last / n_bins as f64;
-        let rays: Vec<Ray> = self
-            .samples
-            .iter()
-            .map(|&(_, c, s)| self.ray(c, s, r_tip, sense, q_blank))
-            .collect();
         use rayon::prelude::*;
         let bins = (0..n_bins)
             .into_par_iter()
             .map(|i| {
                 let lead = self.lead_f + self.lead_k * (i as f64 + 0.5) * dt;
-                self.table(lead, reach, h, &rays)
+                self.table(lead, reach, h, rays)
             })
             .collect::<Option<Vec<_>>>()?;
         Some(Tables {
@@ -452,7 +450,18 @@ impl Sections {
             h,
             t_last,
             bins,
-            rays,
+        })
+    }
+
+    /// Each sample's section on the rays of a straight pass (`None` for a tapered one, whose
+    /// tip radius changes along it): made once per pass, used at every crossing.
+    pub(crate) fn rays(&self, pass: &Pass, sense: f64, q_blank: f64) -> Option<Vec<Ray>> {
+        (pass.x_start == pass.x_end).then(|| {
+            let r_tip = pass.x_start / 2.0;
+            self.samples
+                .iter()
+                .map(|&(_, c, s)| self.ray(c, s, r_tip, sense, q_blank))
+                .collect()
         })
     }
 

@@ -47,8 +47,12 @@ struct Prepared {
     kernel: Kernel,
     /// The body's sections, when they can cut something the edge does not.
     body: Option<Sections>,
-    /// Their cut tabulated (grid sweeps of straight passes).
+    /// Their sections on the rays (straight passes), and their cut tabulated (grid sweeps
+    /// of straight passes).
+    rays: Option<Vec<Ray>>,
     tables: Option<Tables>,
+    /// A mesh tool's edge on the rays (straight passes).
+    edge_ray: Option<Ray>,
 }
 
 /// Cut `surface` of the stock with every pass (passes whose lead vanishes are skipped;
@@ -116,18 +120,34 @@ fn prepare(
         .filter_map(|(pass_idx, p)| {
             let tool = tools.get(p.tool)?;
             let zone = body::zone(p, q_blank, surface);
-            let body = body::sections(p, tool, zone, surface.sense());
-            let tables = body
-                .as_ref()
-                .filter(|_| tabulate)
-                .and_then(|b| b.tabulate(p, surface.sense(), q_blank));
+            let sense = surface.sense();
+            let body = body::sections(p, tool, zone, sense);
+            let rays = body.as_ref().and_then(|b| b.rays(p, sense, q_blank));
+            let tables = match (&body, &rays) {
+                (Some(b), Some(r)) if tabulate => b.tabulate(p, sense, q_blank, r),
+                _ => None,
+            };
+            let kernel = tool.kernel();
+            let edge_ray = match &kernel {
+                Kernel::Mesh(solid) if p.x_start == p.x_end => Some(body::ray(
+                    &solid.faces,
+                    1.0,
+                    0.0,
+                    p.x_start / 2.0,
+                    sense,
+                    q_blank,
+                )),
+                _ => None,
+            };
             Some(Prepared {
                 pass_idx,
                 t_end: p.revolutions()?,
                 ref_offset: tool.reference_offset(),
-                kernel: tool.kernel(),
+                kernel,
                 body,
+                rays,
                 tables,
+                edge_ray,
             })
         })
         .collect()
@@ -172,15 +192,18 @@ fn cut_column(
             let seg = &mut col[j0..=j1];
             stats.placements += 1;
             stats.dexel_updates += seg.len() as u64;
-            apply(seg, &pr.kernel, v_start, dz, q_tip, q_blank, sense);
+            match &pr.edge_ray {
+                Some(ray) => ray.cut(seg, v_start, dz),
+                None => apply(seg, &pr.kernel, v_start, dz, q_tip, q_blank, sense),
+            }
             match (&pr.tables, &pr.body) {
                 (Some(tables), _) if t <= tables.t_last => {
                     let (placements, cells) = tables.apply(col, t, z_tip, (z0, dz));
                     stats.placements += placements;
                     stats.dexel_updates += cells;
                 }
-                (tables, Some(b)) => {
-                    let rays = tables.as_ref().map(|tb| tb.rays.as_slice());
+                (_, Some(b)) => {
+                    let rays = pr.rays.as_deref();
                     stats =
                         stats + body_sections(col, b, rays, pass, pr, t, (z0, dz), q_blank, sense);
                 }
@@ -458,8 +481,10 @@ mod tests {
             t_end: pass.revolutions().unwrap(),
             ref_offset: tool.reference_offset(),
             kernel: tool.kernel(),
+            rays: None,
             body,
             tables,
+            edge_ray: None,
         }];
         cut_column(
             &mut q,
@@ -572,7 +597,7 @@ mod tests {
         let (pass, tool) = bodied(3.0, 20.0);
         let sections = body::sections(&pass, &tool, (22.0, 25.0), 1.0).expect("interferes");
         let tables = sections
-            .tabulate(&pass, 1.0, 25.0)
+            .tabulate(&pass, 1.0, 25.0, &sections.rays(&pass, 1.0, 25.0).unwrap())
             .expect("a straight pass");
         assert!(tables.t_last > 5.0, "{}", tables.t_last);
         // Cells of 1 um, finer than the tables' entries (2.5 um).
