@@ -107,18 +107,36 @@ pub(crate) fn measure(
             let theta = grid.theta(i);
             let ideal = thread.column(theta, z_first, z_last);
             let r = |q: &[f32], j: usize| sense * (q[j] as f64 + q_blank);
-            // The edge-cut profile as points (z, r); the distance to it is searched over
-            // the cells within the body cut's own size either side.
+            // The edge-cut profile as points (z, r); the distance to it is searched outward
+            // from the cell, a segment on each side per step, until the segments' nearer
+            // ends lie farther along the axis than the best distance so far (no farther
+            // segment can be closer). It starts at the radial gap and shrinks at the first
+            // wall met on either side.
+            let seg = |k: usize| ((grid.z(k), r(p, k)), (grid.z(k + 1), r(p, k + 1)));
             for &j in &hits {
                 let (z, rc, rp) = (grid.z(j), r(c, j), r(p, j));
                 let radial = (rp - rc).abs();
-                let reach = (radial / grid.dz).ceil() as usize + 1;
-                let (k0, k1) = (j.saturating_sub(reach), (j + reach).min(grid.n_z - 1));
                 let mut d2 = radial * radial;
-                for k in k0..k1 {
-                    // Segment between planar points k and k+1.
-                    let (a, b) = ((grid.z(k), r(p, k)), (grid.z(k + 1), r(p, k + 1)));
-                    d2 = d2.min(seg_dist2((z, rc), a, b));
+                for step in 0.. {
+                    // Segment [k, k+1] towards -z (k = j - 1 - step) and towards +z (k = j + step).
+                    let below = (step < j).then(|| j - 1 - step);
+                    let above = (j + step + 1 < grid.n_z).then_some(j + step);
+                    let mut any = false;
+                    for k in below.into_iter().chain(above) {
+                        let gap = if k < j {
+                            z - grid.z(k + 1)
+                        } else {
+                            grid.z(k) - z
+                        };
+                        if gap * gap <= d2 {
+                            any = true;
+                            let (a, b) = seg(k);
+                            d2 = d2.min(seg_dist2((z, rc), a, b));
+                        }
+                    }
+                    if !any {
+                        break;
+                    }
                 }
                 let feature = ideal.features.partition_point(|f| f.z < z);
                 let key = ideal
