@@ -380,6 +380,7 @@ struct RawTool {
     flank_angle: Option<f64>,
     flank_angles: Option<[f64; 2]>,
     reference: Option<RefName>,
+    length: Option<f64>,
     file: Option<String>,
     mesh_origin: Option<[f64; 3]>,
     mesh_axes: Option<[String; 3]>,
@@ -1429,6 +1430,7 @@ fn resolve_tool(
         ("flank_angle", t.flank_angle.is_some()),
         ("flank_angles", t.flank_angles.is_some()),
         ("reference", t.reference.is_some()),
+        ("length", t.length.is_some()),
         ("thickness", t.thickness.is_some()),
         ("side_clearance_left", t.side_clearance_left.is_some()),
         ("side_clearance_right", t.side_clearance_right.is_some()),
@@ -1447,6 +1449,7 @@ fn resolve_tool(
             edge,
             reference,
             body: None,
+            length: None,
         });
     }
     if let Some((k, _)) = mesh_keys.iter().find(|(_, set)| *set) {
@@ -1479,11 +1482,16 @@ fn resolve_tool(
         return Err(cx.err(&key(k), "this key does not apply to this kind of tool"));
     }
     let body = resolve_body(t, &edge, &key, cx)?;
+    let length = t
+        .length
+        .map(|l| cx.positive(&key("length"), l))
+        .transpose()?;
     Ok(Tool {
         id: t.id,
         edge,
         reference,
         body,
+        length,
     })
 }
 

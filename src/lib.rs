@@ -282,6 +282,12 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     // no run-in of its own.
     machine_issues.retain(|i| i.kind != "run_in" || job.chains.iter().all(|c| c.pass != i.pass));
     machine_issues.extend(machine::chain_check(&job.chains));
+    machine_issues.extend(machine::head_check(
+        &job.passes,
+        &job.tools,
+        &job.blank,
+        job.thread.side,
+    ));
     let mut report = build_report(
         job,
         &stock,
@@ -622,8 +628,9 @@ fn build_report(
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 14] = [
+const KINDS: [&str; 15] = [
     "hand",
+    "head_length",
     "gouge",
     "leftover",
     "flank_interference",

@@ -367,6 +367,7 @@ mod tests {
             },
             reference: Reference::Tip,
             body: None,
+            length: None,
         }];
         let pass = Pass {
             tool: 0,
@@ -434,6 +435,7 @@ mod tests {
                 clearance_front: 5f64.to_radians(),
                 inclination: 0.0,
             }),
+            length: None,
         };
         (pass, tool)
     }

@@ -100,6 +100,9 @@ pub struct Tool {
     pub reference: Reference,
     /// The insert behind the edge, if modelled (else the edge alone: a planar profile).
     pub body: Option<Body>,
+    /// How far the head reaches above its tip (mm), if given: past it the holder would
+    /// meet the part (a mesh's is its own height).
+    pub length: Option<f64>,
 }
 
 /// The profile prepared for the sweep kernel: `h(v) = max(0, (vl - v)*cl, (v - vr)*cr)`
@@ -125,6 +128,16 @@ impl Tool {
     /// Whether the tool has a body behind its edge that the sweep cuts with.
     pub fn has_body(&self) -> bool {
         self.body.is_some() || matches!(self.edge, Edge::Mesh { body: true, .. })
+    }
+
+    /// How far the head reaches above its tip (mm): the job's `length`, or a mesh's height.
+    pub fn head_length(&self) -> Option<f64> {
+        match &self.edge {
+            Edge::Mesh { solid, .. } => {
+                Some(solid.vertices.iter().map(|p| p[0]).fold(0.0, f64::max))
+            }
+            _ => self.length,
+        }
     }
 
     /// The same tool with its edge alone (no body).
@@ -286,6 +299,7 @@ mod tests {
             },
             reference: Reference::Tip,
             body: None,
+            length: None,
         };
         let k = t.kernel();
         if let Kernel::RoundV { vt, .. } = k {
@@ -313,6 +327,7 @@ mod tests {
             },
             reference: Reference::Right,
             body: None,
+            length: None,
         };
         assert_eq!(t.reference_offset(), 1.5);
         t.reference = Reference::Left;

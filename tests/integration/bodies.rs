@@ -473,3 +473,41 @@ fn a_faceted_round_nose_cuts_within_its_sagitta() {
     }
     assert!(worst_by_n[1] < worst_by_n[0] / 8.0, "{worst_by_n:?}");
 }
+
+/// The head's `length`: seed 000 asks for a head 2 to 3 mm longer than the tooth (3 mm on
+/// its 36/30 screw). A 2.5 mm head fails the last of the three radial layers (its tip runs
+/// 3 mm below the blank's surface), and only it; 5.5 mm passes. A mesh's head is its own
+/// height.
+#[test]
+fn a_head_shorter_than_the_cut_is_an_error() {
+    let text = |length: &str| {
+        scene_text("seed000-tool-clear").replace(
+            "reference = \"center\"",
+            &format!("reference = \"center\"\nlength = {length}"),
+        )
+    };
+    let short = run(&with(
+        &text("2.5"),
+        &[("simulation", "angular_cells", "360")],
+    ));
+    let heads: Vec<_> = short
+        .report
+        .findings
+        .iter()
+        .filter(|f| f.kind == "head_length")
+        .collect();
+    assert_eq!(heads.len(), 1, "{heads:?}");
+    assert_eq!(heads[0].severity, "error");
+    assert_eq!(heads[0].pass, Some(3));
+    assert!((heads[0].value - 3.0).abs() < 1e-9, "{}", heads[0].value);
+    assert_eq!(short.report.verdict, vpcut::Verdict::Fail);
+    let long = run(&with(
+        &text("5.5"),
+        &[("simulation", "angular_cells", "360")],
+    ));
+    assert!(long.report.findings.iter().all(|f| f.kind != "head_length"));
+    let err = vpcut::Job::from_toml(&text("-1.0"), "job.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("length"), "{err}");
+}
