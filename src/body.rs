@@ -65,6 +65,10 @@ pub(crate) struct Sections {
     /// The bound on the error of the sections' cut against the continuous body's (mm): the
     /// angular sampling's and, where the sweep uses [`Tables`], the tables' (see there).
     pub(crate) bound: f64,
+    /// The part of `error_mm` left to the angular sampling, and how fast the faces that
+    /// count move across the edge's walls (mm).
+    phi_error: f64,
+    corners: Corners,
     /// The part of `error_mm` left to the tables (mm).
     table_error: f64,
     /// The pass's direction of travel and lead law.
@@ -175,7 +179,7 @@ pub(crate) fn sample(
     let (r_lo, r_hi) = (r_zone.0.min(r_zone.1).max(1e-3), r_zone.0.max(r_zone.1));
     let leads = [law.lead(0.0), law.lead(t_end)];
     let dir = pass.helix().dir;
-    let (faces, shape, phi_max, speed) = match (&tool.edge, tool.body) {
+    let (faces, shape, phi_max, rates) = match (&tool.edge, tool.body) {
         (
             &Edge::Trapezoid {
                 tip,
@@ -216,20 +220,17 @@ pub(crate) fn sample(
             } else {
                 out
             };
-            let mut speed: f64 = 1e-9;
-            for (f, (slope, d)) in [(sl, -dir), (sr, dir)].into_iter().enumerate() {
-                if !counted[f] {
-                    continue;
-                }
-                for l in leads {
-                    for rc in [r_lo * phi_max.cos(), r_hi] {
-                        for rs in [0.0, r_hi * phi_max.sin()] {
-                            let rate = d * l / TAU - rc * slope - sense * rs * tan_flanks[f];
-                            speed = speed.max(rate.abs() + taper * l.abs() / TAU * tan_flanks[f]);
-                        }
-                    }
-                }
-            }
+            let rates: Vec<Rate> = [(sl, -dir), (sr, dir)]
+                .into_iter()
+                .enumerate()
+                .filter(|&(f, _)| counted[f])
+                .map(|(f, (slope, d))| Rate {
+                    l: d / TAU,
+                    rc: -slope,
+                    rs: -sense * tan_flanks[f],
+                    taper: taper / TAU * tan_flanks[f],
+                })
+                .collect();
             let (vl, vr) = (-tip / 2.0, tip / 2.0);
             let (cl, cr) = (cot(left_angle), cot(right_angle));
             let faces = insert_faces(&body, vl, vr, cl, cr);
@@ -242,7 +243,7 @@ pub(crate) fn sample(
                 slope_r: sr,
                 thickness: body.thickness,
             };
-            (faces, shape, phi_max, speed)
+            (faces, shape, phi_max, rates)
         }
         (Edge::Mesh { solid, body: true }, _) => {
             let phi_max = (solid.depth / r_lo).min(1.0).asin().min(FRAC_PI_2);
@@ -251,18 +252,17 @@ pub(crate) fn sample(
             // in a face's terms); faces parallel to the axis (tip, top, back) are covered
             // by the neighbouring samples as the insert's tip is. A mesh is not skipped.
             let taper = taper(pass);
-            let mut speed: f64 = 1e-9;
-            for f in solid.faces.iter().filter(|f| f.v.abs() > 1e-9) {
-                for l in leads {
-                    for rc in [r_lo * phi_max.cos(), r_hi] {
-                        for rs in [0.0, r_hi * phi_max.sin()] {
-                            let rate = dir * l / TAU + (f.h * sense * rs - f.y * rc) / f.v;
-                            speed =
-                                speed.max(rate.abs() + taper * l.abs() / TAU * (f.h / f.v).abs());
-                        }
-                    }
-                }
-            }
+            let rates: Vec<Rate> = solid
+                .faces
+                .iter()
+                .filter(|f| f.v.abs() > 1e-9)
+                .map(|f| Rate {
+                    l: dir / TAU,
+                    rc: -f.y / f.v,
+                    rs: f.h * sense / f.v,
+                    taper: taper / TAU * (f.h / f.v).abs(),
+                })
+                .collect();
             let (v_lo, v_hi) = solid
                 .vertices
                 .iter()
@@ -285,11 +285,17 @@ pub(crate) fn sample(
                     flat,
                 },
                 phi_max,
-                speed,
+                rates,
             )
         }
         _ => return None,
     };
+    let corners = Corners {
+        rc: [r_lo * phi_max.cos(), r_hi],
+        rs: [0.0, r_hi * phi_max.sin()],
+        rates,
+    };
+    let speed = corners.speed(leads);
     // Half the error to the angular sampling, half to the tables (if the sweep uses them).
     let phi_error = error_mm / 2.0;
     let n = ((phi_max * speed / phi_error).ceil() as usize).clamp(1, MAX_SAMPLES);
@@ -307,11 +313,51 @@ pub(crate) fn sample(
         r_zone: (r_lo, r_hi),
         sense,
         bound: dphi * speed + error_mm / 2.0,
+        phi_error,
+        corners,
         table_error: error_mm / 2.0,
         dir,
         lead_f: law.f,
         lead_k: law.k,
     })
+}
+
+/// How fast (mm per radian of `phi`) a face of the section moves across the edge's wall
+/// along the axis, linear in the section's lead `L`, `r cos phi` and `r sin phi`:
+/// `l L + rc r cos(phi) + rs r sin(phi)`, plus `taper |L|` on a taper.
+#[derive(Clone, Copy, Debug)]
+struct Rate {
+    l: f64,
+    rc: f64,
+    rs: f64,
+    taper: f64,
+}
+
+/// The faces' rates and the corners of the `r cos phi`, `r sin phi` box they are bounded on.
+#[derive(Clone, Debug)]
+struct Corners {
+    rc: [f64; 2],
+    rs: [f64; 2],
+    rates: Vec<Rate>,
+}
+
+impl Corners {
+    /// The largest rate for sections whose lead lies between `leads` (each rate is linear
+    /// in the lead and in both radii, so its size is largest at a corner).
+    fn speed(&self, leads: [f64; 2]) -> f64 {
+        let mut speed: f64 = 1e-9;
+        for r in &self.rates {
+            for l in leads {
+                for rc in self.rc {
+                    for rs in self.rs {
+                        let rate = r.l * l + r.rc * rc + r.rs * rs;
+                        speed = speed.max(rate.abs() + r.taper * l.abs());
+                    }
+                }
+            }
+        }
+        speed
+    }
 }
 
 /// Cotangent, infinite at zero (a vertical flank).
@@ -401,6 +447,11 @@ fn reaches_out(
 }
 
 impl Sections {
+    /// The body's angular extent (the last sample's angle).
+    fn phi_max(&self) -> f64 {
+        self.samples.last().map_or(0.0, |&(dt, _, _)| dt * TAU)
+    }
+
     /// How far (mm) section `dt` revolutions after a crossing at lead `lead` stands from
     /// the edge's tip, along the axis.
     fn delta(&self, lead: f64, dt: f64) -> f64 {
@@ -442,7 +493,17 @@ impl Sections {
             .into_par_iter()
             .map(|i| {
                 let lead = self.lead_f + self.lead_k * (i as f64 + 0.5) * dt;
-                self.table(lead, reach, h, rays)
+                // The bin's sections see the leads from its first crossing to its last
+                // crossing's last section: where those are smaller than the pass's largest,
+                // the faces move slower and every `stride`-th sample keeps the bound.
+                let leads = [
+                    self.lead_f + self.lead_k * i as f64 * dt,
+                    self.lead_f + self.lead_k * ((i + 1) as f64 * dt + u_max),
+                ];
+                let n = self.samples.len();
+                let needed = (self.phi_max() * self.corners.speed(leads) / self.phi_error).ceil();
+                let stride = ((n as f64 / needed.max(1.0)).floor() as usize).clamp(1, n);
+                self.table(lead, reach, h, rays, stride)
             })
             .collect::<Option<Vec<_>>>()?;
         Some(Tables {
@@ -465,14 +526,30 @@ impl Sections {
         })
     }
 
-    /// The two flank tables for crossings at lead `lead`, from each sample's `rays`; `None`
-    /// when one would exceed [`MAX_ENTRIES`].
-    fn table(&self, lead: f64, reach: f64, h: f64, rays: &[Ray]) -> Option<[Option<Table>; 2]> {
-        // Each sample's bands, in offsets from the edge's tip centre.
-        let bands: Vec<[Option<(f64, f64)>; 2]> = self
+    /// The two flank tables for crossings at lead `lead`, from every `stride`-th sample's
+    /// `rays`; `None` when one would exceed [`MAX_ENTRIES`].
+    fn table(
+        &self,
+        lead: f64,
+        reach: f64,
+        h: f64,
+        rays: &[Ray],
+        stride: usize,
+    ) -> Option<[Option<Table>; 2]> {
+        // Every `stride`-th sample and the last (the body's end), with their rays.
+        let n = self.samples.len();
+        let used: Vec<(&(f64, f64, f64), &Ray)> = self
             .samples
             .iter()
-            .map(|&(dt, _, s)| {
+            .zip(rays)
+            .enumerate()
+            .filter(|&(k, _)| (k + 1) % stride == 0 || k + 1 == n)
+            .map(|(_, x)| x)
+            .collect();
+        // Each sample's bands, in offsets from the edge's tip centre.
+        let bands: Vec<[Option<(f64, f64)>; 2]> = used
+            .iter()
+            .map(|&(&(dt, _, s), _)| {
                 let delta = self.delta(lead, dt);
                 self.bands(reach, 2.0 * h, delta, s)
                     .map(|b| b.map(|(lo, hi)| (lo + delta, hi + delta)))
@@ -496,7 +573,7 @@ impl Sections {
             }
             let n = n as usize;
             let mut entries = vec![0.0f32; n];
-            for ((&(dt, _, _), ray), b) in self.samples.iter().zip(rays).zip(&bands) {
+            for (&(&(dt, _, _), ray), b) in used.iter().zip(&bands) {
                 let Some((b_lo, b_hi)) = b[f] else { continue };
                 let i0 = ((b_lo - w0) / h).ceil().max(0.0) as usize;
                 let i1 = (((b_hi - w0) / h).floor() as usize).min(n - 1);
