@@ -7,17 +7,20 @@
 //! the column sees a sequence of body sections, each placed at the tool's position of its
 //! own instant. A radial ray of the column at relative angle `phi` crosses the tool frame at
 //! `X = r cos phi` (radial) and `Y = r sin phi` (depth behind the rake face), and every face
-//! of a planar-faced insert is then a linear constraint `A r >= B` on the radius along the
-//! ray (the section's tip, its two flanks with their clearance and inclination, its back at
-//! `Y = thickness`). The first radius inside all of them is where the body meets the ray
-//! (external: the smallest; internal: the largest), and the column is cut there.
+//! of the solid is then a linear constraint `A r >= B` on the radius along the ray: the
+//! parametric insert's (the section's tip, its two flanks with their clearance and
+//! inclination, its back at `Y = thickness`) or a convex mesh's ([`crate::solid`]). The first
+//! radius inside all of them is where the body meets the ray (external: the smallest;
+//! internal: the largest), and the column is cut there ([`ray`]; at `phi = 0` the same is a
+//! mesh's edge).
 //!
 //! **Sampling.** `phi` is sampled evenly up to the body's angular extent. What the body cuts
 //! beyond the edge lies between the edge's wall and the section's flank, which moves across
-//! the wall at `speed = |r cos(phi) slope +/- dir L/2pi|` mm per radian (the recession
-//! `Y slope` at depth `Y = r sin phi` against the helical travel at the section's lead `L`),
-//! bounded over the pass's leads, the zone's radii and the flanks that can reach beyond the
-//! edge. A point the continuous body cuts between two samples lies, axially, within
+//! the wall at `speed = |dir L/2pi -/+ (r cos(phi) slope + sense r sin(phi) tan a)|` mm per
+//! radian (the helical travel at the section's lead `L` against the recession `Y slope` at
+//! depth `Y = r sin phi`, and, for a flank sloped at `a`, the ray's falling height above the
+//! tip), bounded over the pass's leads, the zone's radii and the flanks that can reach beyond
+//! the edge (a mesh: every face with an axial component, in the same terms). A point the continuous body cuts between two samples lies, axially, within
 //! `dphi * speed` of the later sample's flank, which cuts everything on its side down to its
 //! own tip; the tip rises between samples too, but a point under the rising tip is also
 //! within that axial distance of the flank. So the sampled cut is within `dphi * speed` of
@@ -39,7 +42,7 @@
 use crate::pass::Pass;
 use crate::solid::{Face, Solid};
 use crate::stock::Surface;
-use crate::tool::{Body, Edge, Tool};
+use crate::tool::{cot, Body, Edge, Tool};
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::sync::Arc;
 
@@ -50,7 +53,7 @@ pub(crate) const SAMPLING_ERROR_MM: f64 = 0.005;
 /// Most sections per pass.
 pub(crate) const MAX_SAMPLES: usize = 4096;
 
-/// A body made ready for one pass: the sampled sections and the insert's faces.
+/// A body made ready for one pass: the sampled sections and the solid's faces.
 #[derive(Clone, Debug)]
 pub(crate) struct Sections {
     /// Per sample: `(dt, cos phi, sin phi)` with `dt = phi / 2pi` revolutions after the edge.
@@ -88,8 +91,10 @@ pub(crate) struct Sections {
 /// cell with the table's nearest entry. Against the sections swept at the crossing itself,
 /// each section stands at most `|K| (dt/2) u_max` off axially (the bin's half width) and
 /// the nearest entry at most `h/2`: the table's part of the bound, kept under a quarter of
-/// the error each. Crossings whose sections would run past the pass's end, and tapered
-/// passes, sweep the sections directly.
+/// the error each. A bin whose sections see smaller leads than the pass's largest moves
+/// its flanks slower and uses every k-th sample, still within the sampling's half of the
+/// bound. Crossings whose sections would run past the pass's end, and tapered passes, sweep
+/// the sections directly.
 #[derive(Clone, Debug)]
 pub(crate) struct Tables {
     /// Revolutions per bin.
@@ -357,15 +362,6 @@ impl Corners {
             }
         }
         speed
-    }
-}
-
-/// Cotangent, infinite at zero (a vertical flank).
-fn cot(a: f64) -> f64 {
-    if a <= 0.0 {
-        f64::INFINITY
-    } else {
-        1.0 / a.tan()
     }
 }
 
@@ -867,8 +863,9 @@ impl<const N: usize> Lines<N> {
     }
 }
 
+/// `min` without the NaN handling of `f32::min`: one instruction, so loops vectorise.
 #[inline(always)]
-fn fmin(a: f32, b: f32) -> f32 {
+pub(crate) fn fmin(a: f32, b: f32) -> f32 {
     if a < b {
         a
     } else {
@@ -876,8 +873,9 @@ fn fmin(a: f32, b: f32) -> f32 {
     }
 }
 
+/// `max` without the NaN handling of `f32::max`.
 #[inline(always)]
-fn fmax(a: f32, b: f32) -> f32 {
+pub(crate) fn fmax(a: f32, b: f32) -> f32 {
     if a > b {
         a
     } else {

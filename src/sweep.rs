@@ -13,7 +13,7 @@
 //!
 //! One *dexel update* is one dexel tested against one tool placement; the kernel counts them.
 
-use crate::body::{self, Ray, Sections, Tables};
+use crate::body::{self, fmax, fmin, Ray, Sections, Tables};
 use crate::pass::Pass;
 use crate::stock::{Stock, Surface};
 use crate::tool::{Kernel, Tool};
@@ -272,24 +272,6 @@ fn body_sections(
         }
     }
     stats
-}
-
-#[inline(always)]
-fn fmin(a: f32, b: f32) -> f32 {
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
-#[inline(always)]
-fn fmax(a: f32, b: f32) -> f32 {
-    if a > b {
-        a
-    } else {
-        b
-    }
 }
 
 /// `seg[k] = min(seg[k], base + h(v_start + k*dz))` with `base = q_tip - q_blank`: the edge

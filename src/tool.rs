@@ -214,7 +214,7 @@ impl Tool {
 }
 
 /// Cotangent, infinite at zero (a vertical flank).
-fn cot(a: f64) -> f64 {
+pub(crate) fn cot(a: f64) -> f64 {
     if a <= 0.0 {
         f64::INFINITY
     } else {
