@@ -11,8 +11,9 @@
 //!
 //! A mesh is accepted when it is closed (every edge shared by two triangles, after merging
 //! vertices closer than a micrometre), convex (every vertex on the inner side of every face
-//! plane), has its rake face at `Y = 0` (no point in front of it), and has its lowest point at
-//! `Y = 0` on `H = 0` (the reference point is on the tip). Its edge profile is its section at
+//! plane), has its rake face flat on `Y = 0` (no point in front of it, and a face on that
+//! plane: the edge lies in it), and has its lowest point at `Y = 0` on `H = 0` (the
+//! reference point is on the tip). Its edge profile is its section at
 //! `Y = 0`: `h(V)`, the largest of the lower bounds of the faces there.
 
 /// One face: `h H + y Y + v V >= d` inside, `(h, y, v)` a unit vector.
@@ -68,6 +69,9 @@ pub enum SolidError {
     /// The solid does not reach `Y = 0`.
     #[error("the rake face must lie at depth 0 (Y = 0 after `mesh_origin` and `mesh_axes`): the mesh starts {0:.4} mm behind it")]
     NoRake(f64),
+    /// No face on the plane `Y = 0`.
+    #[error("the rake face must be a flat face at depth 0 (Y = 0 after `mesh_origin` and `mesh_axes`): a tilted rake face (top rake) is not modelled yet")]
+    TiltedRake,
     /// The lowest point of the edge is not at the reference height.
     #[error("the reference point must be on the tip: the lowest point of the rake face's section is at H = {0:.4} mm (expected 0; check `mesh_origin` and the sign of the height axis in `mesh_axes`)")]
     Tip(f64),
@@ -189,6 +193,15 @@ impl Solid {
         }
         if y_min > EPS {
             return Err(SolidError::NoRake(y_min));
+        }
+        // The edge must lie in the rake face: a face on the plane Y = 0 (its inward normal
+        // +Y). A rake face tilted away from it would cut with edge points behind or ahead
+        // of the tip's instant, which the edge-at-`phi = 0` model does not sample.
+        if !faces
+            .iter()
+            .any(|f| (f.y - 1.0).abs() < 1e-9 && f.d.abs() <= EPS)
+        {
+            return Err(SolidError::TiltedRake);
         }
         let depth = merged.iter().map(|p| p[1]).fold(0.0, f64::max);
         // The section at Y = 0: the rake face's vertices span it (a convex solid's section
@@ -369,5 +382,14 @@ mod tests {
             p[0] += 0.25;
         }
         assert_eq!(Solid::from_mesh(&v, &t), Err(SolidError::Tip(0.25)));
+        // Top rake: the front face leans back with height (Y = 0.1 H), the tip still at
+        // Y = 0.
+        let run = 5.0 * 15f64.to_radians().tan();
+        let section = [[0.0, -1.0], [0.0, 1.0], [5.0, 1.0 + run], [5.0, -1.0 - run]];
+        let (mut v, t) = prism(&section, &section, 6.0);
+        for p in v.iter_mut().filter(|p| p[1] == 0.0) {
+            p[1] = 0.1 * p[0];
+        }
+        assert_eq!(Solid::from_mesh(&v, &t), Err(SolidError::TiltedRake));
     }
 }
