@@ -89,7 +89,7 @@ pub enum SolidError {
 }
 
 /// Most vertices of a mesh.
-pub(crate) const MAX_VERTICES: usize = 20_000;
+pub(crate) const MAX_VERTICES: usize = 5_000;
 
 /// Most distinct face planes of a solid.
 pub(crate) const MAX_FACES: usize = 128;
