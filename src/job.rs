@@ -1414,36 +1414,52 @@ fn resolve_tool(
         }
         ToolKind::Mesh => resolve_mesh(t, &key, cx, load)?,
     };
-    let mesh_keys = [
-        ("file", t.file.is_some()),
-        ("mesh_origin", t.mesh_origin.is_some()),
-        ("mesh_axes", t.mesh_axes.is_some()),
-        ("mesh_units", t.mesh_units.is_some()),
-        ("mesh_body", t.mesh_body.is_some()),
+    // Every optional key and the kinds of tool it applies to.
+    use ToolKind::{Grooving, Mesh, Threading, Trapezoidal};
+    const INSERTS: &[ToolKind] = &[Grooving, Threading, Trapezoidal];
+    let keys: [(&str, bool, &[ToolKind]); 19] = [
+        ("width", t.width.is_some(), &[Grooving]),
+        ("angle", t.angle.is_some(), &[Threading]),
+        ("tip_flat", t.tip_flat.is_some(), &[Threading]),
+        ("nose_radius", t.nose_radius.is_some(), &[Threading]),
+        ("tip_width", t.tip_width.is_some(), &[Trapezoidal]),
+        ("flank_angle", t.flank_angle.is_some(), &[Trapezoidal]),
+        ("flank_angles", t.flank_angles.is_some(), &[Trapezoidal]),
+        ("reference", t.reference.is_some(), INSERTS),
+        ("length", t.length.is_some(), INSERTS),
+        ("thickness", t.thickness.is_some(), INSERTS),
+        (
+            "side_clearance_left",
+            t.side_clearance_left.is_some(),
+            INSERTS,
+        ),
+        (
+            "side_clearance_right",
+            t.side_clearance_right.is_some(),
+            INSERTS,
+        ),
+        ("front_clearance", t.front_clearance.is_some(), INSERTS),
+        ("inclination", t.inclination.is_some(), INSERTS),
+        ("file", t.file.is_some(), &[Mesh]),
+        ("mesh_origin", t.mesh_origin.is_some(), &[Mesh]),
+        ("mesh_axes", t.mesh_axes.is_some(), &[Mesh]),
+        ("mesh_units", t.mesh_units.is_some(), &[Mesh]),
+        ("mesh_body", t.mesh_body.is_some(), &[Mesh]),
     ];
-    let shape_keys = [
-        ("width", t.width.is_some()),
-        ("angle", t.angle.is_some()),
-        ("tip_flat", t.tip_flat.is_some()),
-        ("nose_radius", t.nose_radius.is_some()),
-        ("tip_width", t.tip_width.is_some()),
-        ("flank_angle", t.flank_angle.is_some()),
-        ("flank_angles", t.flank_angles.is_some()),
-        ("reference", t.reference.is_some()),
-        ("length", t.length.is_some()),
-        ("thickness", t.thickness.is_some()),
-        ("side_clearance_left", t.side_clearance_left.is_some()),
-        ("side_clearance_right", t.side_clearance_right.is_some()),
-        ("front_clearance", t.front_clearance.is_some()),
-        ("inclination", t.inclination.is_some()),
-    ];
-    if t.kind == ToolKind::Mesh {
-        if let Some((k, _)) = shape_keys.iter().find(|(_, set)| *set) {
-            return Err(cx.err(
-                &key(k),
-                "this key does not apply to a mesh tool: the mesh gives its shape and body, `mesh_origin` its reference point",
-            ));
-        }
+    if let Some((k, _, kinds)) = keys
+        .iter()
+        .find(|(_, set, kinds)| *set && !kinds.contains(&t.kind))
+    {
+        let why = if t.kind == Mesh {
+            "this key does not apply to a mesh tool: the mesh gives its shape and body, `mesh_origin` its reference point"
+        } else if *kinds == [Mesh] {
+            "this key applies to `kind = \"mesh\"` tools only"
+        } else {
+            "this key does not apply to this kind of tool"
+        };
+        return Err(cx.err(&key(k), why));
+    }
+    if t.kind == Mesh {
         return Ok(Tool {
             id: t.id,
             edge,
@@ -1451,35 +1467,6 @@ fn resolve_tool(
             body: None,
             length: None,
         });
-    }
-    if let Some((k, _)) = mesh_keys.iter().find(|(_, set)| *set) {
-        return Err(cx.err(&key(k), "this key applies to `kind = \"mesh\"` tools only"));
-    }
-    let unused: &[(&str, bool)] = match t.kind {
-        ToolKind::Grooving => &[
-            ("angle", t.angle.is_some()),
-            ("tip_flat", t.tip_flat.is_some()),
-            ("nose_radius", t.nose_radius.is_some()),
-            ("tip_width", t.tip_width.is_some()),
-            ("flank_angle", t.flank_angle.is_some()),
-            ("flank_angles", t.flank_angles.is_some()),
-        ],
-        ToolKind::Threading => &[
-            ("width", t.width.is_some()),
-            ("tip_width", t.tip_width.is_some()),
-            ("flank_angle", t.flank_angle.is_some()),
-            ("flank_angles", t.flank_angles.is_some()),
-        ],
-        ToolKind::Trapezoidal => &[
-            ("width", t.width.is_some()),
-            ("angle", t.angle.is_some()),
-            ("tip_flat", t.tip_flat.is_some()),
-            ("nose_radius", t.nose_radius.is_some()),
-        ],
-        ToolKind::Mesh => &[],
-    };
-    if let Some((k, _)) = unused.iter().find(|(_, set)| *set) {
-        return Err(cx.err(&key(k), "this key does not apply to this kind of tool"));
     }
     let body = resolve_body(t, &edge, &key, cx)?;
     let length = t

@@ -132,6 +132,9 @@ fn body_keys_are_checked() {
             "thickness = -1.0\nside_clearance_left = 5.0\nside_clearance_right = 5.0",
             "thickness",
         ),
+        ("angle = 60.0", "does not apply to this kind of tool"),
+        ("file = \"insert.obj\"", "applies to `kind = \"mesh\"` tools only"),
+        ("mesh_axes = [\"+x\", \"+y\", \"+z\"]", "tool[0].mesh_axes"),
     ] {
         let text = base.replace(
             "reference = \"center\"",
