@@ -72,8 +72,9 @@ pub use job::{Blank, ChainLink, FormName, Job, JobError, Machine, SimConfig, DEF
 pub use measure::{measure, MeasureConfig, TurnMeasure};
 pub use mesh::{build_scene, ideal_mesh, stock_mesh, tool_mesh, toolpath, SceneOptions};
 pub use nc::{
-    interpret, interpret_with, to_csv, ArcGeometry, Diagnostic, Dialect, Limits, Move, MoveKind,
-    NcError, Options as NcOptions, Settings, Severity, Source, Toolpath,
+    interpret, interpret_with, to_csv, ArcGeometry, CompSide, Diagnostic, Dialect, Limits, MillArc,
+    MillKind, MillMove, MillSettings, Move, MoveKind, NcError, Options as NcOptions, Plane,
+    Settings, Severity, Source, Toolpath,
 };
 pub use pass::Pass;
 pub use plot::{developed_view, section_profile, section_view, signed_deviation};

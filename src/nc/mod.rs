@@ -26,11 +26,14 @@ mod expr;
 mod fanuc;
 mod lcnc_expr;
 mod linuxcnc;
+mod mill;
 mod motion;
 mod program;
 mod siemens;
 #[cfg(test)]
 mod tests;
+
+pub use mill::{CompSide, MillArc, MillKind, MillMove, MillSettings, Plane};
 
 use expr::Fail;
 use program::{load_programs, Program};
@@ -172,6 +175,9 @@ pub struct Settings {
     pub block_skip: bool,
     /// The reference point G28 returns to: (X as a diameter, Z) in the job's frame.
     pub reference_point: Option<(f64, f64)>,
+    /// A milling machine's settings: when set, FANUC programs are read as milling programs
+    /// and their moves come out as [`Toolpath::mill`].
+    pub mill: Option<MillSettings>,
 }
 
 impl Default for Settings {
@@ -181,6 +187,7 @@ impl Default for Settings {
             work_offsets: [(0.0, 0.0); 6],
             block_skip: true,
             reference_point: None,
+            mill: None,
         }
     }
 }
@@ -371,6 +378,8 @@ pub struct Options {
 pub struct Toolpath {
     /// The moves in execution order.
     pub moves: Vec<Move>,
+    /// A milling program's moves (with [`Settings::mill`]), in execution order.
+    pub mill: Vec<MillMove>,
     /// Warnings (skipped unknown words and codes), each once, in the order found.
     pub warnings: Vec<Diagnostic>,
 }
@@ -547,7 +556,11 @@ pub fn interpret_with(
         e.others = warnings.clone();
         e
     })?;
-    Ok(Toolpath { moves, warnings })
+    Ok(Toolpath {
+        moves,
+        mill: Vec::new(),
+        warnings,
+    })
 }
 
 impl Machine<'_> {
