@@ -14,6 +14,9 @@ use crate::tool::{Body, Edge, Reference, Tool};
 use serde::Deserialize;
 use std::fmt;
 
+mod mill;
+pub use mill::MillJob;
+
 /// A job that could not be read.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -182,6 +185,9 @@ pub struct Job {
     pub program_warnings: Vec<crate::nc::Diagnostic>,
     /// Joints of continuous thread chains in the program (see [`ChainLink`]).
     pub chains: Vec<ChainLink>,
+    /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
+    /// `passes` are empty.
+    pub mill: Option<MillJob>,
 }
 
 /// A program's thread move that continues the previous one without a re-sync (a chained
@@ -261,6 +267,7 @@ struct RawPoint {
 struct RawOffset {
     #[serde(default)]
     x: f64,
+    y: Option<f64>,
     #[serde(default)]
     z: f64,
 }
@@ -355,6 +362,7 @@ enum ToolKind {
     Threading,
     Trapezoidal,
     Mesh,
+    ThreadMill,
 }
 
 #[derive(Deserialize, Clone, Copy, Default, PartialEq)]
@@ -386,6 +394,21 @@ struct RawTool {
     mesh_axes: Option<[String; 3]>,
     mesh_units: Option<String>,
     mesh_body: Option<bool>,
+    cutter: Option<mill::CutterName>,
+    diameter: Option<f64>,
+    pitch: Option<f64>,
+    teeth: Option<u32>,
+    tooth_depth: Option<f64>,
+    first_tooth: Option<f64>,
+    shank_diameter: Option<f64>,
+    neck: Option<f64>,
+    flutes: Option<u32>,
+    drill_diameter: Option<f64>,
+    point_angle: Option<f64>,
+    chamfer_diameter: Option<f64>,
+    h: Option<u32>,
+    d: Option<u32>,
+    d_value: Option<f64>,
     thickness: Option<f64>,
     side_clearance_left: Option<f64>,
     side_clearance_right: Option<f64>,
@@ -437,6 +460,10 @@ enum SpindleName {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawMachine {
+    #[serde(default)]
+    kind: mill::MachineKind,
+    axis: Option<[f64; 2]>,
+    home_z: Option<f64>,
     #[serde(default = "default_rpm")]
     spindle_rpm: f64,
     max_feed: Option<f64>,
@@ -452,6 +479,9 @@ fn default_rpm() -> f64 {
 impl Default for RawMachine {
     fn default() -> Self {
         RawMachine {
+            kind: mill::MachineKind::Lathe,
+            axis: None,
+            home_z: None,
             spindle_rpm: default_rpm(),
             max_feed: None,
             acceleration: None,
@@ -752,7 +782,6 @@ fn resolve(
             ),
         ));
     }
-    let mut tools = Vec::with_capacity(raw.tool.len());
     for (i, t) in raw.tool.iter().enumerate() {
         if raw.tool[..i].iter().any(|o| o.id == t.id) {
             return Err(cx.err(
@@ -760,6 +789,43 @@ fn resolve(
                 format!("tool id {} is used twice", t.id),
             ));
         }
+        check_tool_keys(t, i, cx)?;
+    }
+    if raw.machine.kind == mill::MachineKind::Mill {
+        if raw.machine.spindle != SpindleName::Cw {
+            return Err(cx.err(
+                "machine.spindle",
+                "a mill's spindle direction comes from the program (M03/M04)",
+            ));
+        }
+        let (mill, program_warnings) =
+            mill::resolve_mill(&raw, blank.z_front, machine.spindle_rpm, cx, load, strict)?;
+        return Ok(Job {
+            name: raw.name.unwrap_or_default(),
+            blank,
+            form,
+            thread,
+            tools: Vec::new(),
+            passes: Vec::new(),
+            machine,
+            sim,
+            program_warnings,
+            chains: Vec::new(),
+            mill: Some(mill),
+        });
+    }
+    if raw.machine.axis.is_some() || raw.machine.home_z.is_some() {
+        return Err(cx.err(
+            if raw.machine.axis.is_some() {
+                "machine.axis"
+            } else {
+                "machine.home_z"
+            },
+            "this key is for milling jobs ([machine] kind = \"mill\")",
+        ));
+    }
+    let mut tools = Vec::with_capacity(raw.tool.len());
+    for (i, t) in raw.tool.iter().enumerate() {
         tools.push(resolve_tool(t, i, cx, load)?);
     }
     let tool_index = |id: u32, key: &str| -> Result<usize, JobError> {
@@ -853,6 +919,7 @@ fn resolve(
         sim,
         program_warnings,
         chains,
+        mill: None,
     })
 }
 
@@ -875,32 +942,7 @@ fn program_passes(
     load: &dyn Fn(&str) -> Option<String>,
     strict: bool,
 ) -> Result<ProgramPasses, JobError> {
-    use crate::nc::{interpret_with, Dialect, MoveKind, NcError, Options, Settings, Source};
-    let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
-        cx.err(
-            "program.dialect",
-            format!(
-                "expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`, got `{}`",
-                pr.dialect
-            ),
-        )
-    })?;
-    let text = load(&pr.file).ok_or_else(|| {
-        cx.err(
-            "program.file",
-            format!("cannot read `{}` (relative to the job file)", pr.file),
-        )
-    })?;
-    let main = Source {
-        name: pr.file.clone(),
-        text,
-    };
-    let loader = |name: &str| {
-        load(name).map(|text| Source {
-            name: name.to_string(),
-            text,
-        })
-    };
+    use crate::nc::{MoveKind, NcError, Settings};
     let mut settings = Settings {
         thread_chamfer: cx.non_negative("program.thread_chamfer", pr.thread_chamfer)?,
         block_skip: pr.block_skip,
@@ -923,27 +965,20 @@ fn program_passes(
     }
     for (name, off) in &pr.work_offsets {
         let key = format!("program.work_offsets.{name}");
-        let i = match name.as_str() {
-            "G54" => 0,
-            "G55" => 1,
-            "G56" => 2,
-            "G57" => 3,
-            "G58" => 4,
-            "G59" => 5,
-            _ => return Err(cx.err(&key, format!("expected one of G54..G59, got `{name}`"))),
-        };
+        let i = work_index(name)
+            .ok_or_else(|| cx.err(&key, format!("expected one of G54..G59, got `{name}`")))?;
+        if off.y.is_some() {
+            return Err(cx.err(
+                &format!("{key}.y"),
+                "a lathe's work offsets have x (a diameter) and z; y is for milling jobs",
+            ));
+        }
         settings.work_offsets[i] = (
             cx.finite(&format!("{key}.x"), off.x)?,
             cx.finite(&format!("{key}.z"), off.z)?,
         );
     }
-    let opts = Options {
-        strict: strict || pr.strict,
-        settings,
-        ..Options::default()
-    };
-    let toolpath = interpret_with(&main, dialect, &loader, &opts)
-        .map_err(|e| JobError::Program(Box::new(e)))?;
+    let toolpath = run_program(pr, settings, cx, load, strict)?;
     let moves = toolpath.moves;
     let fail = |m: &crate::nc::Move, message: String| {
         JobError::Program(Box::new(NcError {
@@ -1018,6 +1053,56 @@ fn program_passes(
         links,
         warnings: toolpath.warnings,
     })
+}
+
+/// G54..G59 as an index.
+fn work_index(name: &str) -> Option<usize> {
+    ["G54", "G55", "G56", "G57", "G58", "G59"]
+        .iter()
+        .position(|g| *g == name)
+}
+
+/// Read the job's program (and its subprograms, through `load`) and interpret it with
+/// `settings`.
+fn run_program(
+    pr: &RawProgram,
+    settings: crate::nc::Settings,
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+    strict: bool,
+) -> Result<crate::nc::Toolpath, JobError> {
+    use crate::nc::{interpret_with, Dialect, Options, Source};
+    let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
+        cx.err(
+            "program.dialect",
+            format!(
+                "expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`, got `{}`",
+                pr.dialect
+            ),
+        )
+    })?;
+    let text = load(&pr.file).ok_or_else(|| {
+        cx.err(
+            "program.file",
+            format!("cannot read `{}` (relative to the job file)", pr.file),
+        )
+    })?;
+    let main = Source {
+        name: pr.file.clone(),
+        text,
+    };
+    let loader = |name: &str| {
+        load(name).map(|text| Source {
+            name: name.to_string(),
+            text,
+        })
+    };
+    let opts = Options {
+        strict: strict || pr.strict,
+        settings,
+        ..Options::default()
+    };
+    interpret_with(&main, dialect, &loader, &opts).map_err(|e| JobError::Program(Box::new(e)))
 }
 
 fn check_pass(p: &Pass, key: &dyn Fn(&str) -> String, cx: &Ctx) -> Result<(), JobError> {
@@ -1413,53 +1498,14 @@ fn resolve_tool(
             }
         }
         ToolKind::Mesh => resolve_mesh(t, &key, cx, load)?,
+        ToolKind::ThreadMill => {
+            return Err(cx.err(
+                &key("kind"),
+                "a thread mill needs a milling job: set [machine] kind = \"mill\"",
+            ))
+        }
     };
-    // Every optional key and the kinds of tool it applies to.
-    use ToolKind::{Grooving, Mesh, Threading, Trapezoidal};
-    const INSERTS: &[ToolKind] = &[Grooving, Threading, Trapezoidal];
-    let keys: [(&str, bool, &[ToolKind]); 19] = [
-        ("width", t.width.is_some(), &[Grooving]),
-        ("angle", t.angle.is_some(), &[Threading]),
-        ("tip_flat", t.tip_flat.is_some(), &[Threading]),
-        ("nose_radius", t.nose_radius.is_some(), &[Threading]),
-        ("tip_width", t.tip_width.is_some(), &[Trapezoidal]),
-        ("flank_angle", t.flank_angle.is_some(), &[Trapezoidal]),
-        ("flank_angles", t.flank_angles.is_some(), &[Trapezoidal]),
-        ("reference", t.reference.is_some(), INSERTS),
-        ("length", t.length.is_some(), INSERTS),
-        ("thickness", t.thickness.is_some(), INSERTS),
-        (
-            "side_clearance_left",
-            t.side_clearance_left.is_some(),
-            INSERTS,
-        ),
-        (
-            "side_clearance_right",
-            t.side_clearance_right.is_some(),
-            INSERTS,
-        ),
-        ("front_clearance", t.front_clearance.is_some(), INSERTS),
-        ("inclination", t.inclination.is_some(), INSERTS),
-        ("file", t.file.is_some(), &[Mesh]),
-        ("mesh_origin", t.mesh_origin.is_some(), &[Mesh]),
-        ("mesh_axes", t.mesh_axes.is_some(), &[Mesh]),
-        ("mesh_units", t.mesh_units.is_some(), &[Mesh]),
-        ("mesh_body", t.mesh_body.is_some(), &[Mesh]),
-    ];
-    if let Some((k, _, kinds)) = keys
-        .iter()
-        .find(|(_, set, kinds)| *set && !kinds.contains(&t.kind))
-    {
-        let why = if t.kind == Mesh {
-            "this key does not apply to a mesh tool: the mesh gives its shape and body, `mesh_origin` its reference point"
-        } else if *kinds == [Mesh] {
-            "this key applies to `kind = \"mesh\"` tools only"
-        } else {
-            "this key does not apply to this kind of tool"
-        };
-        return Err(cx.err(&key(k), why));
-    }
-    if t.kind == Mesh {
+    if t.kind == ToolKind::Mesh {
         return Ok(Tool {
             id: t.id,
             edge,
@@ -1480,6 +1526,82 @@ fn resolve_tool(
         body,
         length,
     })
+}
+
+/// Every optional `[[tool]]` key and the kinds of tool it applies to: a key set on a tool
+/// of another kind is an error that says so.
+fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), JobError> {
+    use ToolKind::{Grooving, Mesh, ThreadMill, Threading, Trapezoidal};
+    const INSERTS: &[ToolKind] = &[Grooving, Threading, Trapezoidal];
+    const MILL: &[ToolKind] = &[ThreadMill];
+    let keys: [(&str, bool, &[ToolKind]); 34] = [
+        ("width", t.width.is_some(), &[Grooving]),
+        ("angle", t.angle.is_some(), &[Threading, ThreadMill]),
+        ("tip_flat", t.tip_flat.is_some(), &[Threading, ThreadMill]),
+        ("nose_radius", t.nose_radius.is_some(), &[Threading]),
+        ("tip_width", t.tip_width.is_some(), &[Trapezoidal]),
+        ("flank_angle", t.flank_angle.is_some(), &[Trapezoidal]),
+        (
+            "flank_angles",
+            t.flank_angles.is_some(),
+            &[Trapezoidal, ThreadMill],
+        ),
+        ("reference", t.reference.is_some(), INSERTS),
+        (
+            "length",
+            t.length.is_some(),
+            &[Grooving, Threading, Trapezoidal, ThreadMill],
+        ),
+        ("thickness", t.thickness.is_some(), INSERTS),
+        (
+            "side_clearance_left",
+            t.side_clearance_left.is_some(),
+            INSERTS,
+        ),
+        (
+            "side_clearance_right",
+            t.side_clearance_right.is_some(),
+            INSERTS,
+        ),
+        ("front_clearance", t.front_clearance.is_some(), INSERTS),
+        ("inclination", t.inclination.is_some(), INSERTS),
+        ("file", t.file.is_some(), &[Mesh]),
+        ("mesh_origin", t.mesh_origin.is_some(), &[Mesh]),
+        ("mesh_axes", t.mesh_axes.is_some(), &[Mesh]),
+        ("mesh_units", t.mesh_units.is_some(), &[Mesh]),
+        ("mesh_body", t.mesh_body.is_some(), &[Mesh]),
+        ("cutter", t.cutter.is_some(), MILL),
+        ("diameter", t.diameter.is_some(), MILL),
+        ("pitch", t.pitch.is_some(), MILL),
+        ("teeth", t.teeth.is_some(), MILL),
+        ("tooth_depth", t.tooth_depth.is_some(), MILL),
+        ("first_tooth", t.first_tooth.is_some(), MILL),
+        ("shank_diameter", t.shank_diameter.is_some(), MILL),
+        ("neck", t.neck.is_some(), MILL),
+        ("flutes", t.flutes.is_some(), MILL),
+        ("drill_diameter", t.drill_diameter.is_some(), MILL),
+        ("point_angle", t.point_angle.is_some(), MILL),
+        ("chamfer_diameter", t.chamfer_diameter.is_some(), MILL),
+        ("h", t.h.is_some(), MILL),
+        ("d", t.d.is_some(), MILL),
+        ("d_value", t.d_value.is_some(), MILL),
+    ];
+    if let Some((k, _, kinds)) = keys
+        .iter()
+        .find(|(_, set, kinds)| *set && !kinds.contains(&t.kind))
+    {
+        let why = if t.kind == Mesh {
+            "this key does not apply to a mesh tool: the mesh gives its shape and body, `mesh_origin` its reference point"
+        } else if *kinds == [Mesh] {
+            "this key applies to `kind = \"mesh\"` tools only"
+        } else if *kinds == MILL {
+            "this key applies to `kind = \"thread-mill\"` tools only"
+        } else {
+            "this key does not apply to this kind of tool"
+        };
+        return Err(cx.err(&format!("tool[{i}].{k}"), why));
+    }
+    Ok(())
 }
 
 /// A mesh tool: the OBJ `file` (read through `load`, relative to the job file), placed by

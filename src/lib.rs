@@ -49,6 +49,7 @@ mod job;
 mod machine;
 mod measure;
 mod mesh;
+mod mill;
 // An `NcError` carries every diagnostic of a program (160 bytes); it is returned once per run,
 // never in a loop, so boxing it would only make the API clumsier.
 #[allow(clippy::result_large_err)]
@@ -68,9 +69,15 @@ mod tool;
 pub use compare::{compare, Deviation, Extreme, TurnDeviation};
 pub use glb::{from_glb, to_glb, GlbError};
 pub use helix::{Hand, Helix, LeadLaw, Spindle};
-pub use job::{Blank, ChainLink, FormName, Job, JobError, Machine, SimConfig, DEFAULT_MAX_DEXELS};
+pub use job::{
+    Blank, ChainLink, FormName, Job, JobError, Machine, MillJob, SimConfig, DEFAULT_MAX_DEXELS,
+};
 pub use measure::{measure, MeasureConfig, TurnMeasure};
 pub use mesh::{build_scene, ideal_mesh, stock_mesh, tool_mesh, toolpath, SceneOptions};
+pub use mill::{
+    mill_column, sweep_mill, Cutter, CutterSpec, MillPath, MillStats, Motion, MoveCut, PathMove,
+    SAMPLING_BOUND_MM as MILL_SAMPLING_BOUND_MM,
+};
 pub use nc::{
     interpret, interpret_with, to_csv, ArcGeometry, CompSide, Diagnostic, Dialect, Limits, MillArc,
     MillKind, MillMove, MillSettings, Move, MoveKind, NcError, Options as NcOptions, Plane,
@@ -198,6 +205,9 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
             surfaces: if job.blank.bore > 0.0 { 2 } else { 1 },
         });
     }
+    if let Some(mill) = &job.mill {
+        return simulate_mill(job, mill, grid, t_start);
+    }
     // Each pass crosses every column once per revolution: bound the work before doing it.
     let revs: f64 = job
         .passes
@@ -271,6 +281,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
             MeasureConfig {
                 spacing,
                 generators: job.sim.measure_generators,
+                pitch_diameter: false,
             },
         )
     } else {
@@ -310,6 +321,232 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
         report,
         stock,
         edge_stock,
+    })
+}
+
+/// A milling job: the cutters swept along the program's path, then the same comparison
+/// and measurement as a turned thread, and the moves' figures.
+fn simulate_mill(
+    job: &Job,
+    mj: &MillJob,
+    grid: Grid,
+    t_start: Instant,
+) -> Result<Outcome, SimError> {
+    let placements = mj.path.len() as f64 * grid.n_theta as f64;
+    if placements > MAX_PLACEMENTS {
+        return Err(SimError::TooManyPlacements {
+            placements,
+            limit: MAX_PLACEMENTS,
+            columns: grid.n_theta,
+        });
+    }
+    let thread = &job.thread;
+    let surface = match thread.side {
+        Side::External => Surface::Outer,
+        Side::Internal => Surface::Inner,
+    };
+    let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+    let t_setup = t_start.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let stats = sweep_mill(&mut stock, surface, &mj.path, &mj.cutters);
+    let t_sweep = t0.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let window = (
+        grid.z(0) - 0.5 * grid.dz,
+        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
+    );
+    let dev = compare(&stock, thread, window);
+    let t_compare = t0.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let law = thread.helix.law;
+    let reach = 2.0 * law.lead(0.0).max(law.lead(thread.turns)) + thread.depth();
+    let (z_a, z_b) = (thread.helix.z(thread.turns), thread.helix.z0);
+    let m_lo = window.0.max(z_a.min(z_b) - reach);
+    let m_hi = window.1.min(z_a.max(z_b) + reach);
+    let spacing = job.sim.measure_spacing.max((m_hi - m_lo) / 8.0e6);
+    let cut = |q: &mut [f32], c: Column| mill_column(q, c, &mj.path, &mj.cutters);
+    let measures = if m_hi > m_lo {
+        measure::measure_by(
+            thread,
+            &cut,
+            stock.blank_q(surface),
+            (m_lo, m_hi),
+            MeasureConfig {
+                spacing,
+                generators: job.sim.measure_generators,
+                pitch_diameter: true,
+            },
+        )
+    } else {
+        Vec::new()
+    };
+    let t_measure = t0.elapsed().as_secs_f64();
+    let sweep_stats = SweepStats {
+        placements: stats.placements,
+        dexel_updates: stats.dexel_updates,
+    };
+    let mut report = build_report(
+        job,
+        &stock,
+        sweep_stats,
+        &dev,
+        &measures,
+        spacing,
+        &[],
+        None,
+    );
+    report.passes = mj.path.moves.len();
+    let ring = (job.blank.bore / 2.0, job.blank.diameter / 2.0);
+    let tips: Vec<f64> = mj.cutters.iter().map(|c| c.radius).collect();
+    let engaged = mill::engagement(&mj.path, &tips, ring);
+    let mut moves = Vec::with_capacity(mj.moves.len());
+    for (i, (m, pm)) in mj.moves.iter().zip(&mj.path.moves).enumerate() {
+        let cutter = &mj.cutters[pm.cutter];
+        let cut = stats.moves[i];
+        let rpm = mj.rpm[i];
+        let cutting = m.kind != nc::MillKind::Rapid;
+        // The edge that makes the thread's root runs on the far side of the centre's
+        // circle from its centre (a bore) or on the near side (an external thread).
+        let edge_ratio = match &m.arc {
+            Some(a) if a.radius > 0.0 => {
+                let r = a.radius + surface.sense() * -cutter.radius;
+                r.abs() / a.radius
+            }
+            _ => 1.0,
+        };
+        let feed_edge = m.feed.filter(|_| cutting).map(|f| f * edge_ratio);
+        let fz = feed_edge.map(|f| f / (rpm * cutter.flutes as f64));
+        let eng = (cutting && cut.volume > 0.0).then_some(engaged[i]);
+        let chip = match (fz, eng) {
+            (Some(fz), Some(e)) => Some(fz * e.min(std::f64::consts::FRAC_PI_2).sin()),
+            _ => None,
+        };
+        let tool = mj.cutter_ids[pm.cutter];
+        if m.kind == nc::MillKind::Rapid && r6(cut.depth) > 0.0 {
+            report.findings.push(Finding {
+                kind: "rapid_cut",
+                severity: "error",
+                turn: None,
+                start: None,
+                flank: None,
+                pass: Some(i + 1),
+                angle_deg: Some(r4(cut.at.0.to_degrees().rem_euclid(360.0))),
+                z_mm: Some(r6(cut.at.1)),
+                value: r6(cut.depth),
+                unit: "mm",
+                message: format!(
+                    "{}:{}: a rapid (G00) move cuts {:.4} mm deep ({:.3} mm3) at {:.1} deg, z {:.3}",
+                    m.file,
+                    m.line,
+                    cut.depth,
+                    cut.volume,
+                    cut.at.0.to_degrees().rem_euclid(360.0),
+                    cut.at.1
+                ),
+            });
+        }
+        if let (Some(f), Some(max)) = (m.feed.filter(|_| cutting), job.machine.max_feed) {
+            if f > max {
+                report.findings.push(Finding {
+                    kind: "feed_limit",
+                    severity: "error",
+                    turn: None,
+                    start: None,
+                    flank: None,
+                    pass: Some(i + 1),
+                    angle_deg: None,
+                    z_mm: Some(r6(m.end[2])),
+                    value: r6(f),
+                    unit: "mm/min",
+                    message: format!(
+                        "{}:{}: feed {f} mm/min over the machine's {max} mm/min",
+                        m.file, m.line
+                    ),
+                });
+            }
+        }
+        moves.push(report::MillMoveRow {
+            index: i + 1,
+            file: m.file.clone(),
+            line: m.line,
+            kind: match m.kind {
+                nc::MillKind::Rapid => "rapid",
+                nc::MillKind::Feed => "feed",
+                nc::MillKind::Arc => "arc",
+            },
+            tool,
+            comp: m.comp.map(|(side, _)| match side {
+                nc::CompSide::Left => "left",
+                nc::CompSide::Right => "right",
+            }),
+            comp_radius_mm: m.comp.map(|c| r6(c.1)),
+            end_mm: [r6(m.end[0]), r6(m.end[1]), r6(m.end[2])],
+            feed_centre_mm_min: m.feed.filter(|_| cutting).map(r4),
+            feed_edge_mm_min: feed_edge.map(r4),
+            feed_per_tooth_mm: fz.map(r6),
+            spindle_rpm: r4(rpm),
+            removed_volume_mm3: r6(cut.volume),
+            radial_depth_mm: r6(cut.depth),
+            engagement_deg: eng.map(|e| r4(e.to_degrees())),
+            chip_thickness_mm: chip.map(r6),
+        });
+    }
+    let fold = |f: fn(&TurnMeasure) -> Option<f64>| {
+        measures
+            .iter()
+            .flatten()
+            .filter_map(f)
+            .fold(None, |acc: Option<(f64, f64)>, x| {
+                Some(acc.map_or((x, x), |(a, b)| (a.min(x), b.max(x))))
+            })
+    };
+    let d2 = fold(|m| m.pitch_diameter);
+    let d2_ideal = fold(|m| m.ideal_pitch_diameter);
+    report.mill = Some(report::MillInfo {
+        sampling_bound_mm: r6(mill::SAMPLING_BOUND_MM),
+        samples: mj.path.len(),
+        cutters: mj
+            .cutters
+            .iter()
+            .zip(&mj.cutter_ids)
+            .map(|(c, &id)| report::CutterRow {
+                id,
+                diameter_mm: r6(2.0 * c.radius),
+                flutes: c.flutes,
+                length_mm: r6(c.length()),
+            })
+            .collect(),
+        pitch_diameter_min_mm: d2.map(|d| r6(d.0)),
+        pitch_diameter_max_mm: d2.map(|d| r6(d.1)),
+        ideal_pitch_diameter_mm: d2_ideal.map(|d| r6(0.5 * (d.0 + d.1))),
+        moves,
+    });
+    let rank = |f: &Finding| {
+        (
+            (f.severity != "error") as u8,
+            KINDS
+                .iter()
+                .position(|k| *k == f.kind)
+                .unwrap_or(KINDS.len()),
+        )
+    };
+    report.findings.sort_by_key(rank);
+    report.verdict = if report.findings.iter().any(|f| f.severity == "error") {
+        Verdict::Fail
+    } else {
+        Verdict::Pass
+    };
+    report.timing_s = report::Timing {
+        setup: t_setup,
+        sweep: t_sweep,
+        compare: t_compare,
+        measure: t_measure,
+        total: t_start.elapsed().as_secs_f64(),
+    };
+    Ok(Outcome {
+        report,
+        stock,
+        edge_stock: None,
     })
 }
 
@@ -387,6 +624,8 @@ fn build_report(
             let row = TurnRow {
                 turn: n,
                 start: s,
+                pitch_diameter_mm: m.and_then(|m| m.pitch_diameter).map(r6),
+                ideal_pitch_diameter_mm: m.and_then(|m| m.ideal_pitch_diameter).map(r6),
                 ideal_lead_mm: m.and_then(|m| m.ideal_lead).map(r6),
                 measured_lead_mm: m.and_then(|m| m.lead).map(r6),
                 lead_spread: report::LeadSpread {
@@ -623,14 +862,16 @@ fn build_report(
         },
         turns,
         interference: interference_rows,
+        mill: None,
         findings,
         timing_s: report::Timing::default(),
     }
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 15] = [
+const KINDS: [&str; 16] = [
     "hand",
+    "rapid_cut",
     "head_length",
     "gouge",
     "leftover",

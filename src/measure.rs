@@ -110,6 +110,11 @@ pub struct TurnMeasure {
     pub split: bool,
     /// Smallest and largest measured height above the root between the turn's features.
     pub cut_heights: Option<(f64, f64)>,
+    /// Measured simple pitch diameter of the turn's first groove (see [`pitch_level`]),
+    /// when [`MeasureConfig::pitch_diameter`] asks for it.
+    pub pitch_diameter: Option<f64>,
+    /// The ideal's, measured the same way.
+    pub ideal_pitch_diameter: Option<f64>,
 }
 
 /// Settings of the measurement.
@@ -119,6 +124,9 @@ pub struct MeasureConfig {
     pub spacing: f64,
     /// Number of generators, equally spaced from the thread's start angle.
     pub generators: usize,
+    /// Also measure the simple pitch diameter of each turn (constant pitch, grooves as
+    /// features).
+    pub pitch_diameter: bool,
 }
 
 /// Measure every whole turn on each generator; `generators[0]` is the reference one.
@@ -130,26 +138,40 @@ pub fn measure(
     window: (f64, f64),
     cfg: MeasureConfig,
 ) -> Vec<Vec<TurnMeasure>> {
+    let cut = |q: &mut [f32], c: Column| {
+        sweep_column(q, c, passes, tools);
+    };
+    measure_by(thread, &cut, blank_q, window, cfg)
+}
+
+/// [`measure`] with any kernel: `cut` cuts a free-standing column in place.
+pub(crate) fn measure_by(
+    thread: &ThreadSpec,
+    cut: &(dyn Fn(&mut [f32], Column) + Sync),
+    blank_q: f64,
+    window: (f64, f64),
+    cfg: MeasureConfig,
+) -> Vec<Vec<TurnMeasure>> {
     use rayon::prelude::*;
     (0..cfg.generators.max(1))
         .into_par_iter()
         .map(|g| {
             let theta = thread.helix.theta0
                 + std::f64::consts::TAU * g as f64 / cfg.generators.max(1) as f64;
-            measure_generator(thread, passes, tools, blank_q, window, cfg.spacing, theta)
+            measure_generator(thread, cut, blank_q, window, cfg, theta)
         })
         .collect()
 }
 
 fn measure_generator(
     thread: &ThreadSpec,
-    passes: &[Pass],
-    tools: &[Tool],
+    cut: &(dyn Fn(&mut [f32], Column) + Sync),
     blank_q: f64,
     window: (f64, f64),
-    spacing: f64,
+    cfg: MeasureConfig,
     theta: f64,
 ) -> Vec<TurnMeasure> {
+    let spacing = cfg.spacing;
     let (z_lo, z_hi) = window;
     let n = ((z_hi - z_lo) / spacing).floor().max(2.0) as usize;
     let surface = match thread.side {
@@ -165,7 +187,7 @@ fn measure_generator(
         q_blank: blank_q,
         surface,
     };
-    sweep_column(&mut q, column, passes, tools);
+    cut(&mut q, column);
     let cut_h: Vec<f32> = q
         .iter()
         .map(|&v| thread.height(sense * (v as f64 + blank_q)) as f32)
@@ -272,7 +294,17 @@ fn measure_generator(
                     (a.min(x as f64), b.max(x as f64))
                 })
         });
+        let half_pitch = 0.5 * thread.pitch_of_turn(f.turn().max(1));
+        let simple = cfg.pitch_diameter && !tooth && thread.helix.law.k == 0.0;
+        let d2 = |h: &[f32]| {
+            simple
+                .then(|| pitch_level(h, z_lo, spacing, f.z, half_pitch, thread.depth()))
+                .flatten()
+                .map(|l| 2.0 * thread.radius(l))
+        };
         out.push(TurnMeasure {
+            pitch_diameter: d2(&cut_h),
+            ideal_pitch_diameter: d2(&ideal_h),
             start: f.start,
             turn: f.turn(),
             t: f.t,
@@ -289,9 +321,81 @@ fn measure_generator(
     out
 }
 
+/// The height above the root at which the groove around `z_c` (where `h < level`) is
+/// `half_pitch` wide: the *simple pitch diameter* of ISO 5408 (groove width = half the
+/// pitch), what three-wire measurement gives on a thread with true flank angles and lead.
+/// The groove width grows with the level; bisection to 1e-9 mm over `[0, depth]`. `None`
+/// if the groove is not there, runs out of the column, or never reaches that width.
+pub(crate) fn pitch_level(
+    h: &[f32],
+    z0: f64,
+    dz: f64,
+    z_c: f64,
+    half_pitch: f64,
+    depth: f64,
+) -> Option<f64> {
+    let jc = ((z_c - z0) / dz).round();
+    if jc < 1.0 || jc >= h.len() as f64 - 1.0 {
+        return None;
+    }
+    let jc = jc as usize;
+    let width = |level: f64| -> Option<f64> {
+        if h[jc] as f64 >= level {
+            return Some(0.0);
+        }
+        let cross = |j: usize, k: usize| {
+            // Between cells j (inside) and k (outside).
+            let (a, b) = (h[j] as f64, h[k] as f64);
+            let u = if b != a { (level - a) / (b - a) } else { 0.5 };
+            z0 + (j as f64 + (k as f64 - j as f64) * u.clamp(0.0, 1.0)) * dz
+        };
+        let mut l = jc;
+        while (h[l] as f64) < level {
+            l = l.checked_sub(1)?;
+        }
+        let mut r = jc;
+        while (h[r] as f64) < level {
+            r += 1;
+            if r >= h.len() {
+                return None;
+            }
+        }
+        Some(cross(r - 1, r) - cross(l + 1, l))
+    };
+    let (mut lo, mut hi) = (0.0, depth);
+    if width(hi)? < half_pitch || width(lo)? > half_pitch {
+        return None;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if width(mid)? < half_pitch {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo < 1e-9 {
+            break;
+        }
+    }
+    Some(0.5 * (lo + hi))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pitch_level_of_a_sixty_degree_groove() {
+        // A V groove: h = |z| / tan 30 above its root... capped at depth 1; its width at
+        // level L is 2 L tan 30, half a pitch of 1.5 at L = 0.75 / (2 tan 30).
+        let t = 30f64.to_radians().tan();
+        let dz = 1e-4;
+        let h: Vec<f32> = (0..20001)
+            .map(|j| ((-1.0 + j as f64 * dz).abs() / t).min(1.0) as f32)
+            .collect();
+        let l = pitch_level(&h, -1.0, dz, 0.0, 0.75, 1.0).unwrap();
+        assert!((l - 0.75 / (2.0 * t)).abs() < 1e-6, "{l}");
+    }
 
     #[test]
     fn intervals_interpolate_crossings() {

@@ -68,11 +68,14 @@ pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
     Scene {
         stock,
         ideal,
-        toolpath: toolpath(
-            &job.passes,
-            &(job.blank.diameter / 2.0, job.blank.bore / 2.0),
-            &job.thread,
-        ),
+        toolpath: match &job.mill {
+            Some(mj) => mill_toolpath(mj),
+            None => toolpath(
+                &job.passes,
+                &(job.blank.diameter / 2.0, job.blank.bore / 2.0),
+                &job.thread,
+            ),
+        },
         tool: tool_mesh(job),
         legend,
         focus: focus(&out.report, &out.stock, &job.thread, tol),
@@ -685,6 +688,39 @@ fn rapid(a: (f64, f64, f64), b: (f64, f64, f64), clear: f64) -> Vec<[f32; 3]> {
 
 /// Points per revolution of a drawn pass helix.
 const PATH_STEPS_PER_REV: f64 = 72.0;
+
+/// A milling path: the tool tip centre along every move (rapids and cutting moves), at
+/// most [`PATH_STEPS_PER_REV`] points per revolution of an arc.
+fn mill_toolpath(mj: &crate::MillJob) -> Vec<Polyline> {
+    use crate::mill::Motion;
+    mj.path
+        .moves
+        .iter()
+        .zip(&mj.moves)
+        .map(|(m, nc)| {
+            let steps = match m.motion {
+                Motion::Line => 1,
+                Motion::Arc { sweep, .. } => {
+                    ((sweep.abs() / TAU * PATH_STEPS_PER_REV).ceil() as usize).clamp(2, 1 << 16)
+                }
+            };
+            let points = (0..=steps)
+                .map(|k| {
+                    let p = m.at(k as f64 / steps as f64);
+                    point(p[0].hypot(p[1]), p[1].atan2(p[0]), p[2])
+                })
+                .collect();
+            Polyline {
+                kind: if nc.kind == crate::nc::MillKind::Rapid {
+                    PathKind::Rapid
+                } else {
+                    PathKind::Feed
+                },
+                points,
+            }
+        })
+        .collect()
+}
 
 /// The toolpath: the reference point along every pass (feed), and schematic rapids
 /// between passes: out to a clearance radius 1 mm beyond the blank, around it to the next

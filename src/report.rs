@@ -69,6 +69,9 @@ pub struct Report {
     /// jobs with tool bodies, absent without.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub interference: Option<Vec<InterferenceRow>>,
+    /// Milling jobs: the cutters, the sampling and every move's cut.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mill: Option<MillInfo>,
     /// Findings, errors first.
     pub findings: Vec<Finding>,
     /// Wall-clock times (s): the one part that changes between runs.
@@ -235,6 +238,13 @@ pub struct LeadSpread {
 pub struct TurnRow {
     /// Turn (1-based).
     pub turn: i64,
+    /// Milling jobs: the measured simple pitch diameter (groove width = half the pitch,
+    /// `docs/report-format.md`) on the reference generator, and the ideal's (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pitch_diameter_mm: Option<f64>,
+    /// See `pitch_diameter_mm`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ideal_pitch_diameter_mm: Option<f64>,
     /// Start.
     pub start: u32,
     /// Ideal lead (pitch for one start) on the reference generator (mm).
@@ -477,4 +487,82 @@ impl Report {
         }
         s
     }
+}
+
+/// A milling job's kernel and moves.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MillInfo {
+    /// Stated bound of the path sampling on the cut surface (mm).
+    pub sampling_bound_mm: f64,
+    /// Path samples.
+    pub samples: usize,
+    /// The cutters.
+    pub cutters: Vec<CutterRow>,
+    /// Simple pitch diameter over all turns and generators: smallest and largest (mm).
+    pub pitch_diameter_min_mm: Option<f64>,
+    /// See `pitch_diameter_min_mm`.
+    pub pitch_diameter_max_mm: Option<f64>,
+    /// The ideal's (mm).
+    pub ideal_pitch_diameter_mm: Option<f64>,
+    /// Every move of the program, in order.
+    pub moves: Vec<MillMoveRow>,
+}
+
+/// One cutter.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CutterRow {
+    /// Tool id.
+    pub id: u32,
+    /// Cutting diameter (mm).
+    pub diameter_mm: f64,
+    /// Flutes.
+    pub flutes: u32,
+    /// Length (mm).
+    pub length_mm: f64,
+}
+
+/// One milling move and what it cut.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MillMoveRow {
+    /// 1-based move number.
+    #[serde(rename = "move")]
+    pub index: usize,
+    /// Program file and line.
+    pub file: String,
+    /// See `file`.
+    pub line: usize,
+    /// `rapid`, `feed` or `arc`.
+    pub kind: &'static str,
+    /// Tool id.
+    pub tool: u32,
+    /// Cutter radius compensation: `left` (G41), `right` (G42), absent when off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub comp: Option<&'static str>,
+    /// The D value in force (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub comp_radius_mm: Option<f64>,
+    /// Tool centre at the end (job frame, mm).
+    pub end_mm: [f64; 3],
+    /// Programmed feed, along the tool centre's path (mm/min).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub feed_centre_mm_min: Option<f64>,
+    /// The feed at the cutting edge where it makes the thread's root (mm/min): seed 001's
+    /// `v1 = v2 D0 / (D0 - D2)` on an arc about the part axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub feed_edge_mm_min: Option<f64>,
+    /// Feed per tooth at the edge (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub feed_per_tooth_mm: Option<f64>,
+    /// Spindle speed (rev/min).
+    pub spindle_rpm: f64,
+    /// Volume the move removed (mm^3), from the stock.
+    pub removed_volume_mm3: f64,
+    /// Largest radial depth it removed at one dexel (mm): the radial engagement.
+    pub radial_depth_mm: f64,
+    /// Largest arc of the cutter's tooth-tip circle in uncut material (deg).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub engagement_deg: Option<f64>,
+    /// Largest chip thickness at the tooth tip, `fz sin(min(engagement, 90 deg))` (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chip_thickness_mm: Option<f64>,
 }

@@ -1,0 +1,350 @@
+//! Milling jobs: `[machine] kind = "mill"`, thread mills (`kind = "thread-mill"`) and the
+//! program's milling moves turned into the kernel's path in the part's frame.
+
+use super::{Ctx, JobError, RawJob, RawProgram, RawTool};
+use crate::mill::{Cutter, CutterSpec, MillPath, Motion, PathMove};
+use crate::nc::{MillKind, MillMove, MillSettings, Plane};
+use serde::Deserialize;
+
+/// Lathe (the part turns) or mill (the part stands, the cutter moves).
+#[derive(Deserialize, Clone, Copy, Default, PartialEq, Eq, Debug)]
+#[serde(rename_all = "kebab-case")]
+pub(super) enum MachineKind {
+    #[default]
+    Lathe,
+    Mill,
+}
+
+/// The kinds of thread mill.
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq, Debug)]
+#[serde(rename_all = "kebab-case")]
+pub(super) enum CutterName {
+    /// One tooth.
+    Single,
+    /// Teeth at the pitch.
+    Comb,
+    /// Drill point, teeth, chamfer.
+    DrillMill,
+}
+
+/// A milling job's cutters and path.
+#[derive(Clone, Debug)]
+pub struct MillJob {
+    /// The cutters, in the order of the job's `[[tool]]` tables.
+    pub cutters: Vec<Cutter>,
+    /// Their ids.
+    pub cutter_ids: Vec<u32>,
+    /// The program's moves as interpreted (job frame).
+    pub moves: Vec<MillMove>,
+    /// The part axis (x, y) in the job frame.
+    pub axis: [f64; 2],
+    /// The sampled path in the part's frame, one path move per program move.
+    pub path: MillPath,
+    /// Spindle speed (rev/min) per move: the program's S, or the job's.
+    pub rpm: Vec<f64>,
+}
+
+fn resolve_cutter(t: &RawTool, i: usize, cx: &Ctx) -> Result<Cutter, JobError> {
+    let key = |k: &str| format!("tool[{i}].{k}");
+    let name = t.cutter.ok_or_else(|| {
+        cx.err(
+            &key("kind"),
+            "a thread mill needs `cutter = \"single\"`, `\"comb\"` or `\"drill-mill\"`",
+        )
+    })?;
+    let diameter = cx.positive(
+        &key("diameter"),
+        t.diameter.ok_or_else(|| {
+            cx.err(
+                &key("kind"),
+                "a thread mill needs `diameter` (mm, at the tooth tips)",
+            )
+        })?,
+    )?;
+    let half_angles = match (t.angle, t.flank_angles) {
+        (Some(_), Some(_)) => {
+            return Err(cx.err(
+                &key("flank_angles"),
+                "give `angle` (included) or `flank_angles` ([lower, upper]), not both",
+            ))
+        }
+        (None, Some([a, b])) => [
+            cx.angle(&key("flank_angles"), a, 0.0, 80.0)?,
+            cx.angle(&key("flank_angles"), b, 0.0, 80.0)?,
+        ],
+        (a, None) => {
+            let h = cx.angle(&key("angle"), a.unwrap_or(60.0), 0.0, 160.0)? / 2.0;
+            [h, h]
+        }
+    };
+    let tip_flat = cx.non_negative(&key("tip_flat"), t.tip_flat.unwrap_or(0.0))?;
+    let teeth = match (name, t.teeth) {
+        (CutterName::Single, None | Some(1)) => 1,
+        (CutterName::Single, Some(_)) => {
+            return Err(cx.err(&key("teeth"), "a single-profile mill has one tooth"))
+        }
+        (_, Some(n)) if (1..=1000).contains(&n) => n,
+        (_, Some(n)) => {
+            return Err(cx.err(&key("teeth"), format!("expected 1 to 1000 teeth, got {n}")))
+        }
+        (_, None) => {
+            return Err(cx.err(
+                &key("teeth"),
+                "a comb or drill-mill needs `teeth` (how many at the pitch)",
+            ))
+        }
+    };
+    let pitch = match t.pitch {
+        Some(p) => cx.positive(&key("pitch"), p)?,
+        None if teeth == 1 => 0.0,
+        None => return Err(cx.err(&key("pitch"), "several teeth need `pitch` (mm)")),
+    };
+    let tans = half_angles[0].tan() + half_angles[1].tan();
+    let tooth_depth = match t.tooth_depth {
+        Some(d) => cx.positive(&key("tooth_depth"), d)?,
+        None if pitch > 0.0 && tans > 0.0 => 0.8 * (pitch - tip_flat).max(0.0) / tans,
+        None => {
+            return Err(cx.err(
+                &key("tooth_depth"),
+                "expected `tooth_depth` (mm): no pitch to derive it from",
+            ))
+        }
+    };
+    let hb_lo = 0.5 * tip_flat + tooth_depth * half_angles[0].tan();
+    let hb_hi = 0.5 * tip_flat + tooth_depth * half_angles[1].tan();
+    let drill = match (name, t.drill_diameter, t.point_angle) {
+        (CutterName::DrillMill, Some(d), a) => Some((
+            cx.positive(&key("drill_diameter"), d)?,
+            cx.angle(&key("point_angle"), a.unwrap_or(118.0), 60.0, 180.0)?,
+        )),
+        (CutterName::DrillMill, None, _) => {
+            return Err(cx.err(
+                &key("drill_diameter"),
+                "a drill-mill needs `drill_diameter` (mm)",
+            ))
+        }
+        (_, Some(_), _) => {
+            return Err(cx.err(
+                &key("drill_diameter"),
+                "only a drill-mill has a drill point",
+            ))
+        }
+        (_, None, Some(_)) => {
+            return Err(cx.err(&key("point_angle"), "only a drill-mill has a drill point"))
+        }
+        (_, None, None) => None,
+    };
+    let chamfer = match (name, t.chamfer_diameter) {
+        (CutterName::DrillMill, c) => c
+            .map(|c| cx.positive(&key("chamfer_diameter"), c))
+            .transpose()?,
+        (_, Some(_)) => {
+            return Err(cx.err(&key("chamfer_diameter"), "only a drill-mill has a chamfer"))
+        }
+        (_, None) => None,
+    };
+    let first_tooth = match t.first_tooth {
+        Some(u) => cx.non_negative(&key("first_tooth"), u)?,
+        None if drill.is_some() => {
+            return Err(cx.err(&key("first_tooth"), "a drill-mill needs `first_tooth`: the height of its first tooth's tip centre above the drill point (mm)"))
+        }
+        None => hb_lo,
+    };
+    let core = diameter - 2.0 * tooth_depth;
+    let neck = cx.non_negative(&key("neck"), t.neck.unwrap_or(0.0))?;
+    let span = first_tooth + (teeth - 1) as f64 * pitch + hb_hi + neck;
+    let spec = CutterSpec {
+        diameter,
+        half_angles,
+        tip_flat,
+        teeth,
+        pitch,
+        tooth_depth,
+        first_tooth,
+        shank_diameter: cx.positive(&key("shank_diameter"), t.shank_diameter.unwrap_or(core))?,
+        neck,
+        length: cx.positive(&key("length"), t.length.unwrap_or(span + 20.0))?,
+        flutes: match t.flutes.unwrap_or(1) {
+            n @ 1..=64 => n,
+            n => return Err(cx.err(&key("flutes"), format!("expected 1 to 64 flutes, got {n}"))),
+        },
+        drill,
+        chamfer,
+    };
+    Cutter::from_spec(&spec).map_err(|m| cx.err(&key("kind"), m))
+}
+
+/// Resolve a milling job's cutters and program into a [`MillJob`].
+pub(super) fn resolve_mill(
+    raw: &RawJob,
+    blank_top: f64,
+    rpm: f64,
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+    strict: bool,
+) -> Result<(MillJob, Vec<crate::nc::Diagnostic>), JobError> {
+    if !raw.pass.is_empty() {
+        return Err(cx.err(
+            "pass",
+            "a milling job's moves come from its [program], not from [[pass]] tables",
+        ));
+    }
+    if raw.process.is_some() {
+        return Err(cx.err(
+            "process",
+            "pass generators are for lathe jobs; a milling job needs a [program]",
+        ));
+    }
+    let mut cutters = Vec::new();
+    let mut ids = Vec::new();
+    let mut radius_offsets = Vec::new();
+    let mut length_offsets = Vec::new();
+    for (i, t) in raw.tool.iter().enumerate() {
+        if t.kind != super::ToolKind::ThreadMill {
+            return Err(cx.err(
+                &format!("tool[{i}].kind"),
+                "a milling job's tools are thread mills (`kind = \"thread-mill\"`)",
+            ));
+        }
+        let c = resolve_cutter(t, i, cx)?;
+        let d = t.d.unwrap_or(t.id);
+        let d_value = match t.d_value {
+            Some(v) => cx.non_negative(&format!("tool[{i}].d_value"), v)?,
+            None => c.radius,
+        };
+        if let Some((_, other)) = radius_offsets.iter().find(|(n, _)| *n == d) {
+            if *other != d_value {
+                return Err(cx.err(&format!("tool[{i}].d"), format!("D{d} is given two values")));
+            }
+        }
+        radius_offsets.push((d, d_value));
+        length_offsets.push(t.h.unwrap_or(t.id));
+        ids.push(t.id);
+        cutters.push(c);
+    }
+    if cutters.is_empty() {
+        return Err(cx.err(
+            "tool",
+            "a milling job needs a thread mill: [[tool]] kind = \"thread-mill\"",
+        ));
+    }
+    let pr: &RawProgram = raw.program.as_ref().ok_or_else(|| {
+        cx.err(
+            "program",
+            "a milling job needs a [program] (its moves are the toolpath)",
+        )
+    })?;
+    if pr.dialect != "fanuc" {
+        return Err(cx.err(
+            "program.dialect",
+            format!(
+                "milling programs are read as FANUC (machining centre) programs; got `{}`",
+                pr.dialect
+            ),
+        ));
+    }
+    let mut work_offsets = [[0.0; 3]; 6];
+    for (name, off) in &pr.work_offsets {
+        let key = format!("program.work_offsets.{name}");
+        let i = super::work_index(name)
+            .ok_or_else(|| cx.err(&key, format!("expected one of G54..G59, got `{name}`")))?;
+        work_offsets[i] = [
+            cx.finite(&format!("{key}.x"), off.x)?,
+            cx.finite(&format!("{key}.y"), off.y.unwrap_or(0.0))?,
+            cx.finite(&format!("{key}.z"), off.z)?,
+        ];
+    }
+    if pr.reference_point.is_some() {
+        return Err(cx.err(
+            "program.reference_point",
+            "G28 is not simulated on mills yet",
+        ));
+    }
+    let axis = match raw.machine.axis {
+        Some([x, y]) => [cx.finite("machine.axis", x)?, cx.finite("machine.axis", y)?],
+        None => [0.0, 0.0],
+    };
+    let home_z = match raw.machine.home_z {
+        Some(z) => cx.finite("machine.home_z", z)?,
+        None => blank_top + 50.0,
+    };
+    let settings = crate::nc::Settings {
+        block_skip: pr.block_skip,
+        mill: Some(MillSettings {
+            work_offsets,
+            radius_offsets,
+            length_offsets,
+            home_z,
+        }),
+        ..crate::nc::Settings::default()
+    };
+    let toolpath = super::run_program(pr, settings, cx, load, strict)?;
+    let fail = |m: &MillMove, message: String| {
+        JobError::Program(Box::new(crate::nc::NcError {
+            file: m.file.clone(),
+            line: m.line,
+            col: 0,
+            message,
+            snippet: String::new(),
+            stack: Vec::new(),
+            hint: None,
+            others: Vec::new(),
+        }))
+    };
+    let mut path = Vec::with_capacity(toolpath.mill.len());
+    let mut rpms = Vec::with_capacity(toolpath.mill.len());
+    for m in &toolpath.mill {
+        let cutter = match m.tool {
+            Some(id) => ids.iter().position(|&t| t == id),
+            None if cutters.len() == 1 => Some(0),
+            None => None,
+        }
+        .ok_or_else(|| {
+            fail(
+                m,
+                format!(
+                    "milling with tool {:?}, which the job's [[tool]] list does not define",
+                    m.tool
+                ),
+            )
+        })?;
+        let part = |p: [f64; 3]| [p[0] - axis[0], p[1] - axis[1], p[2]];
+        let motion =
+            match (m.kind, &m.arc) {
+                (MillKind::Arc, Some(a)) if a.plane == Plane::Xy => Motion::Arc {
+                    centre: [a.centre[0] - axis[0], a.centre[1] - axis[1]],
+                    sweep: a.sweep,
+                },
+                (MillKind::Arc, _) => return Err(fail(
+                    m,
+                    "arcs outside the G17 (XY) plane are not simulated yet: the thread axis is Z"
+                        .into(),
+                )),
+                _ => Motion::Line,
+            };
+        path.push(PathMove {
+            start: part(m.start),
+            end: part(m.end),
+            motion,
+            cutter,
+        });
+        rpms.push(m.spindle_rpm.unwrap_or(rpm));
+    }
+    let path = MillPath::new(path, &cutters).map_err(|e| {
+        cx.err(
+            "program",
+            format!("the path needs {} samples at the stated sampling bound, over the limit of {}: a shorter program or fewer moves", e.0, crate::mill::MAX_SAMPLES),
+        )
+    })?;
+    Ok((
+        MillJob {
+            cutters,
+            cutter_ids: ids,
+            moves: toolpath.mill,
+            axis,
+            path,
+            rpm: rpms,
+        },
+        toolpath.warnings,
+    ))
+}
