@@ -28,6 +28,8 @@ struct Line<'a> {
     s: Vec<u8>,
     i: usize,
     dialect: Dialect,
+    /// A FANUC milling program (its G/M codes and addresses).
+    mill: bool,
     out: &'a mut Vec<(usize, Severity, String, Option<String>)>,
 }
 
@@ -392,9 +394,9 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
             'G' | 'M' => {
                 if let Some(code) = v {
                     let verdict = if letter == 'G' {
-                        codes::g_code(l.dialect, code)
+                        codes::g_verdict(l.dialect, l.mill, code)
                     } else {
-                        codes::m_code(l.dialect, code)
+                        codes::m_verdict(l.dialect, l.mill, code)
                     };
                     match verdict {
                         Verdict::Run => {}
@@ -415,7 +417,7 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
             }
             'H' => h_word = Some(v),
             'L' => l_word = true,
-            other if codes::fanuc_address(other) => {}
+            other if codes::address(l.mill, other) => {}
             other => strange.push((at + 1, other)),
         }
     }
@@ -674,11 +676,13 @@ fn label_name(l: &mut Line) -> String {
 // ---------------------------------------------------------------------------------------
 // Whole programs.
 
-/// Check every block of `prog` and its written-out control flow. `find` says whether a
-/// called program exists (in the file or beside it). Diagnostics come in line order.
+/// Check every block of `prog` and its written-out control flow (`mill`: a FANUC milling
+/// program's codes and addresses). `find` says whether a called program exists (in the
+/// file or beside it). Diagnostics come in line order.
 pub(super) fn check_program(
     prog: &Program,
     dialect: Dialect,
+    mill: bool,
     strict: bool,
     find: &mut dyn FnMut(&str) -> bool,
 ) -> Vec<Diagnostic> {
@@ -690,6 +694,7 @@ pub(super) fn check_program(
             s: orig.to_ascii_uppercase().into_bytes(),
             i: 0,
             dialect,
+            mill,
             out: &mut found,
         };
         let diag =

@@ -122,6 +122,91 @@ pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
     }
 }
 
+/// A G code of a FANUC machining centre (a milling program, `Settings::mill`).
+pub(super) fn mill_g_code(code: f64) -> Verdict {
+    let c = tenths(code);
+    let whole = c % 10 == 0;
+    let g = c / 10;
+    let refused = |what: &str| {
+        Verdict::Refused(format!(
+            "G{} ({what}) is not simulated by vpcut's milling interpreter yet",
+            fmt(code)
+        ))
+    };
+    match (g, whole) {
+        (0..=4 | 15 | 17..=21 | 40..=43 | 49 | 50 | 54..=59 | 61 | 64 | 65 | 69, true) => {
+            Verdict::Run
+        }
+        // G80 cancels canned cycles (none runs); G98/G99 only choose their return level.
+        (80 | 90 | 91 | 94 | 95 | 98 | 99, true) => Verdict::Run,
+        (50, false) if c == 501 => Verdict::Run,
+        (32..=34, true) => refused(
+            "lathe threading: a machining centre mills threads by helical G02/G03 with a Z move",
+        ),
+        (73 | 74 | 76 | 81..=89, true) => refused("canned drilling cycle"),
+        (28 | 30, true) => refused("reference point return: the position after it is unknown"),
+        (10 | 52 | 53 | 92, true) => refused("coordinate system setting"),
+        (16, true) => refused("polar coordinate command"),
+        (31, true) => refused("skip function"),
+        (44, true) => refused("tool length compensation in the - direction"),
+        (51, true) => refused("scaling"),
+        (51, false) if c == 511 => refused("programmable mirror image"),
+        (68, true) => refused("coordinate system rotation"),
+        _ => Verdict::Unknown(format!(
+            "G{} is not a FANUC milling code vpcut knows",
+            fmt(code)
+        )),
+    }
+}
+
+/// An M code of a FANUC machining centre.
+pub(super) fn mill_m_code(code: f64) -> Verdict {
+    let c = tenths(code);
+    if c % 10 == 0 && matches!(c / 10, 0..=6 | 8 | 9 | 19 | 30 | 98 | 99) {
+        Verdict::Run
+    } else {
+        Verdict::Unknown(format!(
+            "M{} is not a FANUC milling M code vpcut knows (a machine-specific function?)",
+            fmt(code)
+        ))
+    }
+}
+
+/// A G code: a milling program's (`mill`) or the dialect's lathe code.
+pub(super) fn g_verdict(dialect: Dialect, mill: bool, code: f64) -> Verdict {
+    if mill {
+        mill_g_code(code)
+    } else {
+        g_code(dialect, code)
+    }
+}
+
+/// An M code: a milling program's (`mill`) or the dialect's lathe code.
+pub(super) fn m_verdict(dialect: Dialect, mill: bool, code: f64) -> Verdict {
+    if mill {
+        mill_m_code(code)
+    } else {
+        m_code(dialect, code)
+    }
+}
+
+/// Address letters a FANUC milling program's blocks may carry (G, M, N, O aside).
+pub(super) fn mill_address(letter: char) -> bool {
+    matches!(
+        letter,
+        'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'P' | 'L' | 'H' | 'D' | 'Q'
+    )
+}
+
+/// Address letters of a FANUC-syntax block: a milling program's (`mill`) or a lathe's.
+pub(super) fn address(mill: bool, letter: char) -> bool {
+    if mill {
+        mill_address(letter)
+    } else {
+        fanuc_address(letter)
+    }
+}
+
 /// Address letters the FANUC-syntax interpreter reads.
 pub(super) fn fanuc_address(letter: char) -> bool {
     matches!(
@@ -243,5 +328,21 @@ mod tests {
             m_code(Dialect::Siemens802d, 98.0),
             Verdict::Refused(_)
         ));
+    }
+
+    #[test]
+    fn mill_codes_run_refuse_or_are_unknown() {
+        for g in [
+            0.0, 2.0, 17.0, 18.0, 41.0, 43.0, 49.0, 57.0, 80.0, 90.0, 91.0, 95.0,
+        ] {
+            assert_eq!(mill_g_code(g), Verdict::Run, "G{g}");
+        }
+        for g in [32.0, 76.0, 81.0, 83.0, 28.0, 44.0, 52.0, 68.0, 51.0] {
+            assert!(matches!(mill_g_code(g), Verdict::Refused(_)), "G{g}");
+        }
+        assert!(matches!(mill_g_code(12.0), Verdict::Unknown(_)));
+        assert_eq!(mill_m_code(6.0), Verdict::Run);
+        assert!(matches!(mill_m_code(23.0), Verdict::Unknown(_)));
+        assert!(mill_address('Y') && mill_address('D') && !mill_address('U'));
     }
 }

@@ -1,6 +1,7 @@
 //! FANUC and GSK 980TDC blocks: Macro B statements and control flow, Macro A (`G65 H..`),
 //! G65 macro calls, the two-block G76, the modal G92 and GSK's G34.
 
+use super::codes;
 use super::expr::{z, Cur, Fail};
 use super::{Machine, MoveKind, Program, Step, Sync, Words};
 
@@ -104,12 +105,14 @@ impl Machine<'_> {
                 b'G' => w.g.push(v.round() as u32),
                 b'M' => w.m.push(v.round() as u32),
                 b'N' | b'O' => {}
-                b'X' | b'Z' | b'U' | b'W' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P'
-                | b'L' | b'J' | b'I' | b'H' | b'E' => {
+                l if codes::address(self.milling, l as char) => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
                 other => self.unknown(at + 1, format!("unknown address `{}`", other as char))?,
             }
+        }
+        if self.milling {
+            return self.mill_apply(&w, prog, pc);
         }
         if w.g.contains(&76) {
             return self.g76(&w, prog, pc);

@@ -14,12 +14,15 @@
 //! - `motion`: modal state, motion words, and recording moves;
 //! - `codes`: which G/M codes and words each dialect runs, refuses or does not know;
 //! - `check`: the static check of every block before anything runs (all problems at once);
+//! - `milling`: FANUC machining-centre blocks (`Settings::mill`) into programmed moves;
+//! - `comp`: cutter radius compensation of the programmed milling moves (a pure pass);
 //! - `chain`: continuous threading (thread blocks that follow each other without a re-sync)
 //!   and the GSK thread run-out J/K.
 
 mod chain;
 mod check;
 mod codes;
+mod comp;
 #[cfg(test)]
 mod cycle_tests;
 mod expr;
@@ -27,6 +30,9 @@ mod fanuc;
 mod lcnc_expr;
 mod linuxcnc;
 mod mill;
+#[cfg(test)]
+mod mill_tests;
+mod milling;
 mod motion;
 mod program;
 mod siemens;
@@ -444,6 +450,9 @@ struct Machine<'l> {
     chain_end: Option<(f64, f64)>,
     /// LinuxCNC named parameters, call levels and O-word tables.
     lc: linuxcnc::Lcnc,
+    /// A FANUC milling program (`Settings::mill`): its codes, addresses and state.
+    milling: bool,
+    mill: Option<milling::MillState>,
 }
 
 pub(super) fn deg(x: f64) -> f64 {
@@ -519,7 +528,21 @@ pub fn interpret_with(
         runout: (None, None),
         chain_end: None,
         lc: Default::default(),
+        milling: opts.settings.mill.is_some(),
+        mill: opts.settings.mill.clone().map(milling::MillState::new),
     };
+    if m.milling && real != Dialect::Fanuc {
+        return Err(NcError {
+            file: main.name.clone(),
+            line: 1,
+            col: 0,
+            message: "milling programs (a job with mill settings) are FANUC only for now".into(),
+            snippet: main.text.lines().next().unwrap_or("").to_string(),
+            stack: Vec::new(),
+            hint: Some("write the milling program in the FANUC dialect".into()),
+            others: Vec::new(),
+        });
+    }
     let skip = opts.settings.block_skip;
     let mut all = load_programs(main, dialect, skip).into_iter();
     let prog = std::rc::Rc::new(all.next().expect("a file gives at least one program"));
@@ -532,6 +555,7 @@ pub fn interpret_with(
     }
     // The static check, program by program; called programs are loaded as they are named.
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
+    let milling = m.milling;
     let mut checked: Vec<String> = Vec::new();
     while let Some(p) = to_check.pop() {
         if checked.contains(&p.name) {
@@ -545,7 +569,13 @@ pub fn interpret_with(
             }
             None => false,
         };
-        diagnostics.extend(check::check_program(&p, real, opts.strict, &mut found));
+        diagnostics.extend(check::check_program(
+            &p,
+            real,
+            milling,
+            opts.strict,
+            &mut found,
+        ));
     }
     diagnostics.sort_by(|a, b| (&a.file, a.line, a.col).cmp(&(&b.file, b.line, b.col)));
     if diagnostics.iter().any(|d| d.severity == Severity::Error) {
@@ -556,9 +586,25 @@ pub fn interpret_with(
         e.others = warnings.clone();
         e
     })?;
+    let mill = match m.mill.take() {
+        Some(st) => comp::compensate(&st.path).map_err(|(k, message)| {
+            let site = &st.path[k].site;
+            NcError {
+                file: site.file.clone(),
+                line: site.line,
+                col: 0,
+                message,
+                snippet: site.snippet.clone(),
+                stack: site.stack.clone(),
+                hint: None,
+                others: warnings.clone(),
+            }
+        })?,
+        None => Vec::new(),
+    };
     Ok(Toolpath {
         moves,
-        mill: Vec::new(),
+        mill,
         warnings,
     })
 }
@@ -672,18 +718,7 @@ impl Machine<'_> {
                 hint: None,
                 others: Vec::new(),
                 snippet: orig.clone(),
-                stack: stack
-                    .iter()
-                    .rev()
-                    .map(|f| {
-                        let l = f
-                            .caller
-                            .blocks
-                            .get(f.ret.saturating_sub(1))
-                            .map_or(0, |b| b.0);
-                        format!("{}:{l}", f.caller.name)
-                    })
-                    .collect(),
+                stack: callers(stack),
             };
             if m.blocks > m.limits.max_blocks {
                 return Err(fail(
@@ -696,6 +731,9 @@ impl Machine<'_> {
                 ));
             }
             let before = m.moves.len();
+            if let Some(st) = m.mill.as_mut() {
+                st.stack = callers(&stack);
+            }
             let step = match dialect {
                 Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
                 Dialect::Linuxcnc => m.lcnc_block(&cur, pc, text),
@@ -838,6 +876,22 @@ fn lead_problem(mv: &Move) -> Option<String> {
         ));
     }
     None
+}
+
+/// The callers of the running block, innermost first ("O0002:14").
+fn callers(stack: &[Frame]) -> Vec<String> {
+    stack
+        .iter()
+        .rev()
+        .map(|f| {
+            let l = f
+                .caller
+                .blocks
+                .get(f.ret.saturating_sub(1))
+                .map_or(0, |b| b.0);
+            format!("{}:{l}", f.caller.name)
+        })
+        .collect()
 }
 
 /// A subprogram call in progress: where to return, how many more runs of the callee, and

@@ -26,6 +26,24 @@ impl Sync {
     }
 }
 
+/// The centre of the arc from `a` to `b` (a right-handed plane, `a != b`) of signed radius
+/// `r` (positive: the arc of at most 180 deg, negative: the longer one), clockwise or not.
+/// A radius shorter than half the chord (within `ARC_TOLERANCE`, checked by the caller)
+/// puts the centre on the chord's middle.
+pub(super) fn radius_centre(a: (f64, f64), b: (f64, f64), r: f64, cw: bool) -> (f64, f64) {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let chord = dx.hypot(dy);
+    let half = chord / 2.0;
+    let h = (r * r - half * half).max(0.0).sqrt();
+    // A counter-clockwise minor arc has its centre left of the chord a -> b.
+    let left = (-dy / chord, dx / chord);
+    let s = if cw { -1.0 } else { 1.0 } * r.signum();
+    (
+        a.0 + dx / 2.0 + s * h * left.0,
+        a.1 + dy / 2.0 + s * h * left.1,
+    )
+}
+
 impl Machine<'_> {
     /// Modal state and motion of one block's words.
     pub(super) fn apply(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
@@ -82,52 +100,8 @@ impl Machine<'_> {
             }
         }
         let mut end = false;
-        for &mc in &w.m {
-            if matches!(mc, 3..=5 | 13 | 14) {
-                // A spindle start, stop or reversal: the next thread block waits for the
-                // one-rev signal again.
-                self.chain_end = None;
-            }
-            match mc {
-                3 | 13 => self.spindle = Spindle::Cw,
-                4 | 14 => self.spindle = Spindle::Ccw,
-                5 | 8 | 9 | 0 | 1 => {}
-                // Thread chamfering in G92/G76 on (M23) and off (M24), as on Mach4 lathes.
-                23 if self.dialect == Dialect::Fanuc => self.chamfer_on = true,
-                24 if self.dialect == Dialect::Fanuc => self.chamfer_on = false,
-                2 | 30 => end = true,
-                17 if self.dialect == Dialect::Siemens802d => return Ok(Step::Return),
-                98 if self.dialect == Dialect::Fanuc => {
-                    // `M98 P<count><prog>` (the last four digits name O<prog>) or `P<prog> L<n>`.
-                    let p = w
-                        .vals
-                        .get("P")
-                        .map(|v| v.0.round() as u64)
-                        .ok_or((1, "M98 needs P".to_string()))?;
-                    let (times, prog) = match w.vals.get("L") {
-                        Some(l) => (l.0.round().max(1.0) as u32, p),
-                        None => (((p / 10_000).max(1)) as u32, p % 10_000),
-                    };
-                    if times > 9999 {
-                        return Err((1, format!("M98 repeat count {times} is over 9999")));
-                    }
-                    return Ok(Step::Call(format!("O{prog}"), times, None));
-                }
-                99 if self.dialect == Dialect::Fanuc => {
-                    if let Some(&(p, col)) = w.vals.get("P") {
-                        if !(0.0..=99_999.0).contains(&p) || p.fract() != 0.0 {
-                            return Err((col, format!("M99 P{p}: expected a sequence number")));
-                        }
-                        return Ok(Step::ReturnTo(p as u32));
-                    }
-                    return Ok(Step::Return);
-                }
-                other => match codes::m_code(self.real_dialect(), f64::from(other)) {
-                    Verdict::Run => {}
-                    Verdict::Refused(msg) => return Err((1, msg)),
-                    Verdict::Unknown(msg) => self.unknown(1, msg)?,
-                },
-            }
+        if let Some(step) = self.m_words(w, &mut end)? {
+            return Ok(step);
         }
         if let Some(&(t, _)) = w.vals.get("T") {
             let t = t.round() as u32;
@@ -277,6 +251,61 @@ impl Machine<'_> {
         Ok(if end { Step::End } else { Step::Next })
     }
 
+    /// The M codes of a block: spindle, chamfering, the end (`end`), subprogram calls and
+    /// returns. `Some(step)` when the block calls or returns: its motion is not run.
+    pub(super) fn m_words(&mut self, w: &Words, end: &mut bool) -> Result<Option<Step>, Fail> {
+        for &mc in &w.m {
+            if matches!(mc, 3..=5 | 13 | 14) {
+                // A spindle start, stop or reversal: the next thread block waits for the
+                // one-rev signal again.
+                self.chain_end = None;
+            }
+            match mc {
+                3 | 13 => self.spindle = Spindle::Cw,
+                4 | 14 => self.spindle = Spindle::Ccw,
+                5 | 8 | 9 | 0 | 1 => {}
+                // Thread chamfering in G92/G76 on (M23) and off (M24), as on Mach4 lathes.
+                23 if self.dialect == Dialect::Fanuc && !self.milling => self.chamfer_on = true,
+                24 if self.dialect == Dialect::Fanuc && !self.milling => self.chamfer_on = false,
+                2 | 30 => *end = true,
+                17 if self.dialect == Dialect::Siemens802d => return Ok(Some(Step::Return)),
+                98 if self.dialect == Dialect::Fanuc => {
+                    // `M98 P<count><prog>` (the last four digits name O<prog>) or `P<prog> L<n>`.
+                    let p = w
+                        .vals
+                        .get("P")
+                        .map(|v| v.0.round() as u64)
+                        .ok_or((1, "M98 needs P".to_string()))?;
+                    let (times, prog) = match w.vals.get("L") {
+                        Some(l) => (l.0.round().max(1.0) as u32, p),
+                        None => (((p / 10_000).max(1)) as u32, p % 10_000),
+                    };
+                    if times > 9999 {
+                        return Err((1, format!("M98 repeat count {times} is over 9999")));
+                    }
+                    return Ok(Some(Step::Call(format!("O{prog}"), times, None)));
+                }
+                99 if self.dialect == Dialect::Fanuc => {
+                    if let Some(&(p, col)) = w.vals.get("P") {
+                        if !(0.0..=99_999.0).contains(&p) || p.fract() != 0.0 {
+                            return Err((col, format!("M99 P{p}: expected a sequence number")));
+                        }
+                        return Ok(Some(Step::ReturnTo(p as u32)));
+                    }
+                    return Ok(Some(Step::Return));
+                }
+                other => {
+                    match codes::m_verdict(self.real_dialect(), self.milling, f64::from(other)) {
+                        Verdict::Run => {}
+                        Verdict::Refused(msg) => return Err((1, msg)),
+                        Verdict::Unknown(msg) => self.unknown(1, msg)?,
+                    }
+                }
+            }
+        }
+        Ok(None)
+    }
+
     /// Record a move of the block at `pc` from `a` to `b` (diameter, z); `sync` makes it a
     /// thread move.
     pub(super) fn emit(
@@ -352,14 +381,7 @@ impl Machine<'_> {
                     ),
                 ));
             }
-            let h = (r * r - half * half).max(0.0).sqrt();
-            // A counter-clockwise minor arc has its centre left of the chord a -> b.
-            let left = (-dy / chord, dx / chord);
-            let s = if cw { -1.0 } else { 1.0 } * r.signum();
-            (
-                a.0 + dx / 2.0 + s * h * left.0,
-                a.1 + dy / 2.0 + s * h * left.1,
-            )
+            radius_centre(a, b, r, cw)
         } else if w.vals.contains_key("I") || w.vals.contains_key("K") {
             let i = w.vals.get("I").map_or(0.0, |v| v.0) * scale;
             let k = w.vals.get("K").map_or(0.0, |v| v.0) * scale;
