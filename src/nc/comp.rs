@@ -343,6 +343,13 @@ pub(super) fn compensate(path: &[Programmed]) -> Result<Vec<MillMove>, (usize, S
                 if p.arc.is_some() {
                     return Err((i, "cutter radius compensation cannot start in a G02/G03 block (FANUC alarm PS0034): start it in a G00 or G01 block".into()));
                 }
+                if !e.moves() {
+                    return Err((
+                        i,
+                        "the start-up block of cutter radius compensation must move in the plane"
+                            .into(),
+                    ));
+                }
                 let dir = match next {
                     Some(k) => Elem::of(&path[k]).tangent(e.b),
                     None => e.tangent(e.b),

@@ -234,6 +234,8 @@ fn compensation_errors() {
     );
     let e = mill("G90 G57 G0 X0 Y0\nG43 H10 Z-5\nG41 D7 G1 X10 F100\nM30\n").unwrap_err();
     assert!(e.message.contains("D7 is not a radius offset"), "{e}");
+    let e = mill("G90 G57 G0 X0 Y0\nG43 H10 Z-5\nG41 D-60 G1 X10 F100\nM30\n").unwrap_err();
+    assert!(e.message.contains("D-60 is not a radius offset"), "{e}");
     // The tool (r 9) does not fit in an R5 arc.
     let e = mill(
         "G90 G57 G0 X0 Y-5\nG43 H10 Z-5\nG41 D61 G1 X0 Y0 F100\nG3 X0 Y10 R5\nG40 G1 X0 Y0\nM30\n",
@@ -438,4 +440,27 @@ fn compensate_pure_pass_tangent_and_z_only() {
     assert_near(a.sweep, PI / 2.0);
     assert_pt(out[3].end, [22.0, 10.0, -1.0]);
     assert_pt(out[4].end, [30.0, 10.0, -1.0]);
+}
+
+/// A line into a clockwise arc with G41 (D60, r 5): the path turns left, an inner corner.
+/// The offset line is y = 5; the offset circle is the arc's (centre (13, -4), R 5) grown
+/// to 10 (the left of a clockwise arc is its outside): they meet at x = 13 - sqrt(100 - 81)
+/// (the root nearer the joint). The arc ends perpendicular to its end direction -Y, on its
+/// left: (18 + 5, -4), and the cancel runs from there to (25, -4).
+#[test]
+fn line_to_arc_inner_corner() {
+    let m = mill(
+        "G90 G57 G0 X0 Y-5\nG43 H10 Z-1\nG41 D60 G1 X0 Y0 F100\nX10\nG2 X18 Y-4 I3 J-4\nG40 G1 X25\nM30\n",
+    )
+    .unwrap()
+    .mill;
+    let j = 13.0 - 19f64.sqrt();
+    assert_pt(m[2].end, [j, 5.0, -1.0]);
+    assert_pt(m[3].start, [j, 5.0, -1.0]);
+    let a = m[3].arc.unwrap();
+    assert_near(a.radius, 10.0);
+    assert_pt(m[3].end, [23.0, -4.0, -1.0]);
+    // Sweep: clockwise from the joint's angle about the centre to 0.
+    assert_near(a.sweep, -(9f64).atan2(j - 13.0));
+    assert_pt(m[4].end, [25.0, -4.0, -1.0]);
 }

@@ -189,20 +189,21 @@ impl Machine<'_> {
             st.length = true;
         }
         if let Some(&(d, col)) = w.vals.get("D") {
+            let known = st.settings.radius_offsets.iter().map(|o| o.0);
+            let expected = format!("expected D0 or one of {:?}", known.collect::<Vec<_>>());
             let n = d.round() as u32;
-            st.d_radius = if n == 0 {
-                0.0
-            } else {
-                st.settings
-                    .radius_offsets
-                    .iter()
-                    .find(|o| o.0 == n && d >= 0.0)
-                    .map(|o| o.1)
-                    .ok_or((
-                        col,
-                        format!("D{d} is not a radius offset of the job's tools (expected D0 or one of {:?})", st.settings.radius_offsets.iter().map(|o| o.0).collect::<Vec<_>>()),
-                    ))?
-            };
+            st.d_radius = match st.settings.radius_offsets.iter().find(|o| o.0 == n) {
+                _ if d < 0.0 => None,
+                _ if n == 0 => Some(0.0),
+                found => found.map(|o| o.1),
+            }
+            .ok_or((
+                col,
+                format!("D{d} is not a radius offset of the job's tools ({expected})"),
+            ))?;
+            if !(st.d_radius >= 0.0 && st.d_radius.is_finite()) {
+                return Err((col, format!("D{n} holds the radius {}: negative (or not finite) radius offsets are not modelled", st.d_radius)));
+            }
         }
         match once.comp {
             Some(Some(side)) => {
