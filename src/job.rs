@@ -188,6 +188,9 @@ pub struct Job {
     /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
     /// `passes` are empty.
     pub mill: Option<MillJob>,
+    /// The drawing's limits of the pitch diameter (a tolerance class such as ISO 965 6H):
+    /// checked on the measured simple pitch diameter of every turn (milling jobs).
+    pub pitch_diameter_limits: Option<(f64, f64)>,
 }
 
 /// A program's thread move that continues the previous one without a re-sync (a chained
@@ -349,6 +352,7 @@ struct RawThread {
     length: Option<f64>,
     turns: Option<f64>,
     width: Option<RawWidth>,
+    pitch_diameter_limits: Option<[f64; 2]>,
 }
 
 fn one() -> u32 {
@@ -800,6 +804,16 @@ fn resolve(
         }
         let (mill, program_warnings) =
             mill::resolve_mill(&raw, blank.z_front, machine.spindle_rpm, cx, load, strict)?;
+        let pitch_diameter_limits = match raw.thread.pitch_diameter_limits {
+            Some([a, b]) => {
+                let key = "thread.pitch_diameter_limits";
+                if cx.positive(key, a)? >= cx.positive(key, b)? {
+                    return Err(cx.err(key, "expected [smallest, largest] pitch diameter (mm)"));
+                }
+                Some((a, b))
+            }
+            None => None,
+        };
         return Ok(Job {
             name: raw.name.unwrap_or_default(),
             blank,
@@ -812,7 +826,14 @@ fn resolve(
             program_warnings,
             chains: Vec::new(),
             mill: Some(mill),
+            pitch_diameter_limits,
         });
+    }
+    if raw.thread.pitch_diameter_limits.is_some() {
+        return Err(cx.err(
+            "thread.pitch_diameter_limits",
+            "the pitch diameter is measured on milling jobs only, for now",
+        ));
     }
     if raw.machine.axis.is_some() || raw.machine.home_z.is_some() {
         return Err(cx.err(
@@ -920,6 +941,7 @@ fn resolve(
         program_warnings,
         chains,
         mill: None,
+        pitch_diameter_limits: None,
     })
 }
 

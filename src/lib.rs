@@ -521,6 +521,44 @@ fn simulate_mill(
         ideal_pitch_diameter_mm: d2_ideal.map(|d| r6(0.5 * (d.0 + d.1))),
         moves,
     });
+    if let Some((lo, hi)) = job.pitch_diameter_limits {
+        // The drawing's tolerance class bounds the widths through the pitch diameter:
+        // its limits replace the basic profile's widths +- the tolerance.
+        report
+            .findings
+            .retain(|f| f.kind != "groove_width" && f.kind != "tooth_width");
+        let mut per_turn: BTreeMap<(u32, i64), (f64, f64)> = BTreeMap::new();
+        for m in measures.iter().flatten() {
+            if let Some(d) = m.pitch_diameter {
+                let e = per_turn.entry((m.start, m.turn)).or_insert((d, d));
+                *e = (e.0.min(d), e.1.max(d));
+            }
+        }
+        for (&(start, turn), &(a, b)) in &per_turn {
+            let off = if a < lo {
+                a - lo
+            } else if b > hi {
+                b - hi
+            } else {
+                continue;
+            };
+            report.findings.push(Finding {
+                kind: "pitch_diameter",
+                severity: "error",
+                turn: Some(turn),
+                start: Some(start),
+                flank: None,
+                pass: None,
+                angle_deg: None,
+                z_mm: None,
+                value: r6(off),
+                unit: "mm",
+                message: format!(
+                    "turn {turn}: pitch diameter {a:.4} to {b:.4} mm, outside the drawing's {lo} to {hi} mm"
+                ),
+            });
+        }
+    }
     let rank = |f: &Finding| {
         (
             (f.severity != "error") as u8,
@@ -869,7 +907,7 @@ fn build_report(
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 16] = [
+const KINDS: [&str; 17] = [
     "hand",
     "rapid_cut",
     "head_length",
@@ -878,6 +916,7 @@ const KINDS: [&str; 16] = [
     "flank_interference",
     "missing_feature",
     "lead",
+    "pitch_diameter",
     "groove_width",
     "tooth_width",
     "feed_limit",

@@ -302,6 +302,9 @@ pub struct MillPath {
     samples: Vec<[f64; 3]>,
     /// Each move's range in `samples`.
     ranges: Vec<std::ops::Range<usize>>,
+    /// Each move's samples' bounds: smallest and largest distance from the axis, lowest
+    /// tip z (a move that cannot reach the stock is skipped whole).
+    bounds: Vec<(f64, f64, f64)>,
 }
 
 /// The path would need more samples than [`MAX_SAMPLES`].
@@ -329,16 +332,33 @@ impl MillPath {
         }
         let mut samples = Vec::with_capacity(total);
         let mut ranges = Vec::with_capacity(moves.len());
+        let mut bounds = Vec::with_capacity(moves.len());
         for (m, &n) in moves.iter().zip(&counts) {
             let a = samples.len();
             samples.extend((0..=n).map(|i| m.at(i as f64 / n as f64)));
+            let b = samples[a..].iter().fold(
+                (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY),
+                |(lo, hi, z), s| {
+                    let r = s[0].hypot(s[1]);
+                    (lo.min(r), hi.max(r), z.min(s[2]))
+                },
+            );
+            bounds.push(b);
             ranges.push(a..samples.len());
         }
         Ok(MillPath {
             moves,
             samples,
             ranges,
+            bounds,
         })
+    }
+
+    /// Whether move `m` cannot cut a stock of signed blank radius `q_blank` (an outer
+    /// surface `q = r`, a bore `q = -r`) between `z0` and `z1` with discs up to `r_max`.
+    fn misses(&self, m: usize, q_blank: f64, z1: f64, r_max: f64) -> bool {
+        let (lo, hi, z) = self.bounds[m];
+        z > z1 || (q_blank < 0.0 && hi + r_max <= -q_blank) || (q_blank > 0.0 && lo - r_max >= q_blank)
     }
 
     /// Number of samples.
@@ -505,6 +525,9 @@ fn reach(
     let sense = surface.sense();
     let r_max = cutter.radius;
     let len = cutter.length();
+    if path.misses(m, q_blank, z0 + n as f64 * dz, r_max) {
+        return None;
+    }
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for s in &path.samples[path.ranges[m].clone()] {
         if let Some(_c) = placement(s, sin, cos, sense, q_blank, r_max) {
@@ -562,6 +585,9 @@ fn cut_move(
     let n = col.len() as f64;
     let r_max = segs.iter().map(|s| s.r_hi).fold(0.0, f64::max);
     let (mut placements, mut updates) = (0u64, 0u64);
+    if path.misses(m, q_blank, z0 + n * dz, r_max) {
+        return (0, 0);
+    }
     for s in &path.samples[path.ranges[m].clone()] {
         let Some((c, b2, extra)) = placement(s, sin, cos, sense, q_blank, r_max) else {
             continue;
@@ -641,7 +667,7 @@ unsafe fn ramp_avx2(q: &mut [f32], r0: f32, step: f32, b2: f32, c: f32) {
 /// move, in rad (0 for moves that cut nothing of the blank ring `r_lo < r < r_hi`): the
 /// material is the ring less what the tip circle swept during the last turn about the part
 /// axis (a comb's higher teeth have cut it there). Seen in xy at 0.5 deg on the circle and
-/// at most 240 positions per move.
+/// at most 720 positions per move.
 pub(crate) fn engagement(path: &MillPath, r_tip: &[f64], ring: (f64, f64)) -> Vec<f64> {
     const POINTS: usize = 720;
     let (r_lo, r_hi) = ring;
@@ -653,7 +679,7 @@ pub(crate) fn engagement(path: &MillPath, r_tip: &[f64], ring: (f64, f64)) -> Ve
     for (m, mv) in path.moves.iter().enumerate() {
         let rt = r_tip[mv.cutter];
         let range = path.ranges[m].clone();
-        let every = range.len().div_ceil(240).max(1);
+        let every = range.len().div_ceil(720).max(1);
         let mut best: f64 = 0.0;
         for s in path.samples[range].iter().step_by(every) {
             let phi = s[1].atan2(s[0]);
