@@ -358,7 +358,9 @@ impl MillPath {
     /// surface `q = r`, a bore `q = -r`) between `z0` and `z1` with discs up to `r_max`.
     fn misses(&self, m: usize, q_blank: f64, z1: f64, r_max: f64) -> bool {
         let (lo, hi, z) = self.bounds[m];
-        z > z1 || (q_blank < 0.0 && hi + r_max <= -q_blank) || (q_blank > 0.0 && lo - r_max >= q_blank)
+        z > z1
+            || (q_blank < 0.0 && hi + r_max <= -q_blank)
+            || (q_blank > 0.0 && lo - r_max >= q_blank)
     }
 
     /// Number of samples.
