@@ -70,8 +70,36 @@ fn bench_simulate(c: &mut Criterion) {
     g.finish();
 }
 
+/// Thread milling (issue 6): the seed 001 scene at 0.01 mm, the whole simulation and the
+/// kernel alone, on two threads (target: under 2 s for the whole simulation).
+fn bench_mill(c: &mut Criterion) {
+    let dir = format!(
+        "{}/scenes/seed001-m20x1.5-thread-mill",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(format!("{dir}/job.toml")).expect("scene");
+    let load = |name: &str| std::fs::read_to_string(format!("{dir}/{name}")).ok();
+    let job = Job::from_toml_with(&text, "job.toml", &load).expect("valid scene");
+    let mill = job.mill.as_ref().expect("a milling job");
+    let (grid, _) = plan_grid(&job).unwrap();
+    let mut g = c.benchmark_group("mill/seed001-m20x1.5");
+    g.sample_size(10).measurement_time(Duration::from_secs(15));
+    let p = pool(2);
+    g.bench_function("simulate-2-threads", |b| {
+        b.iter(|| p.install(|| simulate(&job, &Options::default()).unwrap()))
+    });
+    g.bench_function("sweep-2-threads", |b| {
+        b.iter(|| {
+            let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+            p.install(|| vpcut::sweep_mill(&mut stock, Surface::Inner, &mill.path, &mill.cutters))
+        })
+    });
+    g.finish();
+}
+
 criterion_group!(benches, bench_sweep, bench_compare, bench_simulate);
-criterion_main!(bodies, benches, interpreters);
+criterion_group!(milling, bench_mill);
+criterion_main!(bodies, benches, interpreters, milling);
 
 fn bench_interpreter(c: &mut Criterion) {
     use vpcut::{interpret, Dialect, Limits, Source};

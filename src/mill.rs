@@ -314,12 +314,22 @@ pub struct TooManySamples(pub usize);
 impl MillPath {
     /// Sample `moves` for `cutters` at the steps of the stated bound.
     pub fn new(moves: Vec<PathMove>, cutters: &[Cutter]) -> Result<MillPath, TooManySamples> {
+        MillPath::refined(moves, cutters, 1)
+    }
+
+    /// As [`MillPath::new`] with `refine` times as many samples (to check the bound
+    /// against a finer sampling).
+    pub fn refined(
+        moves: Vec<PathMove>,
+        cutters: &[Cutter],
+        refine: u32,
+    ) -> Result<MillPath, TooManySamples> {
         let mut counts = Vec::with_capacity(moves.len());
         let mut total = 0usize;
         for m in &moves {
             let (xy, dz) = m.lengths();
             let r = cutters.get(m.cutter).map_or(1.0, Cutter::core_radius);
-            let n = (dz / DZ_STEP).max(xy / xy_step(r)).ceil().max(1.0);
+            let n = (dz / DZ_STEP).max(xy / xy_step(r)).ceil().max(1.0) * refine.max(1) as f64;
             if !n.is_finite() || n > MAX_SAMPLES as f64 {
                 return Err(TooManySamples(usize::MAX));
             }
@@ -778,35 +788,19 @@ mod tests {
             dz: 0.01,
         };
         let mut stock = Stock::blank(grid, 10.0, 0.0);
-        let spec = CutterSpec {
-            diameter: 8.0,
-            half_angles: [0.0; 2],
-            tip_flat: 0.0,
-            teeth: 1,
-            pitch: 1.0,
-            tooth_depth: 1.0,
-            first_tooth: 0.0,
-            shank_diameter: 8.0,
-            neck: 0.0,
-            length: 5.0,
-            flutes: 2,
-            drill: None,
-            chamfer: None,
-        };
         // A plain cylinder of radius 4 (teeth of zero width, shank of radius 4).
         let cutter = Cutter {
             profile: vec![[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]],
             flutes: 2,
             radius: 4.0,
         };
-        let _ = spec;
         let m = PathMove {
             start: [11.0, 0.0, 2.0],
             end: [11.0, 0.0, -0.5],
             motion: Motion::Line,
             cutter: 0,
         };
-        let path = MillPath::new(vec![m], &[cutter.clone()]).unwrap();
+        let path = MillPath::new(vec![m], std::slice::from_ref(&cutter)).unwrap();
         let stats = sweep_mill(&mut stock, Surface::Outer, &path, &[cutter]);
         for i in 0..grid.n_theta {
             let th = grid.theta(i);

@@ -15,6 +15,8 @@ mod goldens;
 mod invariance;
 /// LinuxCNC conformance against rs274 reference output.
 mod linuxcnc;
+/// Thread milling: thread counts, sampling bound, job errors.
+mod milling;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
 /// The pictures that need no GPU against the report and the exact cut.

@@ -64,6 +64,7 @@ fn no_io_in_the_geometry_core() {
         "measure",
         "process",
         "machine",
+        "mill",
         "report",
         "job",
         "nc",
