@@ -210,7 +210,10 @@ fn program_settings_block_skip_and_errors() {
     let e = program_job(prog, &[("work_offsets", "{ G55 = { y = 1 } }")])
         .unwrap_err()
         .to_string();
-    assert!(e.contains("program.work_offsets.G55.y") && e.contains("milling"), "{e}");
+    assert!(
+        e.contains("program.work_offsets.G55.y") && e.contains("milling"),
+        "{e}"
+    );
 }
 
 /// `vpcut toolpath --json` names arcs `arc` and gives their centre: G03 X20 Z-10 R10 from
