@@ -76,7 +76,10 @@ pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
                 &job.thread,
             ),
         },
-        tool: tool_mesh(job),
+        tool: match &job.mill {
+            Some(mj) => cutter_mesh(mj),
+            None => tool_mesh(job),
+        },
         legend,
         focus: focus(&out.report, &out.stock, &job.thread, tol),
         summary: out.report.summary_json(legend.scale_mm),
@@ -688,6 +691,65 @@ fn rapid(a: (f64, f64, f64), b: (f64, f64, f64), clear: f64) -> Vec<[f32; 3]> {
 
 /// Points per revolution of a drawn pass helix.
 const PATH_STEPS_PER_REV: f64 = 72.0;
+
+/// A milling job's cutter as its solid of revolution (48 segments), where the last cutting
+/// move ends.
+fn cutter_mesh(mj: &crate::MillJob) -> Mesh {
+    let Some((_, pm)) = mj
+        .moves
+        .iter()
+        .zip(&mj.path.moves)
+        .rev()
+        .find(|(m, _)| m.kind != crate::nc::MillKind::Rapid)
+        .or_else(|| mj.moves.iter().zip(&mj.path.moves).next_back())
+    else {
+        return Mesh::default();
+    };
+    let cutter = &mj.cutters[pm.cutter];
+    let [cx, cy, cz] = pm.end;
+    let n = 48u32;
+    let mut mesh = Mesh::default();
+    // Each profile vertex: a pole (on the axis) or a ring of n vertices.
+    let mut rings: Vec<(u32, bool)> = Vec::new();
+    for &[u, r] in &cutter.profile {
+        let first = mesh.positions.len() as u32;
+        if r <= 0.0 {
+            mesh.positions.push([cx as f32, cy as f32, (cz + u) as f32]);
+            rings.push((first, true));
+        } else {
+            for k in 0..n {
+                let a = TAU * k as f64 / n as f64;
+                mesh.positions.push([
+                    (cx + r * a.cos()) as f32,
+                    (cy + r * a.sin()) as f32,
+                    (cz + u) as f32,
+                ]);
+            }
+            rings.push((first, false));
+        }
+    }
+    for w in rings.windows(2) {
+        let ((i0, p0), (i1, p1)) = (w[0], w[1]);
+        for k in 0..n {
+            let k1 = (k + 1) % n;
+            match (p0, p1) {
+                (true, true) => {}
+                (true, false) => mesh.indices.extend_from_slice(&[i0, i1 + k1, i1 + k]),
+                (false, true) => mesh.indices.extend_from_slice(&[i0 + k, i0 + k1, i1]),
+                (false, false) => mesh.indices.extend_from_slice(&[
+                    i0 + k,
+                    i0 + k1,
+                    i1 + k1,
+                    i0 + k,
+                    i1 + k1,
+                    i1 + k,
+                ]),
+            }
+        }
+    }
+    mesh.colors = vec![TOOL_COLOUR; mesh.positions.len()];
+    mesh
+}
 
 /// A milling path: the tool tip centre along every move (rapids and cutting moves), at
 /// most [`PATH_STEPS_PER_REV`] points per revolution of an arc.
