@@ -438,38 +438,32 @@ pub fn sweep_mill(
         .enumerate()
         .map(|(i, col)| {
             let theta = grid.theta(i);
+            let ray = Ray::new(theta, grid.z0, grid.dz, col.len(), q_blank, surface);
             let mut cuts = vec![MoveCut::default(); path.moves.len()];
-            let mut snapshot = Vec::new();
+            let (mut hits, mut snapshot) = (Vec::new(), Vec::new());
             let (mut placements, mut updates) = (0u64, 0u64);
             for (m, mv) in path.moves.iter().enumerate() {
-                let Some(range) = reach(
-                    col.len(),
-                    theta,
-                    grid.z0,
-                    grid.dz,
-                    q_blank,
-                    surface,
-                    path,
-                    m,
-                    &cutters[mv.cutter],
-                ) else {
+                let segs = &segs[mv.cutter];
+                ray.hits(path, m, segs, &mut hits);
+                // The cells the move may change: from its lowest placed tip up the cutter.
+                let len = cutters[mv.cutter].length();
+                let (lo, hi) = hits
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
+                        (lo.min(h.z_tip), hi.max(h.z_tip + len))
+                    });
+                let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0);
+                let j1 = ((hi - grid.z0) / grid.dz)
+                    .floor()
+                    .min(col.len() as f64 - 1.0);
+                if j1 < j0 {
                     continue;
-                };
+                }
+                let range = j0 as usize..j1 as usize + 1;
                 snapshot.clear();
                 snapshot.extend_from_slice(&col[range.clone()]);
-                let (p, u) = cut_move(
-                    col,
-                    theta,
-                    grid.z0,
-                    grid.dz,
-                    q_blank,
-                    surface,
-                    path,
-                    m,
-                    &segs[mv.cutter],
-                );
-                placements += p;
-                updates += u;
+                placements += hits.len() as u64;
+                updates += ray.apply(col, &hits, segs);
                 let c = &mut cuts[m];
                 for (k, (&old, &new)) in snapshot.iter().zip(&col[range.clone()]).enumerate() {
                     if new < old {
@@ -505,144 +499,122 @@ pub fn sweep_mill(
 /// `q - q_blank` and is cut in place.
 pub fn mill_column(q: &mut [f32], c: crate::sweep::Column, path: &MillPath, cutters: &[Cutter]) {
     let segs: Vec<Vec<Seg>> = cutters.iter().map(Cutter::segments).collect();
+    let ray = Ray::new(c.theta, c.z0, c.dz, q.len(), c.q_blank, c.surface);
+    let mut hits = Vec::new();
     for (m, mv) in path.moves.iter().enumerate() {
-        cut_move(
-            q,
-            c.theta,
-            c.z0,
-            c.dz,
-            c.q_blank,
-            c.surface,
-            path,
-            m,
-            &segs[mv.cutter],
-        );
+        ray.hits(path, m, &segs[mv.cutter], &mut hits);
+        ray.apply(q, &hits, &segs[mv.cutter]);
     }
 }
 
-/// The cells of a column that move `m` may change, if any sample reaches past the blank.
-#[allow(clippy::too_many_arguments)]
-fn reach(
-    n: usize,
-    theta: f64,
-    z0: f64,
-    dz: f64,
-    q_blank: f64,
-    surface: Surface,
-    path: &MillPath,
-    m: usize,
-    cutter: &Cutter,
-) -> Option<std::ops::Range<usize>> {
-    let (sin, cos) = theta.sin_cos();
-    let sense = surface.sense();
-    let r_max = cutter.radius;
-    let len = cutter.length();
-    if path.misses(m, q_blank, z0 + n as f64 * dz, r_max) {
-        return None;
-    }
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for s in &path.samples[path.ranges[m].clone()] {
-        if let Some(_c) = placement(s, sin, cos, sense, q_blank, r_max) {
-            lo = lo.min(s[2]);
-            hi = hi.max(s[2] + len);
-        }
-    }
-    let j0 = ((lo - z0) / dz).ceil().max(0.0);
-    let j1 = ((hi - z0) / dz).floor().min(n as f64 - 1.0);
-    (j1 >= j0).then(|| j0 as usize..j1 as usize + 1)
-}
-
-/// A sample's `(C, B^2, extra)` on a ray if a disc of radius `r_max` can cut past the blank
-/// there: `C = sense (d.c) - q_blank`, `B = n.c`; a cut value is `C - sqrt(R^2 - B^2)`, for
-/// discs with `R^2 > B^2 + extra^2` (`extra` keeps an outer surface's disc on the ray's
-/// side of the axis and the cut below the blank).
-fn placement(
-    s: &[f64; 3],
+/// A column's ray: its direction, cells and surface.
+struct Ray {
     sin: f64,
     cos: f64,
-    sense: f64,
-    q_blank: f64,
-    r_max: f64,
-) -> Option<(f64, f64, f64)> {
-    let a = cos * s[0] + sin * s[1];
-    let b = -sin * s[0] + cos * s[1];
-    if b.abs() >= r_max {
-        return None;
-    }
-    let c = sense * a - q_blank;
-    // The cut is below the blank only where sqrt(R^2 - B^2) > C; an outer surface needs the
-    // disc to reach the ray's half (d.c + sqrt(..) > 0).
-    let mut extra = c.max(0.0);
-    if sense > 0.0 && a < 0.0 {
-        extra = extra.max(-a);
-    }
-    (r_max * r_max > b * b + extra * extra).then_some((c, b * b, extra))
-}
-
-/// Apply every sample of move `m` to the column; returns (placements, dexel updates).
-#[allow(clippy::too_many_arguments)]
-fn cut_move(
-    col: &mut [f32],
-    theta: f64,
     z0: f64,
     dz: f64,
+    /// Cells.
+    n: f64,
     q_blank: f64,
-    surface: Surface,
-    path: &MillPath,
-    m: usize,
-    segs: &[Seg],
-) -> (u64, u64) {
-    let (sin, cos) = theta.sin_cos();
-    let sense = surface.sense();
-    let n = col.len() as f64;
-    let r_max = segs.iter().map(|s| s.r_hi).fold(0.0, f64::max);
-    let (mut placements, mut updates) = (0u64, 0u64);
-    if path.misses(m, q_blank, z0 + n * dz, r_max) {
-        return (0, 0);
-    }
-    for s in &path.samples[path.ranges[m].clone()] {
-        let Some((c, b2, extra)) = placement(s, sin, cos, sense, q_blank, r_max) else {
-            continue;
-        };
-        placements += 1;
-        let need2 = b2 + extra * extra;
-        for g in segs {
-            if g.r_hi * g.r_hi <= need2 {
-                continue;
-            }
-            // Cells whose centre lies in [ua, ub) above the tip.
-            let mut j0 = ((s[2] + g.ua - z0) / dz).ceil().max(0.0);
-            let mut j1 = ((s[2] + g.ub - z0) / dz).ceil().min(n) - 1.0;
-            if j1 < j0 {
-                continue;
-            }
-            // Clip to where R(u) > sqrt(need2): R is linear in j.
-            let need = need2.sqrt();
-            let r_at = |j: f64| g.ra + g.slope * (z0 + j * dz - s[2] - g.ua);
-            if g.slope > 0.0 {
-                let jn = ((need - g.ra) / g.slope + s[2] + g.ua - z0) / dz;
-                j0 = j0.max(jn.floor());
-            } else if g.slope < 0.0 {
-                let jn = ((need - g.ra) / g.slope + s[2] + g.ua - z0) / dz;
-                j1 = j1.min(jn.ceil());
-            }
-            if j1 < j0 {
-                continue;
-            }
-            let (j0, j1) = (j0 as usize, j1 as usize);
-            let r0 = r_at(j0 as f64);
-            let step = g.slope * dz;
-            updates += (j1 + 1 - j0) as u64;
-            ramp(
-                &mut col[j0..=j1],
-                r0 as f32,
-                step as f32,
-                b2 as f32,
-                c as f32,
-            );
+    sense: f64,
+}
+
+/// A sample that can cut past the blank on a ray: a cut value is `c - sqrt(R^2 - b2)` for
+/// discs with `R^2 > need2`.
+struct Hit {
+    z_tip: f64,
+    c: f64,
+    b2: f64,
+    need2: f64,
+}
+
+impl Ray {
+    fn new(theta: f64, z0: f64, dz: f64, n: usize, q_blank: f64, surface: Surface) -> Ray {
+        let (sin, cos) = theta.sin_cos();
+        Ray {
+            sin,
+            cos,
+            z0,
+            dz,
+            n: n as f64,
+            q_blank,
+            sense: surface.sense(),
         }
     }
-    (placements, updates)
+
+    /// The samples of move `m` that can cut past the blank on this ray (none when the
+    /// move's bounds keep it away), into `out`. With `C = sense (d.c) - q_blank` and
+    /// `B = n.c` the cut is below the blank only where `sqrt(R^2 - B^2) > C`; an outer
+    /// surface also needs the disc on the ray's side of the axis (`d.c + sqrt(..) > 0`).
+    fn hits(&self, path: &MillPath, m: usize, segs: &[Seg], out: &mut Vec<Hit>) {
+        out.clear();
+        let r_max = segs.iter().map(|s| s.r_hi).fold(0.0, f64::max);
+        if path.misses(m, self.q_blank, self.z0 + self.n * self.dz, r_max) {
+            return;
+        }
+        for s in &path.samples[path.ranges[m].clone()] {
+            let a = self.cos * s[0] + self.sin * s[1];
+            let b = -self.sin * s[0] + self.cos * s[1];
+            if b.abs() >= r_max {
+                continue;
+            }
+            let c = self.sense * a - self.q_blank;
+            let mut extra = c.max(0.0);
+            if self.sense > 0.0 && a < 0.0 {
+                extra = extra.max(-a);
+            }
+            let need2 = b * b + extra * extra;
+            if r_max * r_max > need2 {
+                out.push(Hit {
+                    z_tip: s[2],
+                    c,
+                    b2: b * b,
+                    need2,
+                });
+            }
+        }
+    }
+
+    /// Apply the hits to the column; returns the dexel updates.
+    fn apply(&self, col: &mut [f32], hits: &[Hit], segs: &[Seg]) -> u64 {
+        let (z0, dz, n) = (self.z0, self.dz, self.n);
+        let mut updates = 0u64;
+        for h in hits {
+            let need = h.need2.sqrt();
+            for g in segs {
+                if g.r_hi * g.r_hi <= h.need2 {
+                    continue;
+                }
+                // Cells whose centre lies in [ua, ub) above the tip.
+                let base = h.z_tip + g.ua - z0;
+                let mut j0 = (base / dz).ceil().max(0.0);
+                let mut j1 = ((h.z_tip + g.ub - z0) / dz).ceil().min(n) - 1.0;
+                // Clip to where R(u) > need: R is linear in j.
+                if g.slope != 0.0 {
+                    let jn = ((need - g.ra) / g.slope + base) / dz;
+                    if g.slope > 0.0 {
+                        j0 = j0.max(jn.floor());
+                    } else {
+                        j1 = j1.min(jn.ceil());
+                    }
+                }
+                if j1 < j0 {
+                    continue;
+                }
+                let r0 = g.ra + g.slope * (j0 * dz - base);
+                let (j0, j1) = (j0 as usize, j1 as usize);
+                updates += (j1 + 1 - j0) as u64;
+                ramp(
+                    &mut col[j0..=j1],
+                    r0 as f32,
+                    (g.slope * dz) as f32,
+                    h.b2 as f32,
+                    h.c as f32,
+                );
+            }
+        }
+        updates
+    }
 }
 
 /// `q_j = min(q_j, c - sqrt(max(R_j^2 - b2, 0)))` with `R_j = r0 + j step`; cells whose disc
