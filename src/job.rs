@@ -964,7 +964,7 @@ fn program_passes(
     load: &dyn Fn(&str) -> Option<String>,
     strict: bool,
 ) -> Result<ProgramPasses, JobError> {
-    use crate::nc::{MoveKind, NcError, Settings};
+    use crate::nc::{MoveKind, Settings};
     let mut settings = Settings {
         thread_chamfer: cx.non_negative("program.thread_chamfer", pr.thread_chamfer)?,
         block_skip: pr.block_skip,
@@ -1002,18 +1002,7 @@ fn program_passes(
     }
     let toolpath = run_program(pr, settings, cx, load, strict)?;
     let moves = toolpath.moves;
-    let fail = |m: &crate::nc::Move, message: String| {
-        JobError::Program(Box::new(NcError {
-            file: m.file.clone(),
-            line: m.line,
-            col: 0,
-            message,
-            snippet: String::new(),
-            stack: Vec::new(),
-            hint: None,
-            others: Vec::new(),
-        }))
-    };
+    let fail = |m: &crate::nc::Move, message: String| move_error(&m.file, m.line, message);
     let mut out: Vec<Pass> = Vec::new();
     let mut links = Vec::new();
     // A thread move that goes nowhere (a repeated block) cuts nothing.
@@ -1075,6 +1064,20 @@ fn program_passes(
         links,
         warnings: toolpath.warnings,
     })
+}
+
+/// An error about a program's move (its block, as a whole).
+fn move_error(file: &str, line: usize, message: String) -> JobError {
+    JobError::Program(Box::new(crate::nc::NcError {
+        file: file.to_string(),
+        line,
+        col: 0,
+        message,
+        snippet: String::new(),
+        stack: Vec::new(),
+        hint: None,
+        others: Vec::new(),
+    }))
 }
 
 /// G54..G59 as an index.

@@ -223,10 +223,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
         });
     }
     let thread = &job.thread;
-    let surface = match thread.side {
-        Side::External => Surface::Outer,
-        Side::Internal => Surface::Inner,
-    };
+    let surface = thread_surface(thread);
     let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
     let t_setup = t_start.elapsed().as_secs_f64();
 
@@ -255,22 +252,12 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     let t_sweep = t0.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
-    let window = (
-        grid.z(0) - 0.5 * grid.dz,
-        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
-    );
+    let window = grid_window(&grid);
     let dev = compare(&stock, thread, window);
     let t_compare = t0.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
-    let law = thread.helix.law;
-    let reach = 2.0 * law.lead(0.0).max(law.lead(thread.turns)) + thread.depth();
-    let z_a = thread.helix.z(thread.turns);
-    let z_b = thread.helix.z0;
-    let m_lo = window.0.max(z_a.min(z_b) - reach);
-    let m_hi = window.1.min(z_a.max(z_b) + reach);
-    // Keep a measurement column under 8M cells.
-    let spacing = job.sim.measure_spacing.max((m_hi - m_lo) / 8.0e6);
+    let ((m_lo, m_hi), spacing) = measure_window(job, window);
     let measures = if m_hi > m_lo {
         measure(
             thread,
@@ -341,29 +328,18 @@ fn simulate_mill(
         });
     }
     let thread = &job.thread;
-    let surface = match thread.side {
-        Side::External => Surface::Outer,
-        Side::Internal => Surface::Inner,
-    };
+    let surface = thread_surface(thread);
     let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
     let t_setup = t_start.elapsed().as_secs_f64();
     let t0 = Instant::now();
     let stats = sweep_mill(&mut stock, surface, &mj.path, &mj.cutters);
     let t_sweep = t0.elapsed().as_secs_f64();
     let t0 = Instant::now();
-    let window = (
-        grid.z(0) - 0.5 * grid.dz,
-        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
-    );
+    let window = grid_window(&grid);
     let dev = compare(&stock, thread, window);
     let t_compare = t0.elapsed().as_secs_f64();
     let t0 = Instant::now();
-    let law = thread.helix.law;
-    let reach = 2.0 * law.lead(0.0).max(law.lead(thread.turns)) + thread.depth();
-    let (z_a, z_b) = (thread.helix.z(thread.turns), thread.helix.z0);
-    let m_lo = window.0.max(z_a.min(z_b) - reach);
-    let m_hi = window.1.min(z_a.max(z_b) + reach);
-    let spacing = job.sim.measure_spacing.max((m_hi - m_lo) / 8.0e6);
+    let ((m_lo, m_hi), spacing) = measure_window(job, window);
     let cut = |q: &mut [f32], c: Column| mill_column(q, c, &mj.path, &mj.cutters);
     let measures = if m_hi > m_lo {
         measure::measure_by(
@@ -559,21 +535,7 @@ fn simulate_mill(
             });
         }
     }
-    let rank = |f: &Finding| {
-        (
-            (f.severity != "error") as u8,
-            KINDS
-                .iter()
-                .position(|k| *k == f.kind)
-                .unwrap_or(KINDS.len()),
-        )
-    };
-    report.findings.sort_by_key(rank);
-    report.verdict = if report.findings.iter().any(|f| f.severity == "error") {
-        Verdict::Fail
-    } else {
-        Verdict::Pass
-    };
+    report.verdict = rank_findings(&mut report.findings);
     report.timing_s = report::Timing {
         setup: t_setup,
         sweep: t_sweep,
@@ -586,6 +548,52 @@ fn simulate_mill(
         stock,
         edge_stock: None,
     })
+}
+
+/// The stock surface a thread is cut on.
+fn thread_surface(thread: &ThreadSpec) -> Surface {
+    match thread.side {
+        Side::External => Surface::Outer,
+        Side::Internal => Surface::Inner,
+    }
+}
+
+/// The axial span of the grid's cells (the comparison's window).
+fn grid_window(grid: &Grid) -> (f64, f64) {
+    (
+        grid.z(0) - 0.5 * grid.dz,
+        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
+    )
+}
+
+/// Where the measurement columns run (the thread and two leads and its depth beyond, inside
+/// the window) and their spacing, kept under 8M cells a column.
+fn measure_window(job: &Job, window: (f64, f64)) -> ((f64, f64), f64) {
+    let thread = &job.thread;
+    let law = thread.helix.law;
+    let reach = 2.0 * law.lead(0.0).max(law.lead(thread.turns)) + thread.depth();
+    let (z_a, z_b) = (thread.helix.z(thread.turns), thread.helix.z0);
+    let lo = window.0.max(z_a.min(z_b) - reach);
+    let hi = window.1.min(z_a.max(z_b) + reach);
+    ((lo, hi), job.sim.measure_spacing.max((hi - lo) / 8.0e6))
+}
+
+/// Sort findings, errors first and then by [`KINDS`]; the verdict they give.
+fn rank_findings(findings: &mut [Finding]) -> Verdict {
+    findings.sort_by_key(|f| {
+        (
+            (f.severity != "error") as u8,
+            KINDS
+                .iter()
+                .position(|k| *k == f.kind)
+                .unwrap_or(KINDS.len()),
+        )
+    });
+    if findings.iter().any(|f| f.severity == "error") {
+        Verdict::Fail
+    } else {
+        Verdict::Pass
+    }
 }
 
 fn location(e: &Extreme) -> report::Location {
@@ -802,21 +810,7 @@ fn build_report(
             message: format!("{}:{}:{}: {}", w.file, w.line, w.col.max(1), w.message),
         });
     }
-    let rank = |f: &Finding| {
-        (
-            (f.severity != "error") as u8,
-            KINDS
-                .iter()
-                .position(|k| *k == f.kind)
-                .unwrap_or(KINDS.len()),
-        )
-    };
-    findings.sort_by_key(rank);
-    let verdict = if findings.iter().any(|f| f.severity == "error") {
-        Verdict::Fail
-    } else {
-        Verdict::Pass
-    };
+    let verdict = rank_findings(&mut findings);
     let gouge = dev.max_gouge();
     let leftover = dev.max_leftover();
     Report {

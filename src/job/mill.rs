@@ -279,18 +279,7 @@ pub(super) fn resolve_mill(
         ..crate::nc::Settings::default()
     };
     let toolpath = super::run_program(pr, settings, cx, load, strict)?;
-    let fail = |m: &MillMove, message: String| {
-        JobError::Program(Box::new(crate::nc::NcError {
-            file: m.file.clone(),
-            line: m.line,
-            col: 0,
-            message,
-            snippet: String::new(),
-            stack: Vec::new(),
-            hint: None,
-            others: Vec::new(),
-        }))
-    };
+    let fail = |m: &MillMove, message: String| super::move_error(&m.file, m.line, message);
     let mut path = Vec::with_capacity(toolpath.mill.len());
     let mut rpms = Vec::with_capacity(toolpath.mill.len());
     for m in &toolpath.mill {
