@@ -110,8 +110,6 @@ fn resolve_cutter(t: &RawTool, i: usize, cx: &Ctx) -> Result<Cutter, JobError> {
             ))
         }
     };
-    let hb_lo = 0.5 * tip_flat + tooth_depth * half_angles[0].tan();
-    let hb_hi = 0.5 * tip_flat + tooth_depth * half_angles[1].tan();
     let drill = match (name, t.drill_diameter, t.point_angle) {
         (CutterName::DrillMill, Some(d), a) => Some((
             cx.positive(&key("drill_diameter"), d)?,
@@ -143,27 +141,18 @@ fn resolve_cutter(t: &RawTool, i: usize, cx: &Ctx) -> Result<Cutter, JobError> {
         }
         (_, None) => None,
     };
-    let first_tooth = match t.first_tooth {
-        Some(u) => cx.non_negative(&key("first_tooth"), u)?,
-        None if drill.is_some() => {
-            return Err(cx.err(&key("first_tooth"), "a drill-mill needs `first_tooth`: the height of its first tooth's tip centre above the drill point (mm)"))
-        }
-        None => hb_lo,
-    };
     let core = diameter - 2.0 * tooth_depth;
-    let neck = cx.non_negative(&key("neck"), t.neck.unwrap_or(0.0))?;
-    let span = first_tooth + (teeth - 1) as f64 * pitch + hb_hi + neck;
-    let spec = CutterSpec {
+    let mut spec = CutterSpec {
         diameter,
         half_angles,
         tip_flat,
         teeth,
         pitch,
         tooth_depth,
-        first_tooth,
+        first_tooth: 0.0,
         shank_diameter: cx.positive(&key("shank_diameter"), t.shank_diameter.unwrap_or(core))?,
-        neck,
-        length: cx.positive(&key("length"), t.length.unwrap_or(span + 20.0))?,
+        neck: cx.non_negative(&key("neck"), t.neck.unwrap_or(0.0))?,
+        length: 0.0,
         flutes: match t.flutes.unwrap_or(1) {
             n @ 1..=64 => n,
             n => return Err(cx.err(&key("flutes"), format!("expected 1 to 64 flutes, got {n}"))),
@@ -171,6 +160,17 @@ fn resolve_cutter(t: &RawTool, i: usize, cx: &Ctx) -> Result<Cutter, JobError> {
         drill,
         chamfer,
     };
+    let [hb_lo, hb_hi] = spec.half_base();
+    spec.first_tooth = match t.first_tooth {
+        Some(u) => cx.non_negative(&key("first_tooth"), u)?,
+        None if drill.is_some() => {
+            return Err(cx.err(&key("first_tooth"), "a drill-mill needs `first_tooth`: the height of its first tooth's tip centre above the drill point (mm)"))
+        }
+        // The first tooth's lower flank starts at the cutter's end.
+        None => hb_lo,
+    };
+    let span = spec.first_tooth + (teeth - 1) as f64 * pitch + hb_hi + spec.neck;
+    spec.length = cx.positive(&key("length"), t.length.unwrap_or(span + 20.0))?;
     Cutter::from_spec(&spec).map_err(|m| cx.err(&key("kind"), m))
 }
 
