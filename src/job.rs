@@ -191,6 +191,8 @@ pub struct Job {
     /// The drawing's limits of the pitch diameter (a tolerance class such as ISO 965 6H):
     /// checked on the measured simple pitch diameter of every turn (milling jobs).
     pub pitch_diameter_limits: Option<(f64, f64)>,
+    /// The plan of `[process] kind = "plan"`, whose passes are [`Job::passes`].
+    pub plan: Option<crate::plan::Plan>,
 }
 
 /// A program's thread move that continues the previous one without a re-sync (a chained
@@ -451,6 +453,12 @@ struct RawProcess {
     z_to: Option<f64>,
     origin_z: Option<f64>,
     root_width: Option<f64>,
+    max_depth: Option<f64>,
+    min_depth: Option<f64>,
+    infeed: Option<crate::plan::Infeed>,
+    finish_passes: Option<u32>,
+    spring_passes: Option<u32>,
+    finish_allowance: Option<f64>,
 }
 
 #[derive(Deserialize, Clone, Copy, Default, PartialEq)]
@@ -827,6 +835,7 @@ fn resolve(
             chains: Vec::new(),
             mill: Some(mill),
             pitch_diameter_limits,
+            plan: None,
         });
     }
     if raw.thread.pitch_diameter_limits.is_some() {
@@ -882,7 +891,18 @@ fn resolve(
         check_pass(&pass, &key, cx)?;
         passes.push(pass);
     }
-    if let Some(pr) = &raw.process {
+    let mut plan = None;
+    if let Some(pr) = raw.process.as_ref().filter(|p| p.kind == process::Kind::Plan) {
+        let p = plan_process(pr, &thread, &tools, &blank, &machine, &sim, &tool_index, cx)?;
+        passes.extend(p.passes());
+        plan = Some(p);
+    } else if let Some(pr) = &raw.process {
+        if let Some(key) = pr.plan_key() {
+            return Err(cx.err(
+                &format!("process.{key}"),
+                "this key belongs to the planner (`kind = \"plan\"`)",
+            ));
+        }
         let process = Process {
             kind: pr.kind,
             tool: tool_index(pr.tool, "process.tool")?,
@@ -942,7 +962,104 @@ fn resolve(
         chains,
         mill: None,
         pitch_diameter_limits: None,
+        plan,
     })
+}
+
+impl Job {
+    /// This job with its passes replaced by those of an NC program: `text`, read as
+    /// `file` in `dialect` (`fanuc`, `gsk980`, `siemens-802d`, `linuxcnc`), strictly (every
+    /// word must be understood). The round trip of `vpcut plan`.
+    pub fn with_program(&self, file: &str, text: &str, dialect: &str) -> Result<Job, JobError> {
+        let pr = RawProgram {
+            file: file.to_string(),
+            dialect: dialect.to_string(),
+            strict: true,
+            thread_chamfer: 0.0,
+            work_offsets: Default::default(),
+            block_skip: true,
+            reference_point: None,
+        };
+        let cx = Ctx { src: "", file };
+        let load = |name: &str| (name == file).then(|| text.to_string());
+        let ProgramPasses {
+            passes,
+            links,
+            warnings,
+        } = program_passes(&pr, &self.tools, &cx, &load, true)?;
+        Ok(Job {
+            passes,
+            chains: links,
+            program_warnings: warnings,
+            plan: None,
+            ..self.clone()
+        })
+    }
+}
+
+impl RawProcess {
+    /// The first planner key given to another generator.
+    fn plan_key(&self) -> Option<&'static str> {
+        [
+            ("max_depth", self.max_depth.is_some()),
+            ("min_depth", self.min_depth.is_some()),
+            ("infeed", self.infeed.is_some()),
+            ("finish_passes", self.finish_passes.is_some()),
+            ("spring_passes", self.spring_passes.is_some()),
+            ("finish_allowance", self.finish_allowance.is_some()),
+        ]
+        .into_iter()
+        .find(|k| k.1)
+        .map(|k| k.0)
+    }
+}
+
+/// `[process] kind = "plan"`: the planner's limits, and the plan.
+#[allow(clippy::too_many_arguments)]
+fn plan_process(
+    pr: &RawProcess,
+    thread: &ThreadSpec,
+    tools: &[Tool],
+    blank: &Blank,
+    machine: &Machine,
+    sim: &SimConfig,
+    tool_index: &dyn Fn(u32, &str) -> Result<usize, JobError>,
+    cx: &Ctx,
+) -> Result<crate::plan::Plan, JobError> {
+    for (key, given) in [
+        ("layers", pr.layers.is_some()),
+        ("depths", pr.depths.is_some()),
+        ("layer_depth", pr.layer_depth.is_some()),
+        ("origin_z", pr.origin_z.is_some()),
+        ("root_width", pr.root_width.is_some()),
+        ("z_from", pr.z_from.is_some()),
+        ("z_to", pr.z_to.is_some()),
+    ] {
+        if given {
+            return Err(cx.err(
+                &format!("process.{key}"),
+                "the planner chooses its layers and runs itself: give max_depth, min_depth, schedule, infeed, finish_allowance, finish_passes, spring_passes",
+            ));
+        }
+    }
+    let max_depth = pr
+        .max_depth
+        .ok_or_else(|| cx.err("process.max_depth", "the planner needs max_depth (mm per pass)"))?;
+    let allowance = pr.finish_allowance.unwrap_or(0.0);
+    let limits = crate::plan::Limits {
+        max_depth,
+        min_depth: pr.min_depth.unwrap_or(0.0),
+        schedule: pr.schedule,
+        infeed: pr.infeed.unwrap_or_default(),
+        finish_passes: pr
+            .finish_passes
+            .unwrap_or(if allowance > 0.0 { 1 } else { 0 }),
+        spring_passes: pr.spring_passes.unwrap_or(0),
+        finish_allowance: allowance,
+    };
+    let tool = tool_index(pr.tool, "process.tool")?;
+    crate::plan::plan(&limits, tool, thread, tools, blank, machine, sim.tolerance)
+        .map_err(|e| cx.err(&format!("process.{}", e.key), e.message))
 }
 
 /// What a job's program gives: its passes, the joints of its thread chains and the

@@ -55,6 +55,8 @@ mod mill;
 #[allow(clippy::result_large_err)]
 mod nc;
 mod pass;
+pub mod plan;
+pub mod post;
 mod plot;
 mod process;
 mod render;
@@ -280,7 +282,11 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     // A chained pass (continuous threading, a GSK run-out) is already at speed: it needs
     // no run-in of its own.
     machine_issues.retain(|i| i.kind != "run_in" || job.chains.iter().all(|c| c.pass != i.pass));
-    machine_issues.extend(machine::chain_check(&job.chains));
+    machine_issues.extend(machine::chain_check(
+        &job.chains,
+        &job.machine,
+        job.sim.tolerance,
+    ));
     machine_issues.extend(machine::head_check(
         &job.passes,
         &job.tools,

@@ -174,13 +174,21 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
 /// (0.001 mm) and still continue the previous law: half of it is the tolerance.
 pub(crate) const CHAIN_LEAD_TOL: f64 = 0.0005;
 
-/// The `thread_chain` check: every chain joint whose lead law jumps.
-pub(crate) fn chain_check(links: &[ChainLink]) -> Vec<MachineIssue> {
+/// The `thread_chain` check: every chain joint whose lead law jumps. With a known
+/// acceleration a lead step `dL` is a feed step `dv = dL rpm/60` that the axis makes up
+/// with a lag of `dv^2/(2a)`: a step whose lag stays under a tenth of the tolerance (a
+/// variable lead written as chained G33 blocks, `crate::post`) is no finding.
+pub(crate) fn chain_check(links: &[ChainLink], machine: &Machine, tolerance: f64) -> Vec<MachineIssue> {
+    let rps = machine.spindle_rpm / 60.0;
     links
         .iter()
         .filter(|l| {
-            (l.lead_after - l.lead_before).abs() > CHAIN_LEAD_TOL
-                || (l.change_after - l.change_before).abs() > 1e-9
+            let step = (l.lead_after - l.lead_before).abs();
+            let felt = match machine.acceleration {
+                Some(a) => (step * rps).powi(2) / (2.0 * a) > 0.1 * tolerance,
+                None => true,
+            };
+            (step > CHAIN_LEAD_TOL && felt) || (l.change_after - l.change_before).abs() > 1e-9
         })
         .map(|l| MachineIssue {
             kind: "thread_chain",
@@ -296,7 +304,7 @@ mod tests {
                 }
             }
             // A pure continuation: no thread_chain finding.
-            assert!(chain_check(&two.chains).is_empty());
+            assert!(chain_check(&two.chains, &two.machine, two.sim.tolerance).is_empty());
             assert_eq!(two.chains.len(), 1);
         }
     }
@@ -310,9 +318,9 @@ mod tests {
         let job = |second: &str| program_job(&format!("{base}{second}\nM30\n"), "fanuc", "cw");
         let j = job("G34 Z-20 F6.325 K1");
         assert_eq!(j.chains.len(), 1);
-        assert!(chain_check(&j.chains).is_empty());
+        assert!(chain_check(&j.chains, &j.machine, j.sim.tolerance).is_empty());
         let j = job("G34 Z-20 F7 K1");
-        let issues = chain_check(&j.chains);
+        let issues = chain_check(&j.chains, &j.machine, j.sim.tolerance);
         assert_eq!(issues.len(), 1);
         let i = &issues[0];
         assert_eq!(
@@ -321,8 +329,8 @@ mod tests {
         );
         assert!((i.value - (7.0 - 40f64.sqrt())).abs() < 1e-12, "{i:?}");
         assert!(i.message.contains("P.NC:4"), "{}", i.message);
-        assert_eq!(chain_check(&job("G34 Z-20 F6.325 K2").chains).len(), 1);
-        assert_eq!(chain_check(&job("G32 Z-20 F6.325").chains).len(), 1);
+        assert_eq!({ let j = job("G34 Z-20 F6.325 K2"); chain_check(&j.chains, &j.machine, j.sim.tolerance) }.len(), 1);
+        assert_eq!({ let j = job("G32 Z-20 F6.325"); chain_check(&j.chains, &j.machine, j.sim.tolerance) }.len(), 1);
         // Not chained: a rapid between the blocks re-syncs, nothing to report.
         assert!(job("G0 X29\nG34 Z-20 F7 K1").chains.is_empty());
         // GSK: the run-out segment continues its block's law exactly.
@@ -332,6 +340,6 @@ mod tests {
             "cw",
         );
         assert_eq!((gsk.passes.len(), gsk.chains.len()), (2, 1));
-        assert!(chain_check(&gsk.chains).is_empty());
+        assert!(chain_check(&gsk.chains, &gsk.machine, gsk.sim.tolerance).is_empty());
     }
 }

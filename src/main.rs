@@ -28,6 +28,9 @@ enum Command {
     /// Interpret an NC program and print its moves (CSV by default), as the control would
     /// run them: end points in mm, leads for thread moves.
     Toolpath(ToolpathArgs),
+    /// Plan the passes of a job's `[process] kind = "plan"` and write them as an NC
+    /// program; `--check` reads it back and simulates it.
+    Plan(PlanArgs),
 }
 
 #[derive(clap::Args)]
@@ -131,6 +134,28 @@ impl PictureArgs {
 }
 
 #[derive(clap::Args)]
+struct PlanArgs {
+    /// The job file (TOML) with `[process] kind = "plan"`; see docs/job-format.md.
+    job: PathBuf,
+    /// The controller: `fanuc`, `gsk980`, `siemens-802d` or `linuxcnc`.
+    #[arg(long)]
+    dialect: String,
+    /// FANUC: the compact Custom Macro B version (layer tables and WHILE loops).
+    #[arg(long = "macro")]
+    macro_b: bool,
+    /// Write the program here (atomically); without it, to standard output.
+    #[arg(long, short = 'o', value_name = "FILE")]
+    output: Option<PathBuf>,
+    /// Read the program back, check it gives exactly the planned passes, simulate it and
+    /// exit with 1 unless it passes.
+    #[arg(long)]
+    check: bool,
+    /// Print nothing but the program and errors.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+}
+
+#[derive(clap::Args)]
 struct SimulateArgs {
     /// The job file (TOML); see docs/job-format.md.
     job: PathBuf,
@@ -214,7 +239,88 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Simulate(args) => simulate(args),
         Command::Render(args) => render(args),
         Command::Toolpath(args) => toolpath(args),
+        Command::Plan(args) => plan(args),
     }
+}
+
+fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
+    let post = vpcut::post::Post::from_name(&args.dialect, args.macro_b).with_context(|| {
+        format!(
+            "unknown dialect `{}`{}: expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d` (--macro: fanuc only)",
+            args.dialect,
+            if args.macro_b { " with --macro" } else { "" }
+        )
+    })?;
+    let src = std::fs::read_to_string(&args.job)
+        .with_context(|| format!("cannot read the job file {}", args.job.display()))?;
+    let dir = args.job.parent().map(Path::to_path_buf).unwrap_or_default();
+    let load = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
+    let job = vpcut::Job::from_toml_with(&src, &args.job.display().to_string(), &load)?;
+    let plan = job.plan.as_ref().with_context(|| {
+        format!(
+            "{}: nothing to plan: give the job a [process] with kind = \"plan\" and its limits (docs/job-format.md)",
+            args.job.display()
+        )
+    })?;
+    let tool_id = job.tools[plan.tool].id;
+    let name = if job.name.is_empty() {
+        args.job.display().to_string()
+    } else {
+        job.name.clone()
+    };
+    let text = vpcut::post::post(plan, tool_id, &name, post)?;
+    let summary = vpcut::post::summary(plan, post);
+    match &args.output {
+        Some(path) => {
+            write_atomic(path, text.as_bytes())?;
+            if !args.quiet {
+                print!("{summary}");
+                println!("  program written to {}", path.display());
+            }
+        }
+        None => {
+            print!("{text}");
+            if !args.quiet {
+                eprint!("{summary}");
+            }
+        }
+    }
+    if !args.check {
+        return Ok(ExitCode::SUCCESS);
+    }
+    // The round trip: read the program back and simulate what it cuts.
+    let file = args
+        .output
+        .as_ref()
+        .and_then(|p| p.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "plan.nc".into());
+    let back = job.with_program(&file, &text, &args.dialect)?;
+    if let Some(why) = vpcut::post::differ(&vpcut::post::toolpath(plan, post), &back.passes) {
+        eprintln!("error: the program does not read back to the plan: {why}");
+        return Ok(ExitCode::from(1));
+    }
+    let out = vpcut::simulate(&back, &vpcut::Options::default())
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
+    let say = |s: String| {
+        if args.output.is_some() {
+            print!("{s}")
+        } else {
+            eprint!("{s}")
+        }
+    };
+    if !args.quiet {
+        say(format!(
+            "  read back: {} passes, the planned ones; simulated:\n",
+            back.passes.len()
+        ));
+        say(out.report.summary());
+    }
+    Ok(if out.report.verdict == vpcut::Verdict::Fail {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {

@@ -33,6 +33,8 @@ pub(crate) enum Kind {
     EqualToothAxial,
     /// Middle, right and left cuts per layer along the flank angle (seed 004).
     FlankBorrow,
+    /// The planner (`crate::plan`): the fewest passes within the limits, checked.
+    Plan,
 }
 
 /// Depth schedule of radial layers.
@@ -120,6 +122,7 @@ pub(crate) fn generate(
             AxialMethod::Seed002 => seed002(p, thread, tool, spindle),
         },
         Kind::FlankBorrow => flank_borrow(p, thread, tool, blank, spindle),
+        Kind::Plan => return fail("kind", "the planner runs from the job (`crate::plan`)"),
     }?;
     if passes.len() > MAX_PASSES {
         return fail("kind", format!("the process generates {} passes, more than {MAX_PASSES}: use fewer or deeper layers", passes.len()));
