@@ -70,6 +70,37 @@ fn bench_simulate(c: &mut Criterion) {
     g.finish();
 }
 
+/// `vpcut plan` (issue 7): planning seed 002's equal tooth width screw from its job text
+/// (parse, plan, line check), writing and re-reading the FANUC program, and the whole
+/// plan + simulate (target: under 2 s; the planner negligible beside the simulation).
+fn bench_plan(c: &mut Criterion) {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/plans/seed002-equal-tooth.toml"),
+    )
+    .unwrap();
+    let mut g = c.benchmark_group("plan/seed002-equal-tooth");
+    g.sample_size(10).measurement_time(Duration::from_secs(10));
+    g.bench_function("plan", |b| {
+        b.iter(|| Job::from_toml(&text, "job.toml").unwrap())
+    });
+    let job = Job::from_toml(&text, "job.toml").unwrap();
+    let plan = job.plan.clone().unwrap();
+    g.bench_function("post-and-read-back-fanuc", |b| {
+        b.iter(|| {
+            let nc = vpcut::post::post(&plan, 1, "bench", vpcut::post::Post::Fanuc).unwrap();
+            job.with_program("plan.nc", &nc, "fanuc").unwrap()
+        })
+    });
+    g.bench_function("plan-and-simulate", |b| {
+        b.iter(|| {
+            let job = Job::from_toml(&text, "job.toml").unwrap();
+            simulate(&job, &Options::default()).unwrap()
+        })
+    });
+    g.finish();
+}
+
 /// Thread milling (issue 6): the seed 001 scene at 0.01 mm, the whole simulation and the
 /// kernel alone, on two threads (target: under 2 s for the whole simulation).
 fn bench_mill(c: &mut Criterion) {
@@ -99,7 +130,8 @@ fn bench_mill(c: &mut Criterion) {
 
 criterion_group!(benches, bench_sweep, bench_compare, bench_simulate);
 criterion_group!(milling, bench_mill);
-criterion_main!(bodies, benches, interpreters, milling);
+criterion_group!(planning, bench_plan);
+criterion_main!(bodies, benches, interpreters, milling, planning);
 
 fn bench_interpreter(c: &mut Criterion) {
     use vpcut::{interpret, Dialect, Limits, Source};

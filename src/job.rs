@@ -892,7 +892,11 @@ fn resolve(
         passes.push(pass);
     }
     let mut plan = None;
-    if let Some(pr) = raw.process.as_ref().filter(|p| p.kind == process::Kind::Plan) {
+    if let Some(pr) = raw
+        .process
+        .as_ref()
+        .filter(|p| p.kind == process::Kind::Plan)
+    {
         let p = plan_process(pr, &thread, &tools, &blank, &machine, &sim, &tool_index, cx)?;
         passes.extend(p.passes());
         plan = Some(p);
@@ -1042,9 +1046,12 @@ fn plan_process(
             ));
         }
     }
-    let max_depth = pr
-        .max_depth
-        .ok_or_else(|| cx.err("process.max_depth", "the planner needs max_depth (mm per pass)"))?;
+    let max_depth = pr.max_depth.ok_or_else(|| {
+        cx.err(
+            "process.max_depth",
+            "the planner needs max_depth (mm per pass)",
+        )
+    })?;
     let allowance = pr.finish_allowance.unwrap_or(0.0);
     let limits = crate::plan::Limits {
         max_depth,

@@ -178,7 +178,11 @@ pub(crate) const CHAIN_LEAD_TOL: f64 = 0.0005;
 /// acceleration a lead step `dL` is a feed step `dv = dL rpm/60` that the axis makes up
 /// with a lag of `dv^2/(2a)`: a step whose lag stays under a tenth of the tolerance (a
 /// variable lead written as chained G33 blocks, `crate::post`) is no finding.
-pub(crate) fn chain_check(links: &[ChainLink], machine: &Machine, tolerance: f64) -> Vec<MachineIssue> {
+pub(crate) fn chain_check(
+    links: &[ChainLink],
+    machine: &Machine,
+    tolerance: f64,
+) -> Vec<MachineIssue> {
     let rps = machine.spindle_rpm / 60.0;
     links
         .iter()
@@ -329,8 +333,22 @@ mod tests {
         );
         assert!((i.value - (7.0 - 40f64.sqrt())).abs() < 1e-12, "{i:?}");
         assert!(i.message.contains("P.NC:4"), "{}", i.message);
-        assert_eq!({ let j = job("G34 Z-20 F6.325 K2"); chain_check(&j.chains, &j.machine, j.sim.tolerance) }.len(), 1);
-        assert_eq!({ let j = job("G32 Z-20 F6.325"); chain_check(&j.chains, &j.machine, j.sim.tolerance) }.len(), 1);
+        assert_eq!(
+            {
+                let j = job("G34 Z-20 F6.325 K2");
+                chain_check(&j.chains, &j.machine, j.sim.tolerance)
+            }
+            .len(),
+            1
+        );
+        assert_eq!(
+            {
+                let j = job("G32 Z-20 F6.325");
+                chain_check(&j.chains, &j.machine, j.sim.tolerance)
+            }
+            .len(),
+            1
+        );
         // Not chained: a rapid between the blocks re-syncs, nothing to report.
         assert!(job("G0 X29\nG34 Z-20 F7 K1").chains.is_empty());
         // GSK: the run-out segment continues its block's law exactly.

@@ -287,7 +287,11 @@ pub(crate) fn plan(
         );
     }
     // A staircase on a flank steeper than the tool's flank limits the layer depth.
-    let max_layer = if fills { lim.max_depth } else { lim.max_depth.min(cap) };
+    let max_layer = if fills {
+        lim.max_depth
+    } else {
+        lim.max_depth.min(cap)
+    };
     if max_layer < lim.min_depth {
         return fail(
             "min_depth",
@@ -369,9 +373,13 @@ pub(crate) fn plan(
             count,
         });
     }
-    let total: usize = layers.iter().map(|l| l.count as usize).sum::<usize>() * thread.starts as usize;
+    let total: usize =
+        layers.iter().map(|l| l.count as usize).sum::<usize>() * thread.starts as usize;
     if total > MAX_PASSES {
-        return fail("max_depth", format!("the plan needs {total} passes, more than {MAX_PASSES}"));
+        return fail(
+            "max_depth",
+            format!("the plan needs {total} passes, more than {MAX_PASSES}"),
+        );
     }
     // The spindle turns so that the tool feeds away from the face (toward -z) along
     // the thread's helix.
@@ -409,7 +417,10 @@ pub(crate) fn plan(
     run_in = run_in.max(stop(law.lead(t_in(run_in)).abs()));
     let t_want = t_in(run_in);
     if !t_want.is_finite() {
-        return fail("kind", "no run-in in front of the face: the lead law vanishes there");
+        return fail(
+            "kind",
+            "no run-in in front of the face: the lead law vanishes there",
+        );
     }
     let run_at = |h: &Helix, t_a: f64| Run {
         z: quantize(h.z(t_a), TABLE),
@@ -428,7 +439,10 @@ pub(crate) fn plan(
         // starts the run-in in front of the face.
         loop {
             if law.lead(t_a) <= 0.0 || t_a < floor {
-                return fail("kind", "no room for the run-in: the lead law vanishes in front of the face");
+                return fail(
+                    "kind",
+                    "no room for the run-in: the lead law vanishes in front of the face",
+                );
             }
             let run = run_at(&h, t_a);
             let short = layers.iter().any(|l| {
@@ -453,7 +467,9 @@ pub(crate) fn plan(
     let run_out = stop(lead_out);
     let z_end = quantize(base.z(t_out) + dir * run_out, POS);
     let clear_x = match thread.side {
-        crate::thread::Side::External => quantize(blank.diameter.max(2.0 * thread.crest_radius) + 2.0, POS),
+        crate::thread::Side::External => {
+            quantize(blank.diameter.max(2.0 * thread.crest_radius) + 2.0, POS)
+        }
         crate::thread::Side::Internal => quantize((2.0 * thread.crest_radius - 1.0).max(0.0), POS),
     };
     let mut plan = Plan {
@@ -510,14 +526,23 @@ fn check_limits(lim: &Limits, thread: &ThreadSpec) -> Result<(), GenError> {
     {
         return fail(
             "finish_allowance",
-            format!("expected 0 to less than the thread depth {:.4} mm", thread.depth()),
+            format!(
+                "expected 0 to less than the thread depth {:.4} mm",
+                thread.depth()
+            ),
         );
     }
     if lim.finish_allowance > 0.0 && lim.finish_passes == 0 {
-        return fail("finish_passes", "a finish allowance needs at least one finish pass");
+        return fail(
+            "finish_passes",
+            "a finish allowance needs at least one finish pass",
+        );
     }
     if lim.finish_passes > 100 || lim.spring_passes > 100 {
-        return fail("spring_passes", "expected at most 100 finish or spring passes");
+        return fail(
+            "spring_passes",
+            "expected at most 100 finish or spring passes",
+        );
     }
     Ok(())
 }
@@ -657,4 +682,82 @@ pub fn line_check(passes: &[Pass], thread: &ThreadSpec, tool: &Tool) -> Check {
         }
     }
     check
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limits(schedule: Schedule, max: f64, min: f64) -> Limits {
+        Limits {
+            max_depth: max,
+            min_depth: min,
+            schedule,
+            infeed: Infeed::Radial,
+            finish_passes: 0,
+            spring_passes: 0,
+            finish_allowance: 0.0,
+        }
+    }
+
+    /// Constant depth: ceil(D / max) equal layers ending at the depth.
+    #[test]
+    fn constant_depth_is_the_fewest_equal_layers() {
+        let d = schedule(&limits(Schedule::ConstantDepth, 0.4, 0.0), 3.0, 0.4).unwrap();
+        assert_eq!(d.len(), 8); // 3 / 0.4 = 7.5
+        for (i, (x, role)) in d.iter().enumerate() {
+            assert!((x - 3.0 * (i + 1) as f64 / 8.0).abs() < 1e-12);
+            assert_eq!(*role, Role::Rough);
+        }
+    }
+
+    /// Constant area: d_n = d_1 sqrt(n) with d_1 = D / sqrt(N), N = ceil((D/max)^2), so the
+    /// first (largest) increment is at most max; with min_depth the increments stay at least
+    /// that (FANUC G76's rule), the last one joining its neighbour when it would be smaller.
+    #[test]
+    fn constant_area_follows_g76() {
+        let (depth, max) = (1.227, 0.35);
+        let d = schedule(&limits(Schedule::ConstantArea, max, 0.0), depth, max).unwrap();
+        let n = ((depth / max) * (depth / max)).ceil() as usize; // 12.29 -> 13
+        assert_eq!(d.len(), n);
+        let d1 = depth / (n as f64).sqrt();
+        for (i, (x, _)) in d.iter().enumerate() {
+            assert!((x - d1 * ((i + 1) as f64).sqrt()).abs() < 1e-12);
+        }
+        let d = schedule(&limits(Schedule::ConstantArea, max, 0.08), depth, max).unwrap();
+        let mut prev = 0.0;
+        for (x, _) in &d {
+            assert!(x - prev >= 0.08 - 1e-12 && x - prev <= max + 1e-12, "{d:?}");
+            prev = *x;
+        }
+        assert_eq!(prev, depth);
+        assert!(d.len() < n);
+    }
+
+    /// The finish allowance is split by the finish passes; spring passes repeat the depth.
+    #[test]
+    fn finish_and_spring_passes() {
+        let lim = Limits {
+            finish_passes: 2,
+            spring_passes: 1,
+            finish_allowance: 0.1,
+            ..limits(Schedule::ConstantDepth, 0.5, 0.0)
+        };
+        let d = schedule(&lim, 1.1, 0.5).unwrap();
+        let roles: Vec<Role> = d.iter().map(|x| x.1).collect();
+        assert_eq!(
+            roles,
+            [
+                Role::Rough,
+                Role::Rough,
+                Role::Finish,
+                Role::Finish,
+                Role::Spring
+            ]
+        );
+        let depths: Vec<f64> = d.iter().map(|x| x.0).collect();
+        for (a, b) in depths.iter().zip([0.5, 1.0, 1.05, 1.1, 1.1]) {
+            assert!((a - b).abs() < 1e-12, "{depths:?}");
+        }
+    }
 }

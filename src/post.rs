@@ -89,7 +89,10 @@ fn chain(p: &Pass, plan: &Plan) -> Vec<Pass> {
     if p.lead_change == 0.0 {
         return vec![p.clone()];
     }
-    let n = (p.lead_change.abs() / (2.0 * plan.tolerance)).sqrt().ceil().max(1.0);
+    let n = (p.lead_change.abs() / (2.0 * plan.tolerance))
+        .sqrt()
+        .ceil()
+        .max(1.0);
     let revs = p.revolutions().unwrap_or(0.0);
     let h = p.helix();
     let mut ts: Vec<f64> = (0..)
@@ -121,7 +124,9 @@ fn chain(p: &Pass, plan: &Plan) -> Vec<Pass> {
             ..p.clone()
         });
         // The phase runs on as the interpreter runs it (`nc::chain`).
-        let t = LeadLaw::constant(lead).revs_at((z_next - z).abs()).unwrap_or(0.0);
+        let t = LeadLaw::constant(lead)
+            .revs_at((z_next - z).abs())
+            .unwrap_or(0.0);
         angle_deg = (angle_deg + 360.0 * t).rem_euclid(360.0);
         z = z_next;
     }
@@ -194,7 +199,11 @@ pub fn post(plan: &Plan, tool_id: u32, name: &str, post: Post) -> Result<String,
             w.block("M8", "coolant on");
         }
     }
-    let g0 = if post == Post::Siemens802d { "G0" } else { "G00" };
+    let g0 = if post == Post::Siemens802d {
+        "G0"
+    } else {
+        "G00"
+    };
     w.block(
         &format!("{g0} X{} Z{}", f3(plan.clear_x), f3(z_safe)),
         "safe start outside the part",
@@ -246,16 +255,18 @@ fn thread(w: &mut Writer, plan: &Plan, p: &Pass, k: usize, s: usize) -> Result<(
     let what = format!("pass {k}, start {}", s + 1);
     let ze = f3(p.z_end);
     match w.post {
-        Post::Fanuc | Post::FanucMacro if p.lead_change == 0.0 => {
-            w.block(&format!("G32 Z{ze} F{}", f4(p.lead)), &format!("thread, {what}"))
-        }
+        Post::Fanuc | Post::FanucMacro if p.lead_change == 0.0 => w.block(
+            &format!("G32 Z{ze} F{}", f4(p.lead)),
+            &format!("thread, {what}"),
+        ),
         Post::Fanuc | Post::FanucMacro => w.block(
             &format!("G34 Z{ze} F{} K{}", f4(p.lead), f4(p.lead_change)),
             &format!("variable lead thread, {what}"),
         ),
-        Post::Gsk980 if p.lead_change == 0.0 => {
-            w.block(&format!("G32 Z{ze} F{}", f4(p.lead)), &format!("thread, {what}"))
-        }
+        Post::Gsk980 if p.lead_change == 0.0 => w.block(
+            &format!("G32 Z{ze} F{}", f4(p.lead)),
+            &format!("thread, {what}"),
+        ),
         Post::Gsk980 => w.block(
             &format!("G34 Z{ze} F{} R{}", f4(p.lead), f4(p.lead_change)),
             &format!("variable lead thread, {what}"),
@@ -273,10 +284,7 @@ fn thread(w: &mut Writer, plan: &Plan, p: &Pass, k: usize, s: usize) -> Result<(
                 } else {
                     String::new()
                 };
-                w.block(
-                    &format!("G33 Z{} K{}", f6(c.z_end), f6(c.lead)),
-                    &note,
-                );
+                w.block(&format!("G33 Z{} K{}", f6(c.z_end), f6(c.lead)), &note);
             }
         }
     }
@@ -361,7 +369,10 @@ fn macro_b(w: &mut Writer, plan: &Plan, variable: bool) -> Result<(), PostError>
         "#5=ROUND[[#[100+#2]+#[600+#1]+#3*[#[700+#1]+#[120+#2]/#4]]*1000]/1000",
         "run-in start z",
     );
-    w.block("#6=ROUND[[#[110+#2]+#3*#[900+#1]]*10000]/10000", "lead there");
+    w.block(
+        "#6=ROUND[[#[110+#2]+#3*#[900+#1]]*10000]/10000",
+        "lead there",
+    );
     w.block("G00 Z#5", "run-in start");
     w.block("G00 X#[500+#1]", "in to depth");
     w.block(&thread, "thread");
@@ -406,7 +417,10 @@ fn siemens(w: &mut Writer, plan: &Plan) {
                     f6(run.lead),
                     f6(run.spread)
                 ),
-                &format!("start {}: run-in z, lead there, spread; first position", s + 1),
+                &format!(
+                    "start {}: run-in z, lead there, spread; first position",
+                    s + 1
+                ),
             );
             let label = format!("LY{}S{}", l + 1, s + 1);
             w.line(&format!("{label}:"));

@@ -19,10 +19,10 @@ mod linuxcnc;
 mod milling;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
-/// The pictures that need no GPU against the report and the exact cut.
-mod plots;
 /// `vpcut plan`: planned screws round-trip through every dialect and simulate clean.
 mod plan;
+/// The pictures that need no GPU against the report and the exact cut.
+mod plots;
 /// NC programs against the pass generators that transcribe the same methods.
 mod programs;
 /// The headless renderer: shader validity, pixel geometry, determinism, golden pictures.
