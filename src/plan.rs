@@ -139,7 +139,8 @@ pub struct Check {
     pub max_leftover: f64,
     /// Largest cut below the ideal profile (mm).
     pub max_gouge: f64,
-    /// Deepest radial chip of any pass (mm).
+    /// Thickest chip of any pass measured along the radius (mm): the layer depth on a
+    /// radial cut, more than the infeed where a pass cuts down a flank.
     pub max_chip: f64,
 }
 

@@ -529,7 +529,7 @@ pub fn summary(plan: &Plan, post: Post) -> String {
     );
     let _ = writeln!(
         s,
-        "  line check (4 generators, 0.004 mm): leftover {:.4} mm, gouge {:.4} mm, deepest chip {:.4} mm (tolerance {} mm)",
+        "  line check (4 generators, 0.004 mm): leftover {:.4} mm, gouge {:.4} mm, thickest chip along the radius {:.4} mm (tolerance {} mm)",
         plan.check.max_leftover, plan.check.max_gouge, plan.check.max_chip, plan.tolerance
     );
     let _ = writeln!(s, "  layer  role     depth       X  positions");
