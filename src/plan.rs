@@ -539,11 +539,11 @@ fn check_limits(lim: &Limits, thread: &ThreadSpec) -> Result<(), GenError> {
             "a finish allowance needs at least one finish pass",
         );
     }
-    if lim.finish_passes > 100 || lim.spring_passes > 100 {
-        return fail(
-            "spring_passes",
-            "expected at most 100 finish or spring passes",
-        );
+    if lim.finish_passes > 100 {
+        return fail("finish_passes", "expected at most 100 finish passes");
+    }
+    if lim.spring_passes > 100 {
+        return fail("spring_passes", "expected at most 100 spring passes");
     }
     Ok(())
 }
