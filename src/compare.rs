@@ -54,6 +54,8 @@ pub struct TurnDeviation {
     pub gouge_volume: f64,
     /// Leftover volume (mm^3).
     pub leftover_volume: f64,
+    /// Dexels compared.
+    pub compared: u64,
 }
 
 impl TurnDeviation {
@@ -78,6 +80,7 @@ impl TurnDeviation {
         }
         self.gouge_volume += o.gouge_volume;
         self.leftover_volume += o.leftover_volume;
+        self.compared += o.compared;
     }
 }
 
@@ -87,6 +90,60 @@ fn worst(v: &[Option<Extreme>; 4]) -> Option<Extreme> {
         Extreme::keep_max(&mut best, *e);
     }
     best
+}
+
+/// The least deviation over the dexels of one root or crest flat of one crossing: a root
+/// that is too shallow all across (leftover) or a crest that is too low all across (gouge)
+/// is reported at the root (crest) with its radial size, even where a flank is nearer to
+/// every dexel (a narrow root under a shallow cut). A deviation over part of a flat only
+/// (a ridge, a notch, a wall moved sideways) is the normal distance of its dexels.
+struct Flat {
+    /// The column's angle.
+    theta: f64,
+    /// The segment, whether it is a root (else a crest), whether the compared range holds
+    /// all of it, the least value, where, and the turn there.
+    open: Option<(usize, bool, bool, f64, f64, (u32, i64))>,
+    /// Flats found deviating all across: the turn and the extreme.
+    found: Vec<((u32, i64), Extreme)>,
+}
+
+impl Flat {
+    fn add(&mut self, seg: usize, root: bool, whole: bool, v: f64, z: f64, key: (u32, i64)) {
+        match &mut self.open {
+            Some(o) if o.0 == seg => {
+                if v < o.3 {
+                    o.3 = v;
+                    o.4 = z;
+                    o.5 = key;
+                }
+            }
+            _ => {
+                self.close();
+                self.open = Some((seg, root, whole, v, z, key));
+            }
+        }
+    }
+
+    /// Close the open flat: it deviates all across when its least value is positive and
+    /// the compared range holds all of it.
+    fn close(&mut self) {
+        let Some((_, root, whole, v, z, key)) = self.open.take() else {
+            return;
+        };
+        if v > 0.0 && whole {
+            self.found.push((
+                key,
+                Extreme {
+                    value: v,
+                    theta: self.theta,
+                    z,
+                    turn: key.1,
+                    start: key.0,
+                    flank: if root { Flank::Root } else { Flank::Crest },
+                },
+            ));
+        }
+    }
 }
 
 /// The comparison of a whole stock.
@@ -102,6 +159,8 @@ pub struct Deviation {
     pub total_removed_volume: f64,
     /// Dexels compared.
     pub compared_dexels: u64,
+    /// The z range of the compared dexels over all columns (mm, cell centres).
+    pub compared_z: Option<(f64, f64)>,
 }
 
 impl Deviation {
@@ -180,21 +239,28 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
             if j1 <= j0 {
                 return out;
             }
+            out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
             let mut ideal_h = vec![0f32; j1 - j0];
-            ideal.fill_heights(grid.z(j0), grid.dz, &mut ideal_h);
-            let mut feat = ideal.features.partition_point(|f| f.z < grid.z(j0));
+            ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
+            let depth = thread.depth() as f32;
+            let mut groove = 0usize;
             let mut current: Option<((u32, i64), TurnDeviation)> = None;
-            let mut seg = 0usize;
+            let mut seg = ideal.advance(0, grid.z(j0));
+            let mut flat = Flat {
+                theta,
+                open: None,
+                found: Vec::new(),
+            };
             for (k, &hi32) in ideal_h.iter().enumerate() {
                 let j = j0 + k;
                 let z = grid.z(j);
-                while feat < ideal.features.len() && ideal.features[feat].z < z {
-                    feat += 1;
-                }
                 let key = ideal
-                    .features
-                    .get(feat)
-                    .map_or((0, 0), |f| (f.start, f.turn()));
+                    .groove_at(groove, z)
+                    .map(|g| {
+                        groove = g;
+                        (ideal.grooves[g].start, ideal.grooves[g].turn)
+                    })
+                    .unwrap_or((0, 0));
                 if current.as_ref().is_none_or(|c| c.0 != key) {
                     if let Some((k0, td)) = current.take() {
                         out.turns.entry(k0).or_default().merge(&td);
@@ -207,6 +273,7 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
                 let h_ideal = hi32 as f64;
                 let r_ideal = thread.radius(h_ideal);
                 out.compared_dexels += 1;
+                td.compared += 1;
                 out.removed_volume += (r_blank * r_blank - r_cut * r_cut).abs() * 0.5 * cell;
                 let ideal_removed = if sense * (r_blank - r_ideal) > 0.0 {
                     (r_blank * r_blank - r_ideal * r_ideal).abs() * 0.5 * cell
@@ -215,6 +282,18 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
                 };
                 out.ideal_removed_volume += ideal_removed;
                 let gap = h_cut - h_ideal;
+                // Flats: how far the whole root (crest) of this crossing stays above (below)
+                // its ideal height, measured radially.
+                seg = ideal.advance(seg, z);
+                let whole = || {
+                    let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
+                    a >= lo && b <= hi
+                };
+                match ideal.flat(seg) {
+                    Some(true) if hi32 == 0.0 => flat.add(seg, true, whole(), gap, z, key),
+                    Some(false) if hi32 == depth => flat.add(seg, false, whole(), -gap, z, key),
+                    _ => flat.close(),
+                }
                 if gap == 0.0 {
                     continue;
                 }
@@ -235,7 +314,6 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
                 if gap.abs() <= floor {
                     continue;
                 }
-                seg = ideal.advance(seg, z);
                 let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
                 Extreme::keep_max(
                     &mut slots[flank.index()],
@@ -252,6 +330,16 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
             if let Some((k0, td)) = current.take() {
                 out.turns.entry(k0).or_default().merge(&td);
             }
+            flat.close();
+            for (k0, e) in flat.found {
+                let td = out.turns.entry(k0).or_default();
+                let slots = if e.flank == Flank::Root {
+                    &mut td.leftover
+                } else {
+                    &mut td.gouge
+                };
+                Extreme::keep_max(&mut slots[e.flank.index()], e);
+            }
             out
         })
         .collect();
@@ -264,6 +352,9 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
         total.ideal_removed_volume += c.ideal_removed_volume;
         total.total_removed_volume += c.total_removed_volume;
         total.compared_dexels += c.compared_dexels;
+        if let Some((a, b)) = c.compared_z {
+            total.compared_z = Some(total.compared_z.map_or((a, b), |(x, y)| (x.min(a), y.max(b))));
+        }
     }
     total
 }

@@ -1328,6 +1328,20 @@ fn form_defaults(
     }
 }
 
+/// A length for a message: at most 4 decimals, no trailing zeros, no 300-digit values.
+fn fmt_mm(v: f64) -> String {
+    if !v.is_finite() || v.abs() >= 1e9 {
+        return format!("{v:.3e}");
+    }
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
+}
+
 fn resolve_thread(
     t: &RawThread,
     blank: &Blank,
@@ -1376,7 +1390,9 @@ fn resolve_thread(
                 "the pitch series already gives the number of turns",
             ))
         }
-        (None, Some(len), None) => cx.positive("thread.length", len)? / p1,
+        // Turns are revolutions of the pitch helix: a multi-start thread advances a lead
+        // (starts x pitch) per turn.
+        (None, Some(len), None) => cx.positive("thread.length", len)? / (p1 * starts as f64),
         (None, None, Some(n)) => cx.positive("thread.turns", n)?,
         (None, Some(_), Some(_)) => {
             return Err(cx.err("thread.turns", "expected `length` or `turns`, not both"))
@@ -1532,6 +1548,38 @@ fn resolve_thread(
             Hand::Left
         }
     );
+    // The drawing's thread must lie on the blank: its pitch helix, from the first feature
+    // to the last, may reach past a face by half a lead at most (a groove cut through
+    // the face); a thread off the stock could never be cut, and would compare nothing.
+    {
+        let (z_first, z_last) = (spec.helix.z0, spec.helix.z(turns));
+        let (b_lo, b_hi) = (blank.z_front - blank.length, blank.z_front);
+        let slack = 0.5 * law.lead(0.0).max(law.lead(turns));
+        let (t_lo, t_hi) = (z_first.min(z_last), z_first.max(z_last));
+        if t_hi > b_hi + slack || t_lo < b_lo - slack {
+            let start_off = z_first < b_lo - slack || z_first > b_hi + slack;
+            let key = if start_off {
+                "thread.z_start"
+            } else if t.length.is_some() {
+                "thread.length"
+            } else if t.turns.is_some() {
+                "thread.turns"
+            } else {
+                "thread.pitch"
+            };
+            return Err(cx.err(
+                key,
+                format!(
+                    "the thread runs from z {} to z {} (its first to its last turn), off the blank (z {} to {}): the stock cannot hold it; expected a thread on the blank, reaching past a face by at most half a lead ({} mm)",
+                    fmt_mm(z_first),
+                    fmt_mm(z_last),
+                    fmt_mm(b_lo),
+                    fmt_mm(b_hi),
+                    fmt_mm(slack)
+                ),
+            ));
+        }
+    }
     // Shapes that cannot exist.
     let hp = spec.pitch_height();
     let widen = spec.widening();

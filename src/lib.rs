@@ -169,15 +169,19 @@ pub fn plan_grid(job: &Job) -> Result<(Grid, u64), SimError> {
         lo = lo.max(a);
         hi = hi.min(c);
     }
-    let dz = job.sim.axial_spacing;
-    // Cells of exactly `dz`; a length that is a whole number of cells up to rounding
-    // (40 / 0.02 = 1999.9999999999998) keeps its last cell.
-    let n_z = if hi > lo {
-        ((hi - lo) / dz * (1.0 + 1e-12)).floor()
+    // The cells cover the window exactly: a length that is a whole number of cells (up to
+    // rounding: 40 / 0.02 = 1999.9999999999998) keeps `axial_spacing`; any other length
+    // gets one more cell and the spacing shrinks to fit (80.5 mm at 0.04: 2013 cells of
+    // 0.039990 mm), so no part of the blank is left out at a face.
+    let asked = job.sim.axial_spacing;
+    let cells = if hi > lo { (hi - lo) / asked } else { 0.0 };
+    let (n_z, dz) = if (cells - cells.round()).abs() <= 1e-9 * cells.max(1.0) {
+        (cells.round(), asked)
     } else {
-        0.0
+        let n = cells.ceil();
+        (n, (hi - lo) / n)
     };
-    if n_z < 1.0 {
+    if n_z.is_nan() || n_z < 1.0 {
         return Err(SimError::EmptyWindow { lo, hi });
     }
     let surfaces: u32 = if b.bore > 0.0 { 2 } else { 1 };
@@ -714,6 +718,23 @@ fn build_report(
                     }
                 }),
             };
+            if td.compared == 0 && dev.compared_dexels > 0 {
+                findings.push(Finding {
+                    kind: "not_compared",
+                    severity: "warning",
+                    turn: Some(n),
+                    start: Some(s),
+                    flank: None,
+                    pass: None,
+                    angle_deg: None,
+                    z_mm: None,
+                    value: 0.0,
+                    unit: "mm",
+                    message: format!(
+                        "turn {n}: no dexel of it lies on the simulated stock ([simulation] z_range): it is not checked"
+                    ),
+                });
+            }
             turn_findings(&row, &td, all, tol, &mut findings);
             turns.push(row);
         }
@@ -816,6 +837,21 @@ fn build_report(
             message: format!("{}:{}:{}: {}", w.file, w.line, w.col.max(1), w.message),
         });
     }
+    if dev.compared_dexels == 0 {
+        findings.push(Finding {
+            kind: "not_compared",
+            severity: "error",
+            turn: None,
+            start: None,
+            flank: None,
+            pass: None,
+            angle_deg: None,
+            z_mm: None,
+            value: 0.0,
+            unit: "mm",
+            message: "no dexel of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
+        });
+    }
     let verdict = rank_findings(&mut findings);
     let gouge = dev.max_gouge();
     let leftover = dev.max_leftover();
@@ -897,6 +933,12 @@ fn build_report(
             ideal_removed_volume_mm3: r6(dev.ideal_removed_volume),
             total_removed_volume_mm3: r6(dev.total_removed_volume),
             compared_dexels: dev.compared_dexels,
+            compared_z_mm: dev.compared_z.map(|(a, b)| {
+                [r6(a - 0.5 * grid.dz), r6(b + 0.5 * grid.dz)]
+            }),
+            uncompared_removed_volume_mm3: r6(
+                (dev.total_removed_volume - dev.removed_volume).max(0.0),
+            ),
         },
         turns,
         interference: interference_rows,
@@ -907,7 +949,8 @@ fn build_report(
 }
 
 /// Finding kinds in report order.
-const KINDS: [&str; 17] = [
+const KINDS: [&str; 18] = [
+    "not_compared",
     "hand",
     "rapid_cut",
     "head_length",
@@ -963,27 +1006,17 @@ fn turn_findings(
                     "error",
                     e.value,
                     format!(
-                        "turn {} {} flank: {kind} {:.4} mm at {:.1} deg, z {:.3}",
-                        row.turn, l.flank, e.value, l.angle_deg, l.z_mm
+                        "turn {} {}: {kind} {:.4} mm at {:.1} deg, z {:.3}",
+                        row.turn,
+                        f.label(),
+                        e.value,
+                        l.angle_deg,
+                        l.z_mm
                     ),
                 )
             });
         }
     }
-    let pairs = [
-        (
-            "groove_width",
-            row.ideal_groove_width_mm,
-            row.groove_width_mm,
-            "groove",
-        ),
-        (
-            "tooth_width",
-            row.ideal_tooth_width_mm,
-            row.tooth_width_mm,
-            "tooth",
-        ),
-    ];
     if all.iter().any(|m| {
         (m.ideal_groove.is_some() && m.groove.is_none())
             || (m.ideal_tooth.is_some() && m.tooth.is_none())
@@ -1014,8 +1047,26 @@ fn turn_findings(
             ));
         }
     }
-    for (kind, ideal, got, what) in pairs {
-        if let (Some(i), Some(g)) = (ideal, got) {
+    // Widths on every generator: the worst difference from the ideal (the row shows the
+    // reference generator's).
+    for (kind, what, pick) in [
+        (
+            "groove_width",
+            "groove",
+            (|m: &TurnMeasure| m.ideal_groove.zip(m.groove)) as fn(&TurnMeasure) -> _,
+        ),
+        ("tooth_width", "tooth", |m: &TurnMeasure| {
+            m.ideal_tooth.zip(m.tooth)
+        }),
+    ] {
+        let worst = all
+            .iter()
+            .filter_map(|m| pick(m))
+            .fold(None::<(f64, f64)>, |acc, (i, g)| match acc {
+                Some((ai, ag)) if (ag - ai).abs() >= (g - i).abs() => Some((ai, ag)),
+                _ => Some((i, g)),
+            });
+        if let Some((i, g)) = worst {
             if (g - i).abs() > tol {
                 out.push(base(
                     kind,

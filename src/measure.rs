@@ -194,7 +194,7 @@ fn measure_generator(
         .collect();
     let ideal = thread.column(theta, z_lo, z_hi);
     let mut ideal_h = vec![0f32; n];
-    ideal.fill_heights(z_lo, spacing, &mut ideal_h);
+    ideal.fill_heights(z_lo, spacing, 0, &mut ideal_h);
     let tooth = matches!(thread.width, WidthRule::Tooth(_));
     let level = thread.pitch_height();
     // Flanks outside this generator's thread span border the run-in and run-out, which

@@ -619,7 +619,11 @@ pub(crate) fn stock_mesh_with(
 }
 
 /// The ideal thread surface over the compared span of every kept column (a sheet, not a
-/// solid), in one colour.
+/// solid), in one colour. Every column's profile covers the same z range (the union of the
+/// compared spans), so the strip between two columns joins the same grooves' corners and
+/// is the helicoid they share; a triangle is kept where all its corners lie in their own
+/// column's compared span. Where the drawing's thread begins or ends abruptly (its first
+/// and last groove) the sheet ends with it instead of joining different grooves.
 pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
     let grid = stock.grid;
     let cols = kept_columns(stock, thread, e);
@@ -627,36 +631,76 @@ pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
         grid.z(0) - 0.5 * grid.dz,
         grid.z(grid.n_z - 1) + 0.5 * grid.dz,
     );
-    let profiles: Vec<Vec<(f64, f64)>> = cols
+    let ideals: Vec<crate::thread::ColumnIdeal> = cols
         .par_iter()
-        .map(|&i| {
-            let id = thread.column(grid.theta(i), lo, hi);
-            let Some((a, b)) = id.span else {
-                return Vec::new();
-            };
-            let mut zr: Vec<(f64, f64)> = Vec::new();
-            zr.push((a, thread.radius(id.height_at(a))));
-            zr.extend(
-                id.verts
-                    .iter()
-                    .filter(|v| v.z > a && v.z < b)
-                    .map(|v| (v.z, thread.radius(v.h))),
-            );
-            zr.push((b, thread.radius(id.height_at(b))));
-            zr
+        .map(|&i| thread.column(grid.theta(i), lo, hi))
+        .collect();
+    let spans: Vec<Option<(f64, f64)>> = ideals
+        .iter()
+        .map(|id| id.span.map(|(a, b)| (a.max(lo), b.min(hi))).filter(|(a, b)| a < b))
+        .collect();
+    let Some((za, zb)) = spans.iter().flatten().fold(None, |acc: Option<(f64, f64)>, s| {
+        Some(acc.map_or(*s, |(a, b)| (a.min(s.0), b.max(s.1))))
+    }) else {
+        return Mesh::default();
+    };
+    // Each profile: the polyline over [za, zb] with its own span's ends as vertices, and
+    // whether each vertex lies in the span.
+    let profiles: Vec<Vec<(f64, f64, bool)>> = ideals
+        .par_iter()
+        .zip(&spans)
+        .map(|(id, span)| {
+            let mut zs: Vec<f64> = vec![za, zb];
+            zs.extend(id.verts.iter().map(|v| v.z).filter(|&z| z > za && z < zb));
+            if let Some((a, b)) = span {
+                zs.extend([*a, *b]);
+            }
+            zs.sort_by(f64::total_cmp);
+            zs.dedup();
+            let mut out: Vec<(f64, f64, bool)> = Vec::with_capacity(zs.len() + 2);
+            let mut vi = 0;
+            for z in zs {
+                let inside = span.is_some_and(|(a, b)| z >= a && z <= b);
+                // A vertical wall is two vertices at one z: emit both heights in order.
+                let at: Vec<f64> = {
+                    while vi < id.verts.len() && id.verts[vi].z < z {
+                        vi += 1;
+                    }
+                    let mut k = vi;
+                    let mut hs = Vec::new();
+                    while k < id.verts.len() && id.verts[k].z == z {
+                        hs.push(id.verts[k].h);
+                        k += 1;
+                    }
+                    if hs.is_empty() {
+                        hs.push(id.height_at(z));
+                    }
+                    hs
+                };
+                for h in at {
+                    let p = (z, thread.radius(h), inside);
+                    if out.last().is_none_or(|q| q.0 != p.0 || q.1 != p.1) {
+                        out.push(p);
+                    }
+                }
+            }
+            out
         })
         .collect();
     let mut mesh = Mesh::default();
     let mut offsets = Vec::with_capacity(cols.len());
+    let mut inside = Vec::new();
     for (p, &i) in profiles.iter().zip(&cols) {
         offsets.push(mesh.positions.len() as u32);
         let theta = grid.theta(i);
         mesh.positions
-            .extend(p.iter().map(|&(z, r)| point(r, theta, z)));
+            .extend(p.iter().map(|&(z, r, _)| point(r, theta, z)));
+        inside.extend(p.iter().map(|v| v.2));
     }
     mesh.colors = vec![IDEAL_COLOUR; mesh.positions.len()];
     let m = cols.len();
     let flip = thread.side == Side::Internal;
+    let mut tris = Vec::new();
     for k in 0..m {
         let k1 = (k + 1) % m;
         if profiles[k].len() < 2 || profiles[k1].len() < 2 {
@@ -669,7 +713,13 @@ pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
         let za: Vec<f64> = profiles[k].iter().map(|v| v.0).collect();
         let zb: Vec<f64> = profiles[k1].iter().map(|v| v.0).collect();
         let r = rungs(&za, &zb, |z| helical_shift(thread, z, dtheta));
-        strip_triangles(&r, offsets[k], offsets[k1], flip, &mut mesh.indices);
+        tris.clear();
+        strip_triangles(&r, offsets[k], offsets[k1], flip, &mut tris);
+        for t in tris.chunks_exact(3) {
+            if t.iter().all(|&v| inside[v as usize]) {
+                mesh.indices.extend_from_slice(t);
+            }
+        }
     }
     mesh
 }

@@ -275,7 +275,7 @@ fn radial(
         return fail("kind", "`radial` cuts grooves centred on the pitch helix; an equal tooth width thread needs `equal-tooth-axial`");
     };
     let root = thread.groove_width_at(w, 0.0);
-    if tool.tip_width() > root + 1e-9 {
+    if tool.tip_width() > root + thread.fit_tolerance() {
         return fail(
             "tool",
             format!("the tool's tip ({} mm) is wider than the groove at the root ({root:.4} mm): it would gouge both flanks", tool.tip_width()),
@@ -331,7 +331,7 @@ fn equal_tooth(
         let g = |t: f64| gap(t) + tw - t_h;
         let (g_a, g_b) = (g(0.0), g(thread.turns - 1.0 / n));
         let (g_min, g_max) = (g_a.min(g_b), g_a.max(g_b));
-        if b > g_min + 1e-9 {
+        if b > g_min + thread.fit_tolerance() {
             return fail("tool", format!("the tool's tip ({b} mm) is wider than the narrowest groove at its depth ({g_min:.4} mm)"));
         }
         let m = ((g_max - b) / b - 1e-9).ceil().max(1.0);

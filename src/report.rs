@@ -179,6 +179,13 @@ pub struct DeviationInfo {
     pub total_removed_volume_mm3: f64,
     /// Dexels compared.
     pub compared_dexels: u64,
+    /// The z range the drawing defines and the comparison covered (mm): from the first
+    /// thread groove's -z wall to the last one's +z wall at the crest, over all generators,
+    /// clipped to the stock; `null` when no dexel was compared.
+    pub compared_z_mm: Option<[f64; 2]>,
+    /// Volume removed outside that range, where the drawing does not define the thread
+    /// (run-in, run-out, chamfers) and nothing is compared (mm^3).
+    pub uncompared_removed_volume_mm3: f64,
 }
 
 /// A place on the part.
@@ -422,8 +429,16 @@ impl Report {
         );
         let loc = |l: &Option<Location>| match l {
             Some(l) => format!(
-                "turn {} {} flank, {:.1} deg, z {:.3}",
-                l.turn, l.flank, l.angle_deg, l.z_mm
+                "turn {} {}{}, {:.1} deg, z {:.3}",
+                l.turn,
+                l.flank,
+                if matches!(l.flank, "left" | "right") {
+                    " flank"
+                } else {
+                    ""
+                },
+                l.angle_deg,
+                l.z_mm
             ),
             None => "-".to_string(),
         };

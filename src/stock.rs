@@ -8,8 +8,27 @@
 //! `q - q_blank` as `f32`: the blank is all zeros, so its memory comes zeroed from the
 //! allocator without being touched (a 3600 x 10000 grid costs no time until it is cut),
 //! and the stored values keep f32 precision relative to the blank (sub-nanometre).
+//!
+//! **One tie rule.** Every profile on a column (a tool's cut, the ideal thread) is taken
+//! *right-continuous* in z: a cell whose centre lies exactly on a vertical wall takes the
+//! value on the wall's +z side. A cut `[a, b]` therefore covers the cells with
+//! `a <= z < b`, and the ideal's walls split cells the same way ([`first_cell`]), so a
+//! clean cut of a wall that falls on a cell centre compares and measures exactly.
 
 use std::f64::consts::TAU;
+
+/// The index of the first cell at or after position `x`, given in cells from cell 0:
+/// `ceil(x)`, except that a position within 1e-6 of a cell (rounding of the same exact
+/// value computed two ways) counts as on it. Every wall is placed on cells by this one rule
+/// (see the module docs).
+pub(crate) fn first_cell(x: f64) -> f64 {
+    let r = x.round();
+    if (x - r).abs() <= 1e-6 {
+        r
+    } else {
+        x.ceil()
+    }
+}
 
 /// The sampling grid.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -15,7 +15,7 @@
 
 use crate::body::{self, fmax, fmin, Ray, Sections, Tables};
 use crate::pass::Pass;
-use crate::stock::{Stock, Surface};
+use crate::stock::{first_cell, Stock, Surface};
 use crate::tool::{Kernel, Tool};
 use rayon::prelude::*;
 
@@ -182,8 +182,9 @@ fn cut_column(
                 continue;
             }
             let (v_min, v_max) = pr.kernel.span(reach);
-            let j0 = ((z_tip + v_min - z0) / dz).ceil().max(0.0);
-            let j1 = ((z_tip + v_max - z0) / dz).floor().min(n as f64 - 1.0);
+            // The cells with z_tip + v_min <= z < z_tip + v_max (the stock's tie rule).
+            let j0 = first_cell((z_tip + v_min - z0) / dz).max(0.0);
+            let j1 = (first_cell((z_tip + v_max - z0) / dz) - 1.0).min(n as f64 - 1.0);
             if j1 < j0 {
                 continue;
             }

@@ -14,6 +14,7 @@
 //! neighbouring grooves intersected where they overlap (sharp crests).
 
 use crate::helix::{Hand, Helix};
+use crate::stock::first_cell;
 use std::f64::consts::TAU;
 
 /// Which surface of the part carries the thread.
@@ -56,6 +57,16 @@ impl Flank {
         match self {
             Flank::Left => "left",
             Flank::Right => "right",
+            Flank::Root => "root",
+            Flank::Crest => "crest",
+        }
+    }
+
+    /// The part's name in a sentence: "left flank", "right flank", "root", "crest".
+    pub fn label(self) -> &'static str {
+        match self {
+            Flank::Left => "left flank",
+            Flank::Right => "right flank",
             Flank::Root => "root",
             Flank::Crest => "crest",
         }
@@ -129,6 +140,21 @@ pub struct Vertex {
     pub h: f64,
 }
 
+/// A groove of the thread (one the drawing defines) where it crosses one generator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThreadGroove {
+    /// Which start.
+    pub start: u32,
+    /// The turn it belongs to (1-based; see [`ThreadSpec::turn_of`]).
+    pub turn: i64,
+    /// The groove's helix parameter at this crossing (revolutions of its start's helix).
+    pub g: f64,
+    /// Its -z end at the crest (where its -z wall reaches the crest height).
+    pub z_lo: f64,
+    /// Its +z end at the crest.
+    pub z_hi: f64,
+}
+
 /// The exact ideal axial profile along one generator.
 #[derive(Clone, Debug)]
 pub struct ColumnIdeal {
@@ -136,8 +162,13 @@ pub struct ColumnIdeal {
     pub verts: Vec<Vertex>,
     /// Pitch-helix crossings, z increasing.
     pub features: Vec<Feature>,
-    /// The z span between the first and last feature with `0 <= t <= turns`: the part of
-    /// this generator that is compared with the cut.
+    /// The grooves of the thread the drawing defines on this generator, z increasing:
+    /// those whose helix parameter lies in the thread (see [`ThreadSpec::groove_range`]).
+    pub grooves: Vec<ThreadGroove>,
+    /// The z span the drawing defines on this generator, from the middle of the tooth
+    /// before the first thread groove to the middle of the tooth after the last: the part
+    /// compared with the cut. Beyond it lie the run-in and run-out, which the drawing
+    /// does not define.
     pub span: Option<(f64, f64)>,
     depth: f64,
 }
@@ -201,9 +232,39 @@ impl ThreadSpec {
         (law.travel(n as f64) - law.travel(n as f64 - 1.0)) / self.starts as f64
     }
 
-    /// Number of whole turns reported.
+    /// How much wider than a groove a tool may be and still count as fitting it: 1e-6 of
+    /// the largest lead (at least 1e-9 mm). The standard forms' constants are given to
+    /// six digits (ISO 68-1's 0.649519 P, 1.226869 P), so the root flat of a standard
+    /// form and a tool ground to the same standard's exact value differ by that much.
+    pub fn fit_tolerance(&self) -> f64 {
+        let law = self.helix.law;
+        (1e-6 * law.lead(0.0).abs().max(law.lead(self.turns).abs())).max(1e-9)
+    }
+
+    /// Number of turns reported: every whole turn, and a last partial one.
     pub fn whole_turns(&self) -> i64 {
-        (self.turns + 1e-9).floor() as i64
+        ((self.turns - 1e-9).ceil() as i64).max(1)
+    }
+
+    /// The helix parameters of the grooves the drawing defines: the thread runs from the
+    /// first feature (`t = 0`) to the last (`t = turns`). With equal groove width the
+    /// features are the grooves themselves; with equal tooth width they are teeth, and a
+    /// groove (halfway between two teeth, half a pitch on) exists only between two teeth
+    /// of the thread.
+    pub fn groove_range(&self) -> (f64, f64) {
+        match self.width {
+            WidthRule::Groove(_) => (0.0, self.turns),
+            WidthRule::Tooth(_) => {
+                let half = 0.5 / self.starts as f64;
+                (half, self.turns - half)
+            }
+        }
+    }
+
+    /// The turn of a groove with helix parameter `g`: turn `n` is the thread from
+    /// `g = n - 1` (inclusive) to `g = n`; the thread's last feature closes its last turn.
+    pub fn turn_of(&self, g: f64) -> i64 {
+        ((g + 1e-9).floor() as i64 + 1).clamp(1, self.whole_turns())
     }
 
     /// The range of revolutions worth of features that covers `[z_lo, z_hi]` with a margin,
@@ -278,20 +339,73 @@ impl ThreadSpec {
         };
         let depth = self.depth();
         let verts = envelope(&grooves, depth, self.widening(), z_lo - 1.0, z_hi + 1.0);
-        let whole = self.turns + 1e-9;
-        let mut span: Option<(f64, f64)> = None;
-        for f in features.iter().filter(|f| f.t >= -1e-9 && f.t <= whole) {
-            span = Some(match span {
-                None => (f.z, f.z),
-                Some((a, b)) => (a.min(f.z), b.max(f.z)),
-            });
-        }
+        let (thread, span) = self.thread_grooves(&features);
         ColumnIdeal {
             verts,
             features,
+            grooves: thread,
             span,
             depth,
         }
+    }
+
+    /// The grooves of the thread among the crossings `features` (sorted by z), z
+    /// increasing, and the span they define: it reaches from the middle of the tooth
+    /// before the first to the middle of the tooth after the last, so that the walls of
+    /// the end grooves are compared on both sides (a cut past the last wall is a gouge
+    /// of the thread). An equal-width groove is centred on its feature; an equal-tooth
+    /// groove lies between two neighbouring teeth and takes the start of the tooth on its
+    /// +z side, its helix parameter half a pitch from that tooth's toward the other.
+    fn thread_grooves(&self, features: &[Feature]) -> (Vec<ThreadGroove>, Option<(f64, f64)>) {
+        let (g_lo, g_hi) = self.groove_range();
+        let inside = |g: f64| g >= g_lo - 1e-9 && g <= g_hi + 1e-9;
+        let hp = self.pitch_height();
+        let over = self.depth() - hp;
+        let (tl, tr) = (self.left_angle.tan(), self.right_angle.tan());
+        let make = |start: u32, g: f64, centre: f64, w: f64| ThreadGroove {
+            start,
+            turn: self.turn_of(g),
+            g,
+            z_lo: centre - w / 2.0 - over * tl,
+            z_hi: centre + w / 2.0 + over * tr,
+        };
+        // Every groove on the generator (thread or not), z increasing.
+        let all: Vec<ThreadGroove> = match self.width {
+            WidthRule::Groove(w) => features.iter().map(|f| make(f.start, f.t, f.z, w)).collect(),
+            WidthRule::Tooth(tw) => {
+                // Moving toward -z along a generator is moving along the helix against
+                // the direction of its axial travel.
+                let step = -self.helix.dir * 0.5 / self.starts as f64;
+                features
+                    .windows(2)
+                    .map(|p| {
+                        let g = p[1].t + step;
+                        make(p[1].start, g, 0.5 * (p[0].z + p[1].z), p[1].z - p[0].z - tw)
+                    })
+                    .collect()
+            }
+        };
+        let first = all.iter().position(|g| inside(g.g));
+        let last = all.iter().rposition(|g| inside(g.g));
+        let (Some(i0), Some(i1)) = (first, last) else {
+            return (Vec::new(), None);
+        };
+        let lo = if i0 > 0 {
+            0.5 * (all[i0 - 1].z_hi + all[i0].z_lo)
+        } else {
+            all[i0].z_lo
+        };
+        let hi = if i1 + 1 < all.len() {
+            0.5 * (all[i1].z_hi + all[i1 + 1].z_lo)
+        } else {
+            all[i1].z_hi
+        };
+        let thread = all[i0..=i1]
+            .iter()
+            .filter(|g| inside(g.g))
+            .copied()
+            .collect();
+        (thread, Some((lo, hi)))
     }
 }
 
@@ -385,12 +499,21 @@ impl ColumnIdeal {
         a.h + u * (b.h - a.h)
     }
 
-    /// Fill `out[j]` with the ideal height at `z0 + j*dz`, walking the polyline once.
-    pub fn fill_heights(&self, z0: f64, dz: f64, out: &mut [f32]) {
-        let mut i = self.segment_at(z0);
-        for (j, o) in out.iter_mut().enumerate() {
-            let z = z0 + j as f64 * dz;
-            while i + 2 < self.verts.len() && self.verts[i + 1].z <= z {
+    /// Fill `out[k]` with the ideal height of cell `j0 + k` of a column whose cell `j` lies
+    /// at `z0 + j*dz`, walking the polyline once. A wall is placed on the cells by the
+    /// stock's tie rule ([`crate::stock::first_cell`], computed from `z0` as the sweep
+    /// does): a cell on a vertical wall takes the wall's +z side.
+    pub fn fill_heights(&self, z0: f64, dz: f64, j0: usize, out: &mut [f32]) {
+        let cell_of = |z: f64| first_cell((z - z0) / dz);
+        let mut i = self.segment_at(z0 + j0 as f64 * dz);
+        // Step back over vertices the cell rule puts after the first cell.
+        while i > 0 && cell_of(self.verts[i].z) > j0 as f64 {
+            i -= 1;
+        }
+        for (k, o) in out.iter_mut().enumerate() {
+            let j = (j0 + k) as f64;
+            let z = z0 + j * dz;
+            while i + 2 < self.verts.len() && cell_of(self.verts[i + 1].z) <= j {
                 i += 1;
             }
             let (a, b) = (self.verts[i], self.verts[i + 1]);
@@ -451,8 +574,59 @@ impl ColumnIdeal {
         if best_i == usize::MAX {
             return (bound, Flank::Crest);
         }
-        let (a, b) = (self.verts[best_i], self.verts[best_i + 1]);
+        let i = self.at_vertex(best_i, z, h);
+        let (a, b) = (self.verts[i], self.verts[i + 1]);
         (best.sqrt(), self.segment_kind(a, b))
+    }
+
+    /// Whether segment `i` has length.
+    fn proper(&self, i: usize) -> bool {
+        let (a, b) = (self.verts[i], self.verts[i + 1]);
+        a.z != b.z || a.h != b.h
+    }
+
+    /// The segment a point nearest to segment `i` belongs to. Where the nearest point is a
+    /// vertex, both segments meeting there are equally near: the point belongs to the one
+    /// whose normal is closer to the direction from the vertex to the point (the wedge
+    /// between the two normals is split at its bisector). This makes the flank names
+    /// symmetric under mirroring, where a tie broken by index would not be.
+    fn at_vertex(&self, i: usize, z: f64, h: f64) -> usize {
+        let (a, b) = (self.verts[i], self.verts[i + 1]);
+        let (dz, dh) = (b.z - a.z, b.h - a.h);
+        let len2 = dz * dz + dh * dh;
+        if len2 == 0.0 {
+            return i;
+        }
+        let u = ((z - a.z) * dz + (h - a.h) * dh) / len2;
+        let last = self.verts.len() - 2;
+        let (vertex, other) = if u <= 0.0 {
+            let mut k = i;
+            while k > 0 && !self.proper(k - 1) {
+                k -= 1;
+            }
+            (a, (k > 0).then(|| k - 1))
+        } else if u >= 1.0 {
+            let mut k = i + 1;
+            while k <= last && !self.proper(k) {
+                k += 1;
+            }
+            (b, (k <= last).then_some(k))
+        } else {
+            return i;
+        };
+        let Some(o) = other else { return i };
+        let (vz, vh) = (z - vertex.z, h - vertex.h);
+        let align = |k: usize| {
+            let (p, q) = (self.verts[k], self.verts[k + 1]);
+            let (sz, sh) = (q.z - p.z, q.h - p.h);
+            // The normal (-sh, sz), normalised.
+            ((-sh * vz + sz * vh) / (sz * sz + sh * sh).sqrt()).abs()
+        };
+        if align(o) > align(i) {
+            o
+        } else {
+            i
+        }
     }
 
     /// Index of the segment containing `z`, moving forward from `hint` (for callers
@@ -479,10 +653,32 @@ impl ColumnIdeal {
         }
     }
 
-    /// The feature just above `z` (the smallest feature z >= z), which names the turn.
-    pub fn feature_above(&self, z: f64) -> Option<&Feature> {
-        let i = self.features.partition_point(|f| f.z < z);
-        self.features.get(i)
+    /// The thread groove a point at `z` belongs to, moving forward from `hint` (for callers
+    /// walking along increasing z): the region of a groove reaches halfway across the
+    /// tooth to each neighbour (the middle of the two crest ends). `None` without grooves.
+    pub fn groove_at(&self, mut hint: usize, z: f64) -> Option<usize> {
+        let g = &self.grooves;
+        if g.is_empty() {
+            return None;
+        }
+        while hint + 1 < g.len() && z >= 0.5 * (g[hint].z_hi + g[hint + 1].z_lo) {
+            hint += 1;
+        }
+        Some(hint)
+    }
+
+    /// The index of the segment holding `z` (as [`ColumnIdeal::advance`]) when it is a
+    /// root flat (`Some(true)`), a crest flat (`Some(false)`), else `None`.
+    pub fn flat(&self, seg: usize) -> Option<bool> {
+        let (a, b) = (self.verts[seg], self.verts[seg + 1]);
+        if b.z <= a.z {
+            return None;
+        }
+        match self.segment_kind(a, b) {
+            Flank::Root => Some(true),
+            Flank::Crest => Some(false),
+            _ => None,
+        }
     }
 }
 

@@ -317,13 +317,28 @@ fn two_start_thread_needs_both_starts() {
     assert_eq!(job.passes.len(), 4);
     let half = vpcut::simulate(&job, &vpcut::Options::default()).unwrap();
     assert_eq!(half.report.verdict, vpcut::Verdict::Fail);
-    // An uncut groove of start 1: its middle at the crest is half the groove's crest width
-    // (7/16 P) from either 30 deg flank, normal distance 7/16 * 2.5 * cos30 = 0.94722.
-    let want = 7.0 / 16.0 * 2.5 * (PI / 6.0).cos();
+    // An uncut groove of start 1: its root is missing by the whole depth, reported at the
+    // root with its radial size, (d - d3)/2 = 1.226869 P / 2 = 1.53359; on the flanks the
+    // middle of the groove at the crest is half its crest width (7/16 P) from either 30 deg
+    // flank, normal distance 7/16 * 2.5 * cos30 = 0.94722.
+    let depth = 1.226869 * 2.5 / 2.0;
     let got = half.report.deviation.max_leftover_mm;
     assert!(
-        (got - want).abs() < 0.01,
-        "{got} vs {want}: whole grooves of start 1 left"
+        (got - depth).abs() < 1e-4,
+        "{got} vs {depth}: whole grooves of start 1 left"
     );
+    let at = half.report.deviation.max_leftover_at.as_ref().unwrap();
+    assert_eq!((at.start, at.flank), (1, "root"));
+    let want = 7.0 / 16.0 * 2.5 * (PI / 6.0).cos();
+    for t in half.report.turns.iter().filter(|t| t.start == 1) {
+        for f in [&t.flanks.left, &t.flanks.right] {
+            assert!(
+                (f.max_leftover_mm - want).abs() < 0.01,
+                "turn {}: {} vs {want}",
+                t.turn,
+                f.max_leftover_mm
+            );
+        }
+    }
     assert!(half.report.deviation.max_gouge_mm < 1e-4);
 }

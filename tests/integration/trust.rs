@@ -1,0 +1,422 @@
+//! No false PASS anywhere on the thread: randomized threads (square, trapezoidal and V
+//! forms; constant and variable pitch; equal groove and equal tooth width; both hands;
+//! external and internal; one to three starts) cut clean by passes derived here from the
+//! drawing's closed forms (not by vpcut's generators) must pass; the same cut plus one
+//! short defect pass (the tool shifted 3 to 30 times the tolerance, axially or radially,
+//! for a fraction of a turn, in any turn including the first and the last) must fail with
+//! a gouge of at least 0.8 times the shift on that turn, start and flank.
+
+use vpcut::{simulate, Job, Options, Pass, Spindle, Verdict};
+
+/// A small deterministic generator (splitmix64): the cases are the same on every run.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[a, b)`.
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn pick<T: Copy>(&mut self, v: &[T]) -> T {
+        v[(self.next() % v.len() as u64) as usize]
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Form {
+    Square,
+    Trapezoidal,
+    V,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    /// Tool shifted deeper by `shift` (radially).
+    Radial,
+    /// The pass on the groove's +z wall shifted towards +z.
+    Right,
+    /// The pass on the groove's -z wall shifted towards -z.
+    Left,
+}
+
+/// One random thread, its clean passes, and a defect.
+#[derive(Debug)]
+struct Case {
+    seed: u64,
+    toml: String,
+    clean: Vec<Pass>,
+    defect: Pass,
+    kind: Kind,
+    shift: f64,
+    turn: i64,
+    start: u32,
+    /// The normal distance the defect must reach on its flank (the shift along the flank's
+    /// normal: `shift cos(a)` sideways, `shift` at the root).
+    expect: f64,
+}
+
+/// Closed forms of the drawing: the lead law of one start and its travel.
+#[derive(Clone, Copy, Debug)]
+struct Law {
+    f: f64,
+    k: f64,
+}
+
+impl Law {
+    fn lead(&self, t: f64) -> f64 {
+        self.f + self.k * t
+    }
+    fn travel(&self, t: f64) -> f64 {
+        self.f * t + 0.5 * self.k * t * t
+    }
+}
+
+fn case(seed: u64) -> Case {
+    let mut r = Rng(seed);
+    let tol = 0.01;
+    let form = r.pick(&[Form::Square, Form::Trapezoidal, Form::V]);
+    let internal = r.range(0.0, 1.0) < 0.35;
+    let left_hand = r.range(0.0, 1.0) < 0.4;
+    let starts: u32 = r.pick(&[1, 1, 1, 2, 3]);
+    let tooth_rule = r.range(0.0, 1.0) < 0.45;
+    let variable = r.range(0.0, 1.0) < 0.6;
+    let p1 = r.range(4.0, 9.0);
+    let dp = if variable {
+        r.range(-0.12, 0.25) * p1
+    } else {
+        0.0
+    };
+    let n_turns: f64 = if variable {
+        r.pick(&[2.0, 3.0, 4.0])
+    } else {
+        r.pick(&[2.0, 3.0, 4.0, 2.5, 3.5])
+    };
+    let half_angle: f64 = match form {
+        Form::Square => 0.0,
+        Form::Trapezoidal => 15f64.to_radians(),
+        Form::V => r.range(20.0, 30.0).to_radians(),
+    };
+    let ta = half_angle.tan();
+    // Pitches between neighbouring teeth (per start) over the thread.
+    let p_first = p1;
+    let p_last = p1 + (n_turns.ceil() - 1.0) * dp;
+    let p_min = p_first.min(p_last);
+    // Depth: a crest flat of at least a fifth of the smallest pitch stays.
+    let root_w = r.range(0.3, 0.45) * p_min;
+    let h_max = ((0.8 * p_min - root_w) / (2.0 * ta.max(1e-9))).min(0.35 * p_min);
+    let depth = r.range(0.5 * h_max, h_max).max(0.6);
+    let hp = 0.5 * depth;
+    let major = 40.0;
+    let minor = major - 2.0 * depth;
+    let (width_key, width) = if tooth_rule {
+        // Tooth at the pitch line: the groove's root at the smallest pitch is root_w.
+        ("tooth", p_min - root_w - 2.0 * hp * ta)
+    } else {
+        ("groove", root_w + 2.0 * hp * ta)
+    };
+    let z0 = -r.range(4.0, 8.0);
+    let s = starts as f64;
+    let law = Law {
+        f: s * (p1 - dp / 2.0),
+        k: s * dp,
+    };
+    let length = law.travel(n_turns) + 25.0;
+    let start_angle = r.range(0.0, 360.0);
+    let (blank, side) = if internal {
+        (
+            format!("diameter = {}\nbore = {minor}\nlength = {length}", major + 16.0),
+            "internal",
+        )
+    } else {
+        (format!("diameter = {major}\nlength = {length}"), "external")
+    };
+    let form_keys = match form {
+        Form::Square => "form = \"square\"".to_string(),
+        Form::Trapezoidal => "form = \"trapezoidal\"\nflank_angle = 30.0".to_string(),
+        Form::V => format!(
+            "form = \"v\"\nflank_angle = {}",
+            2.0 * half_angle.to_degrees()
+        ),
+    };
+    let pitch = if variable {
+        format!("pitch = {{ first = {p1}, increment = {dp}, turns = {n_turns} }}")
+    } else {
+        format!("pitch = {p1}\nturns = {n_turns}")
+    };
+    // The tool: the groove's root width for equal groove width, narrower for equal tooth
+    // width (several passes spread between the two flank families).
+    let delta = 1.0 / s; // helix revolutions between neighbouring teeth
+    let (t_a, t_b) = (-0.5, n_turns + 0.5);
+    let root_gap = |t: f64| law.travel(t + delta) - law.travel(t) - width - 2.0 * hp * ta;
+    let b = if tooth_rule {
+        0.9 * root_gap(t_a).min(root_gap(t_b)).min(root_gap(0.0))
+    } else {
+        root_w
+    };
+    let tool = match form {
+        Form::Square => format!("kind = \"grooving\"\nwidth = {b}"),
+        _ => format!(
+            "kind = \"trapezoidal\"\ntip_width = {b}\nflank_angle = {}",
+            2.0 * half_angle.to_degrees()
+        ),
+    };
+    let toml = format!(
+        "name = \"trust-{seed}\"\n[blank]\n{blank}\n[thread]\nside = \"{side}\"\n{form_keys}\n\
+         major_diameter = {major}\nminor_diameter = {minor}\npitch_diameter = {}\n{pitch}\nwidth = {{ {width_key} = {width} }}\n\
+         z_start = {z0}\nstart_angle = {start_angle}\nhand = \"{}\"\nstarts = {starts}\n\
+         [[tool]]\nid = 1\n{tool}\nreference = \"center\"\n\
+         [[pass]]\ntool = 1\nx = {major}\nz_start = 0.0\nz_end = -1.0\nlead = 1.0\n\
+         [simulation]\naxial_spacing = 0.02\nangular_cells = 240\ntolerance = {tol}\n\
+         measure_generators = 2\nmeasure_spacing = 0.002\n",
+        major - depth,
+        if left_hand { "left" } else { "right" }
+    );
+    let spin = if left_hand { -1.0 } else { 1.0 };
+    let spindle = if left_hand { Spindle::Ccw } else { Spindle::Cw };
+    // The tool's tip at the root: the root diameter (the major diameter inside).
+    let x_root = if internal { major } else { minor };
+    // A pass of start `st` from helix revolution `ta` to `tb` whose tool centre is at
+    // `z0 + c - travel(t) - extra_f t` (a lead law F + extra_f, the thread's K).
+    let pass = |st: u32, c: f64, extra_f: f64, ta: f64, tb: f64, x: f64| {
+        let l = Law {
+            f: law.f + extra_f,
+            k: law.k,
+        };
+        let theta = start_angle + 360.0 * st as f64 / s - spin * 360.0 * ta;
+        Pass {
+            tool: 0,
+            x_start: x,
+            x_end: x,
+            z_start: z0 + c - l.travel(ta),
+            z_end: z0 + c - l.travel(tb),
+            lead: l.lead(ta),
+            lead_change: l.k,
+            start_angle: theta.to_radians(),
+            spindle,
+        }
+    };
+    // Pass positions: for equal groove width the groove's centre; for equal tooth width
+    // the groove below tooth (st, t) has its +z wall at z(t) - T/2 and its -z wall at
+    // z(t + 1/starts) + T/2, so a tool whose flank at the pitch line (half width
+    // b/2 + hp tan a) touches the +z wall for u = 0 and the -z wall for u = 1 runs at
+    // z(t) - T/2 - bp - u (T + 2 bp... ) : c_u = (1-u)(-T/2 - bp) + u(T/2 + bp - F d - K d^2/2),
+    // with the extra lead u K d.
+    let bp = 0.5 * b + hp * ta;
+    let position = |u: f64| -> (f64, f64) {
+        if tooth_rule {
+            let c = (1.0 - u) * (-0.5 * width - bp)
+                + u * (0.5 * width + bp - law.f * delta - 0.5 * law.k * delta * delta);
+            (c, u * law.k * delta)
+        } else {
+            (0.0, 0.0)
+        }
+    };
+    let m = if tooth_rule {
+        let widest = root_gap(t_a).max(root_gap(t_b)) + b;
+        ((widest - b) / (0.9 * b)).ceil().max(1.0) as usize
+    } else {
+        0
+    };
+    let mut clean = Vec::new();
+    for st in 0..starts {
+        for k in 0..=m {
+            let u = if m == 0 { 0.0 } else { k as f64 / m as f64 };
+            let (c, ef) = position(u);
+            clean.push(pass(st, c, ef, t_a, t_b, x_root));
+        }
+    }
+    // The defect: a short pass on one turn (first, last or any), one start.
+    let turns = n_turns.ceil() as i64;
+    let turn = match r.next() % 3 {
+        0 => 1,
+        1 => turns,
+        _ => 1 + (r.next() % turns as u64) as i64,
+    };
+    let start = (r.next() % starts as u64) as u32;
+    let kind = r.pick(&[Kind::Radial, Kind::Right, Kind::Left]);
+    let shift = r.range(3.0, 30.0) * tol;
+    // The grooves of turn n have helix parameters g in [n-1, n) (the last one closes at
+    // the thread's end); for equal tooth width g = t + delta/2 of the tooth above.
+    let g_off = if tooth_rule { 0.5 * delta } else { 0.0 };
+    let (g_lo, g_hi) = if tooth_rule {
+        (0.5 * delta, n_turns - 0.5 * delta)
+    } else {
+        (0.0, n_turns)
+    };
+    let lo = ((turn - 1) as f64).max(g_lo) + 0.04;
+    let hi = (turn as f64).min(g_hi) - 0.04;
+    let len = r.range(0.1, 0.35).min(hi - lo - 0.01);
+    let g0 = r.range(lo, hi - len);
+    let (u, dz, dx) = match kind {
+        Kind::Radial => (r.range(0.0, 1.0), 0.0, shift),
+        // The +z wall is cut by the u = 0 pass, the -z wall by the u = 1 pass.
+        Kind::Right => (0.0, shift, 0.0),
+        Kind::Left => (1.0, -shift, 0.0),
+    };
+    let (c, ef) = position(u);
+    let x = if internal {
+        x_root + 2.0 * dx
+    } else {
+        x_root - 2.0 * dx
+    };
+    let defect = pass(start, c + dz, ef, g0 - g_off, g0 + len - g_off, x);
+    let expect = match kind {
+        Kind::Radial => shift,
+        _ => shift * half_angle.cos(),
+    };
+    Case {
+        seed,
+        toml,
+        clean,
+        defect,
+        kind,
+        shift,
+        turn,
+        start,
+        expect,
+    }
+}
+
+fn run(c: &Case, with_defect: bool) -> vpcut::Report {
+    let mut job: Job = Job::from_toml(&c.toml, "trust.toml")
+        .unwrap_or_else(|e| panic!("seed {}: {e}\n{}", c.seed, c.toml));
+    job.passes = c.clean.clone();
+    if with_defect {
+        job.passes.push(c.defect.clone());
+    }
+    simulate(&job, &Options::default())
+        .unwrap_or_else(|e| panic!("seed {}: {e}", c.seed))
+        .report
+}
+
+fn flank_gouge(row: &vpcut::TurnRow, kind: Kind) -> f64 {
+    match kind {
+        Kind::Radial => row.flanks.root.max_gouge_mm,
+        Kind::Right => row.flanks.right.max_gouge_mm,
+        Kind::Left => row.flanks.left.max_gouge_mm,
+    }
+}
+
+#[test]
+fn clean_cuts_pass_and_every_short_defect_fails_on_its_turn_and_flank() {
+    use rayon::prelude::*;
+    let cases: Vec<Case> = (0..220u64).map(|i| case(0x7157_0000 + i)).collect();
+    let failures: Vec<String> = cases
+        .par_iter()
+        .filter_map(|c| {
+            let clean = run(c, false);
+            if clean.verdict != Verdict::Pass
+                || clean.deviation.max_gouge_mm > 0.25 * 0.01
+                || clean.deviation.max_leftover_mm > 0.25 * 0.01
+            {
+                let errs: Vec<&str> = clean
+                    .findings
+                    .iter()
+                    .filter(|f| f.severity == "error")
+                    .map(|f| f.message.as_str())
+                    .take(3)
+                    .collect();
+                return Some(format!(
+                    "seed {}: the clean cut gives {:?} (gouge {}, leftover {}): {errs:?}\n{}",
+                    c.seed,
+                    clean.verdict,
+                    clean.deviation.max_gouge_mm,
+                    clean.deviation.max_leftover_mm,
+                    c.toml
+                ));
+            }
+            let bad = run(c, true);
+            let row = bad
+                .turns
+                .iter()
+                .find(|t| t.turn == c.turn && t.start == c.start);
+            let got = row.map_or(0.0, |r| flank_gouge(r, c.kind));
+            if bad.verdict != Verdict::Fail || got < 0.8 * c.expect {
+                let at = bad.deviation.max_gouge_at.as_ref().map(|l| {
+                    format!("turn {} start {} {} z {}", l.turn, l.start, l.flank, l.z_mm)
+                });
+                return Some(format!(
+                    "seed {}: {:?} defect of {:.3} mm on turn {} start {}: {:?}, {:?} gouge there {got} (expected >= {:.4}); worst {} at {at:?}\n{}",
+                    c.seed,
+                    c.kind,
+                    c.shift,
+                    c.turn,
+                    c.start,
+                    bad.verdict,
+                    c.kind,
+                    0.8 * c.expect,
+                    bad.deviation.max_gouge_mm,
+                    c.toml
+                ));
+            }
+            None
+        })
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases wrong:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+}
+
+/// The case of the issue: a 0.3 mm gouge into the -z wall of the last turn's groove of a
+/// 3-turn square thread, on the generators where the first feature is not on the
+/// reference generator, fails on turn 3 (before, the comparison ended at the last
+/// feature's centre and it passed); the same defect one turn earlier fails on turn 2.
+#[test]
+fn a_gouge_into_the_last_turns_wall_fails() {
+    let base = r#"
+        [blank]
+        diameter = 40.0
+        length = 60.0
+        [thread]
+        form = "square"
+        major_diameter = 40.0
+        minor_diameter = 34.0
+        pitch = { first = 10.0, increment = 0.0, turns = 3 }
+        width = { groove = 5.0 }
+        z_start = -10.0
+        start_angle = 0.0
+        [[tool]]
+        id = 1
+        kind = "grooving"
+        width = 5.0
+        reference = "center"
+        [[pass]]
+        tool = 1
+        x = 34.0
+        z_start = 5.0
+        z_end = -45.0
+        lead = 10.0
+        start_angle = 180.0
+        [simulation]
+        axial_spacing = 0.01
+        angular_cells = 720
+    "#;
+    let defect = |z0: f64, z1: f64, angle: f64| {
+        format!(
+            "{base}\n[[pass]]\ntool = 1\nx = 34.0\nz_start = {z0}\nz_end = {z1}\nlead = 10.0\nstart_angle = {angle}\n"
+        )
+    };
+    let clean = crate::support::run(base).report;
+    assert_eq!(clean.verdict, Verdict::Pass);
+    assert_eq!(clean.deviation.max_gouge_mm, 0.0);
+    assert_eq!(clean.deviation.gouge_volume_mm3, 0.0);
+    for (z0, z1, angle, turn) in [(-32.3, -38.3, -792.0, 3), (-22.3, -28.3, -432.0, 2)] {
+        let r = crate::support::run(&defect(z0, z1, angle)).report;
+        assert_eq!(r.verdict, Verdict::Fail, "z {z0}");
+        let at = r.deviation.max_gouge_at.as_ref().expect("a gouge");
+        assert!((r.deviation.max_gouge_mm - 0.3).abs() < 1e-3, "{}", r.deviation.max_gouge_mm);
+        assert_eq!((at.turn, at.flank), (turn, "left"), "z {z0}");
+    }
+}
