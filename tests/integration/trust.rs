@@ -233,8 +233,17 @@ fn case(seed: u64) -> Case {
             clean.push(pass(st, c, ef, t_a, t_b, x_root));
         }
     }
-    // The defect: a short pass on one turn (first, last or any), one start.
-    let turns = n_turns.ceil() as i64;
+    // The defect: a short pass on one turn (first, last or any), one start. The grooves
+    // of turn n have helix parameters g in [n-1, n) (the last one closes at the thread's
+    // end); for equal tooth width g = t + delta/2 of the tooth above.
+    let g_off = if tooth_rule { 0.5 * delta } else { 0.0 };
+    let (g_lo, g_hi) = if tooth_rule {
+        (0.5 * delta, n_turns - 0.5 * delta)
+    } else {
+        (0.0, n_turns)
+    };
+    // The last turn that holds grooves over at least 0.2 revolutions.
+    let turns = ((g_hi - 0.2).floor() as i64 + 1).max(1);
     let turn = match r.next() % 3 {
         0 => 1,
         1 => turns,
@@ -243,14 +252,6 @@ fn case(seed: u64) -> Case {
     let start = (r.next() % starts as u64) as u32;
     let kind = r.pick(&[Kind::Radial, Kind::Right, Kind::Left]);
     let shift = r.range(3.0, 30.0) * tol;
-    // The grooves of turn n have helix parameters g in [n-1, n) (the last one closes at
-    // the thread's end); for equal tooth width g = t + delta/2 of the tooth above.
-    let g_off = if tooth_rule { 0.5 * delta } else { 0.0 };
-    let (g_lo, g_hi) = if tooth_rule {
-        (0.5 * delta, n_turns - 0.5 * delta)
-    } else {
-        (0.0, n_turns)
-    };
     let lo = ((turn - 1) as f64).max(g_lo) + 0.04;
     let hi = (turn as f64).min(g_hi) - 0.04;
     let len = r.range(0.1, 0.35).min(hi - lo - 0.01);
@@ -343,8 +344,15 @@ fn clean_cuts_pass_and_every_short_defect_fails_on_its_turn_and_flank() {
                 let at = bad.deviation.max_gouge_at.as_ref().map(|l| {
                     format!("turn {} start {} {} z {}", l.turn, l.start, l.flank, l.z_mm)
                 });
+                let errs: Vec<&str> = bad
+                    .findings
+                    .iter()
+                    .filter(|f| f.severity == "error")
+                    .map(|f| f.message.as_str())
+                    .take(3)
+                    .collect();
                 return Some(format!(
-                    "seed {}: {:?} defect of {:.3} mm on turn {} start {}: {:?}, {:?} gouge there {got} (expected >= {:.4}); worst {} at {at:?}\n{}",
+                    "seed {}: {:?} defect of {:.3} mm on turn {} start {}: {:?}, {:?} gouge there {got} (expected >= {:.4}); worst {} at {at:?}; {errs:?}; defect {:?}\n{}",
                     c.seed,
                     c.kind,
                     c.shift,
@@ -354,6 +362,7 @@ fn clean_cuts_pass_and_every_short_defect_fails_on_its_turn_and_flank() {
                     c.kind,
                     0.8 * c.expect,
                     bad.deviation.max_gouge_mm,
+                    c.defect,
                     c.toml
                 ));
             }
@@ -418,5 +427,277 @@ fn a_gouge_into_the_last_turns_wall_fails() {
         let at = r.deviation.max_gouge_at.as_ref().expect("a gouge");
         assert!((r.deviation.max_gouge_mm - 0.3).abs() < 1e-3, "{}", r.deviation.max_gouge_mm);
         assert_eq!((at.turn, at.flank), (turn, "left"), "z {z0}");
+    }
+}
+
+/// One constant-pitch thread and one pass of a tool that fits its groove, `deeper` mm
+/// below the root (negative: short of it). Returns the report.
+fn single_pass(form: &str, pitch: f64, major: f64, tool: &str, root_d: f64, deeper: f64) -> vpcut::Report {
+    let x = root_d - 2.0 * deeper;
+    let text = format!(
+        r#"
+        [blank]
+        diameter = {major}
+        length = {len}
+        [thread]
+        form = "{form}"
+        major_diameter = {major}
+        pitch = {pitch}
+        turns = 6
+        z_start = -2.0
+        [[tool]]
+        id = 1
+        {tool}
+        reference = "tip"
+        [[pass]]
+        tool = 1
+        x = {x}
+        z_start = {zs}
+        z_end = {ze}
+        lead = {pitch}
+        [simulation]
+        axial_spacing = 0.005
+        angular_cells = 360
+        measure_generators = 2
+        "#,
+        len = 10.0 * pitch,
+        zs = -2.0 + 2.0 * pitch,
+        ze = -2.0 - 8.0 * pitch,
+    );
+    crate::support::run(&text).report
+}
+
+/// Missing depth is reported at the root with its true radial size, and a symmetric cut
+/// gives symmetric flank figures: for each form a pass short of the root by `s` (the
+/// lesson program's 0.727 mm among them) and one below it by `s`. Before, a narrow root's
+/// missing depth went to the nearer flanks (leftover 0.508, root 0.000 at 0.727 mm on a
+/// 1/4-20 UN), and a tie at the root corners went to one flank only (0.364 against 0.182).
+#[test]
+fn missing_depth_is_at_the_root_and_symmetric_cuts_give_symmetric_figures() {
+    // (form, pitch, major, tool, root diameter, flank half angle)
+    let un = 25.4 / 20.0;
+    let cases = [
+        (
+            "unified",
+            un,
+            6.35,
+            format!("kind = \"threading\"\nangle = 60.0\ntip_flat = {}", un / 6.0),
+            6.35 - 1.226869 * un,
+            30f64,
+        ),
+        (
+            "iso-metric",
+            2.5,
+            20.0,
+            format!("kind = \"threading\"\nangle = 60.0\ntip_flat = {}", 2.5 / 6.0),
+            20.0 - 1.226869 * 2.5,
+            30.0,
+        ),
+        (
+            "trapezoidal",
+            6.0,
+            40.0,
+            // Tr40x6: h3 = 3.5, hp = 2, groove 3 at the pitch line, root 3 - 4 tan15.
+            format!(
+                "kind = \"trapezoidal\"\ntip_width = {}\nflank_angle = 30.0",
+                3.0 - 4.0 * 15f64.to_radians().tan()
+            ),
+            33.0,
+            15.0,
+        ),
+    ];
+    for (form, pitch, major, tool, root_d, half) in &cases {
+        let depth = (major - root_d) / 2.0;
+        for s in [0.05, 0.3, 0.727] {
+            if s > 0.8 * depth {
+                continue;
+            }
+            // Short of the root: leftover at the root of its radial size.
+            let r = single_pass(form, *pitch, *major, tool, *root_d, -s);
+            let at = r.deviation.max_leftover_at.as_ref().expect("leftover");
+            assert_eq!(at.flank, "root", "{form} short by {s}");
+            assert!((r.deviation.max_leftover_mm - s).abs() < 2e-3, "{form} short by {s}: {}", r.deviation.max_leftover_mm);
+            let mid = &r.turns[2];
+            assert!((mid.flanks.root.max_leftover_mm - s).abs() < 2e-3, "{form}: {:?}", mid.flanks);
+            let (l, rt) = (mid.flanks.left.max_leftover_mm, mid.flanks.right.max_leftover_mm);
+            assert!((l - rt).abs() <= 0.02 * l.max(rt) + 1e-4, "{form} short by {s}: left {l}, right {rt}");
+            // Below it: a gouge at the root of its radial size, both flanks alike and
+            // about s sin(a) (the flank's normal offset; the corner's points split at the
+            // bisector add at most a factor 1/cos of half the corner's wedge).
+            let r = single_pass(form, *pitch, *major, tool, *root_d, s);
+            let at = r.deviation.max_gouge_at.as_ref().expect("gouge");
+            assert_eq!(at.flank, "root", "{form} deeper by {s}");
+            assert!((r.deviation.max_gouge_mm - s).abs() < 2e-3, "{form} deeper by {s}: {}", r.deviation.max_gouge_mm);
+            let mid = &r.turns[2];
+            let (l, rt) = (mid.flanks.left.max_gouge_mm, mid.flanks.right.max_gouge_mm);
+            assert!((l - rt).abs() <= 0.02 * l.max(rt) + 1e-4, "{form} deeper by {s}: left {l}, right {rt}");
+            let normal = s * half.to_radians().sin();
+            let wedge = (0.5 * (90.0 - half)).to_radians().cos();
+            assert!(l >= normal - 2e-3 && l <= normal / wedge + 2e-3, "{form} deeper by {s}: flank {l}, normal offset {normal}");
+        }
+    }
+}
+
+/// A tool whose tip is the standard form's root flat (the form constants rounded to six
+/// digits) fits: the `radial` generator accepts it and the cut is clean, for every pitch.
+#[test]
+fn exact_fit_tools_of_standard_forms_are_accepted() {
+    for (form, pitch) in [
+        ("iso-metric", 0.5),
+        ("iso-metric", 1.25),
+        ("iso-metric", 2.5),
+        ("iso-metric", 6.0),
+        ("unified", 25.4 / 20.0),
+        ("unified", 25.4 / 8.0),
+    ] {
+        let text = format!(
+            r#"
+            [blank]
+            diameter = 30.0
+            length = {len}
+            [thread]
+            form = "{form}"
+            major_diameter = 30.0
+            pitch = {pitch}
+            turns = 4
+            [[tool]]
+            id = 1
+            kind = "threading"
+            angle = 60.0
+            tip_flat = {tip}
+            [process]
+            kind = "radial"
+            tool = 1
+            layers = 2
+            [simulation]
+            axial_spacing = 0.005
+            angular_cells = 90
+            measure_generators = 1
+            "#,
+            len = 8.0 * pitch,
+            tip = pitch / 6.0,
+        );
+        let job = vpcut::Job::from_toml(&text, "fit.toml")
+            .unwrap_or_else(|e| panic!("{form} P{pitch}: {e}"));
+        let r = simulate(&job, &Options::default()).unwrap().report;
+        assert!(r.deviation.max_gouge_mm < 1e-3, "{form} P{pitch}: {}", r.deviation.max_gouge_mm);
+    }
+}
+
+/// A thread off the blank is a job error at the key; a thread that is on the blank but
+/// outside the simulated window compares nothing and fails.
+#[test]
+fn a_thread_that_is_not_on_the_blank_never_passes() {
+    let text = |z_start: f64, extra: &str| {
+        format!(
+            r#"
+            [blank]
+            diameter = 40.0
+            length = 60.0
+            [thread]
+            form = "square"
+            major_diameter = 40.0
+            minor_diameter = 34.0
+            pitch = {{ first = 10.0, increment = 0.0, turns = 3 }}
+            width = {{ groove = 5.0 }}
+            z_start = {z_start}
+            [[tool]]
+            id = 1
+            kind = "grooving"
+            width = 5.0
+            [[pass]]
+            tool = 1
+            x = 34.0
+            z_start = 5.0
+            z_end = -45.0
+            lead = 10.0
+            {extra}
+            [simulation]
+            axial_spacing = 0.02
+            angular_cells = 90
+            "#
+        )
+    };
+    for z in [200.0, -5000.0, 8.0, -75.0] {
+        let e = vpcut::Job::from_toml(&text(z, ""), "off.toml").expect_err("off the blank");
+        let msg = e.to_string();
+        assert!(msg.contains("thread.z_start") && msg.contains("off the blank"), "{msg}");
+    }
+    // On the blank, but the simulated window holds none of it.
+    let mut job = vpcut::Job::from_toml(&text(-10.0, ""), "w.toml").unwrap();
+    job.sim.z_range = Some((-59.0, -55.0));
+    let r = simulate(&job, &Options::default()).unwrap().report;
+    assert_eq!(r.verdict, Verdict::Fail);
+    assert_eq!(r.findings[0].kind, "not_compared");
+}
+
+/// One tie rule: with the grid shifted so that every groove wall falls exactly on a cell
+/// centre, a clean square cut compares and measures exactly (before, the sweep cut the
+/// wall's cell and the ideal did not: groove +0.5 um, tooth -0.5 um, a gouge volume with a
+/// gouge of 0).
+#[test]
+fn walls_on_cell_centres_compare_and_measure_exactly() {
+    for z_front in [0.0, 0.005, 0.0025] {
+        let text = format!(
+            r#"
+            [blank]
+            diameter = 40.0
+            length = 60.0
+            z_front = {z_front}
+            [thread]
+            form = "square"
+            major_diameter = 40.0
+            minor_diameter = 34.0
+            pitch = {{ first = 10.0, increment = 0.0, turns = 3 }}
+            width = {{ groove = 5.0 }}
+            z_start = -10.0
+            [[tool]]
+            id = 1
+            kind = "grooving"
+            width = 5.0
+            [[pass]]
+            tool = 1
+            x = 34.0
+            z_start = 5.0
+            z_end = -45.0
+            lead = 10.0
+            start_angle = 180.0
+            [simulation]
+            axial_spacing = 0.01
+            angular_cells = 72
+            measure_spacing = 0.01
+            "#
+        );
+        let r = crate::support::run(&text).report;
+        assert_eq!(r.deviation.gouge_volume_mm3, 0.0, "z_front {z_front}");
+        assert_eq!(r.deviation.leftover_volume_mm3, 0.0, "z_front {z_front}");
+        for t in &r.turns {
+            assert_eq!(t.groove_width_mm, Some(5.0), "z_front {z_front}");
+            assert_eq!(t.tooth_width_mm, t.ideal_tooth_width_mm, "z_front {z_front}");
+        }
+    }
+}
+
+/// A blank that is not a whole number of cells is covered to its faces: the spacing
+/// shrinks to fit (80.5 mm at 0.04 mm: 2013 cells of 80.5/2013 mm), so no part of the blank
+/// is left out, and the grid ends exactly at both faces.
+#[test]
+fn the_grid_covers_the_blank_exactly() {
+    for (length, dz) in [(80.5, 0.04), (60.0, 0.01), (33.333, 0.02), (10.0, 0.03)] {
+        let text = crate::support::with(
+            &crate::support::scene_text("equal-groove-single-pass"),
+            &[
+                ("blank", "length", &format!("{length}")),
+                ("simulation", "axial_spacing", &format!("{dz}")),
+                ("thread", "pitch", "{ first = 10.0, increment = 0.0, turns = 1 }"),
+            ],
+        );
+        let job = crate::support::job(&text);
+        let (grid, _) = vpcut::plan_grid(&job).unwrap();
+        let lo = grid.z0 - 0.5 * grid.dz;
+        let hi = grid.z(grid.n_z - 1) + 0.5 * grid.dz;
+        assert!((lo - (job.blank.z_front - length)).abs() < 1e-9, "{length} at {dz}: {lo}");
+        assert!((hi - job.blank.z_front).abs() < 1e-9, "{length} at {dz}: {hi}");
+        assert!(grid.dz <= dz * (1.0 + 1e-12) && grid.dz > dz * 0.99, "{}", grid.dz);
     }
 }
