@@ -41,7 +41,7 @@
 
 use crate::pass::Pass;
 use crate::solid::{Face, Solid};
-use crate::stock::Surface;
+use crate::stock::{first_cell, Surface};
 use crate::tool::{cot, Body, Edge, Tool};
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::sync::Arc;
@@ -757,10 +757,9 @@ impl Ray {
     /// is cut to it where that does not exceed the lowest upper bound. The lines are moved
     /// to the first cell in f64 and evaluated per cell in f32, like the edge.
     pub(crate) fn cut(&self, seg: &mut [f32], v_start: f64, dz: f64) {
-        let k0 = ((self.v_lo - v_start) / dz).ceil().max(0.0);
-        let k1 = ((self.v_hi - v_start) / dz)
-            .floor()
-            .min(seg.len() as f64 - 1.0);
+        // The cells with v_lo <= v < v_hi (the stock's tie rule).
+        let k0 = first_cell((self.v_lo - v_start) / dz).max(0.0);
+        let k1 = (first_cell((self.v_hi - v_start) / dz) - 1.0).min(seg.len() as f64 - 1.0);
         if k0.is_nan() || k1.is_nan() || k0 > k1 {
             return;
         }

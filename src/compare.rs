@@ -101,8 +101,9 @@ struct Flat {
     /// The column's angle.
     theta: f64,
     /// The segment, whether it is a root (else a crest), whether the compared range holds
-    /// all of it, the least value, where, and the turn there.
-    open: Option<(usize, bool, bool, f64, f64, (u32, i64))>,
+    /// all of it, the least value, the z of its first and last dexel, and its turns: the
+    /// first dexel's, the last one's, and the z where the last began.
+    open: Option<(usize, bool, bool, f64, (f64, f64), ((u32, i64), (u32, i64), f64))>,
     /// Flats found deviating all across: the turn and the extreme.
     found: Vec<((u32, i64), Extreme)>,
 }
@@ -111,25 +112,30 @@ impl Flat {
     fn add(&mut self, seg: usize, root: bool, whole: bool, v: f64, z: f64, key: (u32, i64)) {
         match &mut self.open {
             Some(o) if o.0 == seg => {
-                if v < o.3 {
-                    o.3 = v;
-                    o.4 = z;
-                    o.5 = key;
+                o.3 = o.3.min(v);
+                o.4 .1 = z;
+                if o.5 .1 != key {
+                    o.5 .1 = key;
+                    o.5 .2 = z;
                 }
             }
             _ => {
                 self.close();
-                self.open = Some((seg, root, whole, v, z, key));
+                self.open = Some((seg, root, whole, v, (z, z), (key, key, z)));
             }
         }
     }
 
     /// Close the open flat: it deviates all across when its least value is positive and
-    /// the compared range holds all of it.
+    /// the compared range holds all of it. It is placed at the middle of its dexels.
     fn close(&mut self) {
-        let Some((_, root, whole, v, z, key)) = self.open.take() else {
+        let Some((_, root, whole, v, (z_a, z_b), (first, last, z_last))) = self.open.take()
+        else {
             return;
         };
+        let z = 0.5 * (z_a + z_b);
+        // A crest between two grooves belongs to the turn that holds its middle.
+        let key = if z < z_last { first } else { last };
         if v > 0.0 && whole {
             self.found.push((
                 key,
