@@ -280,8 +280,20 @@ fn strays(line: &[(f64, f64)], pts: &[(f64, f64)], limit: f64) -> bool {
 /// edge, from `(0, 0)` to the last pair. The walk advances on whichever profile's next
 /// vertex comes first in the helical coordinate halfway between the two generators
 /// (`shift(z)`: how far a helical feature at `z` moves from `a` to `b`), so a wall meets
-/// the same wall on the next generator.
-fn rungs(za: &[f64], zb: &[f64], shift: impl Fn(f64) -> f64) -> Vec<(u32, u32)> {
+/// the same wall on the next generator. Positions within `eps` count as equal (the shift's
+/// own error), and equal ones go in the order of their runs of equal z.
+fn rungs(za: &[f64], zb: &[f64], shift: impl Fn(f64) -> f64, eps: f64) -> Vec<(u32, u32)> {
+    // The rank of each vertex in its run of equal z (a vertical wall is two vertices at
+    // one z): where two next vertices meet within `eps` after the shift, the one earlier
+    // in its run goes first, so a wall's top pairs with the other wall's top and its foot
+    // with its foot, whatever rounding does to the shift.
+    let rank = |z: &[f64], i: usize| {
+        let mut k = 0;
+        while k < i && z[i - k - 1] == z[i] {
+            k += 1;
+        }
+        k
+    };
     let (na, nb) = (za.len(), zb.len());
     let (mut i, mut j) = (0usize, 0usize);
     let mut out = Vec::with_capacity(na + nb);
@@ -292,7 +304,13 @@ fn rungs(za: &[f64], zb: &[f64], shift: impl Fn(f64) -> f64) -> Vec<(u32, u32)> 
         } else if j + 1 >= nb {
             true
         } else {
-            za[i + 1] + 0.5 * shift(za[i + 1]) <= zb[j + 1] - 0.5 * shift(zb[j + 1])
+            let a = za[i + 1] + 0.5 * shift(za[i + 1]);
+            let b = zb[j + 1] - 0.5 * shift(zb[j + 1]);
+            if (a - b).abs() <= eps {
+                rank(za, i + 1) <= rank(zb, j + 1)
+            } else {
+                a <= b
+            }
         };
         if advance_a {
             i += 1;
@@ -435,7 +453,7 @@ impl Surfacer<'_> {
         let dtheta = self.theta(ub) - self.theta(ua);
         let za: Vec<f64> = a.zr.iter().map(|v| v.0).collect();
         let zb: Vec<f64> = b.zr.iter().map(|v| v.0).collect();
-        rungs(&za, &zb, |z| helical_shift(self.thread, z, dtheta))
+        rungs(&za, &zb, |z| helical_shift(self.thread, z, dtheta), 0.0)
     }
 
     /// Columns to add between kept unwrapped columns `ua < ub` so that the strip's section
@@ -712,7 +730,10 @@ pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
         }
         let za: Vec<f64> = profiles[k].iter().map(|v| v.0).collect();
         let zb: Vec<f64> = profiles[k1].iter().map(|v| v.0).collect();
-        let r = rungs(&za, &zb, |z| helical_shift(thread, z, dtheta));
+        // The shift is the lead of the reference generator at z: on a variable lead the
+        // grooves' own leads differ by at most K per revolution of phase.
+        let eps = thread.helix.law.k.abs() * dtheta.abs() / TAU + 1e-9;
+        let r = rungs(&za, &zb, |z| helical_shift(thread, z, dtheta), eps);
         tris.clear();
         strip_triangles(&r, offsets[k], offsets[k1], flip, &mut tris);
         for t in tris.chunks_exact(3) {
