@@ -103,7 +103,14 @@ struct Flat {
     /// The segment, whether it is a root (else a crest), whether the compared range holds
     /// all of it, the least value, the z of its first and last dexel, and its turns: the
     /// first dexel's, the last one's, and the z where the last began.
-    open: Option<(usize, bool, bool, f64, (f64, f64), ((u32, i64), (u32, i64), f64))>,
+    open: Option<(
+        usize,
+        bool,
+        bool,
+        f64,
+        (f64, f64),
+        ((u32, i64), (u32, i64), f64),
+    )>,
     /// Flats found deviating all across: the turn and the extreme.
     found: Vec<((u32, i64), Extreme)>,
 }
@@ -129,8 +136,7 @@ impl Flat {
     /// Close the open flat: it deviates all across when its least value is positive and
     /// the compared range holds all of it. It is placed at the middle of its dexels.
     fn close(&mut self) {
-        let Some((_, root, whole, v, (z_a, z_b), (first, last, z_last))) = self.open.take()
-        else {
+        let Some((_, root, whole, v, (z_a, z_b), (first, last, z_last))) = self.open.take() else {
             return;
         };
         let z = 0.5 * (z_a + z_b);
@@ -359,7 +365,11 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
         total.total_removed_volume += c.total_removed_volume;
         total.compared_dexels += c.compared_dexels;
         if let Some((a, b)) = c.compared_z {
-            total.compared_z = Some(total.compared_z.map_or((a, b), |(x, y)| (x.min(a), y.max(b))));
+            total.compared_z = Some(
+                total
+                    .compared_z
+                    .map_or((a, b), |(x, y)| (x.min(a), y.max(b))),
+            );
         }
     }
     total

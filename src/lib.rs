@@ -933,11 +933,11 @@ fn build_report(
             ideal_removed_volume_mm3: r6(dev.ideal_removed_volume),
             total_removed_volume_mm3: r6(dev.total_removed_volume),
             compared_dexels: dev.compared_dexels,
-            compared_z_mm: dev.compared_z.map(|(a, b)| {
-                [r6(a - 0.5 * grid.dz), r6(b + 0.5 * grid.dz)]
-            }),
+            compared_z_mm: dev
+                .compared_z
+                .map(|(a, b)| [r6(a - 0.5 * grid.dz), r6(b + 0.5 * grid.dz)]),
             uncompared_removed_volume_mm3: r6(
-                (dev.total_removed_volume - dev.removed_volume).max(0.0),
+                (dev.total_removed_volume - dev.removed_volume).max(0.0)
             ),
         },
         turns,

@@ -655,11 +655,19 @@ pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
         .collect();
     let spans: Vec<Option<(f64, f64)>> = ideals
         .iter()
-        .map(|id| id.span.map(|(a, b)| (a.max(lo), b.min(hi))).filter(|(a, b)| a < b))
+        .map(|id| {
+            id.span
+                .map(|(a, b)| (a.max(lo), b.min(hi)))
+                .filter(|(a, b)| a < b)
+        })
         .collect();
-    let Some((za, zb)) = spans.iter().flatten().fold(None, |acc: Option<(f64, f64)>, s| {
-        Some(acc.map_or(*s, |(a, b)| (a.min(s.0), b.max(s.1))))
-    }) else {
+    let Some((za, zb)) = spans
+        .iter()
+        .flatten()
+        .fold(None, |acc: Option<(f64, f64)>, s| {
+            Some(acc.map_or(*s, |(a, b)| (a.min(s.0), b.max(s.1))))
+        })
+    else {
         return Mesh::default();
     };
     // Each profile: the polyline over [za, zb] with its own span's ends as vertices, and

@@ -371,7 +371,10 @@ impl ThreadSpec {
         };
         // Every groove on the generator (thread or not), z increasing.
         let all: Vec<ThreadGroove> = match self.width {
-            WidthRule::Groove(w) => features.iter().map(|f| make(f.start, f.t, f.z, w)).collect(),
+            WidthRule::Groove(w) => features
+                .iter()
+                .map(|f| make(f.start, f.t, f.z, w))
+                .collect(),
             WidthRule::Tooth(tw) => {
                 // Moving toward -z along a generator is moving along the helix against
                 // the direction of its axial travel.

@@ -208,16 +208,26 @@ pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Came
 }
 
 /// Where the close-up looks: the worst finding's point and angle, or, for a cut within
-/// tolerance, the compared surface vertex nearest to the middle of the part at 0 deg.
+/// tolerance, the compared surface vertex nearest to the middle of the compared thread at
+/// 0 deg.
 pub(crate) fn closeup_target(scene: &Scene) -> (DVec3, f64) {
     if let Some(f) = &scene.focus {
         let p = DVec3::new(f.point[0] as f64, f.point[1] as f64, f.point[2] as f64);
         return (p, p.y.atan2(p.x));
     }
     let m = &scene.stock;
-    let (z_lo, z_hi) = m
-        .bounds()
-        .map_or((0.0, 0.0), |(lo, hi)| (lo[2] as f64, hi[2] as f64));
+    let compared = m
+        .positions
+        .iter()
+        .zip(&m.colors)
+        .filter(|(_, c)| **c != OUTSIDE)
+        .map(|(p, _)| p[2] as f64);
+    let (z_lo, z_hi) = compared
+        .fold(None, |acc: Option<(f64, f64)>, z| {
+            Some(acc.map_or((z, z), |(a, b)| (a.min(z), b.max(z))))
+        })
+        .or_else(|| m.bounds().map(|(lo, hi)| (lo[2] as f64, hi[2] as f64)))
+        .unwrap_or((0.0, 0.0));
     let mid = 0.5 * (z_lo + z_hi);
     let r_max = m
         .positions

@@ -132,7 +132,10 @@ fn case(seed: u64) -> Case {
     let start_angle = r.range(0.0, 360.0);
     let (blank, side) = if internal {
         (
-            format!("diameter = {}\nbore = {minor}\nlength = {length}", major + 16.0),
+            format!(
+                "diameter = {}\nbore = {minor}\nlength = {length}",
+                major + 16.0
+            ),
             "internal",
         )
     } else {
@@ -425,14 +428,25 @@ fn a_gouge_into_the_last_turns_wall_fails() {
         let r = crate::support::run(&defect(z0, z1, angle)).report;
         assert_eq!(r.verdict, Verdict::Fail, "z {z0}");
         let at = r.deviation.max_gouge_at.as_ref().expect("a gouge");
-        assert!((r.deviation.max_gouge_mm - 0.3).abs() < 1e-3, "{}", r.deviation.max_gouge_mm);
+        assert!(
+            (r.deviation.max_gouge_mm - 0.3).abs() < 1e-3,
+            "{}",
+            r.deviation.max_gouge_mm
+        );
         assert_eq!((at.turn, at.flank), (turn, "left"), "z {z0}");
     }
 }
 
 /// One constant-pitch thread and one pass of a tool that fits its groove, `deeper` mm
 /// below the root (negative: short of it). Returns the report.
-fn single_pass(form: &str, pitch: f64, major: f64, tool: &str, root_d: f64, deeper: f64) -> vpcut::Report {
+fn single_pass(
+    form: &str,
+    pitch: f64,
+    major: f64,
+    tool: &str,
+    root_d: f64,
+    deeper: f64,
+) -> vpcut::Report {
     let x = root_d - 2.0 * deeper;
     let text = format!(
         r#"
@@ -481,7 +495,10 @@ fn missing_depth_is_at_the_root_and_symmetric_cuts_give_symmetric_figures() {
             "unified",
             un,
             6.35,
-            format!("kind = \"threading\"\nangle = 60.0\ntip_flat = {}", un / 6.0),
+            format!(
+                "kind = \"threading\"\nangle = 60.0\ntip_flat = {}",
+                un / 6.0
+            ),
             6.35 - 1.226869 * un,
             30f64,
         ),
@@ -489,7 +506,10 @@ fn missing_depth_is_at_the_root_and_symmetric_cuts_give_symmetric_figures() {
             "iso-metric",
             2.5,
             20.0,
-            format!("kind = \"threading\"\nangle = 60.0\ntip_flat = {}", 2.5 / 6.0),
+            format!(
+                "kind = \"threading\"\nangle = 60.0\ntip_flat = {}",
+                2.5 / 6.0
+            ),
             20.0 - 1.226869 * 2.5,
             30.0,
         ),
@@ -516,24 +536,48 @@ fn missing_depth_is_at_the_root_and_symmetric_cuts_give_symmetric_figures() {
             let r = single_pass(form, *pitch, *major, tool, *root_d, -s);
             let at = r.deviation.max_leftover_at.as_ref().expect("leftover");
             assert_eq!(at.flank, "root", "{form} short by {s}");
-            assert!((r.deviation.max_leftover_mm - s).abs() < 2e-3, "{form} short by {s}: {}", r.deviation.max_leftover_mm);
+            assert!(
+                (r.deviation.max_leftover_mm - s).abs() < 2e-3,
+                "{form} short by {s}: {}",
+                r.deviation.max_leftover_mm
+            );
             let mid = &r.turns[2];
-            assert!((mid.flanks.root.max_leftover_mm - s).abs() < 2e-3, "{form}: {:?}", mid.flanks);
-            let (l, rt) = (mid.flanks.left.max_leftover_mm, mid.flanks.right.max_leftover_mm);
-            assert!((l - rt).abs() <= 0.02 * l.max(rt) + 1e-4, "{form} short by {s}: left {l}, right {rt}");
+            assert!(
+                (mid.flanks.root.max_leftover_mm - s).abs() < 2e-3,
+                "{form}: {:?}",
+                mid.flanks
+            );
+            let (l, rt) = (
+                mid.flanks.left.max_leftover_mm,
+                mid.flanks.right.max_leftover_mm,
+            );
+            assert!(
+                (l - rt).abs() <= 0.02 * l.max(rt) + 1e-4,
+                "{form} short by {s}: left {l}, right {rt}"
+            );
             // Below it: a gouge at the root of its radial size, both flanks alike and
             // about s sin(a) (the flank's normal offset; the corner's points split at the
             // bisector add at most a factor 1/cos of half the corner's wedge).
             let r = single_pass(form, *pitch, *major, tool, *root_d, s);
             let at = r.deviation.max_gouge_at.as_ref().expect("gouge");
             assert_eq!(at.flank, "root", "{form} deeper by {s}");
-            assert!((r.deviation.max_gouge_mm - s).abs() < 2e-3, "{form} deeper by {s}: {}", r.deviation.max_gouge_mm);
+            assert!(
+                (r.deviation.max_gouge_mm - s).abs() < 2e-3,
+                "{form} deeper by {s}: {}",
+                r.deviation.max_gouge_mm
+            );
             let mid = &r.turns[2];
             let (l, rt) = (mid.flanks.left.max_gouge_mm, mid.flanks.right.max_gouge_mm);
-            assert!((l - rt).abs() <= 0.02 * l.max(rt) + 1e-4, "{form} deeper by {s}: left {l}, right {rt}");
+            assert!(
+                (l - rt).abs() <= 0.02 * l.max(rt) + 1e-4,
+                "{form} deeper by {s}: left {l}, right {rt}"
+            );
             let normal = s * half.to_radians().sin();
             let wedge = (0.5 * (90.0 - half)).to_radians().cos();
-            assert!(l >= normal - 2e-3 && l <= normal / wedge + 2e-3, "{form} deeper by {s}: flank {l}, normal offset {normal}");
+            assert!(
+                l >= normal - 2e-3 && l <= normal / wedge + 2e-3,
+                "{form} deeper by {s}: flank {l}, normal offset {normal}"
+            );
         }
     }
 }
@@ -580,7 +624,11 @@ fn exact_fit_tools_of_standard_forms_are_accepted() {
         let job = vpcut::Job::from_toml(&text, "fit.toml")
             .unwrap_or_else(|e| panic!("{form} P{pitch}: {e}"));
         let r = simulate(&job, &Options::default()).unwrap().report;
-        assert!(r.deviation.max_gouge_mm < 1e-3, "{form} P{pitch}: {}", r.deviation.max_gouge_mm);
+        assert!(
+            r.deviation.max_gouge_mm < 1e-3,
+            "{form} P{pitch}: {}",
+            r.deviation.max_gouge_mm
+        );
     }
 }
 
@@ -621,7 +669,10 @@ fn a_thread_that_is_not_on_the_blank_never_passes() {
     for z in [200.0, -5000.0, 8.0, -75.0] {
         let e = vpcut::Job::from_toml(&text(z, ""), "off.toml").expect_err("off the blank");
         let msg = e.to_string();
-        assert!(msg.contains("thread.z_start") && msg.contains("off the blank"), "{msg}");
+        assert!(
+            msg.contains("thread.z_start") && msg.contains("off the blank"),
+            "{msg}"
+        );
     }
     // On the blank, but the simulated window holds none of it.
     let mut job = vpcut::Job::from_toml(&text(-10.0, ""), "w.toml").unwrap();
@@ -673,7 +724,10 @@ fn walls_on_cell_centres_compare_and_measure_exactly() {
         assert_eq!(r.deviation.leftover_volume_mm3, 0.0, "z_front {z_front}");
         for t in &r.turns {
             assert_eq!(t.groove_width_mm, Some(5.0), "z_front {z_front}");
-            assert_eq!(t.tooth_width_mm, t.ideal_tooth_width_mm, "z_front {z_front}");
+            assert_eq!(
+                t.tooth_width_mm, t.ideal_tooth_width_mm,
+                "z_front {z_front}"
+            );
         }
     }
 }
@@ -689,15 +743,29 @@ fn the_grid_covers_the_blank_exactly() {
             &[
                 ("blank", "length", &format!("{length}")),
                 ("simulation", "axial_spacing", &format!("{dz}")),
-                ("thread", "pitch", "{ first = 10.0, increment = 0.0, turns = 1 }"),
+                (
+                    "thread",
+                    "pitch",
+                    "{ first = 10.0, increment = 0.0, turns = 1 }",
+                ),
             ],
         );
         let job = crate::support::job(&text);
         let (grid, _) = vpcut::plan_grid(&job).unwrap();
         let lo = grid.z0 - 0.5 * grid.dz;
         let hi = grid.z(grid.n_z - 1) + 0.5 * grid.dz;
-        assert!((lo - (job.blank.z_front - length)).abs() < 1e-9, "{length} at {dz}: {lo}");
-        assert!((hi - job.blank.z_front).abs() < 1e-9, "{length} at {dz}: {hi}");
-        assert!(grid.dz <= dz * (1.0 + 1e-12) && grid.dz > dz * 0.99, "{}", grid.dz);
+        assert!(
+            (lo - (job.blank.z_front - length)).abs() < 1e-9,
+            "{length} at {dz}: {lo}"
+        );
+        assert!(
+            (hi - job.blank.z_front).abs() < 1e-9,
+            "{length} at {dz}: {hi}"
+        );
+        assert!(
+            grid.dz <= dz * (1.0 + 1e-12) && grid.dz > dz * 0.99,
+            "{}",
+            grid.dz
+        );
     }
 }
