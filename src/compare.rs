@@ -100,35 +100,49 @@ fn worst(v: &[Option<Extreme>; 4]) -> Option<Extreme> {
 struct Flat {
     /// The column's angle.
     theta: f64,
-    /// The segment, whether it is a root (else a crest), whether the compared range holds
-    /// all of it, the least value, the z of its first and last dexel, and its turns: the
-    /// first dexel's, the last one's, and the z where the last began.
-    open: Option<(
-        usize,
-        bool,
-        bool,
-        f64,
-        (f64, f64),
-        ((u32, i64), (u32, i64), f64),
-    )>,
+    /// The flat the walk is on.
+    open: Option<OpenFlat>,
     /// Flats found deviating all across: the turn and the extreme.
     found: Vec<((u32, i64), Extreme)>,
+}
+
+/// A root or crest flat being walked.
+struct OpenFlat {
+    /// Its segment of the ideal polyline.
+    seg: usize,
+    /// A root (else a crest).
+    root: bool,
+    /// The compared range holds all of it.
+    whole: bool,
+    /// The least deviation so far (into the material for a crest).
+    least: f64,
+    /// z of its first and last dexel.
+    z: (f64, f64),
+    /// The turn at its first dexel, the turn at its last, and the z where that began.
+    turns: ((u32, i64), (u32, i64), f64),
 }
 
 impl Flat {
     fn add(&mut self, seg: usize, root: bool, whole: bool, v: f64, z: f64, key: (u32, i64)) {
         match &mut self.open {
-            Some(o) if o.0 == seg => {
-                o.3 = o.3.min(v);
-                o.4 .1 = z;
-                if o.5 .1 != key {
-                    o.5 .1 = key;
-                    o.5 .2 = z;
+            Some(o) if o.seg == seg => {
+                o.least = o.least.min(v);
+                o.z.1 = z;
+                if o.turns.1 != key {
+                    o.turns.1 = key;
+                    o.turns.2 = z;
                 }
             }
             _ => {
                 self.close();
-                self.open = Some((seg, root, whole, v, (z, z), (key, key, z)));
+                self.open = Some(OpenFlat {
+                    seg,
+                    root,
+                    whole,
+                    least: v,
+                    z: (z, z),
+                    turns: (key, key, z),
+                });
             }
         }
     }
@@ -136,22 +150,23 @@ impl Flat {
     /// Close the open flat: it deviates all across when its least value is positive and
     /// the compared range holds all of it. It is placed at the middle of its dexels.
     fn close(&mut self) {
-        let Some((_, root, whole, v, (z_a, z_b), (first, last, z_last))) = self.open.take() else {
+        let Some(o) = self.open.take() else {
             return;
         };
-        let z = 0.5 * (z_a + z_b);
+        let z = 0.5 * (o.z.0 + o.z.1);
         // A crest between two grooves belongs to the turn that holds its middle.
+        let (first, last, z_last) = o.turns;
         let key = if z < z_last { first } else { last };
-        if v > 0.0 && whole {
+        if o.least > 0.0 && o.whole {
             self.found.push((
                 key,
                 Extreme {
-                    value: v,
+                    value: o.least,
                     theta: self.theta,
                     z,
                     turn: key.1,
                     start: key.0,
-                    flank: if root { Flank::Root } else { Flank::Crest },
+                    flank: if o.root { Flank::Root } else { Flank::Crest },
                 },
             ));
         }
