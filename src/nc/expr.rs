@@ -76,6 +76,18 @@ pub(super) fn describe_char(c: char) -> String {
     }
 }
 
+/// A 1-based column counted in bytes of `line` as one counted in characters (0 stays 0:
+/// the whole block).
+pub(super) fn char_col(line: &str, col: usize) -> usize {
+    if col <= 1 {
+        return col;
+    }
+    match line.get(..(col - 1).min(line.len())) {
+        Some(before) => before.chars().count() + 1,
+        None => col,
+    }
+}
+
 /// The character starting at byte `i` of `s` (valid UTF-8 from a char boundary).
 pub(super) fn char_at(s: &[u8], i: usize) -> char {
     let end = (i + 4).min(s.len());
@@ -404,14 +416,17 @@ impl Machine<'_> {
             Dialect::Siemens802d => SIEMENS_MAX_VALUE,
             _ => FANUC_MAX_VALUE,
         };
-        if !(v.abs() <= max) {
+        if v.abs() > max {
             let text = String::from_utf8_lossy(&c.s[at - 1..c.i]);
             let shown = if text.len() > 20 {
                 format!("{}.. ({} characters)", &text[..12], text.len())
             } else {
                 text.into_owned()
             };
-            return Err((at, format!("the number {shown} is too large (at most ±{max:e})")));
+            return Err((
+                at,
+                format!("the number {shown} is too large (at most ±{max:e})"),
+            ));
         }
         Ok(Some(v))
     }

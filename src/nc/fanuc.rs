@@ -274,11 +274,7 @@ impl Machine<'_> {
                 return Ok(Step::Next);
             }
             // `P#i` jumps to the block number that #i holds.
-            let n = if pvar {
-                m.get(c, pv, pcol + 1)?
-            } else {
-                pv
-            };
+            let n = if pvar { m.get(c, pv, pcol + 1)? } else { pv };
             goto(prog, n, pcol)
         };
         let set = |m: &mut Self, v: f64| -> Result<Step, Fail> {
