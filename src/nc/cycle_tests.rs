@@ -293,7 +293,11 @@ fn siemens_and_linuxcnc_arcs() {
     for (g, w) in a.iter().zip(&want) {
         assert!(close(g.0, w.0) && close(g.1, w.1) && close(g.2, w.2) && close(g.3, w.3));
     }
-    let moves = run("G8\nG0 X0 Z0 F0.2\nG3 X10 Z-10 R10\nM2\n", Dialect::Linuxcnc).unwrap();
+    let moves = run(
+        "G8\nG0 X0 Z0 F0.2\nG3 X10 Z-10 R10\nM2\n",
+        Dialect::Linuxcnc,
+    )
+    .unwrap();
     let m = &moves[1];
     let c = m.arc.unwrap();
     assert!(close(m.x_dia, 20.0) && close(m.z, -10.0), "{m:?}");
