@@ -14,6 +14,7 @@ use crate::tool::{Body, Edge, Reference, Tool};
 use serde::Deserialize;
 use std::fmt;
 
+mod keys;
 mod mill;
 pub use mill::MillJob;
 
@@ -308,11 +309,38 @@ enum HandName {
     Left,
 }
 
-#[derive(Deserialize)]
-#[serde(untagged)]
+/// `pitch = 6.0` or `pitch = { first, increment, last | turns }`.
 enum RawPitch {
     Constant(f64),
     Series(RawSeries),
+}
+
+impl<'de> Deserialize<'de> for RawPitch {
+    /// A number or a table, told apart by what the file holds; any other value is an error
+    /// that says both forms (an untagged enum would only say that nothing matched).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Pitch;
+        impl<'de> serde::de::Visitor<'de> for Pitch {
+            type Value = RawPitch;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a pitch in mm or a table { first = .., increment = .., last = .. or turns = .. }")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<RawPitch, E> {
+                Ok(RawPitch::Constant(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<RawPitch, E> {
+                Ok(RawPitch::Constant(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<RawPitch, E> {
+                Ok(RawPitch::Constant(v as f64))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<RawPitch, A::Error> {
+                RawSeries::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(RawPitch::Series)
+            }
+        }
+        d.deserialize_any(Pitch)
+    }
 }
 
 #[derive(Deserialize)]
@@ -338,6 +366,7 @@ struct RawThread {
     side: SideName,
     form: FormName,
     flank_angle: Option<f64>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     flank_angles: Option<[f64; 2]>,
     major_diameter: f64,
     minor_diameter: Option<f64>,
@@ -354,6 +383,7 @@ struct RawThread {
     length: Option<f64>,
     turns: Option<f64>,
     width: Option<RawWidth>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     pitch_diameter_limits: Option<[f64; 2]>,
 }
 
@@ -392,11 +422,14 @@ struct RawTool {
     nose_radius: Option<f64>,
     tip_width: Option<f64>,
     flank_angle: Option<f64>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     flank_angles: Option<[f64; 2]>,
     reference: Option<RefName>,
     length: Option<f64>,
     file: Option<String>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     mesh_origin: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     mesh_axes: Option<[String; 3]>,
     mesh_units: Option<String>,
     mesh_body: Option<bool>,
@@ -474,6 +507,7 @@ enum SpindleName {
 struct RawMachine {
     #[serde(default)]
     kind: mill::MachineKind,
+    #[serde(default, deserialize_with = "keys::fixed")]
     axis: Option<[f64; 2]>,
     home_z: Option<f64>,
     #[serde(default = "default_rpm")]
@@ -511,6 +545,7 @@ struct RawSimulation {
     angular_cells: usize,
     #[serde(default = "default_tolerance")]
     tolerance: f64,
+    #[serde(default, deserialize_with = "keys::fixed")]
     z_range: Option<[f64; 2]>,
     max_dexels: Option<u64>,
     #[serde(default = "default_measure_spacing")]
@@ -697,16 +732,8 @@ impl Job {
         load: &dyn Fn(&str) -> Option<String>,
         strict: bool,
     ) -> Result<Job, JobError> {
-        let raw: RawJob = toml::from_str(src).map_err(|e| {
-            let (line, col) = e.span().map(|r| line_col(src, r.start)).unwrap_or((0, 0));
-            JobError::Syntax {
-                file: file.to_string(),
-                line,
-                col,
-                message: e.message().trim().to_string(),
-                snippet: source_line(src, line),
-            }
-        })?;
+        let raw: RawJob = toml::from_str(src).map_err(|e| keys::schema_error(src, file, &e))?;
+        keys::check_numbers(src, file)?;
         let cx = Ctx { src, file };
         resolve(raw, &cx, load, strict)
     }
