@@ -255,11 +255,7 @@ pub(super) fn schema_error(src: &str, file: &str, e: &toml::de::Error) -> JobErr
 /// `span`, whose error lists them (`one of `a`, `b``).
 fn names_at(src: &str, span: Option<Range<usize>>) -> Option<String> {
     let span = span?;
-    let text = format!(
-        "{}\"?\"{}",
-        src.get(..span.start)?,
-        src.get(span.end..)?
-    );
+    let text = format!("{}\"?\"{}", src.get(..span.start)?, src.get(span.end..)?);
     let e = toml::from_str::<super::RawJob>(&text).err()?;
     let (_, names) = e.message().split_once("expected ")?;
     names

@@ -577,7 +577,11 @@ impl Machine<'_> {
     pub(super) fn var_index(&self, c: &mut Cur) -> Result<u32, Fail> {
         let col = c.i;
         let v = if c.peek() == Some(b'[') {
-            let v = self.bracket(c)?;
+            c.i += 1;
+            let v = self.expr(c)?;
+            if !c.eat("]") {
+                return c.err("expected `]`");
+            }
             if v.is_nan() {
                 return Err((col, "the variable number is vacant (null)".into()));
             }
