@@ -8,6 +8,10 @@
 //! allocation; what a control alarms on (zero feed, G76 P); job numbers; job type errors
 //! (generated for every key of every scene); text encodings.
 
+// An `NcError` carries every diagnostic of a program; the helpers pass it on as the
+// library returns it.
+#![allow(clippy::result_large_err)]
+
 use crate::support::{scene_text, scenes};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
@@ -85,7 +89,7 @@ fn nines(n: usize) -> String {
     "9".repeat(n)
 }
 
-/// 1. Values: overflow, NaN, literals beyond any variable, variables and R parameters that
+/// Class 1: Values: overflow, NaN, literals beyond any variable, variables and R parameters that
 /// do not exist, function domains: refused where they are written, in every dialect.
 #[test]
 fn values_out_of_range_are_refused_where_they_are_written() {
@@ -190,7 +194,7 @@ fn values_out_of_range_are_refused_where_they_are_written() {
     );
 }
 
-/// 2. A computed jump goes to the block its value names, in every form.
+/// Class 2: A computed jump goes to the block its value names, in every form.
 #[test]
 fn computed_jumps_go_to_the_block_their_value_names() {
     let fg = &[F, G];
@@ -233,7 +237,7 @@ fn computed_jumps_go_to_the_block_their_value_names() {
     fails(fg, "GOTO[1.5]\n", 1, Some(5), "expected a sequence number");
 }
 
-/// 3. Nesting: 100,000 brackets or signs stop at the nesting limit with a message, not a
+/// Class 3: Nesting: 100,000 brackets or signs stop at the nesting limit with a message, not a
 /// stack overflow.
 #[test]
 fn deep_nesting_is_an_error_not_a_stack_overflow() {
@@ -297,7 +301,7 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
     );
 }
 
-/// 4. Moves: a loop that makes moves forever stops at the limit on moves, at the block,
+/// Class 4: Moves: a loop that makes moves forever stops at the limit on moves, at the block,
 /// long before the block limit or the memory; the G76 of 10,000 passes still runs.
 #[test]
 fn runaway_moves_stop_at_the_move_limit() {
@@ -342,7 +346,7 @@ fn runaway_moves_stop_at_the_move_limit() {
     );
 }
 
-/// 6. What a control alarms on: a feed move without a feed or with F0; a G76 P that is not
+/// Class 6: What a control alarms on: a feed move without a feed or with F0; a G76 P that is not
 /// six digits mm rr aa with a tool angle the control knows.
 #[test]
 fn feed_zero_and_g76_p_out_of_range_alarm() {
@@ -385,7 +389,7 @@ fn feed_zero_and_g76_p_out_of_range_alarm() {
     }
 }
 
-/// 9. Encodings: a NUL byte and bytes that are not ASCII outside comments are named with
+/// Class 9: Encodings: a NUL byte and bytes that are not ASCII outside comments are named with
 /// their code at line and column; a byte order mark is skipped; Latin-1 comments load.
 #[test]
 fn encodings_are_named_or_accepted() {
@@ -449,8 +453,11 @@ fn job_keys(text: &str) -> Vec<(usize, String, String)> {
         }
         // The value without a trailing comment.
         let v = v.trim();
-        let v = if v.starts_with('"') {
-            v[..v[1..].find('"').map_or(v.len(), |e| e + 2)].to_string()
+        let v = if let Some(rest) = v.strip_prefix('"') {
+            format!(
+                "\"{}",
+                &rest[..rest.find('"').map_or(rest.len(), |e| e + 1)]
+            )
         } else {
             v.split('#').next().unwrap_or("").trim().to_string()
         };
@@ -507,7 +514,7 @@ const RUST_NAMES: [&str; 12] = [
     "wanted string",
 ];
 
-/// 8. Every key of every scene given a value of the wrong type: the error names the dotted
+/// Class 8: Every key of every scene given a value of the wrong type: the error names the dotted
 /// key and its line, and says what is expected in the job file's words.
 #[test]
 fn every_type_error_names_its_key_in_the_job_files_words() {
@@ -537,7 +544,7 @@ fn every_type_error_names_its_key_in_the_job_files_words() {
     assert!(cases > 300, "{cases}");
 }
 
-/// 7. Every number of every scene set to nan, inf or 1e300: the error names the key.
+/// Class 7: Every number of every scene set to nan, inf or 1e300: the error names the key.
 #[test]
 fn every_number_must_be_finite_and_in_range() {
     let mut cases = 0;
