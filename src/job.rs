@@ -72,6 +72,7 @@ fn render(file: &str, line: usize, col: usize, key: &str, message: &str, snippet
     if line > 0 && !snippet.is_empty() {
         let num = line.to_string();
         let pad = " ".repeat(num.len());
+        let (snippet, col) = crate::nc::clip_line(snippet, col);
         s.push_str(&format!(
             "\n{pad} |\n{num} | {snippet}\n{pad} | {}^",
             " ".repeat(col.saturating_sub(1))

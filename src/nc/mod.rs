@@ -247,9 +247,10 @@ impl fmt::Display for Diagnostic {
         )?;
         let num = self.line.to_string();
         let pad = " ".repeat(num.len());
-        write!(f, "\n{pad} |\n{num} | {}", self.snippet.trim_end())?;
-        if self.col > 0 {
-            write!(f, "\n{pad} | {}^", " ".repeat(self.col - 1))?;
+        let (snippet, col) = clip_line(self.snippet.trim_end(), self.col);
+        write!(f, "\n{pad} |\n{num} | {snippet}")?;
+        if col > 0 {
+            write!(f, "\n{pad} | {}^", " ".repeat(col - 1))?;
         }
         if let Some(h) = &self.hint {
             write!(f, "\n{pad} = hint: {h}")?;
@@ -259,6 +260,34 @@ impl fmt::Display for Diagnostic {
         }
         Ok(())
     }
+}
+
+/// A source line as a message shows it: a long one (a hostile program's 100,000 brackets)
+/// cut to a window of about 100 characters around the 1-based character column `col` (0:
+/// no column), with `...` where it was cut; and the column in what is shown.
+pub(crate) fn clip_line(line: &str, col: usize) -> (String, usize) {
+    const WIDTH: usize = 100;
+    let n = line.chars().count();
+    if n <= WIDTH {
+        return (line.to_string(), col);
+    }
+    let at = col.saturating_sub(1).min(n);
+    let start = at.saturating_sub(WIDTH / 2).min(n - WIDTH);
+    let end = start + WIDTH;
+    let mut out = String::new();
+    if start > 0 {
+        out.push_str("...");
+    }
+    out.extend(line.chars().skip(start).take(WIDTH));
+    if end < n {
+        out.push_str("...");
+    }
+    let col = if col == 0 {
+        0
+    } else {
+        col - start + if start > 0 { 3 } else { 0 }
+    };
+    (out, col)
 }
 
 /// A program that cannot be run: the error that stopped it (its fields), and every other

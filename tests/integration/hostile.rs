@@ -73,6 +73,8 @@ fn fails(dialects: &[Dialect], text: &str, line: usize, col: Option<usize>, want
             "{d:?} {short:?}: wanted {want:?} in {shown}"
         );
         assert!(shown.contains(&format!("P.NC:{line}:")), "{d:?}: {shown}");
+        // A long line is shown cut around the column.
+        assert!(shown.len() < 2000, "{d:?}: {} characters", shown.len());
     }
 }
 
@@ -577,6 +579,17 @@ fn every_number_must_be_finite_and_in_range() {
         let msg = job_error(&text, key);
         assert!(msg.contains(&format!("`process.{key}`")), "{msg}");
     }
+    // TOML nested 100,000 deep: the parser's limit, shown cut around the place.
+    let deep = base.replace(
+        "[simulation]",
+        &format!(
+            "[simulation]\nz_range = {}{}",
+            "[".repeat(100_000),
+            "]".repeat(100_000)
+        ),
+    );
+    let msg = job_error(&deep, "deep z_range");
+    assert!(msg.starts_with("job.toml:") && msg.len() < 1000, "{msg}");
     for (table, key) in [("blank", "diameter"), ("thread", "pitch")] {
         let text = crate::support::with(&base, &[(table, key, "1e300")]);
         let msg = job_error(&text, key);
