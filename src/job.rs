@@ -1419,6 +1419,19 @@ fn resolve_thread(
     if turns > 100_000.0 {
         return Err(cx.err("thread", format!("{turns} turns: at most 100000")));
     }
+    if turns < 1.0 {
+        // A pitch far longer than the thread (`pitch = 1e4` over 72 mm) leaves nothing to
+        // measure: no turn, no flank pair, an empty report.
+        let key = match (series_turns, t.length) {
+            (Some(_), _) => "thread.pitch",
+            (None, Some(_)) => "thread.length",
+            (None, None) => "thread.turns",
+        };
+        return Err(cx.err(
+            key,
+            format!("the thread has {turns:.4} turns (its length over the pitch {p1} mm): expected at least one"),
+        ));
+    }
     let law = LeadLaw {
         f: starts as f64 * (p1 - dp / 2.0),
         k: starts as f64 * dp,
