@@ -582,7 +582,10 @@ fn every_number_must_be_finite_and_in_range() {
     // A pitch longer than the thread: no turn to cut or measure.
     let text = crate::support::with(&base, &[("thread", "pitch", "10000.0")]);
     let msg = job_error(&text, "pitch 1e4");
-    assert!(msg.contains("`thread.length`") && msg.contains("at least one"), "{msg}");
+    assert!(
+        msg.contains("`thread.length`") && msg.contains("at least one"),
+        "{msg}"
+    );
     // TOML nested 100,000 deep: the parser's limit, shown cut around the place.
     let deep = base.replace(
         "[simulation]",
