@@ -14,6 +14,7 @@ use crate::tool::{Body, Edge, Reference, Tool};
 use serde::Deserialize;
 use std::fmt;
 
+mod keys;
 mod mill;
 pub use mill::MillJob;
 
@@ -71,6 +72,7 @@ fn render(file: &str, line: usize, col: usize, key: &str, message: &str, snippet
     if line > 0 && !snippet.is_empty() {
         let num = line.to_string();
         let pad = " ".repeat(num.len());
+        let (snippet, col) = crate::nc::clip_line(snippet, col);
         s.push_str(&format!(
             "\n{pad} |\n{num} | {snippet}\n{pad} | {}^",
             " ".repeat(col.saturating_sub(1))
@@ -308,11 +310,38 @@ enum HandName {
     Left,
 }
 
-#[derive(Deserialize)]
-#[serde(untagged)]
+/// `pitch = 6.0` or `pitch = { first, increment, last | turns }`.
 enum RawPitch {
     Constant(f64),
     Series(RawSeries),
+}
+
+impl<'de> Deserialize<'de> for RawPitch {
+    /// A number or a table, told apart by what the file holds; any other value is an error
+    /// that says both forms (an untagged enum would only say that nothing matched).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Pitch;
+        impl<'de> serde::de::Visitor<'de> for Pitch {
+            type Value = RawPitch;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a pitch in mm or a table { first = .., increment = .., last = .. or turns = .. }")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<RawPitch, E> {
+                Ok(RawPitch::Constant(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<RawPitch, E> {
+                Ok(RawPitch::Constant(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<RawPitch, E> {
+                Ok(RawPitch::Constant(v as f64))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<RawPitch, A::Error> {
+                RawSeries::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(RawPitch::Series)
+            }
+        }
+        d.deserialize_any(Pitch)
+    }
 }
 
 #[derive(Deserialize)]
@@ -338,6 +367,7 @@ struct RawThread {
     side: SideName,
     form: FormName,
     flank_angle: Option<f64>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     flank_angles: Option<[f64; 2]>,
     major_diameter: f64,
     minor_diameter: Option<f64>,
@@ -354,6 +384,7 @@ struct RawThread {
     length: Option<f64>,
     turns: Option<f64>,
     width: Option<RawWidth>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     pitch_diameter_limits: Option<[f64; 2]>,
 }
 
@@ -392,11 +423,14 @@ struct RawTool {
     nose_radius: Option<f64>,
     tip_width: Option<f64>,
     flank_angle: Option<f64>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     flank_angles: Option<[f64; 2]>,
     reference: Option<RefName>,
     length: Option<f64>,
     file: Option<String>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     mesh_origin: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "keys::fixed")]
     mesh_axes: Option<[String; 3]>,
     mesh_units: Option<String>,
     mesh_body: Option<bool>,
@@ -474,6 +508,7 @@ enum SpindleName {
 struct RawMachine {
     #[serde(default)]
     kind: mill::MachineKind,
+    #[serde(default, deserialize_with = "keys::fixed")]
     axis: Option<[f64; 2]>,
     home_z: Option<f64>,
     #[serde(default = "default_rpm")]
@@ -511,6 +546,7 @@ struct RawSimulation {
     angular_cells: usize,
     #[serde(default = "default_tolerance")]
     tolerance: f64,
+    #[serde(default, deserialize_with = "keys::fixed")]
     z_range: Option<[f64; 2]>,
     max_dexels: Option<u64>,
     #[serde(default = "default_measure_spacing")]
@@ -697,16 +733,8 @@ impl Job {
         load: &dyn Fn(&str) -> Option<String>,
         strict: bool,
     ) -> Result<Job, JobError> {
-        let raw: RawJob = toml::from_str(src).map_err(|e| {
-            let (line, col) = e.span().map(|r| line_col(src, r.start)).unwrap_or((0, 0));
-            JobError::Syntax {
-                file: file.to_string(),
-                line,
-                col,
-                message: e.message().trim().to_string(),
-                snippet: source_line(src, line),
-            }
-        })?;
+        let raw: RawJob = toml::from_str(src).map_err(|e| keys::schema_error(src, file, &e))?;
+        keys::check_numbers(src, file)?;
         let cx = Ctx { src, file };
         resolve(raw, &cx, load, strict)
     }
@@ -1406,6 +1434,19 @@ fn resolve_thread(
     };
     if turns > 100_000.0 {
         return Err(cx.err("thread", format!("{turns} turns: at most 100000")));
+    }
+    if turns < 1.0 {
+        // A pitch far longer than the thread (`pitch = 1e4` over 72 mm) leaves nothing to
+        // measure: no turn, no flank pair, an empty report.
+        let key = match (series_turns, t.length) {
+            (Some(_), _) => "thread.pitch",
+            (None, Some(_)) => "thread.length",
+            (None, None) => "thread.turns",
+        };
+        return Err(cx.err(
+            key,
+            format!("the thread has {turns:.4} turns (its length over the pitch {p1} mm): expected at least one"),
+        ));
     }
     let law = LeadLaw {
         f: starts as f64 * (p1 - dp / 2.0),

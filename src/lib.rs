@@ -81,9 +81,9 @@ pub use mill::{
     SAMPLING_BOUND_MM as MILL_SAMPLING_BOUND_MM,
 };
 pub use nc::{
-    interpret, interpret_with, to_csv, ArcGeometry, CompSide, Diagnostic, Dialect, Limits, MillArc,
-    MillKind, MillMove, MillSettings, Move, MoveKind, NcError, Options as NcOptions, Plane,
-    Settings, Severity, Source, Toolpath,
+    decode_program, interpret, interpret_with, to_csv, ArcGeometry, CompSide, Diagnostic, Dialect,
+    Limits, MillArc, MillKind, MillMove, MillSettings, Move, MoveKind, NcError,
+    Options as NcOptions, Plane, Settings, Severity, Source, Toolpath,
 };
 pub use pass::Pass;
 pub use plot::{developed_view, section_profile, section_view, signed_deviation};
@@ -138,6 +138,16 @@ pub enum SimError {
         limit: f64,
         /// Angular columns.
         columns: usize,
+    },
+    /// The memory for the stock grid could not be allocated.
+    #[error("cannot allocate {bytes} bytes for the stock ({angular} angular x {axial} axial cells): coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or lower --max-dexels")]
+    OutOfMemory {
+        /// Bytes asked for.
+        bytes: u128,
+        /// Angular cells.
+        angular: usize,
+        /// Axial cells.
+        axial: usize,
     },
     /// The axial window holds no cell.
     #[error("the axial window [{lo}, {hi}] mm holds no cell of the blank")]
@@ -197,6 +207,18 @@ pub fn plan_grid(job: &Job) -> Result<(Grid, u64), SimError> {
     Ok((grid, requested))
 }
 
+/// The job's blank on `grid`, or the error that its memory cannot be had.
+fn blank_stock(job: &Job, grid: Grid) -> Result<Stock, SimError> {
+    Stock::try_blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0).ok_or_else(|| {
+        let surfaces: u128 = if job.blank.bore > 0.0 { 2 } else { 1 };
+        SimError::OutOfMemory {
+            bytes: grid.n_theta as u128 * grid.n_z as u128 * surfaces * 4,
+            angular: grid.n_theta,
+            axial: grid.n_z,
+        }
+    })
+}
+
 /// Simulate a job: sweep, compare, measure, check, report.
 pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     let t_start = Instant::now();
@@ -230,7 +252,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     }
     let thread = &job.thread;
     let surface = thread_surface(thread);
-    let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+    let mut stock = blank_stock(job, grid)?;
     let t_setup = t_start.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
@@ -239,12 +261,14 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     // difference is what the bodies cut beyond their edges. Bodies that are all skipped
     // (they cannot reach past their edges) cut exactly the edges' stock: no second sweep.
     let swept = interference::swept_bodies(job, stock.blank_q(surface), surface);
-    let edge_stock = (!swept.is_empty()).then(|| {
+    let edge_stock = if swept.is_empty() {
+        None
+    } else {
         let edges: Vec<Tool> = job.tools.iter().map(Tool::edge_only).collect();
-        let mut planar = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+        let mut planar = blank_stock(job, grid)?;
         sweep(&mut planar, surface, &job.passes, &edges);
-        planar
-    });
+        Some(planar)
+    };
     let bodies = interference::has_bodies(job).then(|| {
         (
             edge_stock
@@ -339,7 +363,7 @@ fn simulate_mill(
     }
     let thread = &job.thread;
     let surface = thread_surface(thread);
-    let mut stock = Stock::blank(grid, job.blank.diameter / 2.0, job.blank.bore / 2.0);
+    let mut stock = blank_stock(job, grid)?;
     let t_setup = t_start.elapsed().as_secs_f64();
     let t0 = Instant::now();
     let stats = sweep_mill(&mut stock, surface, &mj.path, &mj.cutters);

@@ -254,7 +254,11 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     let src = std::fs::read_to_string(&args.job)
         .with_context(|| format!("cannot read the job file {}", args.job.display()))?;
     let dir = args.job.parent().map(Path::to_path_buf).unwrap_or_default();
-    let load = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
+    let load = |name: &str| {
+        std::fs::read(dir.join(name))
+            .ok()
+            .map(vpcut::decode_program)
+    };
     let job = vpcut::Job::from_toml_with(&src, &args.job.display().to_string(), &load)?;
     let plan = job.plan.as_ref().with_context(|| {
         format!(
@@ -344,7 +348,11 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let src = std::fs::read_to_string(&args.job)
         .with_context(|| format!("cannot read the job file {}", args.job.display()))?;
     let dir = args.job.parent().map(Path::to_path_buf).unwrap_or_default();
-    let load = |name: &str| std::fs::read_to_string(dir.join(name)).ok();
+    let load = |name: &str| {
+        std::fs::read(dir.join(name))
+            .ok()
+            .map(vpcut::decode_program)
+    };
     let job =
         vpcut::Job::from_toml_opts(&src, &args.job.display().to_string(), &load, args.strict)?;
     let opts = vpcut::Options {
@@ -431,7 +439,8 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
             args.dialect
         )
     })?;
-    let text = std::fs::read_to_string(&args.program)
+    let text = std::fs::read(&args.program)
+        .map(vpcut::decode_program)
         .with_context(|| format!("cannot read {}", args.program.display()))?;
     let dir = args
         .program
@@ -445,8 +454,9 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
         .unwrap_or_default();
     let main = vpcut::Source { name, text };
     let load = |n: &str| {
-        std::fs::read_to_string(dir.join(n))
+        std::fs::read(dir.join(n))
             .ok()
+            .map(vpcut::decode_program)
             .map(|text| vpcut::Source {
                 name: n.to_string(),
                 text,

@@ -20,6 +20,7 @@
 //! language is read by the interpreter itself.
 
 use super::codes::{self, Verdict};
+use super::expr::{char_at, char_col, describe_char, FANUC_MAX_VALUE, MAX_NEST, SIEMENS_MAX_VALUE};
 use super::program::Program;
 use super::{Diagnostic, Dialect, Severity};
 
@@ -31,6 +32,8 @@ struct Line<'a> {
     /// A FANUC milling program (its G/M codes and addresses).
     mill: bool,
     out: &'a mut Vec<(usize, Severity, String, Option<String>)>,
+    /// Expressions being read inside each other (bounded: no block can exhaust the stack).
+    nest: usize,
 }
 
 type Stop = ();
@@ -132,7 +135,25 @@ impl Line<'_> {
             return None;
         }
         let t = String::from_utf8_lossy(&self.s[st..self.i]).into_owned();
+        let max = match self.dialect {
+            Dialect::Siemens802d => SIEMENS_MAX_VALUE,
+            _ => FANUC_MAX_VALUE,
+        };
         match t.parse::<f64>() {
+            Ok(v) if v > max => {
+                let shown = if t.len() > 20 {
+                    format!("{}.. ({} characters)", &t[..12], t.len())
+                } else {
+                    t
+                };
+                self.out.push((
+                    st + 1,
+                    Severity::Error,
+                    format!("the number {shown} is too large (at most ±{max:e})"),
+                    None,
+                ));
+                Some(None)
+            }
             Ok(v) => Some(Some(v)),
             Err(_) => {
                 self.out.push((
@@ -147,18 +168,24 @@ impl Line<'_> {
     }
     fn unexpected(&mut self, what: &str) -> Result<(), Stop> {
         let col = self.i + 1;
-        let Some(c) = self.s.get(self.i).map(|&b| b as char) else {
+        if self.i >= self.s.len() {
             return self.error(col, format!("the block ends here: expected {what}"), None);
-        };
-        if c.is_ascii() {
-            self.error(col, format!("unexpected `{c}`: expected {what}"), None)
-        } else {
-            self.error(
-                col,
-                format!("a character that is not part of the language: expected {what}"),
-                None,
-            )
         }
+        let c = describe_char(char_at(&self.s, self.i));
+        self.error(col, format!("unexpected {c}: expected {what}"), None)
+    }
+    /// Enter one more level of an expression; an error past `MAX_NEST`.
+    fn enter(&mut self) -> Result<(), Stop> {
+        if self.nest >= MAX_NEST {
+            let col = self.i + 1;
+            return self.error(
+                col,
+                format!("the expression nests more than {MAX_NEST} levels deep"),
+                Some("split it over several assignments"),
+            );
+        }
+        self.nest += 1;
+        Ok(())
     }
 }
 
@@ -206,6 +233,12 @@ impl Line<'_> {
         }
     }
     fn f_primary(&mut self) -> Result<(), Stop> {
+        self.enter()?;
+        let r = self.f_primary_inner();
+        self.nest -= 1;
+        r
+    }
+    fn f_primary_inner(&mut self) -> Result<(), Stop> {
         match self.peek() {
             Some(b'[') => self.f_bracket(),
             Some(b'#') => {
@@ -486,6 +519,12 @@ impl Line<'_> {
         }
     }
     fn s_primary(&mut self) -> Result<(), Stop> {
+        self.enter()?;
+        let r = self.s_primary_inner();
+        self.nest -= 1;
+        r
+    }
+    fn s_primary_inner(&mut self) -> Result<(), Stop> {
         match self.peek() {
             Some(b'(') => {
                 self.i += 1;
@@ -696,13 +735,14 @@ pub(super) fn check_program(
             dialect,
             mill,
             out: &mut found,
+            nest: 0,
         };
         let diag =
             |col: usize, severity: Severity, message: String, hint: Option<String>| Diagnostic {
                 severity,
                 file: prog.name.clone(),
                 line: *line,
-                col,
+                col: char_col(orig, col),
                 message,
                 hint,
                 snippet: orig.clone(),

@@ -209,7 +209,7 @@ fn g76_taper_and_chamfer_passes_by_hand() {
 #[test]
 fn arcs_by_radius_and_by_centre_agree() {
     let moves = run(
-        "G0 X0 Z0\nG03 X20 Z-10 R10\nG0 X0 Z0\nG03 X20 Z-10 I0 K-10\n\
+        "G0 X0 Z0 F0.2\nG03 X20 Z-10 R10\nG0 X0 Z0\nG03 X20 Z-10 I0 K-10\n\
          G02 X40 Z-20 R10\nG0 X20 Z-10\nG02 X40 Z-20 I10 K0\nG0 X20 Z-10\nG2 X40 Z-20 R-10\n\
          G1 W-5\nM30\n",
         Dialect::Fanuc,
@@ -255,14 +255,14 @@ fn arcs_by_radius_and_by_centre_agree() {
 /// longer than the diameter 20: an error at R (column 14).
 #[test]
 fn arc_end_off_the_circle_is_an_error_at_line_and_column() {
-    let e = run("G0 X0 Z0\nG03 X20 Z-10 I0 K-10.01\n", Dialect::Fanuc).unwrap_err();
+    let e = run("G0 X0 Z0 F0.2\nG03 X20 Z-10 I0 K-10.01\n", Dialect::Fanuc).unwrap_err();
     assert_eq!((e.line, e.col), (2, 14), "{e}");
     assert!(e.message.contains("off the circle"), "{e}");
     assert!(e.to_string().starts_with("T.NC:2:14:"), "{e}");
-    run("G0 X0 Z0\nG03 X20 Z-10 I0 K-10.001\n", Dialect::Fanuc).unwrap();
-    let e = run("G0 X0 Z0\nG02 X40 Z-30 R10\n", Dialect::Fanuc).unwrap_err();
+    run("G0 X0 Z0 F0.2\nG03 X20 Z-10 I0 K-10.001\n", Dialect::Fanuc).unwrap();
+    let e = run("G0 X0 Z0 F0.2\nG02 X40 Z-30 R10\n", Dialect::Fanuc).unwrap_err();
     assert_eq!((e.line, e.col), (2, 14), "{e}");
-    let e = run("G0 X0 Z0\nG02 X40 Z-30\n", Dialect::Fanuc).unwrap_err();
+    let e = run("G0 X0 Z0 F0.2\nG02 X40 Z-30\n", Dialect::Fanuc).unwrap_err();
     assert!(e.message.contains("needs R"), "{e}");
 }
 
@@ -272,7 +272,7 @@ fn arc_end_off_the_circle_is_an_error_at_line_and_column() {
 #[test]
 fn siemens_and_linuxcnc_arcs() {
     let moves = run(
-        "G0 X0 Z0\nG3 X20 Z-10 CR=10\nG3 X0 Z-20 I=-10 K=0\nM30\n",
+        "G0 X0 Z0 F0.2\nG3 X20 Z-10 CR=10\nG3 X0 Z-20 I=-10 K=0\nM30\n",
         Dialect::Siemens802d,
     )
     .unwrap();
@@ -293,7 +293,11 @@ fn siemens_and_linuxcnc_arcs() {
     for (g, w) in a.iter().zip(&want) {
         assert!(close(g.0, w.0) && close(g.1, w.1) && close(g.2, w.2) && close(g.3, w.3));
     }
-    let moves = run("G8\nG0 X0 Z0\nG3 X10 Z-10 R10\nM2\n", Dialect::Linuxcnc).unwrap();
+    let moves = run(
+        "G8\nG0 X0 Z0 F0.2\nG3 X10 Z-10 R10\nM2\n",
+        Dialect::Linuxcnc,
+    )
+    .unwrap();
     let m = &moves[1];
     let c = m.arc.unwrap();
     assert!(close(m.x_dia, 20.0) && close(m.z, -10.0), "{m:?}");

@@ -8,6 +8,97 @@ pub(super) struct Cur<'a> {
     pub(super) s: &'a [u8],
     pub(super) i: usize,
     pub(super) dialect: Dialect,
+    /// Values being read inside each other (bounded: no block can exhaust the stack).
+    nest: usize,
+}
+
+/// How deep expressions may nest (brackets, signs, functions) in every dialect's reader.
+pub(super) const MAX_NEST: usize = 100;
+
+/// The largest magnitude a FANUC/GSK macro variable holds: "-10^47 to 10^47" (FANUC Custom
+/// Macro B; beyond it alarm 111, calculation data overflow).
+pub(super) const FANUC_MAX_VALUE: f64 = 1e47;
+/// The largest magnitude of a Siemens R parameter: "10^-300 .. 10^+300" (SINUMERIK
+/// parameter programming, `controllers.md` 6).
+pub(super) const SIEMENS_MAX_VALUE: f64 = 1e300;
+/// The largest word value FANUC/GSK take: eight digits (alarm 003, too many digits).
+pub(super) const FANUC_MAX_WORD: f64 = 99_999_999.0;
+/// The largest word value Siemens 802D takes (nine digits; no axis goes further).
+pub(super) const SIEMENS_MAX_WORD: f64 = 999_999_999.0;
+/// Siemens 802D R parameters: R0..R299 (the 802D sl default of 300, `controllers.md` 6).
+pub(super) const SIEMENS_R_PARAMETERS: u32 = 300;
+
+/// The value of an arithmetic result, or why it cannot be one: not finite or beyond what
+/// the dialect's variables hold. `what` names the operation for the message.
+pub(super) fn in_range(
+    dialect: Dialect,
+    col: usize,
+    v: f64,
+    what: impl FnOnce() -> String,
+) -> Result<f64, Fail> {
+    let max = match dialect {
+        Dialect::Siemens802d => SIEMENS_MAX_VALUE,
+        _ => FANUC_MAX_VALUE,
+    };
+    if v.is_finite() && v.abs() <= max {
+        return Ok(v);
+    }
+    let alarm = match dialect {
+        Dialect::Siemens802d => "",
+        _ => " (alarm 111)",
+    };
+    let why = if v.is_nan() {
+        "is not a number".to_string()
+    } else {
+        format!("overflows: the result is beyond ±{max:e}{alarm}")
+    };
+    Err((col, format!("{} {why}", what())))
+}
+
+/// How a character reads in a message: itself in backquotes, or its code for a NUL,
+/// another control character or a character that is not ASCII.
+pub(super) fn describe_char(c: char) -> String {
+    match c {
+        '\0' => "a NUL byte (0x00)".to_string(),
+        c if c.is_ascii_control() => format!("a control character (0x{:02X})", c as u32),
+        c if !c.is_ascii() => {
+            let latin1 = if (c as u32) < 0x100 {
+                format!("; the byte 0x{:02X} in a Latin-1 file", c as u32)
+            } else {
+                String::new()
+            };
+            format!(
+                "a character that is not ASCII, `{c}` (U+{:04X}{latin1})",
+                c as u32
+            )
+        }
+        c => format!("`{c}`"),
+    }
+}
+
+/// A 1-based column counted in bytes of `line` as one counted in characters (0 stays 0:
+/// the whole block).
+pub(super) fn char_col(line: &str, col: usize) -> usize {
+    if col <= 1 {
+        return col;
+    }
+    match line.get(..(col - 1).min(line.len())) {
+        Some(before) => before.chars().count() + 1,
+        None => col,
+    }
+}
+
+/// The character starting at byte `i` of `s` (valid UTF-8 from a char boundary).
+pub(super) fn char_at(s: &[u8], i: usize) -> char {
+    let end = (i + 4).min(s.len());
+    let bytes = &s[i.min(end)..end];
+    match std::str::from_utf8(bytes) {
+        Ok(t) => t.chars().next(),
+        Err(e) => std::str::from_utf8(&bytes[..e.valid_up_to()])
+            .ok()
+            .and_then(|t| t.chars().next()),
+    }
+    .unwrap_or(char::from(bytes.first().copied().unwrap_or(b' ')))
 }
 
 pub(super) type Fail = (usize, String);
@@ -18,7 +109,15 @@ impl<'a> Cur<'a> {
             s: s.as_bytes(),
             i: 0,
             dialect,
+            nest: 0,
         }
+    }
+    /// What stands at the cursor, for a message (`the block ends here` at the end).
+    pub(super) fn here(&self) -> String {
+        if self.i >= self.s.len() {
+            return "the end of the block".into();
+        }
+        describe_char(char_at(self.s, self.i))
     }
     pub(super) fn ws(&mut self) {
         while self.i < self.s.len() && self.s[self.i].is_ascii_whitespace() {
@@ -136,12 +235,18 @@ impl Machine<'_> {
         self.programs.insert(p.name.clone(), p);
     }
 
-    pub(super) fn get(&self, c: &mut Cur, idx: u32) -> Result<f64, Fail> {
+    /// The value of R parameter `idx` (Siemens) or variable `#idx` (FANUC/GSK); `col` is
+    /// where the reference starts, for errors.
+    pub(super) fn get(&self, c: &Cur, idx: f64, col: usize) -> Result<f64, Fail> {
         match c.dialect {
-            Dialect::Siemens802d => Ok(*self.r.get(&idx).unwrap_or(&0.0)),
+            Dialect::Siemens802d => {
+                let n = r_index(idx, col)?;
+                Ok(*self.r.get(&n).unwrap_or(&0.0))
+            }
             Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
                 // Null (vacant, and #0) is carried as NaN: 0 in arithmetic, but not equal
                 // to 0 under EQ/NE (controllers.md 4.1).
+                let idx = var_number(idx, col, true)?;
                 let v = if idx == 0 {
                     None
                 } else if (1..=33).contains(&idx) {
@@ -231,28 +336,33 @@ impl Machine<'_> {
     pub(super) fn add(&self, c: &mut Cur) -> Result<f64, Fail> {
         let mut v = self.mul(c)?;
         loop {
-            if c.eat("+") {
-                v = z(v) + z(self.mul(c)?);
+            c.ws();
+            let at = c.i + 1;
+            let (r, op) = if c.eat("+") {
+                (z(v) + z(self.mul(c)?), "+")
             } else if c.peek() == Some(b'-') {
                 c.i += 1;
-                v = z(v) - z(self.mul(c)?);
+                (z(v) - z(self.mul(c)?), "-")
             } else {
                 return Ok(v);
-            }
+            };
+            v = in_range(c.dialect, at, r, || format!("`{op}`"))?;
         }
     }
     pub(super) fn mul(&self, c: &mut Cur) -> Result<f64, Fail> {
         let mut v = self.unary(c)?;
         loop {
-            if c.eat("*") {
-                v = z(v) * z(self.unary(c)?);
+            c.ws();
+            let at = c.i + 1;
+            let (r, op) = if c.eat("*") {
+                (z(v) * z(self.unary(c)?), "*")
             } else if c.eat("/") {
                 let at = c.i;
                 let w = z(self.unary(c)?);
                 if w == 0.0 {
                     return Err((at + 1, "division by zero".into()));
                 }
-                v = z(v) / w;
+                (z(v) / w, "/")
             } else if c.eat("MOD") || (c.dialect == Dialect::Siemens802d && c.eat("DIV")) {
                 let div = c.s[..c.i].ends_with(b"DIV");
                 let at = c.i;
@@ -260,13 +370,30 @@ impl Machine<'_> {
                 if w == 0.0 {
                     return Err((at + 1, "division by zero".into()));
                 }
-                v = if div { (z(v) / w).trunc() } else { z(v) % w };
+                if div {
+                    ((z(v) / w).trunc(), "DIV")
+                } else {
+                    (z(v) % w, "MOD")
+                }
             } else {
                 return Ok(v);
-            }
+            };
+            v = in_range(c.dialect, at, r, || format!("`{op}`"))?;
         }
     }
     pub(super) fn unary(&self, c: &mut Cur) -> Result<f64, Fail> {
+        if c.nest >= MAX_NEST {
+            c.ws();
+            return c.err(format!(
+                "the expression nests more than {MAX_NEST} levels deep"
+            ));
+        }
+        c.nest += 1;
+        let v = self.unary_inner(c);
+        c.nest -= 1;
+        v
+    }
+    fn unary_inner(&self, c: &mut Cur) -> Result<f64, Fail> {
         if c.eat("-") {
             return Ok(-z(self.unary(c)?));
         }
@@ -277,6 +404,31 @@ impl Machine<'_> {
             return Ok(f64::from(z(self.unary(c)?) == 0.0));
         }
         self.primary(c)
+    }
+    /// An unsigned number in an expression or a word, in the dialect's range.
+    pub(super) fn literal(&self, c: &mut Cur) -> Result<Option<f64>, Fail> {
+        c.ws();
+        let at = c.i + 1;
+        let Some(v) = c.number() else {
+            return Ok(None);
+        };
+        let max = match c.dialect {
+            Dialect::Siemens802d => SIEMENS_MAX_VALUE,
+            _ => FANUC_MAX_VALUE,
+        };
+        if v.abs() > max {
+            let text = String::from_utf8_lossy(&c.s[at - 1..c.i]);
+            let shown = if text.len() > 20 {
+                format!("{}.. ({} characters)", &text[..12], text.len())
+            } else {
+                text.into_owned()
+            };
+            return Err((
+                at,
+                format!("the number {shown} is too large (at most ±{max:e})"),
+            ));
+        }
+        Ok(Some(v))
     }
     pub(super) fn primary(&self, c: &mut Cur) -> Result<f64, Fail> {
         let (open, close) = match c.dialect {
@@ -293,25 +445,29 @@ impl Machine<'_> {
         if c.dialect == Dialect::Fanuc && c.eat("#") {
             return self.var_ref(c);
         }
-        if let Some(v) = c.number() {
+        if let Some(v) = self.literal(c)? {
             return Ok(v);
         }
+        c.ws();
         let at = c.i;
         let name = c.ident();
         if name.is_empty() {
-            return c.err("expected a number, a parameter or a function");
+            return c.err(format!(
+                "expected a number, a parameter or a function, found {}",
+                c.here()
+            ));
         }
         if c.dialect == Dialect::Siemens802d && name == "R" {
             let Some(n) = c.number() else {
                 return c.err("expected an R parameter number");
             };
-            return self.get(c, n as u32);
+            return self.get(c, n, at + 1);
         }
         if !c.eat(open) {
             return Err((at + 1, format!("unknown name `{name}`")));
         }
         let a = z(self.expr(c)?);
-        let b = if c.eat(",") {
+        let mut b = if c.eat(",") {
             Some(z(self.expr(c)?))
         } else {
             None
@@ -319,15 +475,33 @@ impl Machine<'_> {
         if !c.eat(close) {
             return c.err(format!("expected `{close}`"));
         }
+        // FANUC's two-argument arc tangent `ATAN[y]/[x]`.
+        if name == "ATAN" && b.is_none() && c.dialect != Dialect::Siemens802d {
+            let save = c.i;
+            if c.eat("/") && c.peek() == Some(b'[') {
+                c.i += 1;
+                b = Some(z(self.expr(c)?));
+                if !c.eat("]") {
+                    return c.err("expected `]`");
+                }
+            } else {
+                c.i = save;
+            }
+        }
+        let domain = |what: &str| -> Result<f64, Fail> {
+            let alarm = if c.dialect == Dialect::Siemens802d {
+                ""
+            } else {
+                " (alarm 111)"
+            };
+            Err((at + 1, format!("{name} of {a}: {what}{alarm}")))
+        };
         let v = match (name.as_str(), b) {
             ("ABS", None) => a.abs(),
             ("SQRT", None) if a >= 0.0 => a.sqrt(),
-            ("SQRT", None) => return Err((at + 1, "square root of a negative number".into())),
+            ("SQRT", None) => return domain("the square root of a negative number"),
             ("ASIN", None) | ("ACOS", None) if a.abs() > 1.0 => {
-                return Err((
-                    at + 1,
-                    format!("{name} of {a}: the argument must lie in -1..1"),
-                ))
+                return domain("the argument must lie in -1..1")
             }
             ("ASIN", None) => a.asin().to_degrees(),
             ("ACOS", None) => a.acos().to_degrees(),
@@ -348,6 +522,7 @@ impl Machine<'_> {
             ("ROUND", None) => a.round(),
             ("POT", None) => a * a,
             ("LN", None) if a > 0.0 => a.ln(),
+            ("LN", None) => return domain("the logarithm needs a positive argument"),
             ("EXP", None) => a.exp(),
             _ => {
                 return Err((
@@ -356,21 +531,26 @@ impl Machine<'_> {
                 ))
             }
         };
-        Ok(v)
+        in_range(c.dialect, at + 1, v, || format!("{name} of {a}"))
     }
     pub(super) fn var_ref(&self, c: &mut Cur) -> Result<f64, Fail> {
+        // Errors point at the `#`.
+        let col = c.i;
         let idx = if c.peek() == Some(b'[') {
             c.i += 1;
             let v = self.expr(c)?;
             if !c.eat("]") {
                 return c.err("expected `]`");
             }
+            if v.is_nan() {
+                return Err((col, "the variable number is vacant (null)".into()));
+            }
             v
         } else {
             c.number()
                 .ok_or((c.i + 1, "expected a variable number".to_string()))?
         };
-        self.get(c, idx.round() as u32)
+        self.get(c, idx, col)
     }
 
     /// A FANUC word value: a number, `#n`, `-#n` or `[expr]`.
@@ -387,23 +567,30 @@ impl Machine<'_> {
             }
             v
         } else {
-            c.number()
-                .ok_or((c.i + 1, "expected a number".to_string()))?
+            self.literal(c)?
+                .ok_or((c.i + 1, format!("expected a number, found {}", c.here())))?
         };
         Ok(if neg { -v } else { v })
     }
 
+    /// The variable a FANUC assignment `#n=` or `#[..]=` sets.
     pub(super) fn var_index(&self, c: &mut Cur) -> Result<u32, Fail> {
+        let col = c.i;
         let v = if c.peek() == Some(b'[') {
-            self.bracket(c)?
+            c.i += 1;
+            let v = self.expr(c)?;
+            if !c.eat("]") {
+                return c.err("expected `]`");
+            }
+            if v.is_nan() {
+                return Err((col, "the variable number is vacant (null)".into()));
+            }
+            v
         } else {
             c.number()
                 .ok_or((c.i + 1, "expected a variable number".to_string()))?
         };
-        if !(1.0..=9999.0).contains(&v) {
-            return c.err(format!("variable #{v} cannot be set"));
-        }
-        Ok(v.round() as u32)
+        var_number(v, col, false)
     }
 
     pub(super) fn bracket(&self, c: &mut Cur) -> Result<f64, Fail> {
@@ -416,4 +603,65 @@ impl Machine<'_> {
         }
         Ok(z(v))
     }
+
+    /// A word's value in the dialect's range (`col` is the word's letter); null (a vacant
+    /// FANUC variable) passes, it leaves the word out.
+    pub(super) fn word_value(&self, name: &str, v: f64, col: usize) -> Result<f64, Fail> {
+        let (max, digits) = match self.dialect {
+            Dialect::Siemens802d => (SIEMENS_MAX_WORD, "nine"),
+            _ => (FANUC_MAX_WORD, "eight"),
+        };
+        if v.is_nan() && self.dialect != Dialect::Siemens802d {
+            return Ok(v);
+        }
+        if v.is_finite() && v.abs() <= max {
+            return Ok(v);
+        }
+        Err((
+            col,
+            format!("the {name} word's value {v} is out of range: a word has at most {digits} digits (±{max})"),
+        ))
+    }
+}
+
+/// A FANUC/GSK variable number: `#0` (null, read only), locals `#1..#33`, common
+/// `#100..#999` (`controllers.md` 4.1). System variables (`#1000` and up: offsets,
+/// positions, modal state, alarms) are not modelled: a program that uses one is refused
+/// rather than run on a made-up value.
+pub(super) fn var_number(v: f64, col: usize, read: bool) -> Result<u32, Fail> {
+    let n = v.round();
+    if (v - n).abs() > 1e-6 {
+        return Err((col, format!("variable number {v} is not a whole number")));
+    }
+    let what = if read { "read" } else { "set" };
+    match n {
+        n if n < 0.0 => Err((col, format!("variable #{n} does not exist (a negative number)"))),
+        0.0 if read => Ok(0),
+        0.0 => Err((col, "#0 is always null: it cannot be set".into())),
+        n if n <= 33.0 || (100.0..=999.0).contains(&n) => Ok(n as u32),
+        n if n < 100.0 => Err((
+            col,
+            format!("variable #{n} does not exist: locals are #1..#33, common variables #100..#999"),
+        )),
+        n => Err((
+            col,
+            format!(
+                "system variable #{n} (offsets, positions, modal state, alarms) is not modelled and cannot be {what}: use #1..#33 or #100..#999"
+            ),
+        )),
+    }
+}
+
+/// A Siemens R parameter number: R0..R299.
+pub(super) fn r_index(v: f64, col: usize) -> Result<u32, Fail> {
+    if v.fract() != 0.0 || !(0.0..f64::from(SIEMENS_R_PARAMETERS)).contains(&v) {
+        return Err((
+            col,
+            format!(
+                "R{v} does not exist: the 802D has R0..R{}",
+                SIEMENS_R_PARAMETERS - 1
+            ),
+        ));
+    }
+    Ok(v as u32)
 }

@@ -5,6 +5,52 @@ use super::codes;
 use super::expr::{z, Cur, Fail};
 use super::{Machine, MoveKind, Program, Step, Sync, Words};
 
+/// The first G76 block's `P(mm)(rr)(aa)` (`controllers.md` 2.3; GSK 980TDc writes it the
+/// same way): six digits at most, mm finishing passes 01..99, rr chamfer 00..99 (0.1 L),
+/// aa tool angle one of 80, 60, 55, 30, 29, 0 degrees. Anything else is an alarm on the
+/// control and an error here, at the P word.
+fn g76_p(p: f64, col: usize) -> Result<(u32, u32, u32), Fail> {
+    if p.fract() != 0.0 || !(0.0..=999_999.0).contains(&p) {
+        return Err((
+            col,
+            format!("G76 P{p}: expected six digits mmrraa (finishing passes, chamfer, tool angle), e.g. P010060"),
+        ));
+    }
+    let p = p as u32;
+    let (m, r, a) = (p / 10_000, (p / 100) % 100, p % 100);
+    if m == 0 {
+        return Err((
+            col,
+            format!("G76 P{p:06}: the finishing passes mm must be 01..99, got 00"),
+        ));
+    }
+    if ![80, 60, 55, 30, 29, 0].contains(&a) {
+        return Err((
+            col,
+            format!("G76 P{p:06}: the tool angle aa must be one of 80, 60, 55, 30, 29, 0 degrees, got {a}"),
+        ));
+    }
+    Ok((m, r, a))
+}
+
+/// A jump to the block numbered `n` (`col`: where the number stands): a whole sequence
+/// number that the program has.
+fn goto(prog: &Program, n: f64, col: usize) -> Result<Step, Fail> {
+    if n.is_nan() {
+        return Err((col, "GOTO to a vacant (null) variable".into()));
+    }
+    if n.fract() != 0.0 || !(0.0..=99_999.0).contains(&n) {
+        return Err((
+            col,
+            format!("GOTO {n}: expected a sequence number 1..99999"),
+        ));
+    }
+    prog.numbers
+        .get(&(n as u32))
+        .map(|&k| Step::Jump(k))
+        .ok_or((col, format!("no block N{n} in {}", prog.name)))
+}
+
 impl Machine<'_> {
     pub(super) fn fanuc_block(
         &mut self,
@@ -59,15 +105,13 @@ impl Machine<'_> {
             if c.eat("IF") {
                 let v = self.bracket(&mut c)?;
                 if c.eat("GOTO") {
-                    let n = c.number().unwrap_or(0.0) as u32;
+                    c.ws();
+                    let col = c.i + 1;
+                    let n = self.fanuc_value(&mut c)?;
                     if v == 0.0 {
                         return Ok(Step::Next);
                     }
-                    return prog
-                        .numbers
-                        .get(&n)
-                        .map(|&k| Step::Jump(k))
-                        .ok_or((at + 1, format!("no block N{n}")));
+                    return goto(prog, n, col);
                 }
                 if c.eat("THEN") {
                     if v == 0.0 {
@@ -78,22 +122,23 @@ impl Machine<'_> {
                 return c.err("expected GOTO or THEN after IF [..]");
             }
             if c.eat("GOTO") {
-                let n = c.number().unwrap_or(0.0) as u32;
-                return prog
-                    .numbers
-                    .get(&n)
-                    .map(|&k| Step::Jump(k))
-                    .ok_or((at + 1, format!("no block N{n}")));
+                // The target may be a number, a variable or an expression (`controllers.md`
+                // 4.3).
+                c.ws();
+                let col = c.i + 1;
+                let n = self.fanuc_value(&mut c)?;
+                return goto(prog, n, col);
             }
             if c.eat("G65") {
                 return self.macro_a(&mut c, prog);
             }
             let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
-                return Err((at + 1, format!("unexpected `{}`", c.s[c.i] as char)));
+                return Err((at + 1, format!("unexpected {}", c.here())));
             };
             c.i += 1;
             let st = c.i;
             let v = self.fanuc_value(&mut c)?;
+            let v = self.word_value(&(letter as char).to_string(), v, at + 1)?;
             if v.is_nan() {
                 // An address whose value is a vacant variable is left out (FANUC).
                 continue;
@@ -124,7 +169,7 @@ impl Machine<'_> {
     /// result variable (or the block number of a jump); Q and R are variables or constants.
     pub(super) fn macro_a(&mut self, c: &mut Cur, prog: &Program) -> Result<Step, Fail> {
         let mut h = None;
-        let mut p: Option<(f64, bool)> = None; // (value, written as #n)
+        let mut p: Option<(f64, bool, usize)> = None; // (value, written as #n, column)
         let (mut q, mut r) = (0.0, 0.0);
         let mut repeats = 1.0;
         // Macro call arguments (specifications I and II): (local variable, value), in order.
@@ -134,7 +179,7 @@ impl Machine<'_> {
         while !c.done() {
             let at = c.i;
             let Some(letter) = c.peek().filter(u8::is_ascii_alphabetic) else {
-                return Err((at + 1, format!("unexpected `{}` in G65", c.s[c.i] as char)));
+                return Err((at + 1, format!("unexpected {} in G65", c.here())));
             };
             c.i += 1;
             match letter {
@@ -150,7 +195,7 @@ impl Machine<'_> {
                     let v = c
                         .number()
                         .ok_or((c.i + 1, "expected a number".to_string()))?;
-                    p = Some((v, var));
+                    p = Some((v, var, at + 1));
                 }
                 // In a macro call Q and R are the arguments #17 and #18, set in block order
                 // (a later argument for the same variable wins).
@@ -215,7 +260,7 @@ impl Machine<'_> {
         let Some(h) = h else {
             // G65 P<program> L<repeats> <arguments>: a macro call with its own locals. Q and
             // R were read as Macro A operands above; as arguments they are #17 and #18.
-            let (pv, _) = p.ok_or((1, "G65 needs P (the macro program) or H".to_string()))?;
+            let (pv, _, _) = p.ok_or((1, "G65 needs P (the macro program) or H".to_string()))?;
             let times = repeats.round().clamp(1.0, 9999.0) as u32;
             return Ok(Step::Call(
                 format!("O{}", pv.round() as u64),
@@ -223,22 +268,22 @@ impl Machine<'_> {
                 Some(args),
             ));
         };
-        let (pv, pvar) = p.ok_or((1, format!("G65 H{h:02} needs P")))?;
-        let jump = |cond: bool| -> Result<Step, Fail> {
+        let (pv, pvar, pcol) = p.ok_or((1, format!("G65 H{h:02} needs P")))?;
+        let jump = |m: &Self, cond: bool| -> Result<Step, Fail> {
             if !cond {
                 return Ok(Step::Next);
             }
-            let n = pv.round() as u32;
-            prog.numbers
-                .get(&n)
-                .map(|&k| Step::Jump(k))
-                .ok_or((1, format!("no block N{n}")))
+            // `P#i` jumps to the block number that #i holds.
+            let n = if pvar { m.get(c, pv, pcol + 1)? } else { pv };
+            goto(prog, n, pcol)
         };
         let set = |m: &mut Self, v: f64| -> Result<Step, Fail> {
             if !pvar {
-                return Err((1, format!("G65 H{h:02}: P must name a variable (#n)")));
+                return Err((pcol, format!("G65 H{h:02}: P must name a variable (#n)")));
             }
-            m.set_var(pv.round() as u32, v);
+            let v = super::expr::in_range(m.dialect, 1, v, || format!("G65 H{h:02}"))?;
+            let idx = super::expr::var_number(pv, pcol + 1, false)?;
+            m.set_var(idx, v);
             Ok(Step::Next)
         };
         let nonzero = |v: f64| {
@@ -255,6 +300,10 @@ impl Machine<'_> {
             4 => set(self, q * r),
             5 => set(self, q / nonzero(r)?),
             21 if q >= 0.0 => set(self, q.sqrt()),
+            21 => Err((
+                1,
+                format!("G65 H21: the square root of {q}, a negative number (alarm 111)"),
+            )),
             22 => set(self, q.abs()),
             23 => set(self, q % nonzero(r)?),
             27 => set(self, q.hypot(r)),
@@ -262,13 +311,13 @@ impl Machine<'_> {
             32 => set(self, q * r.to_radians().cos()),
             33 => set(self, q * r.to_radians().tan()),
             34 => set(self, q.atan2(r).to_degrees()),
-            80 => jump(true),
-            81 => jump(q == r),
-            82 => jump(q != r),
-            83 => jump(q > r),
-            84 => jump(q < r),
-            85 => jump(q >= r),
-            86 => jump(q <= r),
+            80 => jump(self, true),
+            81 => jump(self, q == r),
+            82 => jump(self, q != r),
+            83 => jump(self, q > r),
+            84 => jump(self, q < r),
+            85 => jump(self, q >= r),
+            86 => jump(self, q <= r),
             99 => Err((
                 1,
                 format!(
@@ -312,13 +361,13 @@ impl Machine<'_> {
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let is_second = ["X", "Z", "U", "W"].iter().any(|k| w.vals.contains_key(*k));
         if !is_second {
-            if let Some(p) = val("P") {
-                let p = p.round() as u32;
-                self.g76.m = (p / 10000).max(1);
-                self.g76.r = (p / 100) % 100;
+            if let Some(&(p, col)) = w.vals.get("P") {
+                let (m, r, a) = g76_p(p, col)?;
+                self.g76.m = m;
+                self.g76.r = r;
                 // As on FANUC, rr is the chamfer parameter (5130) that G92 uses too.
-                self.chamfer = self.g76.r as f64 / 10.0;
-                self.g76.a = (p % 100) as f64;
+                self.chamfer = f64::from(r) / 10.0;
+                self.g76.a = f64::from(a);
             }
             if let Some(q) = self.increment_word(w, "Q")? {
                 self.g76.dmin = q;

@@ -53,6 +53,13 @@ impl LCur {
     pub(super) fn peek(&self) -> Option<u8> {
         self.s.get(self.i).copied()
     }
+    /// What stands at the cursor, for a message.
+    pub(super) fn here(&self) -> String {
+        if self.i >= self.s.len() {
+            return "the end of the line".into();
+        }
+        super::expr::describe_char(super::expr::char_at(&self.s, self.i))
+    }
     pub(super) fn peek_at(&self, k: usize) -> Option<u8> {
         self.s.get(self.i + k).copied()
     }
@@ -455,7 +462,7 @@ impl Machine<'_> {
                 let name = c.ident();
                 self.lc_function(c, &name, at)
             }
-            Some(b) => Err((at, format!("expected a value, found `{}`", b as char))),
+            Some(_) => Err((at, format!("expected a value, found {}", c.here()))),
         }
     }
 

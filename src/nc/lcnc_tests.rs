@@ -189,6 +189,8 @@ fn an_endless_loop_hits_the_block_limit() {
     let limits = Limits {
         max_blocks: 1000,
         max_depth: 8,
+
+        ..Limits::default()
     };
     let e = run_with(
         "G7\n#1=0\no101 while [1]\n  #1=[#1+1]\no101 endwhile\n",

@@ -330,7 +330,7 @@ impl Machine<'_> {
             }
             let letter = c.peek().expect("not done");
             if !letter.is_ascii_alphabetic() {
-                return Err((at, format!("expected a word, found `{}`", letter as char)));
+                return Err((at, format!("expected a word, found {}", c.here())));
             }
             c.i += 1;
             let v = self.lc_value(&mut c)?;
@@ -667,7 +667,18 @@ impl Machine<'_> {
         if end_z > start_z {
             angle = -angle;
         }
-        let springs = val("H").unwrap_or(0.0).max(0.0) as u32;
+        let springs = val("H").unwrap_or(0.0).max(0.0);
+        if springs >= self.limits.max_moves as f64 {
+            let col = w.vals.get("H").map_or(1, |v| v.1);
+            return Err((
+                col,
+                format!(
+                    "G76 H{springs}: more spring passes than the {} moves a program may make",
+                    self.limits.max_moves
+                ),
+            ));
+        }
+        let springs = springs as u32;
         let full = i.abs();
         let end_depth = k.abs() + full;
         let target_z = end_z + k.abs() * angle.tan();

@@ -355,6 +355,15 @@ impl Machine<'_> {
         let f = st
             .feed
             .ok_or((1, format!("G{:02} needs F (no feed given yet)", st.motion)))?;
+        if f <= 0.0 {
+            return Err((
+                1,
+                format!(
+                    "G{:02} with the feed F{f}: a feed move needs F > 0 (a control alarms: alarm 011, feed zero)",
+                    st.motion
+                ),
+            ));
+        }
         if !st.per_rev {
             return Ok(f);
         }

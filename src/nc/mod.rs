@@ -42,6 +42,7 @@ mod tests;
 pub use mill::{CompSide, MillArc, MillKind, MillMove, MillSettings, Plane};
 
 use expr::Fail;
+pub use program::decode_program;
 use program::{load_programs, Program};
 
 use crate::helix::Spindle;
@@ -246,9 +247,10 @@ impl fmt::Display for Diagnostic {
         )?;
         let num = self.line.to_string();
         let pad = " ".repeat(num.len());
-        write!(f, "\n{pad} |\n{num} | {}", self.snippet.trim_end())?;
-        if self.col > 0 {
-            write!(f, "\n{pad} | {}^", " ".repeat(self.col - 1))?;
+        let (snippet, col) = clip_line(self.snippet.trim_end(), self.col);
+        write!(f, "\n{pad} |\n{num} | {snippet}")?;
+        if col > 0 {
+            write!(f, "\n{pad} | {}^", " ".repeat(col - 1))?;
         }
         if let Some(h) = &self.hint {
             write!(f, "\n{pad} = hint: {h}")?;
@@ -258,6 +260,34 @@ impl fmt::Display for Diagnostic {
         }
         Ok(())
     }
+}
+
+/// A source line as a message shows it: a long one (a hostile program's 100,000 brackets)
+/// cut to a window of about 100 characters around the 1-based character column `col` (0:
+/// no column), with `...` where it was cut; and the column in what is shown.
+pub(crate) fn clip_line(line: &str, col: usize) -> (String, usize) {
+    const WIDTH: usize = 100;
+    let n = line.chars().count();
+    if n <= WIDTH {
+        return (line.to_string(), col);
+    }
+    let at = col.saturating_sub(1).min(n);
+    let start = at.saturating_sub(WIDTH / 2).min(n - WIDTH);
+    let end = start + WIDTH;
+    let mut out = String::new();
+    if start > 0 {
+        out.push_str("...");
+    }
+    out.extend(line.chars().skip(start).take(WIDTH));
+    if end < n {
+        out.push_str("...");
+    }
+    let col = if col == 0 {
+        0
+    } else {
+        col - start + if start > 0 { 3 } else { 0 }
+    };
+    (out, col)
 }
 
 /// A program that cannot be run: the error that stopped it (its fields), and every other
@@ -357,6 +387,12 @@ pub struct Limits {
     pub max_blocks: u64,
     /// Subprogram nesting.
     pub max_depth: usize,
+    /// Moves recorded (every rapid, feed, arc and thread move, cycle passes included;
+    /// milling moves too). Checked as they are made, so that a runaway loop stops with an
+    /// error long before its moves fill the memory: a move takes about 200 bytes, so the
+    /// default of a million stays near 200 MB, and the largest seed scene makes a few
+    /// thousand (a G76 of 10,000 passes makes 40,000).
+    pub max_moves: usize,
 }
 
 impl Default for Limits {
@@ -364,6 +400,7 @@ impl Default for Limits {
         Limits {
             max_blocks: 10_000_000,
             max_depth: 8,
+            max_moves: 1_000_000,
         }
     }
 }
@@ -414,6 +451,8 @@ struct Machine<'l> {
     tool: Option<u32>,
     spindle: Spindle,
     moves: Vec<Move>,
+    /// A block tried to record more than `limits.max_moves` moves (the rest were dropped).
+    too_many_moves: bool,
     blocks: u64,
     g76: G76Setup,
     /// Modal G92 target z, lead and taper R (radius, start minus end).
@@ -430,6 +469,8 @@ struct Machine<'l> {
     speed: Option<f64>,
     /// G99 feed per revolution (else G98 per minute).
     per_rev: bool,
+    /// The modal feed F (`None` before any F).
+    feed: Option<f64>,
     /// The G28 reference point (diameter, z), if the job gives one.
     reference: Option<(f64, f64)>,
     /// Modal G90/G94 cutting cycle: (G code, target of the axis a repeat block leaves out,
@@ -504,6 +545,7 @@ pub fn interpret_with(
         tool: None,
         spindle: Spindle::Cw,
         moves: Vec::new(),
+        too_many_moves: false,
         blocks: 0,
         g76: G76Setup {
             m: 1,
@@ -522,6 +564,7 @@ pub fn interpret_with(
         css: false,
         speed: None,
         per_rev: true,
+        feed: None,
         reference: opts.settings.reference_point,
         block_skip: opts.settings.block_skip,
         cycle90: None,
@@ -713,7 +756,7 @@ impl Machine<'_> {
             let fail = |stack: &[Frame], col: usize, message: String| NcError {
                 file: cur.name.clone(),
                 line: *line,
-                col,
+                col: expr::char_col(orig, col),
                 message,
                 hint: None,
                 others: Vec::new(),
@@ -761,6 +804,17 @@ impl Machine<'_> {
                 Ok(s) => s,
                 Err((col, msg)) => return Err(fail(&stack, col + offset(), msg)),
             };
+            let made = m.moves.len() + m.mill.as_ref().map_or(0, |st| st.path.len());
+            if m.too_many_moves || made > m.limits.max_moves {
+                return Err(fail(
+                    &stack,
+                    0,
+                    format!(
+                        "more than {} moves (the limit on moves a program may make): a loop that never ends?",
+                        m.limits.max_moves
+                    ),
+                ));
+            }
             for mv in &m.moves[before..] {
                 if let Some(msg) = lead_problem(mv) {
                     return Err(fail(&stack, 0, msg));

@@ -118,6 +118,13 @@ impl Machine<'_> {
         if let Some(s) = val("S") {
             self.speed = Some(s);
         }
+        // F is modal: the feed of G01/G02/G03 (and the lead of FANUC's thread blocks, which
+        // share its register). On Siemens G34/G35 it is the lead change instead.
+        if let Some(f) = val("F") {
+            if !(self.dialect == Dialect::Siemens802d && matches!(self.motion, 34 | 35)) {
+                self.feed = Some(f);
+            }
+        }
         let mut x = self.x;
         let mut z = self.z;
         let mut moved = false;
@@ -181,7 +188,11 @@ impl Machine<'_> {
             return self.g92(w, prog, pc, x, z, scale);
         }
         if moved && self.dialect == Dialect::Fanuc && matches!(self.motion, 90 | 94) {
+            self.need_feed(w)?;
             return self.cutting_cycle(w, prog, pc, x, z, scale);
+        }
+        if moved && matches!(self.motion, 1..=3) {
+            self.need_feed(w)?;
         }
         if moved && (self.motion == 2 || self.motion == 3) {
             self.arc(w, prog, pc, (x, z), scale)?;
@@ -251,6 +262,34 @@ impl Machine<'_> {
         Ok(if end { Step::End } else { Step::Next })
     }
 
+    /// A feed move (G01, G02/G03, the feed legs of G90/G94) needs a positive feed: with F0,
+    /// or before any F, a control alarms (FANUC/GSK alarm 011 "feed zero", Siemens 10860
+    /// "feedrate not programmed", LinuxCNC "cannot do G1 with zero feed rate").
+    pub(super) fn need_feed(&self, w: &Words) -> Result<(), Fail> {
+        let g = self.motion;
+        let alarm = match self.real_dialect() {
+            Dialect::Fanuc | Dialect::Gsk980 => "alarm 011, feed zero",
+            Dialect::Siemens802d => "alarm 10860, feedrate not programmed",
+            Dialect::Linuxcnc => "\"cannot do G1 with zero feed rate\"",
+        };
+        match self.feed {
+            Some(f) if f > 0.0 => Ok(()),
+            Some(f) => {
+                let col = w.vals.get("F").map_or(1, |v| v.1);
+                Err((
+                    col,
+                    format!("G{g:02} with the feed F{f}: a feed move needs F > 0 (a control alarms: {alarm})"),
+                ))
+            }
+            None => Err((
+                1,
+                format!(
+                    "G{g:02} without a feed: no F has been programmed (a control alarms: {alarm})"
+                ),
+            )),
+        }
+    }
+
     /// The M codes of a block: spindle, chamfering, the end (`end`), subprogram calls and
     /// returns. `Some(step)` when the block calls or returns: its motion is not run.
     pub(super) fn m_words(&mut self, w: &Words, end: &mut bool) -> Result<Option<Step>, Fail> {
@@ -317,6 +356,11 @@ impl Machine<'_> {
         b: (f64, f64),
         sync: Option<Sync>,
     ) {
+        if self.moves.len() >= self.limits.max_moves {
+            // The run stops after this block (`Machine::run`); nothing more is kept.
+            self.too_many_moves = true;
+            return;
+        }
         self.moves.push(Move {
             file: prog.name.clone(),
             line: prog.blocks[pc].0,

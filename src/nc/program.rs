@@ -4,6 +4,29 @@
 use super::{Dialect, Source};
 use std::collections::HashMap;
 
+/// The text of a program file read as bytes: UTF-8 without a leading byte order mark;
+/// a byte that is not part of valid UTF-8 is read as Latin-1 (controls and old editors
+/// write comments such as `(GEWINDE Ø20)` in it), so such a file still loads and a byte
+/// outside a comment is reported at its line and column with its value.
+pub fn decode_program(bytes: Vec<u8>) -> String {
+    let bytes = match bytes.strip_prefix(b"\xEF\xBB\xBF") {
+        Some(rest) => rest.to_vec(),
+        None => bytes,
+    };
+    match String::from_utf8(bytes) {
+        Ok(s) => s,
+        Err(e) => {
+            let bytes = e.into_bytes();
+            let mut out = String::with_capacity(bytes.len() + bytes.len() / 8);
+            for chunk in bytes.utf8_chunks() {
+                out.push_str(chunk.valid());
+                out.extend(chunk.invalid().iter().map(|&b| char::from(b)));
+            }
+            out
+        }
+    }
+}
+
 /// A program split into blocks.
 #[derive(Debug)]
 pub(super) struct Program {
@@ -38,6 +61,14 @@ fn strip_comment(line: &str, dialect: Dialect) -> String {
 /// With `skip` (the block-skip switch on) blocks that start with `/` are left out; without
 /// it the `/` (and an optional skip level 1..9 after it) is dropped and the block runs.
 pub(super) fn load_programs(src: &Source, dialect: Dialect, skip: bool) -> Vec<Program> {
+    // A byte order mark is no part of the program (editors on Windows write one).
+    if let Some(rest) = src.text.strip_prefix('\u{feff}') {
+        let src = Source {
+            name: src.name.clone(),
+            text: rest.to_string(),
+        };
+        return load_programs(&src, dialect, skip);
+    }
     if dialect == Dialect::Linuxcnc {
         return super::linuxcnc::load(src);
     }

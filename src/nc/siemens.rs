@@ -2,7 +2,7 @@
 //! GOTO, IF .. GOTOF, subprogram calls by name with P repeats, RET.
 
 use super::codes;
-use super::expr::{Cur, Fail};
+use super::expr::{r_index, Cur, Fail};
 use super::{Machine, Program, Step, Words};
 
 impl Machine<'_> {
@@ -47,28 +47,31 @@ impl Machine<'_> {
                 }
                 "RET" => return Ok(Step::Return),
                 "R" if c.s.get(c.i).is_some_and(|b| b.is_ascii_digit()) => {
-                    let n = c.number().unwrap_or(0.0) as u32;
+                    let n = c.number().unwrap_or(f64::NAN);
+                    let n = r_index(n, at + 1)?;
                     if !c.eat("=") {
                         return c.err("expected `=` after an R parameter");
                     }
                     let v = self.expr(&mut c)?;
                     self.r.insert(n, v);
                 }
-                "" => return Err((at + 1, format!("unexpected `{}`", c.s[c.i] as char))),
+                "" => return Err((at + 1, format!("unexpected {}", c.here()))),
                 addr if codes::siemens_address(addr) => {
                     let v = if c.eat("=") {
                         self.expr(&mut c)?
                     } else {
                         let neg = c.eat("-");
-                        let v = c
-                            .number()
-                            .ok_or((c.i + 1, format!("expected a value after `{addr}`")))?;
+                        let v = self.literal(&mut c)?.ok_or((
+                            c.i + 1,
+                            format!("expected a value after `{addr}`, found {}", c.here()),
+                        ))?;
                         if neg {
                             -v
                         } else {
                             v
                         }
                     };
+                    let v = self.word_value(addr, v, at + 1)?;
                     match addr {
                         "G" => w.g.push(v as u32),
                         "M" => w.m.push(v as u32),

@@ -482,3 +482,10 @@ fn numbers_read_as_str_parse_reads_them() {
     assert_eq!(expr::ascii_number(b"1..5"), None);
     assert_eq!(expr::ascii_number(b"."), None);
 }
+
+/// FANUC's two-argument arc tangent `ATAN[y]/[x]` is atan2, not atan(y) divided by x.
+#[test]
+fn atan_of_two_brackets_is_atan2() {
+    let moves = run("#1=ATAN[1]/[2]\nG0 X#1 Z0\n", Dialect::Fanuc).unwrap();
+    assert!((moves[0].x_dia - 1f64.atan2(2.0).to_degrees()).abs() < 1e-12);
+}

@@ -120,7 +120,7 @@ fn bad_jobs_exit_2_naming_file_line_and_key() {
         (
             "diameter = 28.0",
             "diameter = \"28\"",
-            &["job.toml:2:12", "invalid type"],
+            &["job.toml:2:12", "`blank.diameter`", "expected a number"],
         ),
     ];
     for (from, to, wants) in cases {

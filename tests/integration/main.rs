@@ -11,6 +11,8 @@ mod cli;
 mod gltf;
 /// The scenes' reports against reviewed goldens and hand-derived expectations.
 mod goldens;
+/// Hostile input, class by class: clean errors naming the place, never a panic or a hang.
+mod hostile;
 /// Same answer whatever the thread count; left and right hands mirror each other.
 mod invariance;
 /// LinuxCNC conformance against rs274 reference output.

@@ -223,7 +223,7 @@ fn toolpath_json_names_arcs_with_their_centre() {
     let dir = std::env::temp_dir().join(format!("vpcut-arc-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("ARC.NC");
-    std::fs::write(&file, "G0 X0 Z0\nG03 X20 Z-10 R10\nM30\n").unwrap();
+    std::fs::write(&file, "G0 X0 Z0 F0.2\nG03 X20 Z-10 R10\nM30\n").unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
         .args([
             "toolpath",

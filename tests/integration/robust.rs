@@ -95,6 +95,8 @@ fn corrupted_programs_never_panic() {
     let limits = Limits {
         max_blocks: 20_000,
         max_depth: 8,
+
+        ..Limits::default()
     };
     let mut runs = 0;
     for (scene, file, dialect) in cases {
