@@ -463,6 +463,18 @@ impl Report {
             d.gouge_volume_mm3,
             d.leftover_volume_mm3
         );
+        match d.compared_z_mm {
+            Some([lo, hi]) => {
+                let _ = writeln!(
+                    s,
+                    "  compared z {lo:.3} to {hi:.3} (the drawing's thread); outside it (run-in, run-out) {:.2} mm3 removed, not compared",
+                    d.uncompared_removed_volume_mm3
+                );
+            }
+            None => {
+                let _ = writeln!(s, "  nothing compared: the thread is not on the simulated stock");
+            }
+        }
         let o = |v: Option<f64>| v.map_or("      -".to_string(), |x| format!("{x:>7.3}"));
         let _ = writeln!(
             s,
