@@ -88,7 +88,7 @@ pub use nc::{
 pub use pass::Pass;
 pub use plot::{developed_view, section_profile, section_view, signed_deviation};
 pub use render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};
-pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
+pub use report::{Finding, Report, SummaryStyle, Tone, TurnRow, Verdict, SCHEMA};
 pub use scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use solid::{prism, Face, Solid, SolidError};
 pub use stock::{Grid, Stock, Surface};

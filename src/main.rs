@@ -494,7 +494,7 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
             "  read back: {} passes, the planned ones; simulated:\n",
             back.passes.len()
         ));
-        say.write(&out.report.summary());
+        say.write(&term::summary(&out.report, say, None));
     }
     Ok(if out.report.verdict == vpcut::Verdict::Fail {
         ExitCode::from(1)
@@ -549,7 +549,8 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let job = progress.stage("reading the job", || {
         load_job(&args.job, args.strict, &inputs)
     })?;
-    let warn = if outs.uses_stdout() {
+    // The summary goes where no output does.
+    let say = if outs.uses_stdout() {
         Stream::Stderr
     } else {
         Stream::Stdout
@@ -641,10 +642,10 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     }
     let written = progress.stage("writing", || outs.commit())?;
     if !args.quiet {
-        let _ = clock;
-        warn.write(&out.report.summary());
+        let wall = clock.elapsed().as_secs_f64();
+        say.write(&term::summary(&out.report, say, Some(wall)));
         for p in written {
-            warn.write(&format!("  wrote {}\n", p.display()));
+            say.write(&format!("  wrote {}\n", p.display()));
         }
     }
     Ok(

@@ -393,8 +393,20 @@ impl Report {
         .to_string()
     }
 
-    /// A short summary for a terminal.
+    /// A short summary for a terminal, plain.
     pub fn summary(&self) -> String {
+        self.summary_with(&SummaryStyle::default())
+    }
+
+    /// The summary dressed as `style` says: the verdict, errors and the cells of the
+    /// per-turn table that are out of tolerance painted, findings grouped by kind with their
+    /// counts, and the run's wall time.
+    pub fn summary_with(&self, style: &SummaryStyle<'_>) -> String {
+        let paint = |tone: Tone, text: &str| match style.paint {
+            Some(p) => p(tone, text),
+            None => text.to_string(),
+        };
+        let tol = self.tolerance_mm;
         let mut s = String::new();
         let name = if self.job.is_empty() {
             "job"
@@ -402,53 +414,94 @@ impl Report {
             &self.job
         };
         let verdict = match self.verdict {
-            Verdict::Pass => "PASS",
-            Verdict::Fail => "FAIL",
+            Verdict::Pass => paint(Tone::Pass, "PASS"),
+            Verdict::Fail => paint(Tone::Fail, "FAIL"),
         };
         let _ = writeln!(
             s,
-            "{name}: {verdict} at tolerance {:.4} mm ({} {} thread, {} turns)",
-            self.tolerance_mm, self.thread.form, self.thread.side, self.thread.turns
+            "{name}: {verdict} at tolerance {} mm ({} {} thread, {} turns)",
+            num(tol, 4),
+            self.thread.form,
+            self.thread.side,
+            num(self.thread.turns, 2)
         );
+        let (time, what) = match style.wall_s {
+            Some(t) => (t, "in all"),
+            None => (self.timing_s.total, "simulating"),
+        };
         let _ = writeln!(
             s,
-            "  stock {} x {} dexels at {} mm, {} passes, {:.3e} dexel updates, {:.3} s",
-            self.stock.angular_cells,
-            self.stock.axial_cells,
-            self.stock.axial_spacing_mm,
-            self.passes,
-            self.kernel.dexel_updates as f64,
-            self.timing_s.total
+            "  stock {} x {} dexels at {} mm, {} passes, {} dexel updates, {} s {what}",
+            count(self.stock.angular_cells as f64),
+            count(self.stock.axial_cells as f64),
+            num(self.stock.axial_spacing_mm, 4),
+            count(self.passes as f64),
+            count(self.kernel.dexel_updates as f64),
+            num(time, 3)
         );
         let loc = |l: &Option<Location>| match l {
             Some(l) => format!(
-                "turn {} {} flank, {:.1} deg, z {:.3}",
-                l.turn, l.flank, l.angle_deg, l.z_mm
+                "turn {} {} flank, {} deg, z {}",
+                l.turn,
+                l.flank,
+                num(l.angle_deg, 1),
+                num(l.z_mm, 3)
             ),
             None => "-".to_string(),
         };
         let d = &self.deviation;
+        let worst = |x: f64| {
+            let cell = format!("{:>9}", num(x, 4));
+            if x > tol {
+                paint(Tone::Bad, &cell)
+            } else {
+                cell
+            }
+        };
         let _ = writeln!(
             s,
-            "  worst gouge    {:>9.4} mm  {}",
-            d.max_gouge_mm,
+            "  worst gouge    {} mm  {}",
+            worst(d.max_gouge_mm),
             loc(&d.max_gouge_at)
         );
         let _ = writeln!(
             s,
-            "  worst leftover {:>9.4} mm  {}",
-            d.max_leftover_mm,
+            "  worst leftover {} mm  {}",
+            worst(d.max_leftover_mm),
             loc(&d.max_leftover_at)
         );
         let _ = writeln!(
             s,
-            "  volume removed {:.2} mm3 (ideal {:.2}), gouge {:.3} mm3, leftover {:.3} mm3",
-            d.removed_volume_mm3,
-            d.ideal_removed_volume_mm3,
-            d.gouge_volume_mm3,
-            d.leftover_volume_mm3
+            "  volume removed {} mm3 (ideal {}), gouge {} mm3, leftover {} mm3",
+            num(d.removed_volume_mm3, 2),
+            num(d.ideal_removed_volume_mm3, 2),
+            num(d.gouge_volume_mm3, 3),
+            num(d.leftover_volume_mm3, 3)
         );
-        let o = |v: Option<f64>| v.map_or("      -".to_string(), |x| format!("{x:>7.3}"));
+        let o = |v: Option<f64>| v.map_or("      -".to_string(), |x| format!("{:>7}", num(x, 3)));
+        // A measured cell, painted when it misses its ideal by more than the tolerance (or
+        // is missing where there is an ideal).
+        let m = |ideal: Option<f64>, got: Option<f64>| {
+            let cell = o(got);
+            let bad = match (ideal, got) {
+                (Some(i), Some(g)) => (g - i).abs() > tol,
+                (Some(_), None) => true,
+                _ => false,
+            };
+            if bad {
+                paint(Tone::Bad, &cell)
+            } else {
+                cell
+            }
+        };
+        let dev = |x: f64| {
+            let cell = format!("{:>7}", num(x, 3));
+            if x > tol {
+                paint(Tone::Bad, &cell)
+            } else {
+                cell
+            }
+        };
         let _ = writeln!(
             s,
             "\n  turn  lead: ideal measured  groove: ideal measured  tooth: ideal measured   gouge leftover"
@@ -461,15 +514,15 @@ impl Report {
             };
             let _ = writeln!(
                 s,
-                "  {start:>4}      {} {}         {} {}        {} {}  {:>7.3} {:>7.3}",
+                "  {start:>4}      {} {}         {} {}        {} {}  {} {}",
                 o(t.ideal_lead_mm),
-                o(t.measured_lead_mm),
+                m(t.ideal_lead_mm, t.measured_lead_mm),
                 o(t.ideal_groove_width_mm),
-                o(t.groove_width_mm),
+                m(t.ideal_groove_width_mm, t.groove_width_mm),
                 o(t.ideal_tooth_width_mm),
-                o(t.tooth_width_mm),
-                t.max_gouge_mm,
-                t.max_leftover_mm
+                m(t.ideal_tooth_width_mm, t.tooth_width_mm),
+                dev(t.max_gouge_mm),
+                dev(t.max_leftover_mm)
             );
         }
         let errors = self
@@ -479,13 +532,97 @@ impl Report {
             .count();
         let warnings = self.findings.len() - errors;
         let _ = writeln!(s, "\n  findings: {errors} errors, {warnings} warnings");
-        for f in self.findings.iter().take(12) {
-            let _ = writeln!(s, "    {:<7} {:<16} {}", f.severity, f.kind, f.message);
+        // Grouped by severity and kind, in report order, with the first few messages.
+        let mut groups: Vec<(&str, &str, Vec<&str>)> = Vec::new();
+        for f in &self.findings {
+            match groups
+                .iter_mut()
+                .find(|g| (g.0, g.1) == (f.severity, f.kind))
+            {
+                Some(g) => g.2.push(&f.message),
+                None => groups.push((f.severity, f.kind, vec![&f.message])),
+            }
         }
-        if self.findings.len() > 12 {
-            let _ = writeln!(s, "    ... {} more in the report", self.findings.len() - 12);
+        const SHOWN: usize = 3;
+        for (severity, kind, messages) in groups {
+            let tone = if severity == "error" {
+                Tone::Fail
+            } else {
+                Tone::Warning
+            };
+            let head = format!("{severity:<7}");
+            let _ = writeln!(
+                s,
+                "    {} {kind} x{}",
+                paint(tone, &head),
+                messages.len()
+            );
+            for m in messages.iter().take(SHOWN) {
+                let _ = writeln!(s, "        {m}");
+            }
+            if messages.len() > SHOWN {
+                let _ = writeln!(
+                    s,
+                    "        ... {} more {kind} findings in the report",
+                    messages.len() - SHOWN
+                );
+            }
         }
         s
+    }
+}
+
+/// What a piece of the terminal summary says, for colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Tone {
+    /// A pass verdict.
+    Pass,
+    /// A fail verdict, an error.
+    Fail,
+    /// A value out of tolerance.
+    Bad,
+    /// A warning.
+    Warning,
+}
+
+/// How [`Report::summary_with`] dresses the summary.
+#[derive(Clone, Copy, Default)]
+pub struct SummaryStyle<'a> {
+    /// Paints a piece of text (colour on a terminal); `None`: plain text.
+    pub paint: Option<&'a dyn Fn(Tone, &str) -> String>,
+    /// The whole run's wall time (s), shown instead of the simulation's own.
+    pub wall_s: Option<f64>,
+}
+
+impl std::fmt::Debug for SummaryStyle<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SummaryStyle")
+            .field("paint", &self.paint.is_some())
+            .field("wall_s", &self.wall_s)
+            .finish()
+    }
+}
+
+/// A value with `decimals` decimals, or in scientific form from ten million up (never 300
+/// digits).
+fn num(x: f64, decimals: usize) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x.abs() >= 1e7 {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.decimals$}")
+    }
+}
+
+/// A count: whole below ten million, else scientific.
+fn count(x: f64) -> String {
+    if x.abs() < 1e7 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.3e}")
     }
 }
 

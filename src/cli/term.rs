@@ -142,27 +142,41 @@ impl Progress {
         self.on
     }
 
-    /// Run `f` as the stage `name`: a spinner while it runs (shown after a short delay, so
-    /// quick stages leave no trace), cleared when it ends.
+    /// Run `f` as the stage `name`: a spinner with the elapsed time while it runs, drawn
+    /// only once the stage has taken half a second (quick stages leave no trace), cleared
+    /// when it ends.
     pub(crate) fn stage<T>(&self, name: &str, f: impl FnOnce() -> T) -> T {
         if !self.on {
             return f();
         }
-        let bar = indicatif::ProgressBar::with_draw_target(
-            None,
-            indicatif::ProgressDrawTarget::stderr(),
-        );
+        let bar = indicatif::ProgressBar::hidden();
         bar.set_style(
             indicatif::ProgressStyle::with_template("{spinner} {msg} {elapsed}")
                 .expect("a valid template"),
         );
         bar.set_message(name.to_string());
-        let start = Instant::now();
-        // Draw only once the stage has taken a moment.
         bar.enable_steady_tick(Duration::from_millis(120));
+        let done = std::sync::Arc::new(AtomicBool::new(false));
+        let show = {
+            let (bar, done) = (bar.clone(), done.clone());
+            std::thread::spawn(move || {
+                let start = Instant::now();
+                let delay = Duration::from_millis(500);
+                while !done.load(Ordering::Acquire) {
+                    let spent = start.elapsed();
+                    if spent >= delay {
+                        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+                        return;
+                    }
+                    std::thread::park_timeout(delay - spent);
+                }
+            })
+        };
         let out = f();
+        done.store(true, Ordering::Release);
+        show.thread().unpark();
+        let _ = show.join();
         bar.finish_and_clear();
-        let _ = start;
         out
     }
 
@@ -172,4 +186,21 @@ impl Progress {
             err(s);
         }
     }
+}
+
+/// The report's summary for `stream`: coloured there when it is a terminal.
+pub(crate) fn summary(report: &vpcut::Report, stream: Stream, wall_s: Option<f64>) -> String {
+    let on = stream.colour();
+    let paint = |tone: vpcut::Tone, text: &str| {
+        let style = match tone {
+            vpcut::Tone::Pass => GREEN,
+            vpcut::Tone::Warning => YELLOW,
+            _ => RED,
+        };
+        paint(true, style, text)
+    };
+    report.summary_with(&vpcut::SummaryStyle {
+        paint: if on { Some(&paint) } else { None },
+        wall_s,
+    })
 }
