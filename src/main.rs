@@ -158,7 +158,9 @@ fn parse_finite(s: &str) -> Result<f64, String> {
 fn parse_tolerance(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
-        _ => Err(format!("expected a finite number of mm, 0 or more, not `{s}`")),
+        _ => Err(format!(
+            "expected a finite number of mm, 0 or more, not `{s}`"
+        )),
     }
 }
 
@@ -239,9 +241,10 @@ impl Pictures {
         progress: &Progress,
     ) -> anyhow::Result<()> {
         for (slot, opts) in self.png.iter().chain(&self.renders) {
-            let bytes = progress.stage(&format!("rendering the {} view", opts.view.name()), || {
-                self.renderer.png(scene, opts)
-            })?;
+            let bytes = progress
+                .stage(&format!("rendering the {} view", opts.view.name()), || {
+                    self.renderer.png(scene, opts)
+                })?;
             outs.put(*slot, &bytes)?;
         }
         Ok(())
@@ -374,15 +377,15 @@ fn load_job(path: &Path, strict: bool, inputs: &Inputs) -> anyhow::Result<vpcut:
     inputs.add("job", path.to_path_buf(), path.display().to_string(), bytes);
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let load = inputs.loader(&dir);
-    vpcut::Job::from_toml_opts(&src, &path.display().to_string(), &load, strict).map_err(|e| {
-        match e {
+    vpcut::Job::from_toml_opts(&src, &path.display().to_string(), &load, strict).map_err(
+        |e| match e {
             vpcut::JobError::Program(mut nc) => {
                 name_files(&mut nc, inputs);
                 vpcut::JobError::Program(nc).into()
             }
             e => e.into(),
-        }
-    })
+        },
+    )
 }
 
 /// Diagnostics name programs (`O2`, `MYBBB.SPF`); say the file's path instead.
@@ -398,6 +401,17 @@ fn name_files(nc: &mut vpcut::NcError, inputs: &Inputs) {
 fn name_file(d: &mut vpcut::Diagnostic, inputs: &Inputs) {
     if let Some(p) = inputs.program_file(&d.file) {
         d.file = p.display().to_string();
+    }
+}
+
+/// What the library cannot know: the input files with their hashes, and program findings
+/// naming the file that holds the program (as the job names it), not the program (`O2`).
+fn complete_report(report: &mut vpcut::Report, inputs: &Inputs) {
+    report.inputs = inputs.report();
+    for f in &mut report.findings {
+        if let Some(name) = f.file.as_deref().and_then(|n| inputs.program_name(n)) {
+            f.file = Some(name);
+        }
     }
 }
 
@@ -480,7 +494,9 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
         .unwrap_or_else(|| "plan.nc".into());
     let back = job.with_program(&file, &text, &args.dialect)?;
     if let Some(why) = vpcut::post::differ(&vpcut::post::toolpath(plan, post), &back.passes) {
-        term::error(&format!("the program does not read back to the plan: {why}"));
+        term::error(&format!(
+            "the program does not read back to the plan: {why}"
+        ));
         return Ok(ExitCode::from(1));
     }
     let progress = Progress::new(args.quiet);
@@ -570,6 +586,8 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             vpcut::simulate(&job, &opts)
         })
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
+    let mut out = out;
+    complete_report(&mut out.report, &inputs);
     if let Some(slot) = report_slot {
         outs.put(slot, out.report.to_json().as_bytes())?;
     }
@@ -708,7 +726,11 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     for m in &mut moves {
         if let Some(p) = inputs.program_file(&m.file) {
             if p.file_name().is_some_and(|n| n != m.file.as_str()) {
-                m.file = p.file_name().unwrap_or_default().to_string_lossy().into_owned();
+                m.file = p
+                    .file_name()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into_owned();
             }
         }
     }

@@ -30,6 +30,57 @@ pub(crate) fn r4(x: f64) -> f64 {
     }
 }
 
+/// The version of vpcut, as the report records it.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// An input file of a job.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct InputFile {
+    /// `job`, `program` (an NC program or subprogram) or `tool` (a tool mesh).
+    pub role: &'static str,
+    /// The path as it was given (the job's) or as the job names it (the files it reads).
+    pub path: String,
+    /// SHA-256 of the file's bytes, lower-case hex.
+    pub sha256: String,
+}
+
+impl InputFile {
+    /// Record a file with the hash of its bytes.
+    pub fn new(role: &'static str, path: impl Into<String>, bytes: &[u8]) -> InputFile {
+        use sha2::Digest as _;
+        let digest = sha2::Sha256::digest(bytes);
+        let mut sha256 = String::with_capacity(64);
+        for b in digest {
+            let _ = write!(sha256, "{b:02x}");
+        }
+        InputFile {
+            role,
+            path: path.into(),
+            sha256,
+        }
+    }
+}
+
+/// Findings counted by severity.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct FindingCounts {
+    /// Findings that fail the job.
+    pub errors: usize,
+    /// The others.
+    pub warnings: usize,
+}
+
+impl FindingCounts {
+    /// Count `findings`.
+    pub fn of(findings: &[Finding]) -> FindingCounts {
+        let errors = findings.iter().filter(|f| f.severity == "error").count();
+        FindingCounts {
+            errors,
+            warnings: findings.len() - errors,
+        }
+    }
+}
+
 /// pass / fail.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -45,10 +96,17 @@ pub enum Verdict {
 pub struct Report {
     /// Always [`SCHEMA`].
     pub schema: &'static str,
+    /// The version of vpcut that wrote it ([`VERSION`]).
+    pub vpcut_version: &'static str,
     /// The job's name.
     pub job: String,
+    /// The files the job was read from, with their SHA-256 (the caller that read them
+    /// fills this in; empty when the job did not come from files).
+    pub inputs: Vec<InputFile>,
     /// pass / fail.
     pub verdict: Verdict,
+    /// How many findings are errors and how many warnings.
+    pub finding_counts: FindingCounts,
     /// Deviation tolerance (mm).
     pub tolerance_mm: f64,
     /// The thread wanted.
@@ -340,10 +398,21 @@ pub struct Finding {
     pub angle_deg: Option<f64>,
     /// Axial position (mm).
     pub z_mm: Option<f64>,
-    /// The value (unit in `unit`).
-    pub value: f64,
-    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`.
-    pub unit: &'static str,
+    /// The program file the finding is in (program findings): as the job names it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// 1-based line in `file`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<usize>,
+    /// 1-based column in `file`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub column: Option<usize>,
+    /// The value (unit in `unit`); absent where a finding has none (program findings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value: Option<f64>,
+    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`; absent with `value`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unit: Option<&'static str>,
     /// One line for a person.
     pub message: String,
 }
@@ -525,12 +594,7 @@ impl Report {
                 dev(t.max_leftover_mm)
             );
         }
-        let errors = self
-            .findings
-            .iter()
-            .filter(|f| f.severity == "error")
-            .count();
-        let warnings = self.findings.len() - errors;
+        let FindingCounts { errors, warnings } = FindingCounts::of(&self.findings);
         let _ = writeln!(s, "\n  findings: {errors} errors, {warnings} warnings");
         // Grouped by severity and kind, in report order, with the first few messages.
         let mut groups: Vec<(&str, &str, Vec<&str>)> = Vec::new();
@@ -551,12 +615,7 @@ impl Report {
                 Tone::Warning
             };
             let head = format!("{severity:<7}");
-            let _ = writeln!(
-                s,
-                "    {} {kind} x{}",
-                paint(tone, &head),
-                messages.len()
-            );
+            let _ = writeln!(s, "    {} {kind} x{}", paint(tone, &head), messages.len());
             for m in messages.iter().take(SHOWN) {
                 let _ = writeln!(s, "        {m}");
             }

@@ -15,7 +15,12 @@ pub(crate) fn read_text(path: &Path, what: &str) -> anyhow::Result<(String, Vec<
             let at = e.valid_up_to();
             let before = &bytes[..at];
             let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
-            let col = at - before.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1) + 1;
+            let col = at
+                - before
+                    .iter()
+                    .rposition(|&b| b == b'\n')
+                    .map_or(0, |p| p + 1)
+                + 1;
             anyhow::bail!(
                 "cannot read {what} {}: it is not UTF-8 text: byte 0x{:02X} at byte offset {at} (line {line}, column {col}); save it as UTF-8",
                 path.display(),
@@ -107,18 +112,12 @@ impl Inputs {
         }
     }
 
-    /// Everything read.
-    pub(crate) fn files(&self) -> Vec<Read> {
-        self.files.borrow().clone()
-    }
-
     /// The file that holds the NC program `name` as diagnostics and moves name it: a file
-    /// read under that name, or (FANUC) the file with an `O<n>` line for `O<n>`. Shown as
-    /// the user would write its path.
-    pub(crate) fn program_file(&self, name: &str) -> Option<PathBuf> {
+    /// read under that name, or (FANUC) the file with an `O<n>` line for `O<n>`.
+    fn holder(&self, name: &str) -> Option<Read> {
         let files = self.files.borrow();
         if let Some(r) = files.iter().find(|r| r.name == name) {
-            return Some(r.path.clone());
+            return Some(r.clone());
         }
         let n: u32 = name.strip_prefix('O')?.parse().ok()?;
         files
@@ -131,13 +130,25 @@ impl Inputs {
                         .is_some_and(|d| !d.is_empty() && d.parse::<u32>().ok() == Some(n))
                 })
             })
-            .map(|r| r.path.clone())
+            .cloned()
     }
-}
 
-/// SHA-256 of bytes, lower-case hex.
-pub(crate) fn sha256(bytes: &[u8]) -> String {
-    use sha2::Digest as _;
-    let d = sha2::Sha256::digest(bytes);
-    d.iter().map(|b| format!("{b:02x}")).collect()
+    /// The path of the file that holds program `name`, as the user would write it.
+    pub(crate) fn program_file(&self, name: &str) -> Option<PathBuf> {
+        self.holder(name).map(|r| r.path)
+    }
+
+    /// The name the job gives the file that holds program `name` (relative to the job).
+    pub(crate) fn program_name(&self, name: &str) -> Option<String> {
+        self.holder(name).map(|r| r.name)
+    }
+
+    /// The files for the report, with their hashes.
+    pub(crate) fn report(&self) -> Vec<vpcut::InputFile> {
+        self.files
+            .borrow()
+            .iter()
+            .map(|r| vpcut::InputFile::new(r.role, r.name.clone(), &r.bytes))
+            .collect()
+    }
 }

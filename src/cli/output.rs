@@ -89,7 +89,8 @@ impl Outputs {
             }
             return Ok(self.push(shown, Dest::Stdout(Vec::new())));
         }
-        let cannot = |why: String| anyhow::anyhow!("cannot write {} ({flag}): {why}", path.display());
+        let cannot =
+            |why: String| anyhow::anyhow!("cannot write {} ({flag}): {why}", path.display());
         if path.as_os_str().is_empty() {
             return Err(cannot("an empty path".into()));
         }
@@ -102,7 +103,10 @@ impl Outputs {
             Ok(m) if m.is_dir() => {}
             Ok(_) => return Err(cannot(format!("{} is not a folder", dir.display()))),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                return Err(cannot(format!("the folder {} does not exist", dir.display())))
+                return Err(cannot(format!(
+                    "the folder {} does not exist",
+                    dir.display()
+                )))
             }
             Err(e) => return Err(cannot(format!("{}: {e}", dir.display()))),
         }
@@ -151,9 +155,8 @@ impl Outputs {
     /// Check a folder of outputs (`--renders`, `--plots`): it is a folder, or it can be
     /// made (then it is made now, and removed again if the run fails).
     pub(crate) fn folder(&mut self, dir: &Path, flag: &str) -> anyhow::Result<()> {
-        let cannot = |why: String| {
-            anyhow::anyhow!("cannot write into {} ({flag}): {why}", dir.display())
-        };
+        let cannot =
+            |why: String| anyhow::anyhow!("cannot write into {} ({flag}): {why}", dir.display());
         if dir.as_os_str() == "-" {
             return Err(cannot("a folder cannot be standard output".into()));
         }
@@ -216,9 +219,8 @@ impl Outputs {
             if !e.written {
                 continue;
             }
-            let cannot = |err: std::io::Error| {
-                anyhow::anyhow!("cannot write {}: {err}", e.shown.display())
-            };
+            let cannot =
+                |err: std::io::Error| anyhow::anyhow!("cannot write {}: {err}", e.shown.display());
             match &mut e.dest {
                 Dest::Stdout(_) => continue,
                 Dest::Direct { path, bytes } => {
@@ -325,7 +327,11 @@ fn resolve(path: &Path) -> std::io::Result<(PathBuf, Option<std::fs::Metadata>)>
         match std::fs::symlink_metadata(&p) {
             Ok(m) if m.file_type().is_symlink() => {
                 let t = std::fs::read_link(&p)?;
-                p = if t.is_absolute() { t } else { parent(&p).join(t) };
+                p = if t.is_absolute() {
+                    t
+                } else {
+                    parent(&p).join(t)
+                };
             }
             Ok(m) => return Ok((p, Some(m))),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((p, None)),

@@ -110,12 +110,16 @@ pub(crate) fn diagnostics(text: &str) -> String {
     }
     text.lines()
         .map(|l| {
-            l.replacen(": error: ", &format!(": {}: ", paint(true, RED, "error")), 1)
-                .replacen(
-                    ": warning: ",
-                    &format!(": {}: ", paint(true, YELLOW, "warning")),
-                    1,
-                )
+            l.replacen(
+                ": error: ",
+                &format!(": {}: ", paint(true, RED, "error")),
+                1,
+            )
+            .replacen(
+                ": warning: ",
+                &format!(": {}: ", paint(true, YELLOW, "warning")),
+                1,
+            )
         })
         .collect::<Vec<_>>()
         .join("\n")

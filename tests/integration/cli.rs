@@ -257,3 +257,52 @@ fn wrong_hand_is_a_finding() {
         "{f}"
     );
 }
+
+/// The report records the version, the input files with their SHA-256, the findings
+/// counted by severity, and program findings with file, line and column and no value.
+#[test]
+fn report_names_version_inputs_and_counts() {
+    use sha2::Digest as _;
+    let scene = crate::support::root().join("scenes/seed000-macro-a-equal-tooth");
+    let d = tmp_dir();
+    let report = d.join("r.json");
+    let out = vpcut(&[
+        "simulate",
+        scene.join("job.toml").to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["vpcut_version"], env!("CARGO_PKG_VERSION"));
+    let hex = |p: &std::path::Path| {
+        sha2::Sha256::digest(std::fs::read(p).unwrap())
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect::<String>()
+    };
+    let inputs = r["inputs"].as_array().unwrap();
+    assert_eq!(inputs.len(), 2, "{inputs:?}");
+    assert_eq!(inputs[0]["role"], "job");
+    assert_eq!(inputs[0]["sha256"], hex(&scene.join("job.toml")));
+    assert_eq!(inputs[1]["role"], "program");
+    assert_eq!(inputs[1]["path"], "O0003.NC");
+    assert_eq!(inputs[1]["sha256"], hex(&scene.join("O0003.NC")));
+    let findings = r["findings"].as_array().unwrap();
+    let count = |s: &str| findings.iter().filter(|f| f["severity"] == s).count();
+    assert_eq!(r["finding_counts"]["errors"], count("error"));
+    assert_eq!(r["finding_counts"]["warnings"], count("warning"));
+    let program: Vec<_> = findings.iter().filter(|f| f["kind"] == "program").collect();
+    assert_eq!(program.len(), 3);
+    for f in program {
+        assert_eq!(f["file"], "O0003.NC", "{f}");
+        assert!(f["line"].as_u64().unwrap() >= 1 && f["column"].as_u64().unwrap() >= 1);
+        assert!(f.get("value").is_none() && f.get("unit").is_none(), "{f}");
+    }
+}
