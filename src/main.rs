@@ -15,6 +15,7 @@ mod cli;
 
 use anyhow::Context as _;
 use clap::{Parser, Subcommand};
+use cli::ci::{self, Case, Checked, Failed, Place};
 use cli::inputs::{self, Inputs};
 use cli::output::{Allow, Outputs, Slot};
 use cli::term::{self, Progress, Stream};
@@ -35,6 +36,9 @@ enum Command {
     /// Simulate a job: sweep every pass through the stock, compare with the ideal thread,
     /// print a summary and optionally write the JSON report.
     Simulate(SimulateArgs),
+    /// Verify many jobs in one call (in parallel): one line per job with its verdict, worst
+    /// gouge and leftover and time; exit 1 if any fails, 2 if any cannot be read.
+    Check(CheckArgs),
     /// Render a model written by `simulate --gltf` (headless, wgpu) to PNG pictures.
     Render(RenderArgs),
     /// Interpret an NC program and print its moves (CSV by default), as the control would
@@ -323,6 +327,72 @@ struct SimulateArgs {
     gltf_full: bool,
     #[command(flatten)]
     picture: PictureArgs,
+    #[command(flatten)]
+    ci: CiArgs,
+}
+
+/// Reports for CI systems.
+#[derive(clap::Args)]
+struct CiArgs {
+    /// Write JUnit XML here: a testsuite per job, a testcase per turn and per check, a
+    /// failure per error finding. `-`: standard output.
+    #[arg(long, value_name = "FILE")]
+    junit: Option<PathBuf>,
+    /// Write SARIF 2.1.0 here: a result per finding, located at the NC program's line where
+    /// it has one, else in the job file. `-`: standard output.
+    #[arg(long, value_name = "FILE")]
+    sarif: Option<PathBuf>,
+}
+
+impl CiArgs {
+    /// Reserve the outputs.
+    fn slots(&self, outs: &mut Outputs) -> anyhow::Result<(Option<Slot>, Option<Slot>)> {
+        let junit = match &self.junit {
+            Some(p) => Some(outs.file(p, "--junit", Allow::FileOrStdout)?),
+            None => None,
+        };
+        let sarif = match &self.sarif {
+            Some(p) => Some(outs.file(p, "--sarif", Allow::FileOrStdout)?),
+            None => None,
+        };
+        Ok((junit, sarif))
+    }
+
+    /// Write them.
+    fn write(
+        slots: (Option<Slot>, Option<Slot>),
+        cases: &[Case],
+        outs: &mut Outputs,
+    ) -> anyhow::Result<()> {
+        if let Some(slot) = slots.0 {
+            outs.put(slot, ci::junit(cases).as_bytes())?;
+        }
+        if let Some(slot) = slots.1 {
+            outs.put(slot, ci::sarif(cases).as_bytes())?;
+        }
+        Ok(())
+    }
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// The job files (TOML).
+    #[arg(required = true, value_name = "JOB")]
+    jobs: Vec<PathBuf>,
+    /// Dexel budget per job (see `simulate --max-dexels`).
+    #[arg(long, value_name = "N")]
+    max_dexels: Option<u64>,
+    /// Number of worker threads (default: all cores; at most 4 x the cores).
+    #[arg(long, short = 'j', value_name = "N", value_parser = parse_threads)]
+    threads: Option<usize>,
+    /// Unknown words and codes in the jobs' NC programs are errors, not warnings.
+    #[arg(long)]
+    strict: bool,
+    /// Print nothing but errors.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+    #[command(flatten)]
+    ci: CiArgs,
 }
 
 fn main() -> ExitCode {
@@ -349,21 +419,54 @@ fn main() -> ExitCode {
 /// An error on standard error: program diagnostics compiler-style (they say `error:`
 /// themselves), everything else as `error: ...` with its causes.
 fn report_error(e: &anyhow::Error) {
-    let program = e
-        .downcast_ref::<vpcut::NcError>()
+    match program_error(e) {
+        Some(nc) => term::err(&term::diagnostics(&format!("{nc}\n"))),
+        None => term::error(&format!("{e:#}")),
+    }
+}
+
+/// The NC program error inside an error, if that is what it is.
+fn program_error(e: &anyhow::Error) -> Option<&vpcut::NcError> {
+    e.downcast_ref::<vpcut::NcError>()
         .or_else(|| match e.downcast_ref() {
             Some(vpcut::JobError::Program(nc)) => Some(nc.as_ref()),
             _ => None,
-        });
-    match program {
-        Some(nc) => term::err(&term::diagnostics(&format!("{nc}\n"))),
-        None => term::error(&format!("{e:#}")),
+        })
+}
+
+/// An error as text, the way `report_error` prints it (without colour).
+fn error_text(e: &anyhow::Error) -> String {
+    match program_error(e) {
+        Some(nc) => nc.to_string(),
+        None => format!("error: {e:#}"),
+    }
+}
+
+/// Where an error is: the file, line and column it names, else the job file.
+fn error_place(e: &anyhow::Error, job: &Path) -> Place {
+    let at = |file: &str, line: usize, column: usize| Place {
+        file: PathBuf::from(file),
+        line: line.max(1),
+        column: column.max(1),
+    };
+    if let Some(nc) = program_error(e) {
+        return at(&nc.file, nc.line, nc.col);
+    }
+    match e.downcast_ref::<vpcut::JobError>() {
+        Some(vpcut::JobError::Syntax {
+            file, line, col, ..
+        })
+        | Some(vpcut::JobError::Invalid {
+            file, line, col, ..
+        }) => at(file, *line, *col),
+        _ => at(&job.display().to_string(), 1, 1),
     }
 }
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Simulate(args) => simulate(args),
+        Command::Check(args) => check(args),
         Command::Render(args) => render(args),
         Command::Toolpath(args) => toolpath(args),
         Command::Plan(args) => plan(args),
@@ -372,20 +475,36 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
 
 /// Read a job and the files it names beside it (recorded in `inputs`); program diagnostics
 /// name the files that hold the programs.
-fn load_job(path: &Path, strict: bool, inputs: &Inputs) -> anyhow::Result<vpcut::Job> {
+fn load_job(path: &Path, strict: bool, inputs: &Inputs) -> anyhow::Result<(vpcut::Job, String)> {
     let (src, bytes) = inputs::read_text(path, "the job file")?;
     inputs.add("job", path.to_path_buf(), path.display().to_string(), bytes);
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let load = inputs.loader(&dir);
-    vpcut::Job::from_toml_opts(&src, &path.display().to_string(), &load, strict).map_err(
-        |e| match e {
+    let job = vpcut::Job::from_toml_opts(&src, &path.display().to_string(), &load, strict)
+        .map_err(|e| match e {
             vpcut::JobError::Program(mut nc) => {
                 name_files(&mut nc, inputs);
-                vpcut::JobError::Program(nc).into()
+                anyhow::Error::from(vpcut::JobError::Program(nc))
             }
             e => e.into(),
-        },
-    )
+        })?;
+    Ok((job, src))
+}
+
+/// Where each finding of a report is (for SARIF).
+fn places(
+    report: &vpcut::Report,
+    job_path: &Path,
+    job_text: &str,
+    job: &vpcut::Job,
+    inputs: &Inputs,
+) -> Vec<Place> {
+    let program_file = |name: &str| inputs.program_file(name);
+    report
+        .findings
+        .iter()
+        .map(|f| ci::place(f, job_path, job_text, &program_file, &job.chains))
+        .collect()
 }
 
 /// Diagnostics name programs (`O2`, `MYBBB.SPF`); say the file's path instead.
@@ -458,7 +577,7 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
         Stream::Stdout
     };
     let inputs = Inputs::default();
-    let job = load_job(&args.job, false, &inputs)?;
+    let (job, _) = load_job(&args.job, false, &inputs)?;
     let plan = job.plan.as_ref().with_context(|| {
         format!(
             "{}: nothing to plan: give the job a [process] with kind = \"plan\" and its limits (docs/job-format.md)",
@@ -559,10 +678,11 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
+    let ci_slots = args.ci.slots(&mut outs)?;
     let pictures = args.picture.prepare(&mut outs, &progress)?;
     set_threads(args.threads)?;
     let inputs = Inputs::default();
-    let job = progress.stage("reading the job", || {
+    let (job, job_text) = progress.stage("reading the job", || {
         load_job(&args.job, args.strict, &inputs)
     })?;
     // The summary goes where no output does.
@@ -658,6 +778,17 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         outs.put(developed, &dev?)?;
         outs.put(section, &sec?)?;
     }
+    if ci_slots.0.is_some() || ci_slots.1.is_some() {
+        let case = Case {
+            job: args.job.clone(),
+            seconds: clock.elapsed().as_secs_f64(),
+            result: Ok(Checked {
+                places: places(&out.report, &args.job, &job_text, &job, &inputs),
+                report: out.report.clone(),
+            }),
+        };
+        CiArgs::write(ci_slots, std::slice::from_ref(&case), &mut outs)?;
+    }
     let written = progress.stage("writing", || outs.commit())?;
     if !args.quiet {
         let wall = clock.elapsed().as_secs_f64();
@@ -673,6 +804,164 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             ExitCode::SUCCESS
         },
     )
+}
+
+fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
+    use rayon::prelude::*;
+    let clock = Instant::now();
+    let jobs: Vec<&Path> = args.jobs.iter().map(PathBuf::as_path).collect();
+    let mut outs = Outputs::new(&jobs);
+    let slots = args.ci.slots(&mut outs)?;
+    set_threads(args.threads)?;
+    let say = if outs.uses_stdout() {
+        Stream::Stderr
+    } else {
+        Stream::Stdout
+    };
+    let progress = Progress::new(args.quiet);
+    let opts = vpcut::Options {
+        max_dexels: args.max_dexels,
+    };
+    let cases: Vec<Case> = progress.stage(&format!("checking {} jobs", jobs.len()), || {
+        jobs.par_iter()
+            .map(|p| check_one(p, args.strict, &opts))
+            .collect()
+    });
+    CiArgs::write(slots, &cases, &mut outs)?;
+    let written = progress.stage("writing", || outs.commit())?;
+    if !args.quiet {
+        say.write(&check_table(&cases, say, clock.elapsed().as_secs_f64()));
+        for p in written {
+            say.write(&format!("  wrote {}\n", p.display()));
+        }
+    }
+    // The jobs that could not be checked, whatever -q says.
+    for c in &cases {
+        if let Err(e) = &c.result {
+            term::err(&term::diagnostics(&format!("{}\n", e.message)));
+        }
+    }
+    let bad = cases.iter().any(|c| c.result.is_err());
+    let failed = cases
+        .iter()
+        .any(|c| matches!(&c.result, Ok(k) if k.report.verdict == vpcut::Verdict::Fail));
+    Ok(if bad {
+        ExitCode::from(2)
+    } else if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// Read and simulate one job of `vpcut check`; whatever goes wrong is its outcome.
+fn check_one(path: &Path, strict: bool, opts: &vpcut::Options) -> Case {
+    let start = Instant::now();
+    let inputs = Inputs::default();
+    let run = || -> anyhow::Result<Checked> {
+        let (job, text) = load_job(path, strict, &inputs)?;
+        let mut out =
+            vpcut::simulate(&job, opts).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        complete_report(&mut out.report, &inputs);
+        Ok(Checked {
+            places: places(&out.report, path, &text, &job, &inputs),
+            report: out.report,
+        })
+    };
+    let result = run().map_err(|e| Failed {
+        message: error_text(&e),
+        place: error_place(&e, path),
+    });
+    Case {
+        job: path.to_path_buf(),
+        seconds: start.elapsed().as_secs_f64(),
+        result,
+    }
+}
+
+/// The table of `vpcut check`: one line per job, then the totals.
+fn check_table(cases: &[Case], stream: Stream, wall_s: f64) -> String {
+    use std::fmt::Write as _;
+    let on = stream.colour();
+    let width = cases
+        .iter()
+        .map(|c| c.job.display().to_string().chars().count())
+        .max()
+        .unwrap_or(3)
+        .max(3);
+    let mut s = format!(
+        "{:<width$}  verdict  worst gouge mm  worst leftover mm  errors  warnings  time s\n",
+        "job"
+    );
+    let (mut pass, mut fail, mut bad) = (0, 0, 0);
+    for c in cases {
+        let job = c.job.display().to_string();
+        let pad = " ".repeat(width - job.chars().count());
+        match &c.result {
+            Ok(k) => {
+                let r = &k.report;
+                let tol = r.tolerance_mm;
+                let (word, style) = match r.verdict {
+                    vpcut::Verdict::Pass => {
+                        pass += 1;
+                        ("PASS", term::GREEN)
+                    }
+                    vpcut::Verdict::Fail => {
+                        fail += 1;
+                        ("FAIL", term::RED)
+                    }
+                };
+                let cell = |x: f64, w: usize| {
+                    let text = format!("{:>w$}", readable_mm(x));
+                    if x > tol {
+                        term::paint(on, term::RED, &text)
+                    } else {
+                        text
+                    }
+                };
+                let _ = writeln!(
+                    s,
+                    "{job}{pad}  {}     {}  {}  {:>6}  {:>8}  {:>6.2}",
+                    term::paint(on, style, word),
+                    cell(r.deviation.max_gouge_mm, 14),
+                    cell(r.deviation.max_leftover_mm, 17),
+                    r.finding_counts.errors,
+                    r.finding_counts.warnings,
+                    c.seconds
+                );
+            }
+            Err(_) => {
+                bad += 1;
+                let _ = writeln!(
+                    s,
+                    "{job}{pad}  {}    {:>14}  {:>17}  {:>6}  {:>8}  {:>6.2}",
+                    term::paint(on, term::RED, "ERROR"),
+                    "-",
+                    "-",
+                    "-",
+                    "-",
+                    c.seconds
+                );
+            }
+        }
+    }
+    let _ = writeln!(
+        s,
+        "{} job{}: {pass} pass, {fail} fail, {bad} cannot be checked; {:.2} s in all",
+        cases.len(),
+        if cases.len() == 1 { "" } else { "s" },
+        wall_s
+    );
+    s
+}
+
+/// A length in mm with 4 decimals, or scientific when huge.
+fn readable_mm(x: f64) -> String {
+    if x.abs() >= 1e7 {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.4}")
+    }
 }
 
 /// About how many bytes a `--gltf-full` model takes per dexel: a vertex (12 bytes of

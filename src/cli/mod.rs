@@ -2,6 +2,7 @@
 //! input files read with good messages, the terminal (closed pipes, colour, progress) and
 //! the CI formats.
 
+pub(crate) mod ci;
 pub(crate) mod inputs;
 pub(crate) mod output;
 pub(crate) mod term;

@@ -39,11 +39,6 @@ pub(crate) fn out_bytes(b: &[u8]) -> std::io::Result<()> {
     }
 }
 
-/// Whether standard output has been closed by its reader (stop producing more).
-pub(crate) fn stdout_closed() -> bool {
-    STDOUT_CLOSED.load(Ordering::Relaxed)
-}
-
 /// Write text to standard error; errors are ignored (there is nowhere left to say them).
 pub(crate) fn err(s: &str) {
     let mut e = std::io::stderr().lock();
@@ -141,11 +136,6 @@ impl Progress {
         }
     }
 
-    /// Whether anything is shown.
-    pub(crate) fn shown(&self) -> bool {
-        self.on
-    }
-
     /// Run `f` as the stage `name`: a spinner with the elapsed time while it runs, drawn
     /// only once the stage has taken half a second (quick stages leave no trace), cleared
     /// when it ends.
@@ -182,13 +172,6 @@ impl Progress {
         let _ = show.join();
         bar.finish_and_clear();
         out
-    }
-
-    /// A line of information on standard error (size estimates), shown like progress.
-    pub(crate) fn note(&self, s: &str) {
-        if self.on {
-            err(s);
-        }
     }
 }
 
