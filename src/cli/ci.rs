@@ -225,24 +225,66 @@ pub(crate) fn junit(cases: &[Case]) -> String {
 
 /// What each kind of finding means, for SARIF's rules.
 const RULES: [(&str, &str); 19] = [
-    ("hand", "A pass cuts the other hand than the drawing's thread."),
+    (
+        "hand",
+        "A pass cuts the other hand than the drawing's thread.",
+    ),
     ("rapid_cut", "A rapid (G00) move removes material."),
-    ("head_length", "A pass runs deeper than the tool's head reaches: the holder hits the part."),
-    ("gouge", "Material removed that the ideal thread keeps, beyond the tolerance."),
-    ("leftover", "Material left that the ideal thread removes, beyond the tolerance."),
-    ("flank_interference", "A tool body cuts past the surface its edge cut."),
-    ("missing_feature", "A groove or tooth of the drawing is not formed at the pitch diameter."),
+    (
+        "head_length",
+        "A pass runs deeper than the tool's head reaches: the holder hits the part.",
+    ),
+    (
+        "gouge",
+        "Material removed that the ideal thread keeps, beyond the tolerance.",
+    ),
+    (
+        "leftover",
+        "Material left that the ideal thread removes, beyond the tolerance.",
+    ),
+    (
+        "flank_interference",
+        "A tool body cuts past the surface its edge cut.",
+    ),
+    (
+        "missing_feature",
+        "A groove or tooth of the drawing is not formed at the pitch diameter.",
+    ),
     ("lead", "A turn's lead is off by more than the tolerance."),
-    ("pitch_diameter", "A turn's simple pitch diameter is outside the drawing's limits."),
-    ("groove_width", "A groove's width is off by more than the tolerance."),
-    ("tooth_width", "A tooth's width is off by more than the tolerance."),
+    (
+        "pitch_diameter",
+        "A turn's simple pitch diameter is outside the drawing's limits.",
+    ),
+    (
+        "groove_width",
+        "A groove's width is off by more than the tolerance.",
+    ),
+    (
+        "tooth_width",
+        "A tooth's width is off by more than the tolerance.",
+    ),
     ("feed_limit", "The axis feed exceeds the machine's maximum."),
-    ("split_feature", "A ridge or notch crosses the pitch diameter inside one feature."),
+    (
+        "split_feature",
+        "A ridge or notch crosses the pitch diameter inside one feature.",
+    ),
     ("run_in", "Less run-in than the axis needs to reach speed."),
-    ("axis_acceleration", "A lead change needs more axial acceleration than the machine has."),
-    ("program", "A diagnostic of the NC program (a skipped word or code, a missing subprogram)."),
-    ("thread_chain", "A chained thread block re-programs the lead law without a re-sync."),
-    ("input", "The job or its program cannot be read or simulated."),
+    (
+        "axis_acceleration",
+        "A lead change needs more axial acceleration than the machine has.",
+    ),
+    (
+        "program",
+        "A diagnostic of the NC program (a skipped word or code, a missing subprogram).",
+    ),
+    (
+        "thread_chain",
+        "A chained thread block re-programs the lead law without a re-sync.",
+    ),
+    (
+        "input",
+        "The job or its program cannot be read or simulated.",
+    ),
     ("other", "Another finding."),
 ];
 

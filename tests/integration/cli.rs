@@ -1,6 +1,6 @@
 //! The command line: exit codes, error messages that name file, line and key, atomic output.
 
-use crate::support::{scene_text, with};
+use crate::support::{scene_text, small, with};
 use std::path::PathBuf;
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -38,17 +38,6 @@ fn simulate_text(text: &str, extra: &[&str]) -> (Output, PathBuf, PathBuf) {
     ];
     args.extend_from_slice(extra);
     (vpcut(&args), job, report)
-}
-
-fn small(scene: &str) -> String {
-    with(
-        &scene_text(scene),
-        &[
-            ("simulation", "angular_cells", "72"),
-            ("simulation", "axial_spacing", "0.05"),
-            ("simulation", "measure_generators", "2"),
-        ],
-    )
 }
 
 const BASE: &str = r#"[blank]

@@ -34,6 +34,19 @@ pub(crate) fn with(text: &str, edits: &[(&str, &str, &str)]) -> String {
     doc.to_string()
 }
 
+/// A scene's job text made small for CLI tests: 72 angular cells, 0.05 mm axially, two
+/// measurement generators (a run takes milliseconds).
+pub(crate) fn small(scene: &str) -> String {
+    with(
+        &scene_text(scene),
+        &[
+            ("simulation", "angular_cells", "72"),
+            ("simulation", "axial_spacing", "0.05"),
+            ("simulation", "measure_generators", "2"),
+        ],
+    )
+}
+
 /// Parse a job or fail the test with the error.
 pub(crate) fn job(text: &str) -> Job {
     Job::from_toml(text, "test.toml").unwrap_or_else(|e| panic!("{e}"))
