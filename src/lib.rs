@@ -119,7 +119,7 @@ pub struct Options {
 #[non_exhaustive]
 pub enum SimError {
     /// The grid would need more dexels than allowed.
-    #[error("the stock needs {requested} dexels ({angular} angular x {axial} axial x {surfaces} surface(s)), over the budget of {limit}; coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels")]
+    #[error("the stock needs {} dexels ({angular} angular x {} axial x {surfaces} surface(s)), over the budget of {}; coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels", readable(*requested), readable(*axial as u64), readable(*limit))]
     DexelBudget {
         /// Dexels the grid needs.
         requested: u64,
@@ -150,6 +150,18 @@ pub enum SimError {
         /// High end.
         hi: f64,
     },
+}
+
+/// A count as a person reads it: whole below ten million, else scientific, and a count that
+/// was capped at the integer's limit as "more than" it (never 20 digits of a cap).
+fn readable(n: u64) -> String {
+    if n == u64::MAX {
+        format!("more than {:.1e}", u64::MAX as f64)
+    } else if n >= 10_000_000 {
+        format!("{:.2e}", n as f64)
+    } else {
+        n.to_string()
+    }
 }
 
 /// The result of a simulation.
