@@ -295,3 +295,21 @@ fn report_names_version_inputs_and_counts() {
         assert!(f.get("value").is_none() && f.get("unit").is_none(), "{f}");
     }
 }
+
+/// Numbers in messages are readable: a huge grid is "more than 1.8e19" dexels, never the
+/// 20 digits of a capped count or hundreds of digits of a float.
+#[test]
+fn messages_print_numbers_readably() {
+    for (key, value) in [("axial_spacing", "1e-300"), ("angular_cells", "100000000")] {
+        let text = with(&small("iso-m20x2.5-radial"), &[("simulation", key, value)]);
+        let (out, _, _) = simulate_text(&text, &[]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        let longest = err
+            .split(|c: char| !c.is_ascii_digit())
+            .map(str::len)
+            .max()
+            .unwrap_or(0);
+        assert!(longest <= 10, "{key} = {value}: {err}");
+    }
+}
