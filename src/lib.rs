@@ -89,8 +89,8 @@ pub use pass::Pass;
 pub use plot::{developed_view, section_profile, section_view, signed_deviation};
 pub use render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};
 pub use report::{
-    Finding, FindingCounts, InputFile, Report, SummaryStyle, Tone, TurnRow, Verdict, SCHEMA,
-    VERSION,
+    Finding, FindingCounts, InputFile, Painter, Report, SummaryStyle, Tone, TurnRow, Verdict,
+    SCHEMA, VERSION,
 };
 pub use scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use solid::{prism, Face, Solid, SolidError};

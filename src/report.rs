@@ -645,11 +645,14 @@ pub enum Tone {
     Warning,
 }
 
+/// Paints a piece of the summary for its [`Tone`] (colour on a terminal).
+pub type Painter<'a> = &'a dyn Fn(Tone, &str) -> String;
+
 /// How [`Report::summary_with`] dresses the summary.
 #[derive(Clone, Copy, Default)]
 pub struct SummaryStyle<'a> {
     /// Paints a piece of text (colour on a terminal); `None`: plain text.
-    pub paint: Option<&'a dyn Fn(Tone, &str) -> String>,
+    pub paint: Option<Painter<'a>>,
     /// The whole run's wall time (s), shown instead of the simulation's own.
     pub wall_s: Option<f64>,
 }

@@ -534,7 +534,7 @@ fn junit_is_well_formed() {
                             let a = a.unwrap();
                             root_attrs.insert(
                                 String::from_utf8(a.key.as_ref().to_vec()).unwrap(),
-                                a.unescape_value().unwrap().into_owned(),
+                                String::from_utf8(a.value.to_vec()).unwrap(),
                             );
                         }
                     }
@@ -555,7 +555,9 @@ fn junit_is_well_formed() {
     }
     assert!(depth > 0);
     assert_eq!(suites, 3, "{xml}");
-    assert!(cases >= 6 + 10 + 1, "{cases}\n{xml}");
+    // Ten turns, six turns, one error case.
+    let turns = 6 + 10;
+    assert!(cases > turns, "{cases}\n{xml}");
     assert!(failures >= 6, "{xml}");
     assert_eq!(errors, 1, "{xml}");
     assert_eq!(root_attrs["errors"], "1");
