@@ -500,7 +500,14 @@ impl Gpu {
         rx.recv()
             .map_err(|e| RenderError::Device(e.to_string()))?
             .map_err(|e| RenderError::Device(e.to_string()))?;
-        let data = slice.get_mapped_range().to_vec();
+        let data = {
+            let mapped = slice.get_mapped_range();
+            let mut data = Vec::new();
+            data.try_reserve_exact(mapped.len())
+                .map_err(|_| super::out_of_memory(mapped.len()))?;
+            data.extend_from_slice(&mapped);
+            data
+        };
         readback.unmap();
         Ok(data)
     }

@@ -108,6 +108,14 @@ impl RenderOptions {
     }
 }
 
+/// The picture's memory could not be had (a refusal, not an abort).
+fn out_of_memory(bytes: usize) -> RenderError {
+    RenderError::Device(format!(
+        "out of memory for a {} MB picture buffer: draw a smaller picture",
+        bytes >> 20
+    ))
+}
+
 /// A headless renderer on one adapter.
 pub struct Renderer {
     gpu: Gpu,
@@ -205,10 +213,17 @@ impl Renderer {
             lines: &lines,
         };
         let rgba = self.gpu.draw(&frame)?;
-        let mut img = RgbImage::from_fn(opts.width, opts.height, |x, y| {
-            let k = 4 * (y as usize * opts.width as usize + x as usize);
-            Rgb([rgba[k], rgba[k + 1], rgba[k + 2]])
-        });
+        let n = 3 * opts.width as usize * opts.height as usize;
+        let mut rgb = Vec::new();
+        rgb.try_reserve_exact(n).map_err(|_| out_of_memory(n))?;
+        rgb.extend(
+            rgba.chunks_exact(4)
+                .take(n / 3)
+                .flat_map(|p| [p[0], p[1], p[2]]),
+        );
+        drop(rgba);
+        let mut img =
+            RgbImage::from_raw(opts.width, opts.height, rgb).expect("a whole picture was read");
         overlay(&mut img, scene, opts, &cam);
         Ok(img)
     }

@@ -712,3 +712,23 @@ fn check_exit_codes() {
     let out = vpcut_in(&d, &["check"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// Diagnostics and toolpath rows name the file that holds a FANUC subprogram (`O2` inside
+/// `MAIN.NC`), with the file's line.
+#[test]
+fn subprograms_are_named_by_their_file() {
+    let d = tmp_dir();
+    std::fs::write(
+        d.join("MAIN.NC"),
+        "O0001\nG0 X30 Z5\nM98 P2\nM30\nO0002\nG32 X26 Z-20 F2\nM77\nG0 X30\nM99\n",
+    )
+    .unwrap();
+    let out = vpcut_in(&d, &["toolpath", "MAIN.NC", "--dialect", "fanuc"]);
+    let err = text(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("MAIN.NC:7:1: warning: M77"), "{err}");
+    assert!(!err.contains("O2:"), "{err}");
+    let csv = text(&out.stdout);
+    assert!(csv.contains("\nMAIN.NC,6,thread,"), "{csv}");
+    assert!(!csv.contains("\nO2,"), "{csv}");
+}
