@@ -449,3 +449,70 @@ pub(crate) fn place(
         column,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uris_are_percent_encoded_and_absolute_paths_are_file_uris() {
+        assert_eq!(
+            uri(Path::new("scenes/a b/job.toml")),
+            "scenes/a%20b/job.toml"
+        );
+        assert_eq!(uri(Path::new("O0001.NC")), "O0001.NC");
+        assert_eq!(uri(Path::new("/tmp/x#1.toml")), "file:///tmp/x%231.toml");
+        assert_eq!(uri(Path::new("caf\u{e9}.nc")), "caf%C3%A9.nc");
+    }
+
+    #[test]
+    fn xml_escapes_markup_and_control_characters() {
+        assert_eq!(
+            xml("a<b & \"c\" 'd'>"),
+            "a&lt;b &amp; &quot;c&quot; &apos;d&apos;&gt;"
+        );
+        assert_eq!(xml("x\u{1}y\tz"), "x\\u{1}y\tz");
+    }
+
+    #[test]
+    fn findings_without_a_program_line_point_at_the_job_table() {
+        let job =
+            "name = \"x\"\n\n[blank]\ndiameter = 1\n\n  [thread]\nform = \"square\"\n[machine]\n";
+        let f = |kind: &'static str| vpcut::Finding {
+            kind,
+            severity: "error",
+            turn: None,
+            start: None,
+            flank: None,
+            pass: None,
+            angle_deg: None,
+            z_mm: None,
+            file: None,
+            line: None,
+            column: None,
+            value: None,
+            unit: None,
+            message: String::new(),
+        };
+        let none = |_: &str| None;
+        let at = |kind| place(&f(kind), Path::new("j.toml"), job, &none, &[]);
+        assert_eq!((at("gouge").line, at("gouge").column), (6, 3));
+        assert_eq!(at("run_in").line, 8);
+        assert_eq!((at("hand").line, at("hand").column), (1, 1));
+        let program = vpcut::Finding {
+            file: Some("O1.NC".into()),
+            line: Some(12),
+            column: Some(4),
+            ..f("program")
+        };
+        let p = place(&program, Path::new("jobs/j.toml"), job, &none, &[]);
+        assert_eq!(
+            p,
+            Place {
+                file: PathBuf::from("jobs/O1.NC"),
+                line: 12,
+                column: 4
+            }
+        );
+    }
+}

@@ -152,3 +152,48 @@ impl Inputs {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn not_utf8_names_byte_line_and_column() {
+        let d = std::env::temp_dir().join(format!("vpcut-inputs-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let p = d.join("j.toml");
+        std::fs::write(&p, b"a = 1\nb = \"\xff\"\n").unwrap();
+        let e = read_text(&p, "the job file").unwrap_err().to_string();
+        assert!(
+            e.contains("byte 0xFF at byte offset 11 (line 2, column 6)"),
+            "{e}"
+        );
+        let e = read_text(&d, "the job file").unwrap_err().to_string();
+        assert!(e.contains("it is a folder"), "{e}");
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn latin1_programs_decode() {
+        assert_eq!(decode_program(b"(caf\xe9)\nG0"), "(caf\u{e9})\nG0");
+        assert_eq!(decode_program("(caf\u{e9})".as_bytes()), "(caf\u{e9})");
+    }
+
+    #[test]
+    fn fanuc_subprograms_are_found_in_their_file() {
+        let inputs = Inputs::default();
+        inputs.add(
+            "program",
+            PathBuf::from("d/MAIN.NC"),
+            "MAIN.NC".into(),
+            b"O0001\nM98 P2\nM30\nO0002 (SUB)\nM99\n".to_vec(),
+        );
+        assert_eq!(inputs.program_file("O2"), Some(PathBuf::from("d/MAIN.NC")));
+        assert_eq!(inputs.program_name("O2").as_deref(), Some("MAIN.NC"));
+        assert_eq!(
+            inputs.program_file("MAIN.NC"),
+            Some(PathBuf::from("d/MAIN.NC"))
+        );
+        assert_eq!(inputs.program_file("O3"), None);
+    }
+}

@@ -732,3 +732,61 @@ fn subprograms_are_named_by_their_file() {
     assert!(csv.contains("\nMAIN.NC,6,thread,"), "{csv}");
     assert!(!csv.contains("\nO2,"), "{csv}");
 }
+
+/// A FIFO is written in place (it stays a FIFO and its reader gets the report).
+#[test]
+fn a_fifo_is_written_in_place() {
+    let d = sentinel_dir();
+    let fifo = d.join("pipe.json");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("no mkfifo here: skipped");
+        return;
+    }
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(fifo).unwrap())
+    };
+    let out = vpcut_in(&d, &["simulate", "job.toml", "-q", "--report", "pipe.json"]);
+    if !out.status.success() {
+        // Let the reader go before failing.
+        drop(std::fs::OpenOptions::new().write(true).open(&fifo));
+        panic!("{}", text(&out.stderr));
+    }
+    let r: serde_json::Value = serde_json::from_slice(&reader.join().unwrap()).unwrap();
+    assert_eq!(r["schema"], "vpcut.report/1");
+    use std::os::unix::fs::FileTypeExt as _;
+    assert!(std::fs::symlink_metadata(&fifo)
+        .unwrap()
+        .file_type()
+        .is_fifo());
+}
+
+/// Output that is not a terminal has no colour codes, whatever `NO_COLOR` says; the summary
+/// groups findings by kind with counts.
+#[test]
+fn no_colour_off_a_terminal_and_findings_grouped() {
+    let d = sentinel_dir();
+    std::fs::write(d.join("fail.toml"), small("seed002-equal-groove")).unwrap();
+    for args in [
+        &["simulate", "fail.toml"][..],
+        &["check", "fail.toml", "broken.toml"][..],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .current_dir(&d)
+            .args(args)
+            .env_remove("NO_COLOR")
+            .output()
+            .unwrap();
+        assert!(
+            !out.stdout.contains(&0x1b) && !out.stderr.contains(&0x1b),
+            "{args:?}"
+        );
+        if args[0] == "simulate" {
+            let s = text(&out.stdout);
+            assert!(s.contains("error   gouge x"), "{s}");
+            assert!(s.contains("more gouge findings in the report"), "{s}");
+            assert!(s.contains("s in all"), "{s}");
+        }
+    }
+}
