@@ -578,6 +578,7 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     };
     let inputs = Inputs::default();
     let (job, _) = load_job(&args.job, false, &inputs)?;
+    outs.protect(&inputs.paths())?;
     let plan = job.plan.as_ref().with_context(|| {
         format!(
             "{}: nothing to plan: give the job a [process] with kind = \"plan\" and its limits (docs/job-format.md)",
@@ -685,6 +686,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let (job, job_text) = progress.stage("reading the job", || {
         load_job(&args.job, args.strict, &inputs)
     })?;
+    outs.protect(&inputs.paths())?;
     // The summary goes where no output does.
     let say = if outs.uses_stdout() {
         Stream::Stderr
@@ -701,12 +703,11 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let opts = vpcut::Options {
         max_dexels: args.max_dexels,
     };
-    let out = progress
+    let mut out = progress
         .stage("simulating: sweep, compare, measure", || {
             vpcut::simulate(&job, &opts)
         })
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
-    let mut out = out;
     complete_report(&mut out.report, &inputs);
     if let Some(slot) = report_slot {
         outs.put(slot, out.report.to_json().as_bytes())?;
@@ -822,11 +823,13 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     let opts = vpcut::Options {
         max_dexels: args.max_dexels,
     };
-    let cases: Vec<Case> = progress.stage(&format!("checking {} jobs", jobs.len()), || {
-        jobs.par_iter()
-            .map(|p| check_one(p, args.strict, &opts))
-            .collect()
-    });
+    let (cases, read): (Vec<Case>, Vec<Vec<PathBuf>>) =
+        progress.stage(&format!("checking {} jobs", jobs.len()), || {
+            jobs.par_iter()
+                .map(|p| check_one(p, args.strict, &opts))
+                .unzip()
+        });
+    outs.protect(&read.concat())?;
     CiArgs::write(slots, &cases, &mut outs)?;
     let written = progress.stage("writing", || outs.commit())?;
     if !args.quiet {
@@ -854,8 +857,9 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
-/// Read and simulate one job of `vpcut check`; whatever goes wrong is its outcome.
-fn check_one(path: &Path, strict: bool, opts: &vpcut::Options) -> Case {
+/// Read and simulate one job of `vpcut check`; whatever goes wrong is its outcome. Also
+/// the files it read.
+fn check_one(path: &Path, strict: bool, opts: &vpcut::Options) -> (Case, Vec<PathBuf>) {
     let start = Instant::now();
     let inputs = Inputs::default();
     let run = || -> anyhow::Result<Checked> {
@@ -872,11 +876,12 @@ fn check_one(path: &Path, strict: bool, opts: &vpcut::Options) -> Case {
         message: error_text(&e),
         place: error_place(&e, path),
     });
-    Case {
+    let case = Case {
         job: path.to_path_buf(),
         seconds: start.elapsed().as_secs_f64(),
         result,
-    }
+    };
+    (case, inputs.paths())
 }
 
 /// The table of `vpcut check`: one line per job, then the totals.

@@ -143,6 +143,11 @@ impl Inputs {
         self.holder(name).map(|r| r.name)
     }
 
+    /// The paths of the files read.
+    pub(crate) fn paths(&self) -> Vec<PathBuf> {
+        self.files.borrow().iter().map(|r| r.path.clone()).collect()
+    }
+
     /// The files for the report, with their hashes.
     pub(crate) fn report(&self) -> Vec<vpcut::InputFile> {
         self.files

@@ -152,6 +152,27 @@ impl Outputs {
         Ok(self.push(shown, dest))
     }
 
+    /// Refuse outputs that would replace one of `inputs` (the programs a job read, known
+    /// only once it has been read; still before any work).
+    pub(crate) fn protect(&mut self, inputs: &[PathBuf]) -> anyhow::Result<()> {
+        for p in inputs {
+            let Some(id) = identity(p) else { continue };
+            if let Some(e) = self
+                .entries
+                .iter()
+                .find(|e| e.identity().as_ref() == Some(&id))
+            {
+                anyhow::bail!(
+                    "cannot write {}: that is an input of this run ({})",
+                    e.shown.display(),
+                    p.display()
+                );
+            }
+            self.inputs.push(id);
+        }
+        Ok(())
+    }
+
     /// Check a folder of outputs (`--renders`, `--plots`): it is a folder, or it can be
     /// made (then it is made now, and removed again if the run fails).
     pub(crate) fn folder(&mut self, dir: &Path, flag: &str) -> anyhow::Result<()> {

@@ -790,3 +790,22 @@ fn no_colour_off_a_terminal_and_findings_grouped() {
         }
     }
 }
+
+/// No output replaces a file the job read: the job, or its program (known once read, still
+/// before the simulation).
+#[test]
+fn outputs_never_replace_inputs() {
+    let d = program_scene("seed000-macro-a-equal-tooth");
+    let before = snapshot(&d);
+    for args in [
+        &["simulate", "job.toml", "--report", "O0003.NC"][..],
+        &["simulate", "job.toml", "--gltf", "./job.toml"][..],
+        &["check", "job.toml", "--sarif", "O0003.NC"][..],
+    ] {
+        let out = vpcut_in(&d, args);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains("input of this run"), "{args:?}: {err}");
+        assert_eq!(snapshot(&d), before, "{args:?}");
+    }
+}
