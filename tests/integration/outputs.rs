@@ -743,17 +743,30 @@ fn a_fifo_is_written_in_place() {
         eprintln!("no mkfifo here: skipped");
         return;
     }
-    let reader = {
-        let fifo = fifo.clone();
-        std::thread::spawn(move || std::fs::read(fifo).unwrap())
-    };
+    // Held open for reading and writing (which does not wait for a writer on Linux) and
+    // non-blocking: vpcut's writer finds a reader, and a vpcut that replaced the FIFO instead
+    // leaves nothing to read rather than a test that waits forever.
+    use std::io::Read as _;
+    use std::os::unix::fs::OpenOptionsExt as _;
+    let mut pipe = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .custom_flags(libc::O_NONBLOCK)
+        .open(&fifo)
+        .unwrap();
     let out = vpcut_in(&d, &["simulate", "job.toml", "-q", "--report", "pipe.json"]);
-    if !out.status.success() {
-        // Let the reader go before failing.
-        drop(std::fs::OpenOptions::new().write(true).open(&fifo));
-        panic!("{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let mut got = Vec::new();
+    let mut buf = [0u8; 65536];
+    loop {
+        match pipe.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => got.extend_from_slice(&buf[..n]),
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => break,
+            Err(e) => panic!("{e}"),
+        }
     }
-    let r: serde_json::Value = serde_json::from_slice(&reader.join().unwrap()).unwrap();
+    let r: serde_json::Value = serde_json::from_slice(&got).unwrap();
     assert_eq!(r["schema"], "vpcut.report/1");
     use std::os::unix::fs::FileTypeExt as _;
     assert!(std::fs::symlink_metadata(&fifo)
