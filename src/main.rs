@@ -503,7 +503,7 @@ fn places(
     report
         .findings
         .iter()
-        .map(|f| ci::place(f, job_path, job_text, &program_file, &job.chains))
+        .map(|f| ci::place(f, job_path, job_text, &program_file, &job.pass_blocks))
         .collect()
 }
 

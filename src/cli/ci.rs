@@ -396,7 +396,8 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
     s
 }
 
-/// Where a finding is: its program line when it has one, else the job file at the table it
+/// Where a finding is: its program line when it has one (a program diagnostic, a milling
+/// move, the thread block of the pass it is about), else the job file at the table it
 /// concerns (`[thread]` for deviations and measurements, `[machine]` for machine checks,
 /// the pass's `[[pass]]`, else `[program]` or `[process]`), else the job file's first line.
 pub(crate) fn place(
@@ -404,7 +405,7 @@ pub(crate) fn place(
     job_path: &Path,
     job_text: &str,
     program_file: &dyn Fn(&str) -> Option<PathBuf>,
-    chains: &[vpcut::ChainLink],
+    pass_blocks: &[(usize, String, usize)],
 ) -> Place {
     let in_program = |file: &str, line: usize, column: usize| Place {
         file: program_file(file).unwrap_or_else(|| {
@@ -419,10 +420,9 @@ pub(crate) fn place(
     if let (Some(file), Some(line)) = (&f.file, f.line) {
         return in_program(file, line, f.column.unwrap_or(1));
     }
-    if f.kind == "thread_chain" {
-        if let Some(c) = chains.iter().find(|c| Some(c.pass + 1) == f.pass) {
-            return in_program(&c.file, c.line, 1);
-        }
+    // A pass check of a pass from the program: its thread block.
+    if let Some(b) = pass_blocks.iter().find(|b| Some(b.0 + 1) == f.pass) {
+        return in_program(&b.1, b.2, 1);
     }
     let header = |name: &str, nth: usize| {
         job_text

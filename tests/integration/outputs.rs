@@ -822,3 +822,50 @@ fn outputs_never_replace_inputs() {
         assert_eq!(snapshot(&d), before, "{args:?}");
     }
 }
+
+/// A pass check of a pass that comes from the program points at the pass's thread block in
+/// SARIF (the re-synced G32 on line 6 lacks run-in; the chained one on line 3 of the first
+/// program re-programs the lead).
+#[test]
+fn sarif_points_pass_checks_at_their_thread_blocks() {
+    let d = tmp_dir();
+    let toml = "[blank]\ndiameter = 30.0\nlength = 40.0\n\
+                [thread]\nform = \"square\"\nmajor_diameter = 30.0\nminor_diameter = 29.0\n\
+                pitch = 2.0\nturns = 3\nz_start = -2.0\nwidth = { groove = 1.0 }\n\
+                [[tool]]\nid = 1\nkind = \"grooving\"\nwidth = 1.0\n\
+                [program]\nfile = \"P.NC\"\ndialect = \"fanuc\"\n\
+                [machine]\nacceleration = 1000.0\n\
+                [simulation]\naxial_spacing = 0.05\nangular_cells = 90\nmeasure_generators = 1\n";
+    std::fs::write(d.join("job.toml"), toml).unwrap();
+    for (program, rule, line) in [
+        (
+            "M03\nG0 X29 Z5\nG32 Z-7 F2\nG0 X31\nG0 X29\nG32 Z-20 F3\nM30\n",
+            "run_in",
+            6,
+        ),
+        (
+            "M03\nG0 X29 Z5\nG32 Z-7 F2\nG32 Z-20 F3\nM30\n",
+            "thread_chain",
+            4,
+        ),
+    ] {
+        std::fs::write(d.join("P.NC"), program).unwrap();
+        let out = vpcut_in(&d, &["simulate", "job.toml", "-q", "--sarif", "-"]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let hits: Vec<_> = s["runs"][0]["results"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|r| r["ruleId"] == rule)
+            .map(|r| {
+                let p = &r["locations"][0]["physicalLocation"];
+                (
+                    p["artifactLocation"]["uri"].as_str().unwrap().to_string(),
+                    p["region"]["startLine"].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(hits, vec![("P.NC".to_string(), line)], "{rule}");
+    }
+}
