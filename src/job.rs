@@ -187,6 +187,9 @@ pub struct Job {
     pub program_warnings: Vec<crate::nc::Diagnostic>,
     /// Joints of continuous thread chains in the program (see [`ChainLink`]).
     pub chains: Vec<ChainLink>,
+    /// Where the passes that come from the `[program]` are in it: (pass index, file as the
+    /// job names the program, 1-based line of the thread block). Empty without a program.
+    pub pass_blocks: Vec<(usize, String, usize)>,
     /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
     /// `passes` are empty.
     pub mill: Option<MillJob>,
@@ -861,6 +864,7 @@ fn resolve(
             sim,
             program_warnings,
             chains: Vec::new(),
+            pass_blocks: Vec::new(),
             mill: Some(mill),
             pitch_diameter_limits,
             plan: None,
@@ -961,17 +965,25 @@ fn resolve(
     }
     let mut program_warnings = Vec::new();
     let mut chains = Vec::new();
+    let mut pass_blocks = Vec::new();
     if let Some(pr) = &raw.program {
         let ProgramPasses {
             passes: more,
             links,
             warnings: w,
+            blocks,
         } = program_passes(pr, &tools, cx, load, strict)?;
         let offset = passes.len();
         chains.extend(links.into_iter().map(|mut l| {
             l.pass += offset;
             l
         }));
+        pass_blocks.extend(
+            blocks
+                .into_iter()
+                .enumerate()
+                .map(|(i, (file, line))| (offset + i, file, line)),
+        );
         passes.extend(more);
         program_warnings = w;
     }
@@ -992,6 +1004,7 @@ fn resolve(
         sim,
         program_warnings,
         chains,
+        pass_blocks,
         mill: None,
         pitch_diameter_limits: None,
         plan,
@@ -1018,11 +1031,17 @@ impl Job {
             passes,
             links,
             warnings,
+            blocks,
         } = program_passes(&pr, &self.tools, &cx, &load, true)?;
         Ok(Job {
             passes,
             chains: links,
             program_warnings: warnings,
+            pass_blocks: blocks
+                .into_iter()
+                .enumerate()
+                .map(|(i, (file, line))| (i, file, line))
+                .collect(),
             plan: None,
             ..self.clone()
         })
@@ -1103,6 +1122,8 @@ struct ProgramPasses {
     passes: Vec<Pass>,
     links: Vec<ChainLink>,
     warnings: Vec<crate::nc::Diagnostic>,
+    /// Each pass's thread block: file and line.
+    blocks: Vec<(String, usize)>,
 }
 
 /// Interpret the job's program and turn its threading moves into passes, with the joints
@@ -1157,6 +1178,7 @@ fn program_passes(
     let fail = |m: &crate::nc::Move, message: String| move_error(&m.file, m.line, message);
     let mut out: Vec<Pass> = Vec::new();
     let mut links = Vec::new();
+    let mut blocks = Vec::new();
     // A thread move that goes nowhere (a repeated block) cuts nothing.
     let goes = |m: &&crate::nc::Move| m.z != m.z_start || m.x_dia != m.x_start;
     for m in moves
@@ -1209,12 +1231,14 @@ fn program_passes(
                 });
             }
         }
+        blocks.push((m.file.clone(), m.line));
         out.push(pass);
     }
     Ok(ProgramPasses {
         passes: out,
         links,
         warnings: toolpath.warnings,
+        blocks,
     })
 }
 

@@ -88,7 +88,10 @@ pub use nc::{
 pub use pass::Pass;
 pub use plot::{developed_view, section_profile, section_view, signed_deviation};
 pub use render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};
-pub use report::{Finding, Report, TurnRow, Verdict, SCHEMA};
+pub use report::{
+    Finding, FindingCounts, InputFile, Painter, Report, SummaryStyle, Tone, TurnRow, Verdict,
+    SCHEMA, VERSION,
+};
 pub use scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use solid::{prism, Face, Solid, SolidError};
 pub use stock::{Grid, Stock, Surface};
@@ -116,7 +119,7 @@ pub struct Options {
 #[non_exhaustive]
 pub enum SimError {
     /// The grid would need more dexels than allowed.
-    #[error("the stock needs {requested} dexels ({angular} angular x {axial} axial x {surfaces} surface(s)), over the budget of {limit}; coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels")]
+    #[error("the stock needs {} dexels ({angular} angular x {} axial x {surfaces} surface(s)), over the budget of {}; coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels", readable(*requested), readable(*axial as u64), readable(*limit))]
     DexelBudget {
         /// Dexels the grid needs.
         requested: u64,
@@ -157,6 +160,18 @@ pub enum SimError {
         /// High end.
         hi: f64,
     },
+}
+
+/// A count as a person reads it: whole below ten million, else scientific, and a count that
+/// was capped at the integer's limit as "more than" it (never 20 digits of a cap).
+fn readable(n: u64) -> String {
+    if n == u64::MAX {
+        format!("more than {:.1e}", u64::MAX as f64)
+    } else if n >= 10_000_000 {
+        format!("{:.2e}", n as f64)
+    } else {
+        n.to_string()
+    }
 }
 
 /// The result of a simulation.
@@ -442,8 +457,11 @@ fn simulate_mill(
                 pass: Some(i + 1),
                 angle_deg: Some(r4(cut.at.0.to_degrees().rem_euclid(360.0))),
                 z_mm: Some(r6(cut.at.1)),
-                value: r6(cut.depth),
-                unit: "mm",
+                file: Some(m.file.clone()),
+                line: Some(m.line),
+                column: None,
+                value: Some(r6(cut.depth)),
+                unit: Some("mm"),
                 message: format!(
                     "{}:{}: a rapid (G00) move cuts {:.4} mm deep ({:.3} mm3) at {:.1} deg, z {:.3}",
                     m.file,
@@ -466,8 +484,11 @@ fn simulate_mill(
                     pass: Some(i + 1),
                     angle_deg: None,
                     z_mm: Some(r6(m.end[2])),
-                    value: r6(f),
-                    unit: "mm/min",
+                    file: Some(m.file.clone()),
+                    line: Some(m.line),
+                    column: None,
+                    value: Some(r6(f)),
+                    unit: Some("mm/min"),
                     message: format!(
                         "{}:{}: feed {f} mm/min over the machine's {max} mm/min",
                         m.file, m.line
@@ -561,8 +582,11 @@ fn simulate_mill(
                 pass: None,
                 angle_deg: None,
                 z_mm: None,
-                value: r6(off),
-                unit: "mm",
+                file: None,
+                line: None,
+                column: None,
+                value: Some(r6(off)),
+                unit: Some("mm"),
                 message: format!(
                     "turn {turn}: pitch diameter {a:.4} to {b:.4} mm, outside the drawing's {lo} to {hi} mm"
                 ),
@@ -570,6 +594,7 @@ fn simulate_mill(
         }
     }
     report.verdict = rank_findings(&mut report.findings);
+    report.finding_counts = report::FindingCounts::of(&report.findings);
     report.timing_s = report::Timing {
         setup: t_setup,
         sweep: t_sweep,
@@ -752,8 +777,11 @@ fn build_report(
                     pass: None,
                     angle_deg: None,
                     z_mm: None,
-                    value: 0.0,
-                    unit: "mm",
+                    value: None,
+                    unit: None,
+                    file: None,
+                    line: None,
+                    column: None,
                     message: format!(
                         "turn {n}: no dexel of it lies on the simulated stock ([simulation] z_range): it is not checked"
                     ),
@@ -776,8 +804,11 @@ fn build_report(
                 pass: Some(i + 1),
                 angle_deg: None,
                 z_mm: Some(r6(p.z_start)),
-                value: 0.0,
-                unit: "mm",
+                file: None,
+                line: None,
+                column: None,
+                value: None,
+                unit: None,
                 message: format!(
                     "pass {}: spindle {} feeding toward {}z cuts a {}-hand helix; the drawing's thread is {}-hand",
                     i + 1,
@@ -816,8 +847,11 @@ fn build_report(
                     pass: None,
                     angle_deg: Some(angle),
                     z_mm: Some(r6(h.z)),
-                    value: r6(h.depth),
-                    unit: "mm",
+                    file: None,
+                    line: None,
+                    column: None,
+                    value: Some(r6(h.depth)),
+                    unit: Some("mm"),
                     message: format!(
                         "turn {turn} {flank} flank: the tool body cut {:.4} mm past its edge's surface at {angle:.1} deg, z {:.3} ({:.3} mm3): the side clearance is smaller than the helix angle there",
                         h.depth, h.z, h.volume
@@ -836,13 +870,16 @@ fn build_report(
             pass: Some(mi.pass + 1),
             angle_deg: None,
             z_mm: Some(r6(mi.z)),
-            value: r6(mi.value),
-            unit: match mi.kind {
+            file: None,
+            line: None,
+            column: None,
+            value: Some(r6(mi.value)),
+            unit: Some(match mi.kind {
                 "feed_limit" => "mm/min",
                 "axis_acceleration" => "mm/s^2",
                 "thread_chain" => "mm/rev",
                 _ => "mm",
-            },
+            }),
             message: mi.message.clone(),
         });
     }
@@ -856,8 +893,11 @@ fn build_report(
             pass: None,
             angle_deg: None,
             z_mm: None,
-            value: 0.0,
-            unit: "mm",
+            file: Some(w.file.clone()),
+            line: Some(w.line),
+            column: Some(w.col.max(1)),
+            value: None,
+            unit: None,
             message: format!("{}:{}:{}: {}", w.file, w.line, w.col.max(1), w.message),
         });
     }
@@ -871,8 +911,11 @@ fn build_report(
             pass: None,
             angle_deg: None,
             z_mm: None,
-            value: 0.0,
-            unit: "mm",
+            value: None,
+            unit: None,
+                    file: None,
+                    line: None,
+                    column: None,
             message: "no dexel of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
         });
     }
@@ -881,8 +924,11 @@ fn build_report(
     let leftover = dev.max_leftover();
     Report {
         schema: SCHEMA,
+        vpcut_version: report::VERSION,
         job: job.name.clone(),
+        inputs: Vec::new(),
         verdict,
+        finding_counts: report::FindingCounts::of(&findings),
         tolerance_mm: r6(tol),
         thread: report::ThreadInfo {
             side: match thread.side {
@@ -1010,8 +1056,11 @@ fn turn_findings(
         pass: None,
         angle_deg: None,
         z_mm: None,
-        value: r6(value),
-        unit: "mm",
+        file: None,
+        line: None,
+        column: None,
+        value: Some(r6(value)),
+        unit: Some("mm"),
         message,
     };
     for (kind, slots) in [("gouge", &td.gouge), ("leftover", &td.leftover)] {

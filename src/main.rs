@@ -1,14 +1,27 @@
 //! The `vpcut` command line: `vpcut simulate job.toml [--report report.json] [--check]
 //! [--gltf out.glb] [--png out.png]`, `vpcut render model.glb --png view.png`,
-//! `vpcut toolpath program --dialect D`.
+//! `vpcut toolpath program --dialect D`, `vpcut plan job.toml --dialect D`.
+//!
+//! Every option and output path is checked before any work starts; outputs are written to
+//! temporaries and put in place only when all of them succeeded (`cli::output`), so a run
+//! that fails leaves existing files as they were. `-` is standard output for `--report`,
+//! `--gltf` and `plan -o`. Nothing prints with `println!`: a closed pipe ends the output
+//! quietly (`cli::term`).
 //!
 //! Exit codes: 0 success, 1 only with `--check` when the verdict is fail, 2 bad input or
 //! an output that cannot be written.
 
+mod cli;
+
 use anyhow::Context as _;
 use clap::{Parser, Subcommand};
+use cli::ci::{self, Case, Checked, Failed, Place};
+use cli::inputs::{self, Inputs};
+use cli::output::{Allow, Outputs, Slot};
+use cli::term::{self, Progress, Stream};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant;
 
 /// Simulates CNC thread machining and reports gouges and leftover stock per turn.
 #[derive(Parser)]
@@ -23,6 +36,9 @@ enum Command {
     /// Simulate a job: sweep every pass through the stock, compare with the ideal thread,
     /// print a summary and optionally write the JSON report.
     Simulate(SimulateArgs),
+    /// Verify many jobs in one call (in parallel): one line per job with its verdict, worst
+    /// gouge and leftover and time; exit 1 if any fails, 2 if any cannot be read.
+    Check(CheckArgs),
     /// Render a model written by `simulate --gltf` (headless, wgpu) to PNG pictures.
     Render(RenderArgs),
     /// Interpret an NC program and print its moves (CSV by default), as the control would
@@ -69,17 +85,18 @@ struct PictureArgs {
     /// `closeup.png`.
     #[arg(long, value_name = "DIR")]
     renders: Option<PathBuf>,
-    /// Camera of `--png`: `iso`, `front`, `section` (the near half cut away along the axis:
-    /// the machined profile as a solid cut face with the ideal profile over it) or `closeup`
-    /// (a section through the worst finding).
-    #[arg(long, default_value = "iso", value_parser = parse_view)]
-    view: vpcut::View,
-    /// Picture size `WIDTHxHEIGHT` in pixels; the width a multiple of 64.
-    #[arg(long, default_value = "1024x768", value_name = "WxH", value_parser = parse_size)]
-    size: (u32, u32),
-    /// Multisampling (anti-aliasing): 4 or 1 samples per pixel.
-    #[arg(long, default_value_t = 4, value_name = "N")]
-    msaa: u32,
+    /// Camera of `--png`: `iso` (the default), `front`, `section` (the near half cut away
+    /// along the axis: the machined profile as a solid cut face with the ideal profile over
+    /// it) or `closeup` (a section through the worst finding).
+    #[arg(long, value_parser = parse_view)]
+    view: Option<vpcut::View>,
+    /// Picture size `WIDTHxHEIGHT` in pixels (default 1024x768): the width a multiple of 64
+    /// from 256, the height from 192, both at most 8192 and the adapter's limit.
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    size: Option<(u32, u32)>,
+    /// Multisampling (anti-aliasing): 4 (the default) or 1 samples per pixel.
+    #[arg(long, value_name = "N", value_parser = parse_msaa)]
+    msaa: Option<u32>,
     /// Draw feature edges (crests, roots, flank corners) as dark lines.
     #[arg(long)]
     edges: bool,
@@ -97,7 +114,67 @@ fn parse_view(s: &str) -> Result<vpcut::View, String> {
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("expected WIDTHxHEIGHT such as 1024x768, not `{s}`");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    Ok((w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?))
+    let size = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    vpcut::RenderOptions {
+        width: size.0,
+        height: size.1,
+        ..Default::default()
+    }
+    .validate()
+    .map_err(|e| e.to_string())?;
+    Ok(size)
+}
+
+fn parse_msaa(s: &str) -> Result<u32, String> {
+    match s {
+        "1" => Ok(1),
+        "4" => Ok(4),
+        _ => Err(format!("expected 1 or 4 samples per pixel, not `{s}`")),
+    }
+}
+
+/// `-j N`: at least 1, at most four times the cores there are (and 1024): more threads
+/// only cost memory and time, and a typo like `-j 100000` is refused at once.
+fn parse_threads(s: &str) -> Result<usize, String> {
+    let n: usize = s
+        .parse()
+        .map_err(|_| format!("expected a number of threads, not `{s}`"))?;
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let max = (4 * cores).min(1024);
+    if n == 0 {
+        return Err("expected at least 1 thread".into());
+    }
+    if n > max {
+        return Err(format!(
+            "at most {max} threads (4 x the {cores} cores here; more only cost memory)"
+        ));
+    }
+    Ok(n)
+}
+
+fn parse_finite(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("expected a finite number, not `{s}`")),
+    }
+}
+
+fn parse_tolerance(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!(
+            "expected a finite number of mm, 0 or more, not `{s}`"
+        )),
+    }
+}
+
+/// The pictures asked for, checked against the adapter before any work.
+struct Pictures {
+    renderer: vpcut::Renderer,
+    /// `--png`: its slot and options.
+    png: Option<(Slot, vpcut::RenderOptions)>,
+    /// `--renders`: every view's slot and options.
+    renders: Vec<(Slot, vpcut::RenderOptions)>,
 }
 
 impl PictureArgs {
@@ -105,29 +182,74 @@ impl PictureArgs {
         self.png.is_some() || self.renders.is_some()
     }
 
-    /// Draw what was asked for and write it atomically.
-    fn write(&self, scene: &vpcut::Scene) -> anyhow::Result<()> {
-        if !self.wanted() {
-            return Ok(());
+    /// Check the options (the ones that only make sense with a picture need one), start the
+    /// renderer and check the size against the adapter, and reserve the output files.
+    fn prepare(&self, outs: &mut Outputs, progress: &Progress) -> anyhow::Result<Option<Pictures>> {
+        if self.png.is_none() && self.view.is_some() {
+            anyhow::bail!(
+                "--view chooses the camera of --png: give --png FILE (--renders DIR draws every view)"
+            );
         }
-        let renderer = vpcut::Renderer::new(self.msaa)?;
+        if !self.wanted() {
+            let given = [
+                (self.size.is_some(), "--size"),
+                (self.msaa.is_some(), "--msaa"),
+                (self.edges, "--edges"),
+                (self.no_toolpath, "--no-toolpath"),
+            ];
+            if let Some((_, flag)) = given.iter().find(|g| g.0) {
+                anyhow::bail!("{flag} is for pictures: give --png FILE or --renders DIR");
+            }
+            return Ok(None);
+        }
+        let (width, height) = self.size.unwrap_or((1024, 768));
         let opts = |view| vpcut::RenderOptions {
             view,
-            width: self.size.0,
-            height: self.size.1,
+            width,
+            height,
             edges: self.edges,
             toolpath: !self.no_toolpath,
         };
-        if let Some(path) = &self.png {
-            write_atomic(path, &renderer.png(scene, &opts(self.view))?)?;
-        }
+        let base = opts(self.view.unwrap_or(vpcut::View::Iso));
+        base.validate()?;
+        let png = match &self.png {
+            Some(p) => Some((outs.file(p, "--png", Allow::File)?, base)),
+            None => None,
+        };
+        let mut renders = Vec::new();
         if let Some(dir) = &self.renders {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("cannot create the folder {}", dir.display()))?;
+            outs.folder(dir, "--renders")?;
             for view in vpcut::View::ALL {
                 let path = dir.join(format!("{}.png", view.name()));
-                write_atomic(&path, &renderer.png(scene, &opts(view))?)?;
+                renders.push((outs.file(&path, "--renders", Allow::File)?, opts(view)));
             }
+        }
+        let renderer = progress.stage("starting the renderer", || {
+            vpcut::Renderer::new(self.msaa.unwrap_or(4))
+        })?;
+        renderer.check(&base)?;
+        Ok(Some(Pictures {
+            renderer,
+            png,
+            renders,
+        }))
+    }
+}
+
+impl Pictures {
+    /// Draw every picture into its slot.
+    fn draw(
+        &self,
+        scene: &vpcut::Scene,
+        outs: &mut Outputs,
+        progress: &Progress,
+    ) -> anyhow::Result<()> {
+        for (slot, opts) in self.png.iter().chain(&self.renders) {
+            let bytes = progress
+                .stage(&format!("rendering the {} view", opts.view.name()), || {
+                    self.renderer.png(scene, opts)
+                })?;
+            outs.put(*slot, &bytes)?;
         }
         Ok(())
     }
@@ -143,7 +265,8 @@ struct PlanArgs {
     /// FANUC: the compact Custom Macro B version (layer tables and WHILE loops).
     #[arg(long = "macro")]
     macro_b: bool,
-    /// Write the program here (atomically); without it, to standard output.
+    /// Write the program here (atomically); `-` or none: standard output (the summary then
+    /// goes to standard error).
     #[arg(long, short = 'o', value_name = "FILE")]
     output: Option<PathBuf>,
     /// Read the program back, check it gives exactly the planned passes, simulate it and
@@ -159,7 +282,8 @@ struct PlanArgs {
 struct SimulateArgs {
     /// The job file (TOML); see docs/job-format.md.
     job: PathBuf,
-    /// Write the full report as JSON here (vpcut.report/1, see docs/report-format.md).
+    /// Write the full report as JSON here (vpcut.report/1, see docs/report-format.md);
+    /// `-`: standard output (the summary then goes to standard error).
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
     /// Exit with code 1 when the verdict is fail (for CI).
@@ -169,8 +293,9 @@ struct SimulateArgs {
     /// needs more. Default: the job's [simulation] max_dexels, else 2e8 (about 0.8 GB).
     #[arg(long, value_name = "N")]
     max_dexels: Option<u64>,
-    /// Number of worker threads (default: all cores). Results do not depend on it.
-    #[arg(long, short = 'j', value_name = "N")]
+    /// Number of worker threads (default: all cores; at most 4 x the cores). Results do
+    /// not depend on it.
+    #[arg(long, short = 'j', value_name = "N", value_parser = parse_threads)]
     threads: Option<usize>,
     /// Print nothing but errors.
     #[arg(long, short = 'q')]
@@ -182,25 +307,92 @@ struct SimulateArgs {
     /// unrolled, angle x z) and `section.png` (machined vs ideal profile along a generator).
     #[arg(long, value_name = "DIR")]
     plots: Option<PathBuf>,
-    /// Angle of the generator in `section.png` (deg on the part).
-    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
-    section_angle: f64,
+    /// Angle of the generator in `section.png` (deg on the part; default 0).
+    #[arg(long, value_name = "DEG", requires = "plots", value_parser = parse_finite)]
+    section_angle: Option<f64>,
     /// Write the cut part as binary glTF (`.glb`): the stock coloured by deviation, the
-    /// toolpath, the tool, and the report summary in `extras`; positions in metres.
+    /// toolpath, the tool, and the report summary in `extras`; positions in metres. `-`:
+    /// standard output.
     #[arg(long, value_name = "FILE")]
     gltf: Option<PathBuf>,
     /// Also put the ideal thread surface (translucent) into the glTF.
-    #[arg(long)]
+    #[arg(long, requires = "gltf")]
     gltf_ideal: bool,
     /// Largest distance (mm) the exported surface may stray from the dexel data
     /// (default: the job's tolerance; the mesh is simplified to it).
-    #[arg(long, value_name = "MM", conflicts_with = "gltf_full")]
+    #[arg(long, value_name = "MM", conflicts_with = "gltf_full", requires = "gltf", value_parser = parse_tolerance)]
     gltf_tolerance: Option<f64>,
     /// Export every dexel as a vertex (no simplification; large files).
-    #[arg(long)]
+    #[arg(long, requires = "gltf")]
     gltf_full: bool,
     #[command(flatten)]
     picture: PictureArgs,
+    #[command(flatten)]
+    ci: CiArgs,
+}
+
+/// Reports for CI systems.
+#[derive(clap::Args)]
+struct CiArgs {
+    /// Write JUnit XML here: a testsuite per job, a testcase per turn and per check, a
+    /// failure per error finding. `-`: standard output.
+    #[arg(long, value_name = "FILE")]
+    junit: Option<PathBuf>,
+    /// Write SARIF 2.1.0 here: a result per finding, located at the NC program's line where
+    /// it has one, else in the job file. `-`: standard output.
+    #[arg(long, value_name = "FILE")]
+    sarif: Option<PathBuf>,
+}
+
+impl CiArgs {
+    /// Reserve the outputs.
+    fn slots(&self, outs: &mut Outputs) -> anyhow::Result<(Option<Slot>, Option<Slot>)> {
+        let junit = match &self.junit {
+            Some(p) => Some(outs.file(p, "--junit", Allow::FileOrStdout)?),
+            None => None,
+        };
+        let sarif = match &self.sarif {
+            Some(p) => Some(outs.file(p, "--sarif", Allow::FileOrStdout)?),
+            None => None,
+        };
+        Ok((junit, sarif))
+    }
+
+    /// Write them.
+    fn write(
+        slots: (Option<Slot>, Option<Slot>),
+        cases: &[Case],
+        outs: &mut Outputs,
+    ) -> anyhow::Result<()> {
+        if let Some(slot) = slots.0 {
+            outs.put(slot, ci::junit(cases).as_bytes())?;
+        }
+        if let Some(slot) = slots.1 {
+            outs.put(slot, ci::sarif(cases).as_bytes())?;
+        }
+        Ok(())
+    }
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// The job files (TOML).
+    #[arg(required = true, value_name = "JOB")]
+    jobs: Vec<PathBuf>,
+    /// Dexel budget per job (see `simulate --max-dexels`).
+    #[arg(long, value_name = "N")]
+    max_dexels: Option<u64>,
+    /// Number of worker threads (default: all cores; at most 4 x the cores).
+    #[arg(long, short = 'j', value_name = "N", value_parser = parse_threads)]
+    threads: Option<usize>,
+    /// Unknown words and codes in the jobs' NC programs are errors, not warnings.
+    #[arg(long)]
+    strict: bool,
+    /// Print nothing but errors.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+    #[command(flatten)]
+    ci: CiArgs,
 }
 
 fn main() -> ExitCode {
@@ -218,28 +410,148 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            // Program diagnostics say `error:` themselves, compiler style.
-            let program = e
-                .downcast_ref::<vpcut::NcError>()
-                .or_else(|| match e.downcast_ref() {
-                    Some(vpcut::JobError::Program(nc)) => Some(nc.as_ref()),
-                    _ => None,
-                });
-            match program {
-                Some(nc) => eprintln!("{nc}"),
-                None => eprintln!("error: {e:#}"),
-            }
+            report_error(&e);
             ExitCode::from(2)
         }
+    }
+}
+
+/// An error on standard error: program diagnostics compiler-style (they say `error:`
+/// themselves), everything else as `error: ...` with its causes.
+fn report_error(e: &anyhow::Error) {
+    match program_error(e) {
+        Some(nc) => term::err(&term::diagnostics(&format!("{nc}\n"))),
+        None => term::error(&format!("{e:#}")),
+    }
+}
+
+/// The NC program error inside an error, if that is what it is.
+fn program_error(e: &anyhow::Error) -> Option<&vpcut::NcError> {
+    e.downcast_ref::<vpcut::NcError>()
+        .or_else(|| match e.downcast_ref() {
+            Some(vpcut::JobError::Program(nc)) => Some(nc.as_ref()),
+            _ => None,
+        })
+}
+
+/// An error as text, the way `report_error` prints it (without colour).
+fn error_text(e: &anyhow::Error) -> String {
+    match program_error(e) {
+        Some(nc) => nc.to_string(),
+        None => format!("error: {e:#}"),
+    }
+}
+
+/// Where an error is: the file, line and column it names, else the job file.
+fn error_place(e: &anyhow::Error, job: &Path) -> Place {
+    let at = |file: &str, line: usize, column: usize| Place {
+        file: PathBuf::from(file),
+        line: line.max(1),
+        column: column.max(1),
+    };
+    if let Some(nc) = program_error(e) {
+        return at(&nc.file, nc.line, nc.col);
+    }
+    match e.downcast_ref::<vpcut::JobError>() {
+        Some(vpcut::JobError::Syntax {
+            file, line, col, ..
+        })
+        | Some(vpcut::JobError::Invalid {
+            file, line, col, ..
+        }) => at(file, *line, *col),
+        _ => at(&job.display().to_string(), 1, 1),
     }
 }
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Simulate(args) => simulate(args),
+        Command::Check(args) => check(args),
         Command::Render(args) => render(args),
         Command::Toolpath(args) => toolpath(args),
         Command::Plan(args) => plan(args),
+    }
+}
+
+/// Read a job and the files it names beside it (recorded in `inputs`); program diagnostics
+/// name the files that hold the programs.
+fn load_job(path: &Path, strict: bool, inputs: &Inputs) -> anyhow::Result<(vpcut::Job, String)> {
+    let (src, bytes) = inputs::read_text(path, "the job file")?;
+    inputs.add("job", path.to_path_buf(), path.display().to_string(), bytes);
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let load = inputs.loader(&dir);
+    let job = vpcut::Job::from_toml_opts(&src, &path.display().to_string(), &load, strict)
+        .map_err(|e| match e {
+            vpcut::JobError::Program(mut nc) => {
+                name_files(&mut nc, inputs);
+                anyhow::Error::from(vpcut::JobError::Program(nc))
+            }
+            e => e.into(),
+        })?;
+    Ok((job, src))
+}
+
+/// Where each finding of a report is (for SARIF).
+fn places(
+    report: &vpcut::Report,
+    job_path: &Path,
+    job_text: &str,
+    job: &vpcut::Job,
+    inputs: &Inputs,
+) -> Vec<Place> {
+    let program_file = |name: &str| inputs.program_file(name);
+    report
+        .findings
+        .iter()
+        .map(|f| ci::place(f, job_path, job_text, &program_file, &job.pass_blocks))
+        .collect()
+}
+
+/// Diagnostics name programs (`O2`, `MYBBB.SPF`); say the file's path instead.
+fn name_files(nc: &mut vpcut::NcError, inputs: &Inputs) {
+    if let Some(p) = inputs.program_file(&nc.file) {
+        nc.file = p.display().to_string();
+    }
+    for d in &mut nc.others {
+        name_file(d, inputs);
+    }
+}
+
+fn name_file(d: &mut vpcut::Diagnostic, inputs: &Inputs) {
+    if let Some(p) = inputs.program_file(&d.file) {
+        d.file = p.display().to_string();
+    }
+}
+
+/// What the library cannot know: the input files with their hashes, and program findings
+/// naming the file that holds the program (as the job names it), not the program (`O2`).
+fn complete_report(report: &mut vpcut::Report, inputs: &Inputs) {
+    report.inputs = inputs.report();
+    for f in &mut report.findings {
+        if let Some(name) = f.file.as_deref().and_then(|n| inputs.program_name(n)) {
+            f.file = Some(name);
+        }
+    }
+}
+
+/// Set up the worker threads (`-j`; already range-checked).
+fn set_threads(n: Option<usize>) -> anyhow::Result<()> {
+    if let Some(n) = n {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("cannot set up the worker threads")?;
+    }
+    Ok(())
+}
+
+/// A count or size as a person reads it: whole up to a million, else in scientific form
+/// (never a 20-digit number).
+fn readable(x: f64) -> String {
+    if x.abs() < 1e6 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.2e}")
     }
 }
 
@@ -251,15 +563,22 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
             if args.macro_b { " with --macro" } else { "" }
         )
     })?;
-    let src = std::fs::read_to_string(&args.job)
-        .with_context(|| format!("cannot read the job file {}", args.job.display()))?;
-    let dir = args.job.parent().map(Path::to_path_buf).unwrap_or_default();
-    let load = |name: &str| {
-        std::fs::read(dir.join(name))
-            .ok()
-            .map(vpcut::decode_program)
+    let mut outs = Outputs::new(&[&args.job]);
+    let dash = PathBuf::from("-");
+    let slot = outs.file(
+        args.output.as_ref().unwrap_or(&dash),
+        "-o",
+        Allow::FileOrStdout,
+    )?;
+    // The summary goes where the program does not.
+    let say = if outs.uses_stdout() {
+        Stream::Stderr
+    } else {
+        Stream::Stdout
     };
-    let job = vpcut::Job::from_toml_with(&src, &args.job.display().to_string(), &load)?;
+    let inputs = Inputs::default();
+    let (job, _) = load_job(&args.job, false, &inputs)?;
+    outs.protect(&inputs.paths())?;
     let plan = job.plan.as_ref().with_context(|| {
         format!(
             "{}: nothing to plan: give the job a [process] with kind = \"plan\" and its limits (docs/job-format.md)",
@@ -274,19 +593,12 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     };
     let text = vpcut::post::post(plan, tool_id, &name, post)?;
     let summary = vpcut::post::summary(plan, post);
-    match &args.output {
-        Some(path) => {
-            write_atomic(path, text.as_bytes())?;
-            if !args.quiet {
-                print!("{summary}");
-                println!("  program written to {}", path.display());
-            }
-        }
-        None => {
-            print!("{text}");
-            if !args.quiet {
-                eprint!("{summary}");
-            }
+    outs.put(slot, text.as_bytes())?;
+    let written = outs.commit()?;
+    if !args.quiet {
+        say.write(&summary);
+        for p in written {
+            say.write(&format!("  program written to {}\n", p.display()));
         }
     }
     if !args.check {
@@ -296,29 +608,29 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     let file = args
         .output
         .as_ref()
+        .filter(|p| p.as_os_str() != "-")
         .and_then(|p| p.file_name())
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "plan.nc".into());
     let back = job.with_program(&file, &text, &args.dialect)?;
     if let Some(why) = vpcut::post::differ(&vpcut::post::toolpath(plan, post), &back.passes) {
-        eprintln!("error: the program does not read back to the plan: {why}");
+        term::error(&format!(
+            "the program does not read back to the plan: {why}"
+        ));
         return Ok(ExitCode::from(1));
     }
-    let out = vpcut::simulate(&back, &vpcut::Options::default())
+    let progress = Progress::new(args.quiet);
+    let out = progress
+        .stage("simulating the program", || {
+            vpcut::simulate(&back, &vpcut::Options::default())
+        })
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
-    let say = |s: String| {
-        if args.output.is_some() {
-            print!("{s}")
-        } else {
-            eprint!("{s}")
-        }
-    };
     if !args.quiet {
-        say(format!(
+        say.write(&format!(
             "  read back: {} passes, the planned ones; simulated:\n",
             back.passes.len()
         ));
-        say(out.report.summary());
+        say.write(&term::summary(&out.report, say, None));
     }
     Ok(if out.report.verdict == vpcut::Verdict::Fail {
         ExitCode::from(1)
@@ -331,59 +643,105 @@ fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
     if !args.picture.wanted() {
         anyhow::bail!("nothing to do: give --png FILE or --renders DIR");
     }
-    let bytes = std::fs::read(&args.model)
-        .with_context(|| format!("cannot read the model {}", args.model.display()))?;
+    let progress = Progress::new(false);
+    let mut outs = Outputs::new(&[&args.model]);
+    let pictures = args
+        .picture
+        .prepare(&mut outs, &progress)?
+        .expect("pictures are wanted");
+    let bytes = inputs::read_bytes(&args.model, "the model")?;
     let scene = vpcut::from_glb(&bytes).with_context(|| format!("{}", args.model.display()))?;
-    args.picture.write(&scene)?;
+    pictures.draw(&scene, &mut outs, &progress)?;
+    outs.commit()?;
     Ok(ExitCode::SUCCESS)
 }
 
 fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
-    if let Some(n) = args.threads {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
-            .build_global()
-            .context("cannot set up the worker threads")?;
-    }
-    let src = std::fs::read_to_string(&args.job)
-        .with_context(|| format!("cannot read the job file {}", args.job.display()))?;
-    let dir = args.job.parent().map(Path::to_path_buf).unwrap_or_default();
-    let load = |name: &str| {
-        std::fs::read(dir.join(name))
-            .ok()
-            .map(vpcut::decode_program)
+    let clock = Instant::now();
+    let progress = Progress::new(args.quiet);
+    // Every option and output first: nothing is simulated for a run that cannot finish.
+    let mut outs = Outputs::new(&[&args.job]);
+    let report_slot = match &args.report {
+        Some(p) => Some(outs.file(p, "--report", Allow::FileOrStdout)?),
+        None => None,
     };
-    let job =
-        vpcut::Job::from_toml_opts(&src, &args.job.display().to_string(), &load, args.strict)?;
+    let gltf_slot = match &args.gltf {
+        Some(p) => Some(outs.file(p, "--gltf", Allow::FileOrStdout)?),
+        None => None,
+    };
+    let plot_slots = match &args.plots {
+        Some(dir) => {
+            outs.folder(dir, "--plots")?;
+            Some((
+                outs.file(&dir.join("developed.png"), "--plots", Allow::File)?,
+                outs.file(&dir.join("section.png"), "--plots", Allow::File)?,
+            ))
+        }
+        None => None,
+    };
+    let ci_slots = args.ci.slots(&mut outs)?;
+    let pictures = args.picture.prepare(&mut outs, &progress)?;
+    set_threads(args.threads)?;
+    let inputs = Inputs::default();
+    let (job, job_text) = progress.stage("reading the job", || {
+        load_job(&args.job, args.strict, &inputs)
+    })?;
+    outs.protect(&inputs.paths())?;
+    // The summary goes where no output does.
+    let say = if outs.uses_stdout() {
+        Stream::Stderr
+    } else {
+        Stream::Stdout
+    };
+    if !args.quiet {
+        for w in &job.program_warnings {
+            let mut w = w.clone();
+            name_file(&mut w, &inputs);
+            term::err(&term::diagnostics(&format!("{w}\n")));
+        }
+    }
     let opts = vpcut::Options {
         max_dexels: args.max_dexels,
     };
-    let out =
-        vpcut::simulate(&job, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
-    if let Some(path) = &args.report {
-        write_atomic(path, out.report.to_json().as_bytes())?;
+    let mut out = progress
+        .stage("simulating: sweep, compare, measure", || {
+            vpcut::simulate(&job, &opts)
+        })
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
+    complete_report(&mut out.report, &inputs);
+    if let Some(slot) = report_slot {
+        outs.put(slot, out.report.to_json().as_bytes())?;
     }
     let e = if args.gltf_full {
         Some(0.0)
     } else {
         args.gltf_tolerance
     };
-    if e.is_some_and(|e| !e.is_finite() || e < 0.0) {
-        anyhow::bail!("--gltf-tolerance must be a finite number of mm, 0 or more");
-    }
     // Pictures use the default mesh and the ideal (drawn on section planes); the model
     // shares that mesh unless it asks for another tolerance.
-    let picture_scene = args.picture.wanted().then(|| {
-        vpcut::build_scene(
-            &job,
-            &out,
-            &vpcut::SceneOptions {
-                mesh_tolerance: None,
-                ideal: true,
-            },
-        )
+    let picture_scene = pictures.as_ref().map(|_| {
+        progress.stage("meshing the part", || {
+            vpcut::build_scene(
+                &job,
+                &out,
+                &vpcut::SceneOptions {
+                    mesh_tolerance: None,
+                    ideal: true,
+                },
+            )
+        })
     });
-    if let Some(path) = &args.gltf {
+    if let Some(slot) = gltf_slot {
+        if args.gltf_full && !args.quiet {
+            let bytes = GLB_BYTES_PER_DEXEL * out.report.stock.dexels as f64;
+            if bytes > 50e6 {
+                term::err(&format!(
+                    "--gltf-full: every one of the {} dexels is a vertex: about {} MB to write\n",
+                    readable(out.report.stock.dexels as f64),
+                    readable(bytes / 1e6)
+                ));
+            }
+        }
         let scene = match (&picture_scene, e) {
             (Some(s), None) => vpcut::Scene {
                 ideal: if args.gltf_ideal {
@@ -393,34 +751,51 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
                 },
                 ..s.clone()
             },
-            _ => vpcut::build_scene(
-                &job,
-                &out,
-                &vpcut::SceneOptions {
-                    mesh_tolerance: e,
-                    ideal: args.gltf_ideal,
-                },
-            ),
+            _ => progress.stage("meshing the part for the model", || {
+                vpcut::build_scene(
+                    &job,
+                    &out,
+                    &vpcut::SceneOptions {
+                        mesh_tolerance: e,
+                        ideal: args.gltf_ideal,
+                    },
+                )
+            }),
         };
-        write_atomic(path, &vpcut::to_glb(&scene)?)?;
+        let glb = progress.stage("encoding the model", || vpcut::to_glb(&scene))?;
+        outs.put(slot, &glb)?;
     }
-    if let Some(scene) = &picture_scene {
-        args.picture.write(scene)?;
+    if let (Some(p), Some(scene)) = (&pictures, &picture_scene) {
+        p.draw(scene, &mut outs, &progress)?;
     }
-    if let Some(dir) = &args.plots {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create the folder {}", dir.display()))?;
+    if let Some((developed, section)) = plot_slots {
         let tol = job.sim.tolerance;
-        let dev = vpcut::developed_view(&out.stock, &job.thread, tol, 1440, 900);
-        write_atomic(&dir.join("developed.png"), &png(&dev)?)?;
-        let angle = args.section_angle.to_radians();
-        let sec = vpcut::section_view(&out.stock, &job.thread, angle, tol, 1600, 600);
-        write_atomic(&dir.join("section.png"), &png(&sec)?)?;
+        let (dev, sec) = progress.stage("drawing the plots", || {
+            let dev = vpcut::developed_view(&out.stock, &job.thread, tol, 1440, 900);
+            let angle = args.section_angle.unwrap_or(0.0).to_radians();
+            let sec = vpcut::section_view(&out.stock, &job.thread, angle, tol, 1600, 600);
+            (png(&dev), png(&sec))
+        });
+        outs.put(developed, &dev?)?;
+        outs.put(section, &sec?)?;
     }
+    if ci_slots.0.is_some() || ci_slots.1.is_some() {
+        let case = Case {
+            job: args.job.clone(),
+            seconds: clock.elapsed().as_secs_f64(),
+            result: Ok(Checked {
+                places: places(&out.report, &args.job, &job_text, &job, &inputs),
+                report: out.report.clone(),
+            }),
+        };
+        CiArgs::write(ci_slots, std::slice::from_ref(&case), &mut outs)?;
+    }
+    let written = progress.stage("writing", || outs.commit())?;
     if !args.quiet {
-        print!("{}", out.report.summary());
-        if let Some(path) = &args.report {
-            println!("  report written to {}", path.display());
+        let wall = clock.elapsed().as_secs_f64();
+        say.write(&term::summary(&out.report, say, Some(wall)));
+        for p in written {
+            say.write(&format!("  wrote {}\n", p.display()));
         }
     }
     Ok(
@@ -432,6 +807,172 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     )
 }
 
+fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
+    use rayon::prelude::*;
+    let clock = Instant::now();
+    let jobs: Vec<&Path> = args.jobs.iter().map(PathBuf::as_path).collect();
+    let mut outs = Outputs::new(&jobs);
+    let slots = args.ci.slots(&mut outs)?;
+    set_threads(args.threads)?;
+    let say = if outs.uses_stdout() {
+        Stream::Stderr
+    } else {
+        Stream::Stdout
+    };
+    let progress = Progress::new(args.quiet);
+    let opts = vpcut::Options {
+        max_dexels: args.max_dexels,
+    };
+    let (cases, read): (Vec<Case>, Vec<Vec<PathBuf>>) =
+        progress.stage(&format!("checking {} jobs", jobs.len()), || {
+            jobs.par_iter()
+                .map(|p| check_one(p, args.strict, &opts))
+                .unzip()
+        });
+    outs.protect(&read.concat())?;
+    CiArgs::write(slots, &cases, &mut outs)?;
+    let written = progress.stage("writing", || outs.commit())?;
+    if !args.quiet {
+        say.write(&check_table(&cases, say, clock.elapsed().as_secs_f64()));
+        for p in written {
+            say.write(&format!("  wrote {}\n", p.display()));
+        }
+    }
+    // The jobs that could not be checked, whatever -q says.
+    for c in &cases {
+        if let Err(e) = &c.result {
+            term::err(&term::diagnostics(&format!("{}\n", e.message)));
+        }
+    }
+    let bad = cases.iter().any(|c| c.result.is_err());
+    let failed = cases
+        .iter()
+        .any(|c| matches!(&c.result, Ok(k) if k.report.verdict == vpcut::Verdict::Fail));
+    Ok(if bad {
+        ExitCode::from(2)
+    } else if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// Read and simulate one job of `vpcut check`; whatever goes wrong is its outcome. Also
+/// the files it read.
+fn check_one(path: &Path, strict: bool, opts: &vpcut::Options) -> (Case, Vec<PathBuf>) {
+    let start = Instant::now();
+    let inputs = Inputs::default();
+    let run = || -> anyhow::Result<Checked> {
+        let (job, text) = load_job(path, strict, &inputs)?;
+        let mut out =
+            vpcut::simulate(&job, opts).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        complete_report(&mut out.report, &inputs);
+        Ok(Checked {
+            places: places(&out.report, path, &text, &job, &inputs),
+            report: out.report,
+        })
+    };
+    let result = run().map_err(|e| Failed {
+        message: error_text(&e),
+        place: error_place(&e, path),
+    });
+    let case = Case {
+        job: path.to_path_buf(),
+        seconds: start.elapsed().as_secs_f64(),
+        result,
+    };
+    (case, inputs.paths())
+}
+
+/// The table of `vpcut check`: one line per job, then the totals.
+fn check_table(cases: &[Case], stream: Stream, wall_s: f64) -> String {
+    use std::fmt::Write as _;
+    let on = stream.colour();
+    let width = cases
+        .iter()
+        .map(|c| c.job.display().to_string().chars().count())
+        .max()
+        .unwrap_or(3)
+        .max(3);
+    let mut s = format!(
+        "{:<width$}  verdict  worst gouge mm  worst leftover mm  errors  warnings  time s\n",
+        "job"
+    );
+    let (mut pass, mut fail, mut bad) = (0, 0, 0);
+    for c in cases {
+        let job = c.job.display().to_string();
+        let pad = " ".repeat(width - job.chars().count());
+        match &c.result {
+            Ok(k) => {
+                let r = &k.report;
+                let tol = r.tolerance_mm;
+                let (word, style) = match r.verdict {
+                    vpcut::Verdict::Pass => {
+                        pass += 1;
+                        ("PASS", term::GREEN)
+                    }
+                    vpcut::Verdict::Fail => {
+                        fail += 1;
+                        ("FAIL", term::RED)
+                    }
+                };
+                let cell = |x: f64, w: usize| {
+                    let text = format!("{:>w$}", readable_mm(x));
+                    if x > tol {
+                        term::paint(on, term::RED, &text)
+                    } else {
+                        text
+                    }
+                };
+                let _ = writeln!(
+                    s,
+                    "{job}{pad}  {}     {}  {}  {:>6}  {:>8}  {:>6.2}",
+                    term::paint(on, style, word),
+                    cell(r.deviation.max_gouge_mm, 14),
+                    cell(r.deviation.max_leftover_mm, 17),
+                    r.finding_counts.errors,
+                    r.finding_counts.warnings,
+                    c.seconds
+                );
+            }
+            Err(_) => {
+                bad += 1;
+                let _ = writeln!(
+                    s,
+                    "{job}{pad}  {}    {:>14}  {:>17}  {:>6}  {:>8}  {:>6.2}",
+                    term::paint(on, term::RED, "ERROR"),
+                    "-",
+                    "-",
+                    "-",
+                    "-",
+                    c.seconds
+                );
+            }
+        }
+    }
+    let _ = writeln!(
+        s,
+        "{} job{}: {pass} pass, {fail} fail, {bad} cannot be checked; {:.2} s in all",
+        cases.len(),
+        if cases.len() == 1 { "" } else { "s" },
+        wall_s
+    );
+    s
+}
+
+/// A length in mm with 4 decimals, or scientific when huge.
+fn readable_mm(x: f64) -> String {
+    if x.abs() >= 1e7 {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.4}")
+    }
+}
+
+/// About how many bytes a `--gltf-full` model takes per dexel: a vertex (12 bytes of
+/// position, 8 of colour) and two triangles (24 bytes of indices).
+const GLB_BYTES_PER_DEXEL: f64 = 44.0;
+
 fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     let dialect = vpcut::Dialect::from_name(&args.dialect).with_context(|| {
         format!(
@@ -439,9 +980,8 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
             args.dialect
         )
     })?;
-    let text = std::fs::read(&args.program)
-        .map(vpcut::decode_program)
-        .with_context(|| format!("cannot read {}", args.program.display()))?;
+    let bytes = inputs::read_bytes(&args.program, "the program")?;
+    let inputs = Inputs::default();
     let dir = args
         .program
         .parent()
@@ -452,25 +992,42 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    let text = inputs::decode_program(&bytes);
+    inputs.add("program", args.program.clone(), name.clone(), bytes);
     let main = vpcut::Source { name, text };
+    let read = inputs.loader(&dir);
     let load = |n: &str| {
-        std::fs::read(dir.join(n))
-            .ok()
-            .map(vpcut::decode_program)
-            .map(|text| vpcut::Source {
-                name: n.to_string(),
-                text,
-            })
+        read(n).map(|text| vpcut::Source {
+            name: n.to_string(),
+            text,
+        })
     };
     let opts = vpcut::NcOptions {
         strict: args.strict,
         ..vpcut::NcOptions::default()
     };
-    let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts)?;
+    let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts).map_err(|mut e| {
+        name_files(&mut e, &inputs);
+        e
+    })?;
     for w in &toolpath.warnings {
-        eprintln!("{w}");
+        let mut w = w.clone();
+        name_file(&mut w, &inputs);
+        term::err(&term::diagnostics(&format!("{w}\n")));
     }
-    let moves = toolpath.moves;
+    let mut moves = toolpath.moves;
+    // Moves name their program (`O2`); rows name the file that holds it.
+    for m in &mut moves {
+        if let Some(p) = inputs.program_file(&m.file) {
+            if p.file_name().is_some_and(|n| n != m.file.as_str()) {
+                m.file = p
+                    .file_name()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into_owned();
+            }
+        }
+    }
     let _ = args.csv;
     if args.json {
         let rows: Vec<serde_json::Value> = moves
@@ -488,9 +1045,11 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
                 })
             })
             .collect();
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        let mut s = serde_json::to_string_pretty(&rows)?;
+        s.push('\n');
+        term::out(&s);
     } else {
-        print!("{}", vpcut::to_csv(&moves));
+        term::out(&vpcut::to_csv(&moves));
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -501,26 +1060,4 @@ fn png(img: &image::RgbImage) -> anyhow::Result<Vec<u8>> {
     img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut bytes))
         .context("cannot encode a PNG")?;
     Ok(bytes)
-}
-
-/// Write a file through a temporary file in the same folder and a rename, so that a failed
-/// run never leaves half a file.
-fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .with_context(|| format!("{} is not a file name", path.display()))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        anyhow::anyhow!("cannot write {}: {e}", path.display())
-    })
 }

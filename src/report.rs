@@ -30,6 +30,57 @@ pub(crate) fn r4(x: f64) -> f64 {
     }
 }
 
+/// The version of vpcut, as the report records it.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// An input file of a job.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct InputFile {
+    /// `job`, `program` (an NC program or subprogram) or `tool` (a tool mesh).
+    pub role: &'static str,
+    /// The path as it was given (the job's) or as the job names it (the files it reads).
+    pub path: String,
+    /// SHA-256 of the file's bytes, lower-case hex.
+    pub sha256: String,
+}
+
+impl InputFile {
+    /// Record a file with the hash of its bytes.
+    pub fn new(role: &'static str, path: impl Into<String>, bytes: &[u8]) -> InputFile {
+        use sha2::Digest as _;
+        let digest = sha2::Sha256::digest(bytes);
+        let mut sha256 = String::with_capacity(64);
+        for b in digest {
+            let _ = write!(sha256, "{b:02x}");
+        }
+        InputFile {
+            role,
+            path: path.into(),
+            sha256,
+        }
+    }
+}
+
+/// Findings counted by severity.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct FindingCounts {
+    /// Findings that fail the job.
+    pub errors: usize,
+    /// The others.
+    pub warnings: usize,
+}
+
+impl FindingCounts {
+    /// Count `findings`.
+    pub fn of(findings: &[Finding]) -> FindingCounts {
+        let errors = findings.iter().filter(|f| f.severity == "error").count();
+        FindingCounts {
+            errors,
+            warnings: findings.len() - errors,
+        }
+    }
+}
+
 /// pass / fail.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -45,10 +96,17 @@ pub enum Verdict {
 pub struct Report {
     /// Always [`SCHEMA`].
     pub schema: &'static str,
+    /// The version of vpcut that wrote it ([`VERSION`]).
+    pub vpcut_version: &'static str,
     /// The job's name.
     pub job: String,
+    /// The files the job was read from, with their SHA-256 (the caller that read them
+    /// fills this in; empty when the job did not come from files).
+    pub inputs: Vec<InputFile>,
     /// pass / fail.
     pub verdict: Verdict,
+    /// How many findings are errors and how many warnings.
+    pub finding_counts: FindingCounts,
     /// Deviation tolerance (mm).
     pub tolerance_mm: f64,
     /// The thread wanted.
@@ -347,10 +405,21 @@ pub struct Finding {
     pub angle_deg: Option<f64>,
     /// Axial position (mm).
     pub z_mm: Option<f64>,
-    /// The value (unit in `unit`).
-    pub value: f64,
-    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`.
-    pub unit: &'static str,
+    /// The program file the finding is in (program findings): as the job names it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// 1-based line in `file`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<usize>,
+    /// 1-based column in `file`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub column: Option<usize>,
+    /// The value (unit in `unit`); absent where a finding has none (program findings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value: Option<f64>,
+    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`; absent with `value`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unit: Option<&'static str>,
     /// One line for a person.
     pub message: String,
 }
@@ -400,8 +469,20 @@ impl Report {
         .to_string()
     }
 
-    /// A short summary for a terminal.
+    /// A short summary for a terminal, plain.
     pub fn summary(&self) -> String {
+        self.summary_with(&SummaryStyle::default())
+    }
+
+    /// The summary dressed as `style` says: the verdict, errors and the cells of the
+    /// per-turn table that are out of tolerance painted, findings grouped by kind with their
+    /// counts, and the run's wall time.
+    pub fn summary_with(&self, style: &SummaryStyle<'_>) -> String {
+        let paint = |tone: Tone, text: &str| match style.paint {
+            Some(p) => p(tone, text),
+            None => text.to_string(),
+        };
+        let tol = self.tolerance_mm;
         let mut s = String::new();
         let name = if self.job.is_empty() {
             "job"
@@ -409,27 +490,34 @@ impl Report {
             &self.job
         };
         let verdict = match self.verdict {
-            Verdict::Pass => "PASS",
-            Verdict::Fail => "FAIL",
+            Verdict::Pass => paint(Tone::Pass, "PASS"),
+            Verdict::Fail => paint(Tone::Fail, "FAIL"),
         };
         let _ = writeln!(
             s,
-            "{name}: {verdict} at tolerance {:.4} mm ({} {} thread, {} turns)",
-            self.tolerance_mm, self.thread.form, self.thread.side, self.thread.turns
+            "{name}: {verdict} at tolerance {} mm ({} {} thread, {} turns)",
+            num(tol, 4),
+            self.thread.form,
+            self.thread.side,
+            num(self.thread.turns, 2)
         );
+        let (time, what) = match style.wall_s {
+            Some(t) => (t, "in all"),
+            None => (self.timing_s.total, "simulating"),
+        };
         let _ = writeln!(
             s,
-            "  stock {} x {} dexels at {} mm, {} passes, {:.3e} dexel updates, {:.3} s",
-            self.stock.angular_cells,
-            self.stock.axial_cells,
-            self.stock.axial_spacing_mm,
-            self.passes,
-            self.kernel.dexel_updates as f64,
-            self.timing_s.total
+            "  stock {} x {} dexels at {} mm, {} passes, {} dexel updates, {} s {what}",
+            count(self.stock.angular_cells as f64),
+            count(self.stock.axial_cells as f64),
+            num(self.stock.axial_spacing_mm, 4),
+            count(self.passes as f64),
+            count(self.kernel.dexel_updates as f64),
+            num(time, 3)
         );
         let loc = |l: &Option<Location>| match l {
             Some(l) => format!(
-                "turn {} {}{}, {:.1} deg, z {:.3}",
+                "turn {} {}{}, {} deg, z {}",
                 l.turn,
                 l.flank,
                 if matches!(l.flank, "left" | "right") {
@@ -437,45 +525,81 @@ impl Report {
                 } else {
                     ""
                 },
-                l.angle_deg,
-                l.z_mm
+                num(l.angle_deg, 1),
+                num(l.z_mm, 3)
             ),
             None => "-".to_string(),
         };
         let d = &self.deviation;
+        let worst = |x: f64| {
+            let cell = format!("{:>9}", num(x, 4));
+            if x > tol {
+                paint(Tone::Bad, &cell)
+            } else {
+                cell
+            }
+        };
         let _ = writeln!(
             s,
-            "  worst gouge    {:>9.4} mm  {}",
-            d.max_gouge_mm,
+            "  worst gouge    {} mm  {}",
+            worst(d.max_gouge_mm),
             loc(&d.max_gouge_at)
         );
         let _ = writeln!(
             s,
-            "  worst leftover {:>9.4} mm  {}",
-            d.max_leftover_mm,
+            "  worst leftover {} mm  {}",
+            worst(d.max_leftover_mm),
             loc(&d.max_leftover_at)
         );
         let _ = writeln!(
             s,
-            "  volume removed {:.2} mm3 (ideal {:.2}), gouge {:.3} mm3, leftover {:.3} mm3",
-            d.removed_volume_mm3,
-            d.ideal_removed_volume_mm3,
-            d.gouge_volume_mm3,
-            d.leftover_volume_mm3
+            "  volume removed {} mm3 (ideal {}), gouge {} mm3, leftover {} mm3",
+            num(d.removed_volume_mm3, 2),
+            num(d.ideal_removed_volume_mm3, 2),
+            num(d.gouge_volume_mm3, 3),
+            num(d.leftover_volume_mm3, 3)
         );
         match d.compared_z_mm {
             Some([lo, hi]) => {
                 let _ = writeln!(
                     s,
-                    "  compared z {lo:.3} to {hi:.3} (the drawing's thread); outside it (run-in, run-out) {:.2} mm3 removed, not compared",
-                    d.uncompared_removed_volume_mm3
+                    "  compared z {} to {} (the drawing's thread); outside it (run-in, run-out) {} mm3 removed, not compared",
+                    num(lo, 3),
+                    num(hi, 3),
+                    num(d.uncompared_removed_volume_mm3, 2)
                 );
             }
             None => {
-                let _ = writeln!(s, "  nothing compared: the thread is not on the simulated stock");
+                let _ = writeln!(
+                    s,
+                    "  nothing compared: the thread is not on the simulated stock"
+                );
             }
         }
-        let o = |v: Option<f64>| v.map_or("      -".to_string(), |x| format!("{x:>7.3}"));
+        let o = |v: Option<f64>| v.map_or("      -".to_string(), |x| format!("{:>7}", num(x, 3)));
+        // A measured cell, painted when it misses its ideal by more than the tolerance (or
+        // is missing where there is an ideal).
+        let m = |ideal: Option<f64>, got: Option<f64>| {
+            let cell = o(got);
+            let bad = match (ideal, got) {
+                (Some(i), Some(g)) => (g - i).abs() > tol,
+                (Some(_), None) => true,
+                _ => false,
+            };
+            if bad {
+                paint(Tone::Bad, &cell)
+            } else {
+                cell
+            }
+        };
+        let dev = |x: f64| {
+            let cell = format!("{:>7}", num(x, 3));
+            if x > tol {
+                paint(Tone::Bad, &cell)
+            } else {
+                cell
+            }
+        };
         let _ = writeln!(
             s,
             "\n  turn  lead: ideal measured  groove: ideal measured  tooth: ideal measured   gouge leftover"
@@ -488,31 +612,108 @@ impl Report {
             };
             let _ = writeln!(
                 s,
-                "  {start:>4}      {} {}         {} {}        {} {}  {:>7.3} {:>7.3}",
+                "  {start:>4}      {} {}         {} {}        {} {}  {} {}",
                 o(t.ideal_lead_mm),
-                o(t.measured_lead_mm),
+                m(t.ideal_lead_mm, t.measured_lead_mm),
                 o(t.ideal_groove_width_mm),
-                o(t.groove_width_mm),
+                m(t.ideal_groove_width_mm, t.groove_width_mm),
                 o(t.ideal_tooth_width_mm),
-                o(t.tooth_width_mm),
-                t.max_gouge_mm,
-                t.max_leftover_mm
+                m(t.ideal_tooth_width_mm, t.tooth_width_mm),
+                dev(t.max_gouge_mm),
+                dev(t.max_leftover_mm)
             );
         }
-        let errors = self
-            .findings
-            .iter()
-            .filter(|f| f.severity == "error")
-            .count();
-        let warnings = self.findings.len() - errors;
+        let FindingCounts { errors, warnings } = FindingCounts::of(&self.findings);
         let _ = writeln!(s, "\n  findings: {errors} errors, {warnings} warnings");
-        for f in self.findings.iter().take(12) {
-            let _ = writeln!(s, "    {:<7} {:<16} {}", f.severity, f.kind, f.message);
+        // Grouped by severity and kind, in report order, with the first few messages.
+        let mut groups: Vec<(&str, &str, Vec<&str>)> = Vec::new();
+        for f in &self.findings {
+            match groups
+                .iter_mut()
+                .find(|g| (g.0, g.1) == (f.severity, f.kind))
+            {
+                Some(g) => g.2.push(&f.message),
+                None => groups.push((f.severity, f.kind, vec![&f.message])),
+            }
         }
-        if self.findings.len() > 12 {
-            let _ = writeln!(s, "    ... {} more in the report", self.findings.len() - 12);
+        const SHOWN: usize = 3;
+        for (severity, kind, messages) in groups {
+            let tone = if severity == "error" {
+                Tone::Fail
+            } else {
+                Tone::Warning
+            };
+            let head = format!("{severity:<7}");
+            let _ = writeln!(s, "    {} {kind} x{}", paint(tone, &head), messages.len());
+            for m in messages.iter().take(SHOWN) {
+                let _ = writeln!(s, "        {m}");
+            }
+            if messages.len() > SHOWN {
+                let _ = writeln!(
+                    s,
+                    "        ... {} more {kind} findings in the report",
+                    messages.len() - SHOWN
+                );
+            }
         }
         s
+    }
+}
+
+/// What a piece of the terminal summary says, for colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Tone {
+    /// A pass verdict.
+    Pass,
+    /// A fail verdict, an error.
+    Fail,
+    /// A value out of tolerance.
+    Bad,
+    /// A warning.
+    Warning,
+}
+
+/// Paints a piece of the summary for its [`Tone`] (colour on a terminal).
+pub type Painter<'a> = &'a dyn Fn(Tone, &str) -> String;
+
+/// How [`Report::summary_with`] dresses the summary.
+#[derive(Clone, Copy, Default)]
+pub struct SummaryStyle<'a> {
+    /// Paints a piece of text (colour on a terminal); `None`: plain text.
+    pub paint: Option<Painter<'a>>,
+    /// The whole run's wall time (s), shown instead of the simulation's own.
+    pub wall_s: Option<f64>,
+}
+
+impl std::fmt::Debug for SummaryStyle<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SummaryStyle")
+            .field("paint", &self.paint.is_some())
+            .field("wall_s", &self.wall_s)
+            .finish()
+    }
+}
+
+/// A value with `decimals` decimals, or in scientific form from ten million up (never 300
+/// digits).
+fn num(x: f64, decimals: usize) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x.abs() >= 1e7 {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.decimals$}")
+    }
+}
+
+/// A count: whole below ten million, else scientific.
+fn count(x: f64) -> String {
+    if x.abs() < 1e7 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.3e}")
     }
 }
 

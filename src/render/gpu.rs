@@ -57,6 +57,9 @@ pub(crate) struct Gpu {
     stencil: wgpu::RenderPipeline,
     cap: wgpu::RenderPipeline,
     line: wgpu::RenderPipeline,
+    /// An error the device raised outside an error scope, or its loss: wgpu would panic
+    /// on it; the next draw returns it instead.
+    fault: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 /// The adapter wgpu picks: `WGPU_BACKEND` selects backends (as wgpu documents), and
@@ -113,6 +116,19 @@ impl Gpu {
             trace: wgpu::Trace::Off,
         }))
         .map_err(|e| RenderError::NoAdapter(format!("{}: {e}", info.name)))?;
+        let fault = std::sync::Arc::new(std::sync::Mutex::new(None::<String>));
+        let record = fault.clone();
+        device.on_uncaptured_error(Box::new(move |e| {
+            if let Ok(mut f) = record.lock() {
+                f.get_or_insert_with(|| e.to_string());
+            }
+        }));
+        let record = fault.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            if let Ok(mut f) = record.lock() {
+                f.get_or_insert_with(|| format!("device lost ({reason:?}): {message}"));
+            }
+        });
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scene.wgsl"),
             source: wgpu::ShaderSource::Wgsl(super::SHADER.into()),
@@ -252,19 +268,48 @@ impl Gpu {
             stencil: stencil_pipeline,
             cap,
             line,
+            fault,
         })
     }
 
-    /// Draw a frame and read it back: RGBA8 (sRGB) rows, top to bottom.
-    pub(crate) fn draw(&self, frame: &Frame<'_>) -> Result<Vec<u8>, RenderError> {
-        let (w, h) = frame.size;
-        let limits = self.device.limits();
-        if w > limits.max_texture_dimension_2d || h > limits.max_texture_dimension_2d {
+    /// Whether the adapter's textures take a `w` x `h` picture.
+    pub(crate) fn check_size(&self, w: u32, h: u32) -> Result<(), RenderError> {
+        let max = self.device.limits().max_texture_dimension_2d;
+        if w > max || h > max {
             return Err(RenderError::Unsupported(format!(
-                "{w}x{h} is larger than the adapter's {} pixels",
-                limits.max_texture_dimension_2d
+                "{w}x{h} is larger than the adapter's {max} pixels"
             )));
         }
+        Ok(())
+    }
+
+    /// Draw a frame and read it back: RGBA8 (sRGB) rows, top to bottom. Out of memory and
+    /// validation failures of the device come back as [`RenderError::Device`], never as
+    /// wgpu's panic.
+    pub(crate) fn draw(&self, frame: &Frame<'_>) -> Result<Vec<u8>, RenderError> {
+        self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let drawn = self.draw_scoped(frame);
+        let oom = pollster::block_on(self.device.pop_error_scope());
+        let invalid = pollster::block_on(self.device.pop_error_scope());
+        if let Some(e) = oom {
+            return Err(RenderError::Device(format!(
+                "out of graphics memory ({e}): draw a smaller picture"
+            )));
+        }
+        if let Some(e) = invalid {
+            return Err(RenderError::Device(e.to_string()));
+        }
+        if let Some(f) = self.fault.lock().ok().and_then(|mut f| f.take()) {
+            return Err(RenderError::Device(f));
+        }
+        drawn
+    }
+
+    fn draw_scoped(&self, frame: &Frame<'_>) -> Result<Vec<u8>, RenderError> {
+        let (w, h) = frame.size;
+        self.check_size(w, h)?;
+        let limits = self.device.limits();
         let biggest = frame
             .meshes
             .iter()
@@ -455,7 +500,14 @@ impl Gpu {
         rx.recv()
             .map_err(|e| RenderError::Device(e.to_string()))?
             .map_err(|e| RenderError::Device(e.to_string()))?;
-        let data = slice.get_mapped_range().to_vec();
+        let data = {
+            let mapped = slice.get_mapped_range();
+            let mut data = Vec::new();
+            data.try_reserve_exact(mapped.len())
+                .map_err(|_| super::out_of_memory(mapped.len()))?;
+            data.extend_from_slice(&mapped);
+            data
+        };
         readback.unmap();
         Ok(data)
     }

@@ -89,15 +89,31 @@ impl Default for RenderOptions {
 }
 
 impl RenderOptions {
-    fn check(&self) -> Result<(), RenderError> {
-        if self.width % 64 != 0 || self.width < 256 || self.height < 192 {
+    /// The largest picture side vpcut draws (pixels), whatever the adapter allows: 8192 x
+    /// 8192 with 4x multisampling already needs about 2.5 GB of graphics memory.
+    pub const MAX_SIDE: u32 = 8192;
+
+    /// Whether the size is one vpcut draws: the width a multiple of 64 from 256, the height
+    /// from 192, neither over [`RenderOptions::MAX_SIDE`]. Needs no adapter ([`Renderer::check`] also
+    /// checks the adapter's limit).
+    pub fn validate(&self) -> Result<(), RenderError> {
+        const MAX_SIDE: u32 = RenderOptions::MAX_SIDE;
+        let (w, h) = (self.width, self.height);
+        if w % 64 != 0 || w < 256 || h < 192 || w > MAX_SIDE || h > MAX_SIDE {
             return Err(RenderError::Options(format!(
-                "image size {}x{}: the width must be a multiple of 64 and at least 256, the height at least 192",
-                self.width, self.height
+                "image size {w}x{h}: the width must be a multiple of 64 from 256 to {MAX_SIDE}, the height from 192 to {MAX_SIDE}"
             )));
         }
         Ok(())
     }
+}
+
+/// The picture's memory could not be had (a refusal, not an abort).
+fn out_of_memory(bytes: usize) -> RenderError {
+    RenderError::Device(format!(
+        "out of memory for a {} MB picture buffer: draw a smaller picture",
+        bytes >> 20
+    ))
 }
 
 /// A headless renderer on one adapter.
@@ -137,9 +153,17 @@ impl Renderer {
         )
     }
 
+    /// Whether this adapter can draw pictures of `opts`' size: [`RenderOptions::validate`]
+    /// and the adapter's largest texture. Callers check before the work that leads up to
+    /// the picture.
+    pub fn check(&self, opts: &RenderOptions) -> Result<(), RenderError> {
+        opts.validate()?;
+        self.gpu.check_size(opts.width, opts.height)
+    }
+
     /// Draw `scene` as `opts` say.
     pub fn render(&self, scene: &Scene, opts: &RenderOptions) -> Result<RgbImage, RenderError> {
-        opts.check()?;
+        self.check(opts)?;
         let cam = camera::camera(scene, opts.view, opts.width, opts.height);
         let stock = vertices(&scene.stock);
         let tool = vertices(&scene.tool);
@@ -189,10 +213,17 @@ impl Renderer {
             lines: &lines,
         };
         let rgba = self.gpu.draw(&frame)?;
-        let mut img = RgbImage::from_fn(opts.width, opts.height, |x, y| {
-            let k = 4 * (y as usize * opts.width as usize + x as usize);
-            Rgb([rgba[k], rgba[k + 1], rgba[k + 2]])
-        });
+        let n = 3 * opts.width as usize * opts.height as usize;
+        let mut rgb = Vec::new();
+        rgb.try_reserve_exact(n).map_err(|_| out_of_memory(n))?;
+        rgb.extend(
+            rgba.chunks_exact(4)
+                .take(n / 3)
+                .flat_map(|p| [p[0], p[1], p[2]]),
+        );
+        drop(rgba);
+        let mut img =
+            RgbImage::from_raw(opts.width, opts.height, rgb).expect("a whole picture was read");
         overlay(&mut img, scene, opts, &cam);
         Ok(img)
     }

@@ -502,7 +502,8 @@ fn a_head_shorter_than_the_cut_is_an_error() {
     assert_eq!(heads.len(), 1, "{heads:?}");
     assert_eq!(heads[0].severity, "error");
     assert_eq!(heads[0].pass, Some(3));
-    assert!((heads[0].value - 3.0).abs() < 1e-9, "{}", heads[0].value);
+    let depth = heads[0].value.expect("a depth");
+    assert!((depth - 3.0).abs() < 1e-9, "{depth}");
     assert_eq!(short.report.verdict, vpcut::Verdict::Fail);
     let long = run(&with(
         &text("5.5"),

@@ -1,6 +1,6 @@
 //! The command line: exit codes, error messages that name file, line and key, atomic output.
 
-use crate::support::{scene_text, with};
+use crate::support::{scene_text, small, with};
 use std::path::PathBuf;
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -38,17 +38,6 @@ fn simulate_text(text: &str, extra: &[&str]) -> (Output, PathBuf, PathBuf) {
     ];
     args.extend_from_slice(extra);
     (vpcut(&args), job, report)
-}
-
-fn small(scene: &str) -> String {
-    with(
-        &scene_text(scene),
-        &[
-            ("simulation", "angular_cells", "72"),
-            ("simulation", "axial_spacing", "0.05"),
-            ("simulation", "measure_generators", "2"),
-        ],
-    )
 }
 
 const BASE: &str = r#"[blank]
@@ -256,4 +245,71 @@ fn wrong_hand_is_a_finding() {
         f["message"].as_str().unwrap().contains("left-hand helix"),
         "{f}"
     );
+}
+
+/// The report records the version, the input files with their SHA-256, the findings
+/// counted by severity, and program findings with file, line and column and no value.
+#[test]
+fn report_names_version_inputs_and_counts() {
+    use sha2::Digest as _;
+    let scene = crate::support::root().join("scenes/seed000-macro-a-equal-tooth");
+    let d = tmp_dir();
+    let report = d.join("r.json");
+    let out = vpcut(&[
+        "simulate",
+        scene.join("job.toml").to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["vpcut_version"], env!("CARGO_PKG_VERSION"));
+    let hex = |p: &std::path::Path| {
+        sha2::Sha256::digest(std::fs::read(p).unwrap())
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect::<String>()
+    };
+    let inputs = r["inputs"].as_array().unwrap();
+    assert_eq!(inputs.len(), 2, "{inputs:?}");
+    assert_eq!(inputs[0]["role"], "job");
+    assert_eq!(inputs[0]["sha256"], hex(&scene.join("job.toml")));
+    assert_eq!(inputs[1]["role"], "program");
+    assert_eq!(inputs[1]["path"], "O0003.NC");
+    assert_eq!(inputs[1]["sha256"], hex(&scene.join("O0003.NC")));
+    let findings = r["findings"].as_array().unwrap();
+    let count = |s: &str| findings.iter().filter(|f| f["severity"] == s).count();
+    assert_eq!(r["finding_counts"]["errors"], count("error"));
+    assert_eq!(r["finding_counts"]["warnings"], count("warning"));
+    let program: Vec<_> = findings.iter().filter(|f| f["kind"] == "program").collect();
+    assert_eq!(program.len(), 3);
+    for f in program {
+        assert_eq!(f["file"], "O0003.NC", "{f}");
+        assert!(f["line"].as_u64().unwrap() >= 1 && f["column"].as_u64().unwrap() >= 1);
+        assert!(f.get("value").is_none() && f.get("unit").is_none(), "{f}");
+    }
+}
+
+/// Numbers in messages are readable: a huge grid is "more than 1.8e19" dexels, never the
+/// 20 digits of a capped count or hundreds of digits of a float.
+#[test]
+fn messages_print_numbers_readably() {
+    for (key, value) in [("axial_spacing", "1e-300"), ("angular_cells", "100000000")] {
+        let text = with(&small("iso-m20x2.5-radial"), &[("simulation", key, value)]);
+        let (out, _, _) = simulate_text(&text, &[]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        let longest = err
+            .split(|c: char| !c.is_ascii_digit())
+            .map(str::len)
+            .max()
+            .unwrap_or(0);
+        assert!(longest <= 10, "{key} = {value}: {err}");
+    }
 }

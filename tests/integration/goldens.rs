@@ -1,6 +1,7 @@
 //! Every scene against its reviewed golden report and its hand-derived expectations.
 //!
-//! `goldens/<scene>/report.json` is the scene's report without `timing_s`; a change of any
+//! `goldens/<scene>/report.json` is the scene's report without `timing_s`, `vpcut_version` and
+//! `inputs` (`support::report_json`); a change of any
 //! byte fails (the new report is written beside it as `report.actual.json`), and
 //! `VPCUT_BLESS=1` rewrites it. `goldens/<scene>/expect.toml` holds the numbers derived by
 //! hand from the seed documents and closed forms, each with the reason; the golden must

@@ -21,6 +21,8 @@ mod linuxcnc;
 mod milling;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
+/// Output files all or nothing, symlinks, `-`, closed pipes, CI formats, `vpcut check`.
+mod outputs;
 /// `vpcut plan`: planned screws round-trip through every dialect and simulate clean.
 mod plan;
 /// The pictures that need no GPU against the report and the exact cut.

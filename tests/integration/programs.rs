@@ -285,7 +285,7 @@ fn thread_chain_finding_in_the_report() {
     let f = chain[0];
     assert_eq!(
         (f.severity, f.pass, f.z_mm, f.value, f.unit),
-        ("warning", Some(2), Some(-7.0), 1.0, "mm/rev")
+        ("warning", Some(2), Some(-7.0), Some(1.0), Some("mm/rev"))
     );
     assert!(f.message.contains("P.NC:4"), "{}", f.message);
     assert!(
@@ -297,5 +297,5 @@ fn thread_chain_finding_in_the_report() {
     assert!(r.findings.iter().all(|f| f.kind != "thread_chain"));
     let run_in: Vec<_> = r.findings.iter().filter(|f| f.kind == "run_in").collect();
     assert_eq!(run_in.len(), 1, "{:?}", r.findings);
-    assert_eq!((run_in[0].pass, run_in[0].value), (Some(2), 0.0));
+    assert_eq!((run_in[0].pass, run_in[0].value), (Some(2), Some(0.0)));
 }

@@ -1,0 +1,518 @@
+//! The CI formats: JUnit XML (one `testsuite` per job, one `testcase` per turn and per
+//! check, a `failure` for every error finding, an `error` for a job that could not be read)
+//! and SARIF 2.1.0 (a `result` for every finding, located in the NC program's line where
+//! the finding comes from one, else in the job file at the table it concerns).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A place in a file: 1-based line and column.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Place {
+    /// The file, as the user would write its path.
+    pub(crate) file: PathBuf,
+    /// 1-based line.
+    pub(crate) line: usize,
+    /// 1-based column.
+    pub(crate) column: usize,
+}
+
+/// A job that ran.
+#[derive(Debug)]
+pub(crate) struct Checked {
+    /// Its report.
+    pub(crate) report: vpcut::Report,
+    /// Where each finding is, in the report's order.
+    pub(crate) places: Vec<Place>,
+}
+
+/// A job that could not be read or simulated.
+#[derive(Debug)]
+pub(crate) struct Failed {
+    /// What went wrong, as printed.
+    pub(crate) message: String,
+    /// Where.
+    pub(crate) place: Place,
+}
+
+/// One job of a run.
+#[derive(Debug)]
+pub(crate) struct Case {
+    /// The job file as given.
+    pub(crate) job: PathBuf,
+    /// Wall time (s).
+    pub(crate) seconds: f64,
+    /// The outcome.
+    pub(crate) result: Result<Checked, Failed>,
+}
+
+impl Case {
+    /// The name a person knows the job by: its name, else its file.
+    fn name(&self) -> String {
+        match &self.result {
+            Ok(c) if !c.report.job.is_empty() => c.report.job.clone(),
+            _ => self.job.display().to_string(),
+        }
+    }
+}
+
+/// Escape text for XML attribute values and content.
+fn xml(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            // XML 1.0 allows tab, newline and carriage return of the control characters.
+            c if (c as u32) < 0x20 && !matches!(c, '\t' | '\n' | '\r') => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A `testcase` of a suite: a name, its error findings and its warnings.
+struct TestCase<'a> {
+    name: String,
+    failures: Vec<&'a vpcut::Finding>,
+    warnings: Vec<&'a vpcut::Finding>,
+}
+
+/// The test cases of a report: one per turn (the turn's deviation and measurement
+/// findings), then one per kind of finding that belongs to no turn (machine, program and
+/// milling checks).
+fn test_cases(report: &vpcut::Report) -> Vec<TestCase<'_>> {
+    let multi = report.thread.starts > 1;
+    let mut cases: Vec<TestCase<'_>> = report
+        .turns
+        .iter()
+        .map(|t| TestCase {
+            name: if multi {
+                format!("start {} turn {}", t.start, t.turn)
+            } else {
+                format!("turn {}", t.turn)
+            },
+            failures: Vec::new(),
+            warnings: Vec::new(),
+        })
+        .collect();
+    for f in &report.findings {
+        let turn = f.turn.and_then(|n| {
+            report
+                .turns
+                .iter()
+                .position(|t| t.turn == n && Some(t.start) == f.start.or(Some(t.start)))
+        });
+        let i = match turn {
+            Some(i) => i,
+            None => {
+                let name = format!("check {}", f.kind);
+                match cases.iter().position(|c| c.name == name) {
+                    Some(i) => i,
+                    None => {
+                        cases.push(TestCase {
+                            name,
+                            failures: Vec::new(),
+                            warnings: Vec::new(),
+                        });
+                        cases.len() - 1
+                    }
+                }
+            }
+        };
+        if f.severity == "error" {
+            cases[i].failures.push(f);
+        } else {
+            cases[i].warnings.push(f);
+        }
+    }
+    cases
+}
+
+/// JUnit XML for the jobs of a run.
+pub(crate) fn junit(cases: &[Case]) -> String {
+    let mut suites = String::new();
+    let (mut tests, mut failures, mut errors, mut time) = (0, 0, 0, 0.0);
+    for case in cases {
+        let name = xml(&case.name());
+        let file = xml(&case.job.display().to_string());
+        time += case.seconds;
+        match &case.result {
+            Ok(c) => {
+                let tcs = test_cases(&c.report);
+                let failed = tcs.iter().filter(|t| !t.failures.is_empty()).count();
+                tests += tcs.len();
+                failures += failed;
+                let _ = writeln!(
+                    suites,
+                    "  <testsuite name=\"{name}\" file=\"{file}\" tests=\"{}\" failures=\"{failed}\" errors=\"0\" skipped=\"0\" time=\"{:.3}\">",
+                    tcs.len(),
+                    case.seconds
+                );
+                let _ = writeln!(
+                    suites,
+                    "    <properties>\n      <property name=\"verdict\" value=\"{}\"/>\n      <property name=\"tolerance_mm\" value=\"{}\"/>\n      <property name=\"vpcut_version\" value=\"{}\"/>\n    </properties>",
+                    match c.report.verdict {
+                        vpcut::Verdict::Pass => "pass",
+                        vpcut::Verdict::Fail => "fail",
+                    },
+                    c.report.tolerance_mm,
+                    xml(c.report.vpcut_version)
+                );
+                for t in &tcs {
+                    let _ = write!(
+                        suites,
+                        "    <testcase classname=\"{name}\" name=\"{}\" file=\"{file}\" time=\"0\"",
+                        xml(&t.name)
+                    );
+                    if t.failures.is_empty() && t.warnings.is_empty() {
+                        suites.push_str("/>\n");
+                        continue;
+                    }
+                    suites.push_str(">\n");
+                    for f in &t.failures {
+                        let _ = writeln!(
+                            suites,
+                            "      <failure type=\"{}\" message=\"{}\">{}</failure>",
+                            xml(f.kind),
+                            xml(&f.message),
+                            xml(&f.message)
+                        );
+                    }
+                    if !t.warnings.is_empty() {
+                        let text: Vec<String> = t
+                            .warnings
+                            .iter()
+                            .map(|f| format!("warning {}: {}", f.kind, f.message))
+                            .collect();
+                        let _ = writeln!(
+                            suites,
+                            "      <system-out>{}</system-out>",
+                            xml(&text.join("\n"))
+                        );
+                    }
+                    suites.push_str("    </testcase>\n");
+                }
+            }
+            Err(e) => {
+                tests += 1;
+                errors += 1;
+                let _ = writeln!(
+                    suites,
+                    "  <testsuite name=\"{name}\" file=\"{file}\" tests=\"1\" failures=\"0\" errors=\"1\" skipped=\"0\" time=\"{:.3}\">",
+                    case.seconds
+                );
+                let first = e.message.lines().next().unwrap_or("");
+                let _ = writeln!(
+                    suites,
+                    "    <testcase classname=\"{name}\" name=\"read and simulate\" file=\"{file}\" time=\"0\">\n      <error type=\"input\" message=\"{}\">{}</error>\n    </testcase>",
+                    xml(first),
+                    xml(&e.message)
+                );
+            }
+        }
+        suites.push_str("  </testsuite>\n");
+    }
+    format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"vpcut\" tests=\"{tests}\" failures=\"{failures}\" errors=\"{errors}\" time=\"{time:.3}\">\n{suites}</testsuites>\n"
+    )
+}
+
+/// What each kind of finding means, for SARIF's rules.
+const RULES: [(&str, &str); 19] = [
+    (
+        "hand",
+        "A pass cuts the other hand than the drawing's thread.",
+    ),
+    ("rapid_cut", "A rapid (G00) move removes material."),
+    (
+        "head_length",
+        "A pass runs deeper than the tool's head reaches: the holder hits the part.",
+    ),
+    (
+        "gouge",
+        "Material removed that the ideal thread keeps, beyond the tolerance.",
+    ),
+    (
+        "leftover",
+        "Material left that the ideal thread removes, beyond the tolerance.",
+    ),
+    (
+        "flank_interference",
+        "A tool body cuts past the surface its edge cut.",
+    ),
+    (
+        "missing_feature",
+        "A groove or tooth of the drawing is not formed at the pitch diameter.",
+    ),
+    ("lead", "A turn's lead is off by more than the tolerance."),
+    (
+        "pitch_diameter",
+        "A turn's simple pitch diameter is outside the drawing's limits.",
+    ),
+    (
+        "groove_width",
+        "A groove's width is off by more than the tolerance.",
+    ),
+    (
+        "tooth_width",
+        "A tooth's width is off by more than the tolerance.",
+    ),
+    ("feed_limit", "The axis feed exceeds the machine's maximum."),
+    (
+        "split_feature",
+        "A ridge or notch crosses the pitch diameter inside one feature.",
+    ),
+    ("run_in", "Less run-in than the axis needs to reach speed."),
+    (
+        "axis_acceleration",
+        "A lead change needs more axial acceleration than the machine has.",
+    ),
+    (
+        "program",
+        "A diagnostic of the NC program (a skipped word or code, a missing subprogram).",
+    ),
+    (
+        "thread_chain",
+        "A chained thread block re-programs the lead law without a re-sync.",
+    ),
+    (
+        "input",
+        "The job or its program cannot be read or simulated.",
+    ),
+    ("other", "Another finding."),
+];
+
+/// A path as a URI reference: relative paths stay relative (to the directory the run
+/// started in), absolute ones become `file://` URIs; reserved characters are
+/// percent-encoded.
+pub(crate) fn uri(path: &Path) -> String {
+    let s = path.to_string_lossy().replace('\\', "/");
+    let mut out = String::new();
+    if path.is_absolute() {
+        out.push_str("file://");
+        if !s.starts_with('/') {
+            out.push('/');
+        }
+    }
+    for b in s.bytes() {
+        if b.is_ascii_alphanumeric() || b"-._~/".contains(&b) {
+            out.push(b as char);
+        } else {
+            let _ = write!(out, "%{b:02X}");
+        }
+    }
+    out
+}
+
+/// SARIF 2.1.0 for the jobs of a run: one run, a result per finding (and per job that
+/// could not be read).
+pub(crate) fn sarif(cases: &[Case]) -> String {
+    use serde_json::json;
+    let rule_index = |kind: &str| {
+        RULES
+            .iter()
+            .position(|r| r.0 == kind)
+            .unwrap_or(RULES.len() - 1)
+    };
+    let location = |p: &Place| {
+        json!([{
+            "physicalLocation": {
+                "artifactLocation": { "uri": uri(&p.file) },
+                "region": { "startLine": p.line.max(1), "startColumn": p.column.max(1) }
+            }
+        }])
+    };
+    let mut results = Vec::new();
+    for case in cases {
+        let job = case.job.display().to_string();
+        match &case.result {
+            Ok(c) => {
+                for (f, p) in c.report.findings.iter().zip(&c.places) {
+                    let i = rule_index(f.kind);
+                    let mut props = serde_json::Map::new();
+                    props.insert("job".into(), json!(job));
+                    for (k, v) in [
+                        ("turn", json!(f.turn)),
+                        ("start", json!(f.start)),
+                        ("flank", json!(f.flank)),
+                        ("pass", json!(f.pass)),
+                        ("angle_deg", json!(f.angle_deg)),
+                        ("z_mm", json!(f.z_mm)),
+                        ("value", json!(f.value)),
+                        ("unit", json!(f.unit)),
+                    ] {
+                        if !v.is_null() {
+                            props.insert(k.into(), v);
+                        }
+                    }
+                    results.push(json!({
+                        "ruleId": RULES[i].0,
+                        "ruleIndex": i,
+                        "level": if f.severity == "error" { "error" } else { "warning" },
+                        "message": { "text": format!("{}: {}", case.name(), f.message) },
+                        "locations": location(p),
+                        "properties": props,
+                    }));
+                }
+            }
+            Err(e) => {
+                let i = rule_index("input");
+                results.push(json!({
+                    "ruleId": "input",
+                    "ruleIndex": i,
+                    "level": "error",
+                    "message": { "text": e.message },
+                    "locations": location(&e.place),
+                    "properties": { "job": job },
+                }));
+            }
+        }
+    }
+    let rules: Vec<_> = RULES
+        .iter()
+        .map(|(id, text)| json!({ "id": id, "shortDescription": { "text": text } }))
+        .collect();
+    let doc = json!({
+        "$schema": "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json",
+        "version": "2.1.0",
+        "runs": [{
+            "tool": { "driver": {
+                "name": "vpcut",
+                "version": vpcut::VERSION,
+                "rules": rules,
+            }},
+            "columnKind": "unicodeCodePoints",
+            "results": results,
+        }]
+    });
+    let mut s = serde_json::to_string_pretty(&doc).expect("SARIF serializes");
+    s.push('\n');
+    s
+}
+
+/// Where a finding is: its program line when it has one (a program diagnostic, a milling
+/// move, the thread block of the pass it is about), else the job file at the table it
+/// concerns (`[thread]` for deviations and measurements, `[machine]` for machine checks,
+/// the pass's `[[pass]]`, else `[program]` or `[process]`), else the job file's first line.
+pub(crate) fn place(
+    f: &vpcut::Finding,
+    job_path: &Path,
+    job_text: &str,
+    program_file: &dyn Fn(&str) -> Option<PathBuf>,
+    pass_blocks: &[(usize, String, usize)],
+) -> Place {
+    let in_program = |file: &str, line: usize, column: usize| Place {
+        file: program_file(file).unwrap_or_else(|| {
+            job_path
+                .parent()
+                .map(|d| d.join(file))
+                .unwrap_or_else(|| PathBuf::from(file))
+        }),
+        line,
+        column: column.max(1),
+    };
+    if let (Some(file), Some(line)) = (&f.file, f.line) {
+        return in_program(file, line, f.column.unwrap_or(1));
+    }
+    // A pass check of a pass from the program: its thread block.
+    if let Some(b) = pass_blocks.iter().find(|b| Some(b.0 + 1) == f.pass) {
+        return in_program(&b.1, b.2, 1);
+    }
+    let header = |name: &str, nth: usize| {
+        job_text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| l.trim_start().starts_with(name))
+            .nth(nth)
+            .map(|(i, l)| (i + 1, l.len() - l.trim_start().len() + 1))
+    };
+    let found = match f.kind {
+        "gouge" | "leftover" | "missing_feature" | "lead" | "groove_width" | "tooth_width"
+        | "split_feature" | "pitch_diameter" => header("[thread]", 0),
+        "feed_limit" | "run_in" | "axis_acceleration" => header("[machine]", 0),
+        "flank_interference" => header("[[tool]]", 0),
+        _ => None,
+    }
+    .or_else(|| f.pass.and_then(|p| header("[[pass]]", p.saturating_sub(1))))
+    .or_else(|| header("[program]", 0))
+    .or_else(|| header("[process]", 0));
+    let (line, column) = found.unwrap_or((1, 1));
+    Place {
+        file: job_path.to_path_buf(),
+        line,
+        column,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uris_are_percent_encoded_and_absolute_paths_are_file_uris() {
+        assert_eq!(
+            uri(Path::new("scenes/a b/job.toml")),
+            "scenes/a%20b/job.toml"
+        );
+        assert_eq!(uri(Path::new("O0001.NC")), "O0001.NC");
+        assert_eq!(uri(Path::new("/tmp/x#1.toml")), "file:///tmp/x%231.toml");
+        assert_eq!(uri(Path::new("caf\u{e9}.nc")), "caf%C3%A9.nc");
+    }
+
+    #[test]
+    fn xml_escapes_markup_and_control_characters() {
+        assert_eq!(
+            xml("a<b & \"c\" 'd'>"),
+            "a&lt;b &amp; &quot;c&quot; &apos;d&apos;&gt;"
+        );
+        assert_eq!(xml("x\u{1}y\tz"), "x\\u{1}y\tz");
+    }
+
+    #[test]
+    fn findings_without_a_program_line_point_at_the_job_table() {
+        let job =
+            "name = \"x\"\n\n[blank]\ndiameter = 1\n\n  [thread]\nform = \"square\"\n[machine]\n";
+        let f = |kind: &'static str| vpcut::Finding {
+            kind,
+            severity: "error",
+            turn: None,
+            start: None,
+            flank: None,
+            pass: None,
+            angle_deg: None,
+            z_mm: None,
+            file: None,
+            line: None,
+            column: None,
+            value: None,
+            unit: None,
+            message: String::new(),
+        };
+        let none = |_: &str| None;
+        let at = |kind| place(&f(kind), Path::new("j.toml"), job, &none, &[]);
+        assert_eq!((at("gouge").line, at("gouge").column), (6, 3));
+        assert_eq!(at("run_in").line, 8);
+        assert_eq!((at("hand").line, at("hand").column), (1, 1));
+        let program = vpcut::Finding {
+            file: Some("O1.NC".into()),
+            line: Some(12),
+            column: Some(4),
+            ..f("program")
+        };
+        let p = place(&program, Path::new("jobs/j.toml"), job, &none, &[]);
+        assert_eq!(
+            p,
+            Place {
+                file: PathBuf::from("jobs/O1.NC"),
+                line: 12,
+                column: 4
+            }
+        );
+    }
+}

@@ -1,0 +1,202 @@
+//! Input files: read with messages that say why a file cannot be read (missing, a folder,
+//! not UTF-8 and where), recorded with their SHA-256 for the report, and the map from an
+//! NC program's name (`O2`) back to the file that holds it.
+
+use anyhow::Context as _;
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
+
+/// Read a text file named by the user: `what` says what it is ("the job file").
+pub(crate) fn read_text(path: &Path, what: &str) -> anyhow::Result<(String, Vec<u8>)> {
+    let bytes = read_bytes(path, what)?;
+    match std::str::from_utf8(&bytes) {
+        Ok(s) => Ok((s.to_string(), bytes)),
+        Err(e) => {
+            let at = e.valid_up_to();
+            let before = &bytes[..at];
+            let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+            let col = at
+                - before
+                    .iter()
+                    .rposition(|&b| b == b'\n')
+                    .map_or(0, |p| p + 1)
+                + 1;
+            anyhow::bail!(
+                "cannot read {what} {}: it is not UTF-8 text: byte 0x{:02X} at byte offset {at} (line {line}, column {col}); save it as UTF-8",
+                path.display(),
+                bytes[at]
+            )
+        }
+    }
+}
+
+/// Read a file named by the user, saying why it cannot be read.
+pub(crate) fn read_bytes(path: &Path, what: &str) -> anyhow::Result<Vec<u8>> {
+    if path.as_os_str() == "-" {
+        anyhow::bail!("{what} cannot be read from standard input: give its path");
+    }
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => {
+            anyhow::bail!(
+                "cannot read {what} {}: it is a folder, not a file",
+                path.display()
+            )
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            anyhow::bail!("cannot read {what} {}: no such file", path.display())
+        }
+        _ => {}
+    }
+    std::fs::read(path).with_context(|| format!("cannot read {what} {}", path.display()))
+}
+
+/// A program or model file read as text: the library's one rule ([`vpcut::decode_program`]:
+/// a UTF-8 byte order mark dropped, bytes that are not UTF-8 read as Latin-1, as controls
+/// and their editors write comments).
+pub(crate) fn decode_program(bytes: &[u8]) -> String {
+    vpcut::decode_program(bytes.to_vec())
+}
+
+/// One input file as the report lists it.
+#[derive(Clone, Debug)]
+pub(crate) struct Read {
+    /// `job`, `program`, `tool`.
+    pub(crate) role: &'static str,
+    /// The path as the user would write it (the job's folder joined with the name).
+    pub(crate) path: PathBuf,
+    /// The name the job used for it.
+    pub(crate) name: String,
+    /// The bytes.
+    pub(crate) bytes: Vec<u8>,
+}
+
+/// The files a job read, in order: the job file, then what its loader read beside it.
+#[derive(Debug, Default)]
+pub(crate) struct Inputs {
+    files: RefCell<Vec<Read>>,
+}
+
+impl Inputs {
+    /// Record a file.
+    pub(crate) fn add(&self, role: &'static str, path: PathBuf, name: String, bytes: Vec<u8>) {
+        let mut f = self.files.borrow_mut();
+        if !f.iter().any(|r| r.path == path) {
+            f.push(Read {
+                role,
+                path,
+                name,
+                bytes,
+            });
+        }
+    }
+
+    /// A loader for `Job::from_toml_with`: files beside the job, recorded as they are read.
+    /// Tool meshes (`.obj`) are `tool`s, everything else a `program`.
+    pub(crate) fn loader<'a>(&'a self, dir: &'a Path) -> impl Fn(&str) -> Option<String> + 'a {
+        move |name: &str| {
+            let path = dir.join(name);
+            if !std::fs::metadata(&path).is_ok_and(|m| m.is_file()) {
+                return None;
+            }
+            let bytes = std::fs::read(&path).ok()?;
+            let text = decode_program(&bytes);
+            let role = if name.to_ascii_lowercase().ends_with(".obj") {
+                "tool"
+            } else {
+                "program"
+            };
+            self.add(role, path, name.to_string(), bytes);
+            Some(text)
+        }
+    }
+
+    /// The file that holds the NC program `name` as diagnostics and moves name it: a file
+    /// read under that name, or (FANUC) the file with an `O<n>` line for `O<n>`.
+    fn holder(&self, name: &str) -> Option<Read> {
+        let files = self.files.borrow();
+        if let Some(r) = files.iter().find(|r| r.name == name) {
+            return Some(r.clone());
+        }
+        let n: u32 = name.strip_prefix('O')?.parse().ok()?;
+        files
+            .iter()
+            .filter(|r| r.role == "program")
+            .find(|r| {
+                decode_program(&r.bytes).lines().any(|l| {
+                    let code = l.split(['(', ';']).next().unwrap_or("").trim();
+                    code.strip_prefix(['O', 'o'])
+                        .is_some_and(|d| !d.is_empty() && d.parse::<u32>().ok() == Some(n))
+                })
+            })
+            .cloned()
+    }
+
+    /// The path of the file that holds program `name`, as the user would write it.
+    pub(crate) fn program_file(&self, name: &str) -> Option<PathBuf> {
+        self.holder(name).map(|r| r.path)
+    }
+
+    /// The name the job gives the file that holds program `name` (relative to the job).
+    pub(crate) fn program_name(&self, name: &str) -> Option<String> {
+        self.holder(name).map(|r| r.name)
+    }
+
+    /// The paths of the files read.
+    pub(crate) fn paths(&self) -> Vec<PathBuf> {
+        self.files.borrow().iter().map(|r| r.path.clone()).collect()
+    }
+
+    /// The files for the report, with their hashes.
+    pub(crate) fn report(&self) -> Vec<vpcut::InputFile> {
+        self.files
+            .borrow()
+            .iter()
+            .map(|r| vpcut::InputFile::new(r.role, r.name.clone(), &r.bytes))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn not_utf8_names_byte_line_and_column() {
+        let d = std::env::temp_dir().join(format!("vpcut-inputs-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let p = d.join("j.toml");
+        std::fs::write(&p, b"a = 1\nb = \"\xff\"\n").unwrap();
+        let e = read_text(&p, "the job file").unwrap_err().to_string();
+        assert!(
+            e.contains("byte 0xFF at byte offset 11 (line 2, column 6)"),
+            "{e}"
+        );
+        let e = read_text(&d, "the job file").unwrap_err().to_string();
+        assert!(e.contains("it is a folder"), "{e}");
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn latin1_programs_decode() {
+        assert_eq!(decode_program(b"(caf\xe9)\nG0"), "(caf\u{e9})\nG0");
+        assert_eq!(decode_program("(caf\u{e9})".as_bytes()), "(caf\u{e9})");
+    }
+
+    #[test]
+    fn fanuc_subprograms_are_found_in_their_file() {
+        let inputs = Inputs::default();
+        inputs.add(
+            "program",
+            PathBuf::from("d/MAIN.NC"),
+            "MAIN.NC".into(),
+            b"O0001\nM98 P2\nM30\nO0002 (SUB)\nM99\n".to_vec(),
+        );
+        assert_eq!(inputs.program_file("O2"), Some(PathBuf::from("d/MAIN.NC")));
+        assert_eq!(inputs.program_name("O2").as_deref(), Some("MAIN.NC"));
+        assert_eq!(
+            inputs.program_file("MAIN.NC"),
+            Some(PathBuf::from("d/MAIN.NC"))
+        );
+        assert_eq!(inputs.program_file("O3"), None);
+    }
+}
