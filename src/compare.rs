@@ -273,6 +273,15 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
             let mut groove = 0usize;
             let mut current: Option<((u32, i64), TurnDeviation)> = None;
             let mut seg = ideal.advance(0, grid.z(j0));
+            // Whether a segment is a root (crest) flat, and whether the compared range
+            // holds all of it: decided once per segment.
+            let flat_of = |seg: usize| {
+                ideal.flat(seg).map(|root| {
+                    let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
+                    (root, a >= lo && b <= hi)
+                })
+            };
+            let mut seg_flat = flat_of(seg);
             let mut flat = Flat {
                 theta,
                 open: None,
@@ -311,14 +320,16 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
                 let gap = h_cut - h_ideal;
                 // Flats: how far the whole root (crest) of this crossing stays above (below)
                 // its ideal height, measured radially.
-                seg = ideal.advance(seg, z);
-                let whole = || {
-                    let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
-                    a >= lo && b <= hi
-                };
-                match ideal.flat(seg) {
-                    Some(true) if hi32 == 0.0 => flat.add(seg, true, whole(), gap, z, key),
-                    Some(false) if hi32 == depth => flat.add(seg, false, whole(), -gap, z, key),
+                let next = ideal.advance(seg, z);
+                if next != seg {
+                    seg = next;
+                    seg_flat = flat_of(seg);
+                }
+                match seg_flat {
+                    Some((true, whole)) if hi32 == 0.0 => flat.add(seg, true, whole, gap, z, key),
+                    Some((false, whole)) if hi32 == depth => {
+                        flat.add(seg, false, whole, -gap, z, key)
+                    }
                     _ => flat.close(),
                 }
                 if gap == 0.0 {

@@ -138,11 +138,20 @@ pub(crate) fn measure(
                         break;
                     }
                 }
-                let feature = ideal.features.partition_point(|f| f.z < z);
-                let key = ideal
-                    .features
-                    .get(feature)
-                    .map_or((0, 0), |f| (f.start, f.turn()));
+                // Inside the thread the turns are the comparison's (the groove whose region
+                // holds the point); outside, in the run-in and run-out, the turn of the
+                // feature above it (0 before the first, past the last turn after it).
+                let inside = ideal.span.is_some_and(|(a, b)| z >= a && z <= b);
+                let key = match ideal.groove_at(0, z).filter(|_| inside) {
+                    Some(g) => (ideal.grooves[g].start, ideal.grooves[g].turn),
+                    None => {
+                        let feature = ideal.features.partition_point(|f| f.z < z);
+                        ideal
+                            .features
+                            .get(feature)
+                            .map_or((0, 0), |f| (f.start, f.turn()))
+                    }
+                };
                 let (_, flank) = ideal.distance(z, thread.height(rc), f64::INFINITY);
                 let hit = Hit {
                     depth: d2.sqrt(),

@@ -513,11 +513,14 @@ impl ColumnIdeal {
         while i > 0 && cell_of(self.verts[i].z) > j0 as f64 {
             i -= 1;
         }
+        // The cell where the next vertex begins, computed once per vertex.
+        let mut next = cell_of(self.verts[i + 1].z);
         for (k, o) in out.iter_mut().enumerate() {
             let j = (j0 + k) as f64;
             let z = z0 + j * dz;
-            while i + 2 < self.verts.len() && cell_of(self.verts[i + 1].z) <= j {
+            while i + 2 < self.verts.len() && next <= j {
                 i += 1;
+                next = cell_of(self.verts[i + 1].z);
             }
             let (a, b) = (self.verts[i], self.verts[i + 1]);
             let h = if b.z <= a.z {
