@@ -632,7 +632,7 @@ fn walls(tool: &Tool, thread: &ThreadSpec, tolerance: f64) -> Result<(f64, f64, 
 
 /// Cut `passes` on a line model of four generators: the tool's axial profile at every
 /// crossing of every pass, in order, from the crest down; the deepest chip of any pass,
-/// and the leftover and gouge against the ideal profile between the first and last feature.
+/// and the leftover and gouge against the ideal profile over the compared span (every groove of the thread, to mid-tooth beyond the end ones).
 pub fn line_check(passes: &[Pass], thread: &ThreadSpec, tool: &Tool) -> Check {
     const DZ: f64 = 0.004;
     let depth = thread.depth();
