@@ -14,7 +14,7 @@
 //! summed in a fixed order (columns, then cells) so they do not depend on the thread count.
 
 use crate::stock::{Stock, Surface};
-use crate::thread::{Flank, ThreadSpec};
+use crate::thread::{Flank, ThreadSpec, WidthRule};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
@@ -90,87 +90,6 @@ fn worst(v: &[Option<Extreme>; 4]) -> Option<Extreme> {
         Extreme::keep_max(&mut best, *e);
     }
     best
-}
-
-/// The least deviation over the dexels of one root or crest flat of one crossing: a root
-/// that is too shallow all across (leftover) or a crest that is too low all across (gouge)
-/// is reported at the root (crest) with its radial size, even where a flank is nearer to
-/// every dexel (a narrow root under a shallow cut). A deviation over part of a flat only
-/// (a ridge, a notch, a wall moved sideways) is the normal distance of its dexels.
-struct Flat {
-    /// The column's angle.
-    theta: f64,
-    /// The flat the walk is on.
-    open: Option<OpenFlat>,
-    /// Flats found deviating all across: the turn and the extreme.
-    found: Vec<((u32, i64), Extreme)>,
-}
-
-/// A root or crest flat being walked.
-struct OpenFlat {
-    /// Its segment of the ideal polyline.
-    seg: usize,
-    /// A root (else a crest).
-    root: bool,
-    /// The compared range holds all of it.
-    whole: bool,
-    /// The least deviation so far (into the material for a crest).
-    least: f64,
-    /// z of its first and last dexel.
-    z: (f64, f64),
-    /// The turn at its first dexel, the turn at its last, and the z where that began.
-    turns: ((u32, i64), (u32, i64), f64),
-}
-
-impl Flat {
-    fn add(&mut self, seg: usize, root: bool, whole: bool, v: f64, z: f64, key: (u32, i64)) {
-        match &mut self.open {
-            Some(o) if o.seg == seg => {
-                o.least = o.least.min(v);
-                o.z.1 = z;
-                if o.turns.1 != key {
-                    o.turns.1 = key;
-                    o.turns.2 = z;
-                }
-            }
-            _ => {
-                self.close();
-                self.open = Some(OpenFlat {
-                    seg,
-                    root,
-                    whole,
-                    least: v,
-                    z: (z, z),
-                    turns: (key, key, z),
-                });
-            }
-        }
-    }
-
-    /// Close the open flat: it deviates all across when its least value is positive and
-    /// the compared range holds all of it. It is placed at the middle of its dexels.
-    fn close(&mut self) {
-        let Some(o) = self.open.take() else {
-            return;
-        };
-        let z = 0.5 * (o.z.0 + o.z.1);
-        // A crest between two grooves belongs to the turn that holds its middle.
-        let (first, last, z_last) = o.turns;
-        let key = if z < z_last { first } else { last };
-        if o.least > 0.0 && o.whole {
-            self.found.push((
-                key,
-                Extreme {
-                    value: o.least,
-                    theta: self.theta,
-                    z,
-                    turn: key.1,
-                    start: key.0,
-                    flank: if o.root { Flank::Root } else { Flank::Crest },
-                },
-            ));
-        }
-    }
 }
 
 /// The comparison of a whole stock.
@@ -273,30 +192,117 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
             let mut groove = 0usize;
             let mut current: Option<((u32, i64), TurnDeviation)> = None;
             let mut seg = ideal.advance(0, grid.z(j0));
-            // Whether a segment is a root (crest) flat, and whether the compared range
-            // holds all of it: decided once per segment.
-            let flat_of = |seg: usize| {
-                ideal.flat(seg).map(|root| {
-                    let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
-                    (root, a >= lo && b <= hi)
-                })
+            // Flats: the least deviation over the dexels of one root or crest flat of one
+            // crossing. A root that is too shallow all across (leftover) or a crest that is
+            // too low all across (gouge) is reported at the root (crest) with its radial
+            // size, even where a flank is nearer to every dexel (a narrow root under a
+            // shallow cut); a deviation over part of a flat only (a ridge, a notch, a wall
+            // moved sideways) is the normal distance of its dexels. Each flat is taken
+            // whole where the walk enters it (a reduction over its dexels), if the compared
+            // range holds all of it, and placed at the middle of its dexels, in the turn
+            // of the groove whose region holds that middle.
+            let mut flats: Vec<((u32, i64), Extreme)> = Vec::new();
+            let depth32 = depth;
+            let thread_depth = thread.depth();
+            let lean_out = thread.left_angle >= 0.0 && thread.right_angle >= 0.0;
+            let mut enter = |seg: usize, k: usize, hint: usize| {
+                let Some(root) = ideal.flat(seg) else { return };
+                let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
+                if a < lo || b > hi {
+                    return;
+                }
+                let target = if root { 0.0 } else { depth32 };
+                let end = ((b - grid.z0) / grid.dz).ceil().max(0.0) as usize;
+                let mut kb = end.saturating_sub(j0).min(ideal_h.len());
+                let mut ka = k.min(kb);
+                while ka < kb && ideal_h[ka] != target {
+                    ka += 1;
+                }
+                while kb > ka && ideal_h[kb - 1] != target {
+                    kb -= 1;
+                }
+                if ka == kb {
+                    return;
+                }
+                let cells = &col[j0 + ka..j0 + kb];
+                // The height grows with q on both sides: the root's least leftover is at the
+                // lowest q, the crest's least gouge at the highest.
+                // Plain comparisons (no NaN in the grid) so the loops vectorise.
+                let q = if root {
+                    cells
+                        .iter()
+                        .fold(f32::INFINITY, |m, &x| if x < m { x } else { m })
+                } else {
+                    cells
+                        .iter()
+                        .fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m })
+                };
+                let h = thread.height(sense * (q as f64 + q_blank));
+                let v = if root { h } else { thread.depth() - h };
+                if v <= 0.0 {
+                    return;
+                }
+                let z = 0.5 * (grid.z(j0 + ka) + grid.z(j0 + kb - 1));
+                let gs = &ideal.grooves;
+                let pick = if root {
+                    ideal.groove_at(hint, z)
+                } else {
+                    // A crest lies between two grooves, centred where their regions meet:
+                    // it goes with the turn whose measurement takes that tooth, the groove
+                    // before it along the helix for equal groove width, the one after it
+                    // for equal tooth width (see `measure`).
+                    let i = gs.partition_point(|g| g.z_hi <= z);
+                    match (i.checked_sub(1), gs.get(i)) {
+                        (Some(a), Some(b)) => {
+                            let before = gs[a].g.min(b.g) == gs[a].g;
+                            let equal_groove = matches!(thread.width, WidthRule::Groove(_));
+                            Some(if before == equal_groove { a } else { i })
+                        }
+                        _ => ideal.groove_at(hint, z),
+                    }
+                };
+                let key = pick.map_or((0, 0), |g| (gs[g].start, gs[g].turn));
+                flats.push((
+                    key,
+                    Extreme {
+                        value: v,
+                        theta,
+                        z,
+                        turn: key.1,
+                        start: key.0,
+                        flank: if root { Flank::Root } else { Flank::Crest },
+                    },
+                ));
             };
-            let mut seg_flat = flat_of(seg);
-            let mut flat = Flat {
-                theta,
-                open: None,
-                found: Vec::new(),
+            enter(seg, 0, 0);
+            // Where the walk next changes groove (the middle of the tooth to the next one)
+            // and segment: checked against z once per dexel.
+            let grooves = &ideal.grooves;
+            let boundary = |g: usize| {
+                grooves
+                    .get(g + 1)
+                    .map_or(f64::INFINITY, |n| 0.5 * (grooves[g].z_hi + n.z_lo))
             };
+            let mut next_groove = boundary(groove);
+            let mut key = grooves.first().map_or((0, 0), |g| (g.start, g.turn));
+            let seg_end = |seg: usize| {
+                if seg + 2 < ideal.verts.len() {
+                    ideal.verts[seg + 1].z
+                } else {
+                    f64::INFINITY
+                }
+            };
+            let mut next_seg = seg_end(seg);
             for (k, &hi32) in ideal_h.iter().enumerate() {
                 let j = j0 + k;
                 let z = grid.z(j);
-                let key = ideal
-                    .groove_at(groove, z)
-                    .map(|g| {
+                if z >= next_groove {
+                    if let Some(g) = ideal.groove_at(groove, z) {
                         groove = g;
-                        (ideal.grooves[g].start, ideal.grooves[g].turn)
-                    })
-                    .unwrap_or((0, 0));
+                        key = (grooves[g].start, grooves[g].turn);
+                    }
+                    next_groove = boundary(groove);
+                }
                 if current.as_ref().is_none_or(|c| c.0 != key) {
                     if let Some((k0, td)) = current.take() {
                         out.turns.entry(k0).or_default().merge(&td);
@@ -320,17 +326,10 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
                 let gap = h_cut - h_ideal;
                 // Flats: how far the whole root (crest) of this crossing stays above (below)
                 // its ideal height, measured radially.
-                let next = ideal.advance(seg, z);
-                if next != seg {
-                    seg = next;
-                    seg_flat = flat_of(seg);
-                }
-                match seg_flat {
-                    Some((true, whole)) if hi32 == 0.0 => flat.add(seg, true, whole, gap, z, key),
-                    Some((false, whole)) if hi32 == depth => {
-                        flat.add(seg, false, whole, -gap, z, key)
-                    }
-                    _ => flat.close(),
+                if z >= next_seg {
+                    seg = ideal.advance(seg, z);
+                    next_seg = seg_end(seg);
+                    enter(seg, k, groove);
                 }
                 if gap == 0.0 {
                     continue;
@@ -344,32 +343,55 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
                     &mut td.leftover
                 };
                 // The normal distance never exceeds the radial gap: skip points that
-                // cannot beat the smallest per-flank maximum seen so far.
-                let floor = slots
-                    .iter()
-                    .map(|s| s.map_or(0.0, |e| e.value))
-                    .fold(f64::INFINITY, f64::min);
-                if gap.abs() <= floor {
+                // cannot beat the smallest maximum so far of the parts they can belong to.
+                // With walls that lean outward (or stand upright), a gouge at or above the
+                // root's height is never nearest to a root (its foot on the wall lies on
+                // the wall), and leftover at or below the crest's never to a crest.
+                let cannot = if !lean_out {
+                    usize::MAX
+                } else if gap < 0.0 && h_cut >= 0.0 {
+                    Flank::Root.index()
+                } else if gap > 0.0 && h_cut <= thread_depth {
+                    Flank::Crest.index()
+                } else {
+                    usize::MAX
+                };
+                let g = gap.abs();
+                let beaten = |f: usize| f == cannot || slots[f].is_some_and(|e| g <= e.value);
+                if (0..4).all(beaten) {
                     continue;
                 }
-                let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
-                Extreme::keep_max(
-                    &mut slots[flank.index()],
-                    Extreme {
+                let (d, flank) = match ideal.nearest(seg, z, h_cut, g) {
+                    Some((d, i, end)) => {
+                        // At a vertex, deciding the part costs more than the distance:
+                        // a point that beats no part's maximum needs no decision.
+                        let low = |f: Flank| slots[f.index()].is_some_and(|e| d <= e.value);
+                        if end != 0 {
+                            let (f1, f2) = ideal.vertex_parts(i, end);
+                            if low(f1) && f2.is_some_and(low) {
+                                continue;
+                            }
+                        }
+                        (d, ideal.flank_of(i, end, z, h_cut))
+                    }
+                    None => (g, Flank::Crest),
+                };
+                let slot = &mut slots[flank.index()];
+                if slot.is_none_or(|e| d > e.value) {
+                    *slot = Some(Extreme {
                         value: d,
                         theta,
                         z,
                         turn: key.1,
                         start: key.0,
                         flank,
-                    },
-                );
+                    });
+                }
             }
             if let Some((k0, td)) = current.take() {
                 out.turns.entry(k0).or_default().merge(&td);
             }
-            flat.close();
-            for (k0, e) in flat.found {
+            for (k0, e) in flats {
                 let td = out.turns.entry(k0).or_default();
                 let slots = if e.flank == Flank::Root {
                     &mut td.leftover

@@ -471,17 +471,27 @@ fn envelope(grooves: &[Groove], depth: f64, widening: f64, z_lo: f64, z_hi: f64)
     v
 }
 
-/// Squared distance from a point to a segment in `(z, h)`.
-fn segment_distance2(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
+/// Squared distance from a point to a segment in `(z, h)`, and whether the nearest point
+/// is an end of the segment.
+#[inline]
+fn segment_foot(p: (f64, f64), a: Vertex, b: Vertex) -> (f64, i8) {
     let (dz, dh) = (b.z - a.z, b.h - a.h);
     let len2 = dz * dz + dh * dh;
-    let u = if len2 > 0.0 {
-        (((p.0 - a.z) * dz + (p.1 - a.h) * dh) / len2).clamp(0.0, 1.0)
+    let raw = if len2 > 0.0 {
+        ((p.0 - a.z) * dz + (p.1 - a.h) * dh) / len2
     } else {
         0.0
     };
+    let u = raw.clamp(0.0, 1.0);
     let (qz, qh) = (a.z + u * dz, a.h + u * dh);
-    (p.0 - qz).powi(2) + (p.1 - qh).powi(2)
+    let end = if u <= 0.0 {
+        -1
+    } else if u >= 1.0 {
+        1
+    } else {
+        0
+    };
+    ((p.0 - qz).powi(2) + (p.1 - qh).powi(2), end)
 }
 
 impl ColumnIdeal {
@@ -545,10 +555,28 @@ impl ColumnIdeal {
     /// outward from the hint and the scan stops on each side once the axial gap alone
     /// exceeds the best distance so far; ties go to the lowest segment index.
     pub fn distance_near(&self, hint: usize, z: f64, h: f64, bound: f64) -> (f64, Flank) {
+        match self.nearest(hint, z, h, bound) {
+            Some((d, i, end)) => (d, self.flank_of(i, end, z, h)),
+            None => (bound, Flank::Crest),
+        }
+    }
+
+    /// The distance as [`ColumnIdeal::distance_near`], with the part left to decide:
+    /// `(distance, segment, end)`, `end` -1 or 1 where the nearest point is that
+    /// segment's first or last vertex (the part is then decided by
+    /// [`ColumnIdeal::flank_of`]), else 0. `None` when nothing lies within `bound`.
+    pub(crate) fn nearest(
+        &self,
+        hint: usize,
+        z: f64,
+        h: f64,
+        bound: f64,
+    ) -> Option<(f64, usize, i8)> {
         let last = self.verts.len() - 2;
         let i0 = hint.min(last);
         let mut best = bound * bound;
         let mut best_i = usize::MAX;
+        let mut best_end = 0i8;
         let mut i = i0;
         while i <= last {
             let (a, b) = (self.verts[i], self.verts[i + 1]);
@@ -556,10 +584,11 @@ impl ColumnIdeal {
             if gap > 0.0 && gap * gap > best {
                 break;
             }
-            let d2 = segment_distance2((z, h), a, b);
+            let (d2, end) = segment_foot((z, h), a, b);
             if d2 < best || (best_i == usize::MAX && d2 <= best) {
                 best = d2;
                 best_i = i;
+                best_end = end;
             }
             i += 1;
         }
@@ -571,64 +600,83 @@ impl ColumnIdeal {
             if gap > 0.0 && gap * gap > best {
                 break;
             }
-            let d2 = segment_distance2((z, h), a, b);
+            let (d2, end) = segment_foot((z, h), a, b);
             if d2 <= best {
                 best = d2;
                 best_i = i;
+                best_end = end;
             }
         }
-        if best_i == usize::MAX {
-            return (bound, Flank::Crest);
-        }
-        let i = self.at_vertex(best_i, z, h);
-        let (a, b) = (self.verts[i], self.verts[i + 1]);
-        (best.sqrt(), self.segment_kind(a, b))
+        (best_i != usize::MAX).then(|| (best.sqrt(), best_i, best_end))
     }
 
-    /// Whether segment `i` has length.
-    fn proper(&self, i: usize) -> bool {
-        let (a, b) = (self.verts[i], self.verts[i + 1]);
-        a.z != b.z || a.h != b.h
+    /// The parts meeting at the end `end` (-1 or 1) of segment `i`: its own and its
+    /// neighbour's there (`None` at the polyline's ends or past a degenerate segment,
+    /// where only [`ColumnIdeal::flank_of`] decides).
+    pub(crate) fn vertex_parts(&self, i: usize, end: i8) -> (Flank, Option<Flank>) {
+        let kind = |k: usize| self.segment_kind(self.verts[k], self.verts[k + 1]);
+        let k = if end < 0 {
+            i.checked_sub(1)
+        } else {
+            Some(i + 1).filter(|&k| k + 1 < self.verts.len())
+        };
+        let other = k.filter(|&k| {
+            let (a, b) = (self.verts[k], self.verts[k + 1]);
+            a.z != b.z || a.h != b.h
+        });
+        (kind(i), other.map(kind))
     }
 
-    /// The segment a point nearest to segment `i` belongs to. Where the nearest point is a
-    /// vertex, both segments meeting there are equally near: the point belongs to the one
-    /// whose normal is closer to the direction from the vertex to the point (the wedge
-    /// between the two normals is split at its bisector). This makes the flank names
-    /// symmetric under mirroring, where a tie broken by index would not be.
-    fn at_vertex(&self, i: usize, z: f64, h: f64) -> usize {
+    /// The part a point nearest to segment `i` (at its end `end`, see
+    /// [`ColumnIdeal::nearest`]) belongs to.
+    pub(crate) fn flank_of(&self, i: usize, end: i8, z: f64, h: f64) -> Flank {
+        // Only a nearest point at a vertex has two candidate segments.
+        let i = if end != 0 {
+            self.at_vertex(i, end, z, h)
+        } else {
+            i
+        };
         let (a, b) = (self.verts[i], self.verts[i + 1]);
-        let (dz, dh) = (b.z - a.z, b.h - a.h);
-        let len2 = dz * dz + dh * dh;
-        if len2 == 0.0 {
-            return i;
-        }
-        let u = ((z - a.z) * dz + (h - a.h) * dh) / len2;
+        self.segment_kind(a, b)
+    }
+
+    /// The segment a point nearest to the end `end` (-1: its first vertex, 1: its last) of
+    /// segment `i` belongs to. Both segments meeting at that vertex are equally near: the
+    /// point belongs to the one whose normal is closer to the direction from the vertex
+    /// to the point (the wedge between the two normals is split at its bisector). This
+    /// makes the flank names symmetric under mirroring, where a tie broken by index would
+    /// not be.
+    #[inline]
+    fn at_vertex(&self, i: usize, end: i8, z: f64, h: f64) -> usize {
         let last = self.verts.len() - 2;
-        let (vertex, other) = if u <= 0.0 {
+        let proper = |k: usize| {
+            let (a, b) = (self.verts[k], self.verts[k + 1]);
+            a.z != b.z || a.h != b.h
+        };
+        let (vertex, other) = if end < 0 {
             let mut k = i;
-            while k > 0 && !self.proper(k - 1) {
+            while k > 0 && !proper(k - 1) {
                 k -= 1;
             }
-            (a, (k > 0).then(|| k - 1))
-        } else if u >= 1.0 {
+            (self.verts[i], (k > 0).then(|| k - 1))
+        } else {
             let mut k = i + 1;
-            while k <= last && !self.proper(k) {
+            while k <= last && !proper(k) {
                 k += 1;
             }
-            (b, (k <= last).then_some(k))
-        } else {
-            return i;
+            (self.verts[i + 1], (k <= last).then_some(k))
         };
         let Some(o) = other else { return i };
         let (vz, vh) = (z - vertex.z, h - vertex.h);
+        // |v . n| / |n| for the normal n = (-sh, sz) of each segment, compared squared.
         let align = |k: usize| {
             let (p, q) = (self.verts[k], self.verts[k + 1]);
             let (sz, sh) = (q.z - p.z, q.h - p.h);
-            // The normal (-sh, sz), normalised.
-            ((-sh * vz + sz * vh) / (sz * sz + sh * sh).sqrt()).abs()
+            let dot = -sh * vz + sz * vh;
+            (dot * dot, sz * sz + sh * sh)
         };
-        if align(o) > align(i) {
+        let ((no, lo), (ni, li)) = (align(o), align(i));
+        if no * li > ni * lo {
             o
         } else {
             i
