@@ -77,11 +77,14 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (54..=59 | 61 | 64 | 76 | 90 | 91 | 93 | 94 | 95 | 96 | 97 | 98 | 99, true) => {
                 Verdict::Run
             }
-            (28 | 30, true) => refused("go to a predefined position"),
-            (10 | 52 | 53 | 92, _) => refused("coordinate system offset"),
+            // Go home, machine coordinates, G92 offsets, G10 L2/L20: run by `apply`; G80
+            // cancels a canned cycle (none is modal in vpcut: a no-op).
+            (10 | 28 | 30 | 53 | 80 | 92, true) => Verdict::Run,
+            _ if matches!(c, 281 | 301 | 591..=593 | 611 | 901 | 911 | 921..=923) => Verdict::Run,
+            (52, true) => refused("local coordinate system offset"),
             (33, false) => refused("rigid tapping"),
             (38, false) => refused("probing"),
-            (73 | 74 | 80..=89, true) => refused("canned cycle"),
+            (73 | 74 | 81..=89, true) => refused("canned cycle"),
             _ => Verdict::Unknown(format!(
                 "G{} is not a {} code vpcut knows",
                 fmt(code),

@@ -35,6 +35,8 @@ mod mill_tests;
 mod milling;
 mod motion;
 mod program;
+#[cfg(test)]
+mod real_tests;
 mod siemens;
 #[cfg(test)]
 mod tests;
@@ -180,7 +182,9 @@ pub struct Settings {
     pub work_offsets: [(f64, f64); 6],
     /// Skip blocks that start with `/` (the block-skip switch on); false runs them.
     pub block_skip: bool,
-    /// The reference point G28 returns to: (X as a diameter, Z) in the job's frame.
+    /// The reference point G28 returns to: (X as a diameter, Z) in the job's frame (machine
+    /// coordinates). `None`: the machine zero (0, 0), as a control whose reference point is
+    /// at its machine zero (LinuxCNC's #5161/#5163 start at 0 too).
     pub reference_point: Option<(f64, f64)>,
     /// A milling machine's settings: when set, FANUC programs are read as milling programs
     /// and their moves come out as [`Toolpath::mill`].
@@ -461,9 +465,11 @@ struct Machine<'l> {
     chamfer: f64,
     /// Thread chamfering switched on (M23) or off (M24).
     chamfer_on: bool,
-    /// Work offsets G54..G59 and the active one (0 = G54).
-    offsets: [(f64, f64); 6],
+    /// Work offsets G54..G59 (and LinuxCNC's G59.1..G59.3) and the active one (0 = G54).
+    offsets: [(f64, f64); 9],
     work: usize,
+    /// LinuxCNC G92 offset (diameter, z; mm) added to the work offset; (0, 0) when none.
+    g92_off: (f64, f64),
     /// G96 constant surface speed (else G97 rpm), and the last S value.
     css: bool,
     speed: Option<f64>,
@@ -471,8 +477,8 @@ struct Machine<'l> {
     per_rev: bool,
     /// The modal feed F (`None` before any F).
     feed: Option<f64>,
-    /// The G28 reference point (diameter, z), if the job gives one.
-    reference: Option<(f64, f64)>,
+    /// The G28 reference point (diameter, z): the job's, else the machine zero (0, 0).
+    reference: (f64, f64),
     /// Modal G90/G94 cutting cycle: (G code, target of the axis a repeat block leaves out,
     /// taper R).
     cycle90: Option<(u32, f64, f64)>,
@@ -559,13 +565,18 @@ pub fn interpret_with(
         pending: Vec::new(),
         chamfer: opts.settings.thread_chamfer,
         chamfer_on: true,
-        offsets: opts.settings.work_offsets,
+        offsets: {
+            let mut o = [(0.0, 0.0); 9];
+            o[..6].copy_from_slice(&opts.settings.work_offsets);
+            o
+        },
         work: 0,
+        g92_off: (0.0, 0.0),
         css: false,
         speed: None,
         per_rev: true,
         feed: None,
-        reference: opts.settings.reference_point,
+        reference: opts.settings.reference_point.unwrap_or((0.0, 0.0)),
         block_skip: opts.settings.block_skip,
         cycle90: None,
         runout: (None, None),
@@ -574,6 +585,7 @@ pub fn interpret_with(
         milling: opts.settings.mill.is_some(),
         mill: opts.settings.mill.clone().map(milling::MillState::new),
     };
+    m.lc.st.home28 = m.reference;
     if m.milling && real != Dialect::Fanuc {
         return Err(NcError {
             file: main.name.clone(),

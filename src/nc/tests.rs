@@ -154,10 +154,10 @@ fn g50_sets_the_position_and_g70_is_not_inch_on_fanuc() {
             .contains("G70 (multiple repetitive cycle) is not simulated"),
         "{e}"
     );
-    let e = run("G92 X10\n", Dialect::Linuxcnc).unwrap_err();
+    let e = run("G52 X10\n", Dialect::Linuxcnc).unwrap_err();
     assert!(
         e.message
-            .contains("G92 (coordinate system offset) is not simulated"),
+            .contains("G52 (local coordinate system offset) is not simulated"),
         "{e}"
     );
 }
