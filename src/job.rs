@@ -263,6 +263,8 @@ struct RawProgram {
     block_skip: bool,
     /// Where G28 goes: { x = diameter, z } in the job's frame.
     reference_point: Option<RawPoint>,
+    /// FANUC/GSK lathe G-code system: "A" (default), "B" or "C".
+    gcode_system: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -1024,6 +1026,7 @@ impl Job {
             work_offsets: Default::default(),
             block_skip: true,
             reference_point: None,
+            gcode_system: None,
         };
         let cx = Ctx { src: "", file };
         let load = |name: &str| (name == file).then(|| text.to_string());
@@ -1151,6 +1154,14 @@ fn program_passes(
                 settings.thread_chamfer
             ),
         ));
+    }
+    if let Some(g) = &pr.gcode_system {
+        settings.gcode_system = crate::nc::GcodeSystem::from_name(g).ok_or_else(|| {
+            cx.err(
+                "program.gcode_system",
+                format!("expected \"A\", \"B\" or \"C\" (FANUC lathe G-code system), got `{g}`"),
+            )
+        })?;
     }
     if let Some(p) = &pr.reference_point {
         settings.reference_point = Some((

@@ -3,6 +3,7 @@
 //! not know (skipped with a warning, an error in strict mode). One table for the static
 //! check and the interpreter, so that both say the same thing.
 
+pub(super) use super::GcodeSystem;
 use super::Dialect;
 
 /// What to do with a code.
@@ -15,6 +16,60 @@ pub(super) enum Verdict {
     Refused(String),
     /// Not a code vpcut knows: skipped with a warning (an error in strict mode).
     Unknown(String),
+}
+
+/// What a G code of system B or C is in system A.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum InA {
+    /// This system-A code.
+    Code(u32),
+    /// G90 (absolute) of B/C.
+    Absolute,
+    /// G91 (incremental) of B/C.
+    Incremental,
+    /// G98/G99 of B/C: the canned drilling cycles' return level; no lathe cycle of vpcut
+    /// uses it.
+    ReturnLevel,
+}
+
+/// The system-A code for the whole G code `g` of `system` (FANUC 0i-TF "G code list"):
+///
+/// | A | B | C | function |
+/// |---|---|---|---|
+/// | G20/G21 | G20/G21 | G70/G71 | inch/metric input |
+/// | G32 | G33 | G33 | threading |
+/// | G50 | G92 | G92 | coordinate system setting, maximum spindle speed |
+/// | G70..G76 | G70..G76 | G72..G78 | multiple repetitive cycles (G76/G78: threading) |
+/// | G90 | G77 | G20 | outer/inner diameter cutting cycle |
+/// | G92 | G78 | G21 | threading cycle |
+/// | G94 | G79 | G24 | end face turning cycle |
+/// | G98/G99 | G94/G95 | G94/G95 | feed per minute/revolution |
+/// | (U/W) | G90/G91 | G90/G91 | absolute/incremental |
+/// | - | G98/G99 | G98/G99 | canned cycle return: initial level / R point |
+///
+/// Other codes are the same in the three systems.
+pub(super) fn in_system_a(system: GcodeSystem, g: u32) -> InA {
+    use GcodeSystem::*;
+    InA::Code(match (system, g) {
+        (A, g) => g,
+        (B | C, 90) => return InA::Absolute,
+        (B | C, 91) => return InA::Incremental,
+        (B | C, 98 | 99) => return InA::ReturnLevel,
+        (B | C, 33) => 32,
+        (B | C, 92) => 50,
+        (B | C, 94) => 98,
+        (B | C, 95) => 99,
+        (B, 77) => 90,
+        (B, 78) => 92,
+        (B, 79) => 94,
+        (C, 20) => 90,
+        (C, 21) => 92,
+        (C, 24) => 94,
+        (C, 70) => 20,
+        (C, 71) => 21,
+        (C, 72..=78) => g - 2,
+        (_, g) => g,
+    })
 }
 
 /// Codes with one decimal as integers x10 (G33.1 = 331).

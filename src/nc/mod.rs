@@ -90,6 +90,31 @@ impl Dialect {
     }
 }
 
+/// FANUC lathe G-code system (FANUC 0i-TF/30i-B lathe manuals, "G code list": parameter
+/// GSB/GSC). System A writes U/W for incremental moves; B and C have G90/G91.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GcodeSystem {
+    /// System A (vpcut's FANUC/GSK lathe codes are written in it).
+    #[default]
+    A,
+    /// System B.
+    B,
+    /// System C.
+    C,
+}
+
+impl GcodeSystem {
+    /// Parse `"A"`, `"B"` or `"C"`.
+    pub fn from_name(s: &str) -> Option<GcodeSystem> {
+        match s {
+            "A" | "a" => Some(GcodeSystem::A),
+            "B" | "b" => Some(GcodeSystem::B),
+            "C" | "c" => Some(GcodeSystem::C),
+            _ => None,
+        }
+    }
+}
+
 /// A program's text and the name it is known by.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Source {
@@ -189,6 +214,8 @@ pub struct Settings {
     /// A milling machine's settings: when set, FANUC programs are read as milling programs
     /// and their moves come out as [`Toolpath::mill`].
     pub mill: Option<MillSettings>,
+    /// FANUC/GSK lathe G-code system (A, B or C; [`GcodeSystem`]).
+    pub gcode_system: GcodeSystem,
 }
 
 impl Default for Settings {
@@ -199,6 +226,7 @@ impl Default for Settings {
             block_skip: true,
             reference_point: None,
             mill: None,
+            gcode_system: GcodeSystem::A,
         }
     }
 }
@@ -437,6 +465,8 @@ struct Machine<'l> {
     dialect: Dialect,
     /// GSK 980TDC semantics for G34.
     gsk: bool,
+    /// FANUC lathe G-code system (codes are translated to system A when read).
+    system: GcodeSystem,
     /// X words are diameters (G7; always on FANUC/GSK/Siemens lathes), else radii (G8).
     diameter_mode: bool,
     loader: &'l dyn Fn(&str) -> Option<Source>,
@@ -536,6 +566,7 @@ pub fn interpret_with(
     let mut m = Machine {
         dialect,
         gsk,
+        system: opts.settings.gcode_system,
         diameter_mode: dialect != Dialect::Linuxcnc,
         loader,
         limits: opts.limits,
@@ -628,6 +659,7 @@ pub fn interpret_with(
             &p,
             real,
             milling,
+            opts.settings.gcode_system,
             opts.strict,
             &mut found,
         ));

@@ -229,3 +229,118 @@ fn fanuc_semicolon_ends_a_block_and_percent_headers() {
     let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
     assert_eq!((e.line, e.col), (1, 18), "{e}");
 }
+
+#[test]
+fn fanuc_gcode_systems_b_and_c_read_as_system_a() {
+    use crate::nc::GcodeSystem::{B, C};
+    // (system, program in it, the same program in system A)
+    let cases = [
+        (
+            B,
+            "G0 X30 Z5\nG78 X19 Z-20 F1.5\nX18.5\nG0 X40\nM30\n",
+            "G0 X30 Z5\nG92 X19 Z-20 F1.5\nX18.5\nG0 X40\nM30\n",
+        ),
+        (
+            C,
+            "G0 X30 Z5\nG21 X19 Z-20 F1.5\nX18.5\nG0 X40\nM30\n",
+            "G0 X30 Z5\nG92 X19 Z-20 F1.5\nX18.5\nG0 X40\nM30\n",
+        ),
+        (
+            B,
+            "G92 X100 Z50\nG0 X24 Z5\nG33 Z-20 F2\nG91 G0 X6\nZ25\nG90 G0 X10\nM30\n",
+            "G50 X100 Z50\nG0 X24 Z5\nG32 Z-20 F2\nG0 U6\nW25\nG0 X10\nM30\n",
+        ),
+        (
+            B,
+            "G0 X40 Z2\nG95 G77 X30 Z-10 F0.2\nM30\n",
+            "G0 X40 Z2\nG99 G90 X30 Z-10 F0.2\nM30\n",
+        ),
+        (
+            C,
+            "G0 X40 Z2\nG20 X30 Z-10 F0.2\nG24 X20 Z-1 F0.2\nM30\n",
+            "G0 X40 Z2\nG90 X30 Z-10 F0.2\nG94 X20 Z-1 F0.2\nM30\n",
+        ),
+        (
+            C,
+            "G70\nG0 X1.2 Z0.2\nG33 Z-1 F0.1\nG71\nG0 X40\nM30\n",
+            "G20\nG0 X1.2 Z0.2\nG32 Z-1 F0.1\nG21\nG0 X40\nM30\n",
+        ),
+        (
+            C,
+            "G0 X30 Z5\nG78 P010060 Q100 R0.05\nG78 X24 Z-20 P1000 Q600 F2\nM30\n",
+            "G0 X30 Z5\nG76 P010060 Q100 R0.05\nG76 X24 Z-20 P1000 Q600 F2\nM30\n",
+        ),
+        (
+            B,
+            "G0 X30 Z5\nG76 P010060 Q100 R0.05\nG91 G76 X-6 Z-25 P1000 Q600 F2\nM30\n",
+            "G0 X30 Z5\nG76 P010060 Q100 R0.05\nG76 X24 Z-20 P1000 Q600 F2\nM30\n",
+        ),
+    ];
+    for (system, text, in_a) in cases {
+        let s = Settings {
+            gcode_system: system,
+            ..Settings::default()
+        };
+        let got = run_s(text, Dialect::Fanuc, s);
+        let want = run(in_a, Dialect::Fanuc);
+        assert!(!want.moves.is_empty());
+        assert_eq!(ends(&got), ends(&want), "{system:?}: {text}");
+        let kinds = |t: &Toolpath| t.moves.iter().map(|m| m.kind).collect::<Vec<_>>();
+        assert_eq!(kinds(&got), kinds(&want), "{system:?}: {text}");
+        assert!(got.warnings.is_empty(), "{text}: {:?}", got.warnings);
+    }
+}
+
+#[test]
+fn one_block_g76_of_haas_and_0t() {
+    // (program, thread moves, x_dia and z_start of the first thread move)
+    let t60 = (30f64.to_radians()).tan();
+    let cases: [(&str, usize, f64, f64); 5] = [
+        // D sqrt(n) < K: 0.5, 0.707, 0.866, 1.0, 1.118, then K = 1.2: 6 passes; the first
+        // 2(1.2 - 0.5) = 1.4 over the root X24, radial (A0).
+        ("G0 X30 Z5\nG76 X24 Z-20 K1.2 D0.5 F2\nM30\n", 6, 25.4, 5.0),
+        // The same in the least input increment (0T: no decimal point, um).
+        ("G0 X30 Z5\nG76 X24 Z-20 K1200 D500 F2\nM30\n", 6, 25.4, 5.0),
+        // P3: constant depth n D: 0.3, 0.6, 0.9, then 1.2.
+        ("G0 X30 Z5\nG76 X24 Z-20 K1.2 D0.3 F2 P3\nM30\n", 4, 24.0 + 2.0 * 0.9, 5.0),
+        // A60, one flank: the first pass stands back 0.7 and is shifted 0.7 tan 30 away
+        // from the cut (towards +Z when cutting towards -Z).
+        (
+            "G0 X30 Z5\nG76 X24 Z-20 K1.2 D0.5 F2 A60\nM30\n",
+            6,
+            25.4,
+            5.0 + 0.7 * t60,
+        ),
+        // Haas's example (inches): K/D = 4, so D sqrt(n) < K for n = 1..15, then K: 16.
+        (
+            "G20\nG0 X0.5 Z0.2\nG76 X0.4069 Z-1.5 K0.043075 D0.01076875 F0.0769\nM30\n",
+            16,
+            (0.4069 + 2.0 * (0.043075 - 0.01076875)) * 25.4,
+            0.2 * 25.4,
+        ),
+    ];
+    for (text, n, x, z) in cases {
+        let t = run(text, Dialect::Fanuc);
+        let th: Vec<_> = t.moves.iter().filter(|m| m.kind == MoveKind::Thread).collect();
+        assert_eq!(th.len(), n, "{text}");
+        assert!((th[0].x_dia - x).abs() < 1e-9, "{text}: {}", th[0].x_dia);
+        assert!((th[0].z_start - z).abs() < 1e-9, "{text}: {}", th[0].z_start);
+        // Every pass ends at the last one's depth or above it, the last at the root X.
+        assert!((th[n - 1].x_dia - th[n - 1].x_dia.min(x)).abs() < 1e-9);
+        assert!(t.warnings.is_empty(), "{text}: {:?}", t.warnings);
+    }
+    // P2: the flanks alternate.
+    let t = run(
+        "G0 X30 Z5\nG76 X24 Z-20 K1.2 D0.5 F2 A60 P2\nM30\n",
+        Dialect::Fanuc,
+    );
+    let th: Vec<_> = t.moves.iter().filter(|m| m.kind == MoveKind::Thread).collect();
+    assert!(th[0].z_start > 5.0 && th[1].z_start < 5.0, "{:?}", ends(&t));
+    // K without D (or D without K) is refused by name.
+    let src = Source {
+        name: "t.nc".into(),
+        text: "G0 X30 Z5\nG76 X24 Z-20 K1.2 F2\n".into(),
+    };
+    let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
+    assert!(e.message.contains("needs D"), "{e}");
+}
