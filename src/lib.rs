@@ -82,6 +82,7 @@ pub use mill::{
 };
 pub use nc::{
     decode_program, interpret, interpret_with, to_csv, ArcGeometry, CompSide, Diagnostic, Dialect,
+    GcodeSystem,
     Limits, MillArc, MillKind, MillMove, MillSettings, Move, MoveKind, NcError,
     Options as NcOptions, Plane, Settings, Severity, Source, Toolpath,
 };
