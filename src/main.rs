@@ -59,7 +59,10 @@ struct ToolpathArgs {
     /// Print JSON instead of CSV.
     #[arg(long)]
     json: bool,
-    /// Print CSV (the default): file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg.
+    /// Print CSV (the default): file,line,kind,x_dia,x_radius,z,lead,lead_change,
+    /// sync_angle_deg,x_start_dia,z_start,path_lead: every move the control makes (cycle
+    /// rapids included), its end and start; `lead` is the Z lead, `path_lead` the lead
+    /// along the move.
     #[arg(long, conflicts_with = "json")]
     csv: bool,
     /// Unknown words and codes are errors, not warnings.
@@ -1065,6 +1068,8 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
                     "x_dia": m.x_dia, "x_radius": m.x_dia / 2.0, "z": m.z,
                     "lead": m.lead, "lead_change": m.lead_change,
                     "sync_angle_deg": m.sync_angle_deg, "tool": m.tool,
+                    "x_start_dia": m.x_start, "z_start": m.z_start,
+                    "lead_axis": m.lead.map(|_| "z"), "path_lead": vpcut::path_lead(m),
                     "arc": m.arc.map(|a| serde_json::json!({
                         "x_centre_dia": a.x_centre_dia, "z_centre": a.z_centre,
                         "clockwise": a.clockwise,

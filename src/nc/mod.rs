@@ -1048,13 +1048,32 @@ struct Sync {
     angle: f64,
 }
 
-/// The moves as CSV: `line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg`.
+/// The lead along the path of a thread move (mm per revolution along the move: its Z lead
+/// times path length over Z travel; equal to the Z lead on a straight thread).
+pub fn path_lead(m: &Move) -> Option<f64> {
+    let lead = m.lead?;
+    let dz = (m.z - m.z_start).abs();
+    if dz == 0.0 {
+        return Some(lead);
+    }
+    let path = ((m.x_dia - m.x_start) / 2.0).hypot(m.z - m.z_start);
+    Some(lead * path / dz)
+}
+
+/// The moves as CSV, one row per move the control makes (rapids and feeds of cycles
+/// included): `file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg,x_start_dia,
+/// z_start,path_lead`. `x_dia`/`z` are the end point, `x_start_dia`/`z_start` the start;
+/// `lead` is the Z lead (mm of Z per spindle revolution), `path_lead` the distance per
+/// revolution along the move (LinuxCNC's K on a taper; the same as `lead` on a straight
+/// thread).
 pub fn to_csv(moves: &[Move]) -> String {
-    let mut s = String::from("file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg\n");
+    let mut s = String::from(
+        "file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg,x_start_dia,z_start,path_lead\n",
+    );
     let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
     for m in moves {
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
             m.file,
             m.line,
             m.kind.name(),
@@ -1063,7 +1082,10 @@ pub fn to_csv(moves: &[Move]) -> String {
             m.z,
             o(m.lead),
             o(m.lead_change),
-            o(m.sync_angle_deg)
+            o(m.sync_angle_deg),
+            m.x_start,
+            m.z_start,
+            o(path_lead(m)),
         ));
     }
     s

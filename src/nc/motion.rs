@@ -304,7 +304,14 @@ impl Machine<'_> {
                 (_, 1) => (MoveKind::Feed, None, None, None),
                 (Dialect::Linuxcnc, 33) => {
                     let k = val("K").ok_or((1, "G33 needs K (the pitch)".to_string()))? * scale;
-                    (MoveKind::Thread, Some(k), Some(0.0), Some(0.0))
+                    // rs274/LinuxCNC: K is the distance per revolution along the programmed
+                    // move (the trajectory planner ties path progress to the spindle), so a
+                    // tapered G33 advances K cos(taper) in Z per revolution; vpcut's lead is
+                    // the Z lead.
+                    let (dr, dz) = ((x - self.x) / 2.0, z - self.z);
+                    let path = dr.hypot(dz);
+                    let lead = if dz != 0.0 { k * dz.abs() / path } else { k };
+                    (MoveKind::Thread, Some(lead), Some(0.0), Some(0.0))
                 }
                 (Dialect::Fanuc, 34) if self.gsk => {
                     return self.gsk_g34(w, prog, pc, x, z, scale);
