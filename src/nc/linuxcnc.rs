@@ -878,22 +878,42 @@ impl Machine<'_> {
                 "G76 E: the tapers are longer than the drive line (E > half of it with L3)".into(),
             ));
         }
+        // rs274's moves, pass by pass (checked against its canon output): a rapid straight
+        // to the pass's retract point `K + |I|` above the pass at its start Z (diagonal from
+        // the previous pass's end), then either a rapid down to the pass (no entry taper) or
+        // the synchronised radial move down to the taper start `K` above it; the thread; a
+        // rapid out to the retract X at the end Z. After the last pass a rapid to the drive
+        // line at the end Z, where the cycle leaves the tool.
+        let mut end = (self.x, self.z);
         for d in depths {
             let zoff = (d - full) * angle.tan();
             let x = 2.0 * (x0 + side * d);
             let (zs, ze) = (start_z - zoff, target_z - zoff);
+            let retract = 2.0 * (x0 + side * (d - k.abs() - full));
+            let rapid = |m: &mut Self, a: (f64, f64), b: (f64, f64)| {
+                if a != b {
+                    m.emit(prog, pc, MoveKind::Rapid, a, b, None);
+                }
+            };
+            rapid(self, end, (retract, zs));
+            let kx = 2.0 * (x0 + side * (d - k.abs()));
             if tapers > 0 {
                 // rs274: with an entry taper, from the retract line a synchronised radial
                 // move (|I| long) to the taper start K above the pass, then the taper over E;
                 // else a rapid to the pass. Then the pass, and with an exit taper the taper
                 // back up by K over E. Feeds are per path length (P hypot(E,K)/E on the
                 // tapers), so the axial lead is P throughout; the radial move uses up
-                // |I| / (P hypot(E,K)/E) revolutions before the entry taper starts.
-                let kx = 2.0 * (x0 + side * (d - k.abs()));
+                // |I| / (P hypot(E,K)/E) revolutions before the entry taper starts. It is
+                // listed as a feed move: it advances no Z, so it cuts no thread.
                 let p_taper = pitch * taper_len.hypot(k.abs()) / taper_len;
                 let mut revs = if entry { full / p_taper } else { 0.0 };
                 let z1 = if entry { zs + dir * taper_len } else { zs };
                 let z2 = if exit { ze - dir * taper_len } else { ze };
+                if entry {
+                    self.emit(prog, pc, MoveKind::Feed, (retract, zs), (kx, zs), None);
+                } else {
+                    rapid(self, (retract, zs), (x, zs));
+                }
                 let mut segments = Vec::with_capacity(3);
                 if entry {
                     segments.push((kx, zs, x, z1));
@@ -902,6 +922,7 @@ impl Machine<'_> {
                 if exit {
                     segments.push((x, z2, kx, ze));
                 }
+                let mut last = (x, ze);
                 for (i, (xa, za, xb, zb)) in segments.into_iter().enumerate() {
                     let sync = Sync {
                         lead: pitch,
@@ -914,16 +935,26 @@ impl Machine<'_> {
                         last.chained = i > 0 || entry;
                     }
                     revs += (zb - za).abs() / pitch;
+                    last = (xb, zb);
                 }
-                continue;
+                rapid(self, last, (retract, ze));
+            } else {
+                rapid(self, (retract, zs), (x, zs));
+                let sync = Sync {
+                    lead: pitch,
+                    change: 0.0,
+                    angle: 0.0,
+                };
+                self.emit(prog, pc, MoveKind::Thread, (x, zs), (x, ze), Some(sync));
+                rapid(self, (x, ze), (retract, ze));
             }
-            let sync = Sync {
-                lead: pitch,
-                change: 0.0,
-                angle: 0.0,
-            };
-            self.cycle_pass(prog, pc, (2.0 * x0, start_z), (x, zs), (x, ze), sync);
+            end = (retract, ze);
         }
+        let home = (2.0 * x0, end.1);
+        if end != home {
+            self.emit(prog, pc, MoveKind::Rapid, end, home, None);
+        }
+        (self.x, self.z) = home;
         Ok(Step::Next)
     }
 }

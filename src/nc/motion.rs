@@ -568,21 +568,8 @@ impl Machine<'_> {
     }
 
     /// One pass of a threading cycle: rapid from `home` to the start (Z first, then X),
-    /// thread to `end`, rapid out to home's X and back to home's Z. Zero-length rapids are
-    /// left out.
-    pub(super) fn cycle_pass(
-        &mut self,
-        prog: &Program,
-        pc: usize,
-        home: (f64, f64),
-        start: (f64, f64),
-        end: (f64, f64),
-        sync: Sync,
-    ) {
-        self.cycle_pass_chamfered(prog, pc, home, start, end, sync, 0.0);
-    }
-
-    /// `cycle_pass` with a thread chamfer (pull-out) of `chamfer` mm (0 = none; less than
+    /// thread to `end`, rapid out to home's X and back to home's Z (zero-length rapids are
+    /// left out), with a thread chamfer (pull-out) of `chamfer` mm (0 = none; less than
     /// the Z travel): the thread runs to `chamfer` before `end`'s Z, then a second thread
     /// move, continuing the same sync (lead and spindle phase, no new index wait: see
     /// `Sync::after`), goes out by `chamfer` in radius (45 deg) towards home's X while Z
