@@ -93,11 +93,11 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (0..=4 | 17 | 18 | 19 | 20 | 21 | 28 | 32 | 34 | 40 | 41 | 42 | 50, true) => {
                 Verdict::Run
             }
-            (54..=59 | 65 | 76 | 92 | 96 | 97 | 98 | 99, true) => Verdict::Run,
+            (53 | 54..=59 | 65 | 76 | 92 | 96 | 97 | 98 | 99, true) => Verdict::Run,
             (30, true) => {
                 refused("second reference point return: the position after it is unknown")
             }
-            (10 | 52 | 53, true) => refused("coordinate system setting"),
+            (10 | 52, true) => refused("coordinate system setting"),
             (70..=75, true) => refused("multiple repetitive cycle"),
             (90 | 94, true) => Verdict::Run,
             (33, true) if dialect == Dialect::Gsk980 => refused("tapping cycle"),

@@ -67,12 +67,18 @@ impl Machine<'_> {
         // LinuxCNC non-modal codes: G53 (this block in machine coordinates), G28/G30 (go
         // home, optionally through an intermediate point), G92 (offset), G10 (set offsets).
         let mut machine_coords = false;
+        let mut fanuc_g53 = false;
         let mut lc_home: Option<u32> = None;
         let mut g92_set = false;
         let mut g10 = false;
         for &g in &w.g {
             match g {
                 53 if lcnc => machine_coords = true,
+                // FANUC/GSK G53: this block's X/Z in machine coordinates, at rapid.
+                53 if self.dialect == Dialect::Fanuc => {
+                    machine_coords = true;
+                    fanuc_g53 = true;
+                }
                 28 | 30 if lcnc => lc_home = Some(g),
                 92 if lcnc => g92_set = true,
                 10 if lcnc => g10 = true,
@@ -186,7 +192,7 @@ impl Machine<'_> {
             if self.incremental {
                 return Err((1, "G53 needs absolute coordinates (G90): it cannot be used with G91".into()));
             }
-            if !matches!(self.motion, 0 | 1) {
+            if !fanuc_g53 && !matches!(self.motion, 0 | 1) {
                 return Err((1, format!("G53 needs G0 or G1 active, not G{}", self.motion)));
             }
             (0.0, 0.0)
@@ -238,6 +244,17 @@ impl Machine<'_> {
                 z = self.z + v * scale;
                 moved = true;
             }
+        }
+        if fanuc_g53 {
+            // FANUC: absolute X/Z only (U/W are not read with G53), a rapid move.
+            if w.vals.contains_key("U") || w.vals.contains_key("W") {
+                return Err((1, "G53 takes X/Z in machine coordinates, not U/W".into()));
+            }
+            if (x, z) != (self.x, self.z) {
+                self.emit(prog, pc, MoveKind::Rapid, (self.x, self.z), (x, z), None);
+            }
+            (self.x, self.z) = (x, z);
+            return Ok(if end { Step::End } else { Step::Next });
         }
         if let Some(g) = lc_home {
             // LinuxCNC G28/G30: with axis words a rapid to that point (offsets applied),
@@ -310,7 +327,12 @@ impl Machine<'_> {
                     // the Z lead.
                     let (dr, dz) = ((x - self.x) / 2.0, z - self.z);
                     let path = dr.hypot(dz);
-                    let lead = if dz != 0.0 { k * dz.abs() / path } else { k };
+                    // (Exactly K on a straight thread.)
+                    let lead = if dz != 0.0 && dr != 0.0 {
+                        k * dz.abs() / path
+                    } else {
+                        k
+                    };
                     (MoveKind::Thread, Some(lead), Some(0.0), Some(0.0))
                 }
                 (Dialect::Fanuc, 34) if self.gsk => {

@@ -361,3 +361,21 @@ fn linuxcnc_tapered_g33_k_is_along_the_path() {
         assert!((crate::nc::path_lead(m).unwrap() - k).abs() < 1e-12, "{text}");
     }
 }
+
+#[test]
+fn fanuc_g53_moves_in_machine_coordinates_at_rapid() {
+    let mut s = Settings::default();
+    s.work_offsets[0] = (0.0, -100.0);
+    let t = run_s(
+        "G0 X30 Z5\nG1 F0.2 Z2\nG53 X100 Z0\nG53 X40\nG0 Z1\nM30\n",
+        Dialect::Fanuc,
+        s,
+    );
+    let kinds: Vec<MoveKind> = t.moves.iter().map(|m| m.kind).collect();
+    assert_eq!(
+        ends(&t),
+        vec![(30.0, -95.0), (30.0, -98.0), (100.0, 0.0), (40.0, 0.0), (40.0, -99.0)]
+    );
+    assert_eq!(kinds[2], MoveKind::Rapid);
+    assert_eq!(kinds[3], MoveKind::Rapid);
+}
