@@ -265,6 +265,8 @@ struct RawProgram {
     reference_point: Option<RawPoint>,
     /// FANUC/GSK lathe G-code system: "A" (default), "B" or "C".
     gcode_system: Option<String>,
+    /// Where FANUC/GSK G30 (and LinuxCNC's G30 at the start) goes: { x = diameter, z }.
+    second_reference_point: Option<RawPoint>,
 }
 
 #[derive(Deserialize)]
@@ -1027,6 +1029,7 @@ impl Job {
             block_skip: true,
             reference_point: None,
             gcode_system: None,
+            second_reference_point: None,
         };
         let cx = Ctx { src: "", file };
         let load = |name: &str| (name == file).then(|| text.to_string());
@@ -1162,6 +1165,12 @@ fn program_passes(
                 format!("expected \"A\", \"B\" or \"C\" (FANUC lathe G-code system), got `{g}`"),
             )
         })?;
+    }
+    if let Some(p) = &pr.second_reference_point {
+        settings.second_reference_point = Some((
+            cx.finite("program.second_reference_point.x", p.x)?,
+            cx.finite("program.second_reference_point.z", p.z)?,
+        ));
     }
     if let Some(p) = &pr.reference_point {
         settings.reference_point = Some((

@@ -429,9 +429,12 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
             'N' | 'O' => {}
             'G' | 'M' => {
                 if let Some(code) = v {
-                    let verdict = if letter == 'G' && !l.mill && code.fract() == 0.0 && code >= 0.0 {
+                    let verdict = if letter == 'G' && !l.mill && code.fract() == 0.0 && code >= 0.0
+                    {
                         match codes::in_system_a(l.system, code as u32) {
-                            codes::InA::Code(c) => codes::g_verdict(l.dialect, l.mill, f64::from(c)),
+                            codes::InA::Code(c) => {
+                                codes::g_verdict(l.dialect, l.mill, f64::from(c))
+                            }
                             _ => Verdict::Run,
                         }
                     } else if letter == 'G' {

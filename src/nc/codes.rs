@@ -3,8 +3,8 @@
 //! not know (skipped with a warning, an error in strict mode). One table for the static
 //! check and the interpreter, so that both say the same thing.
 
-pub(super) use super::GcodeSystem;
 use super::Dialect;
+pub(super) use super::GcodeSystem;
 
 /// What to do with a code.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -94,9 +94,10 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
                 Verdict::Run
             }
             (53 | 54..=59 | 65 | 76 | 92 | 96 | 97 | 98 | 99, true) => Verdict::Run,
-            (30, true) => {
-                refused("second reference point return: the position after it is unknown")
-            }
+            // G80 cancels a canned drilling cycle: none is modal in vpcut (a no-op; safety
+            // lines such as `G18 G20 G40 G80 G99` carry it).
+            (80, true) => Verdict::Run,
+            (30, true) => Verdict::Run,
             (10 | 52, true) => refused("coordinate system setting"),
             (70..=75, true) => refused("multiple repetitive cycle"),
             (90 | 94, true) => Verdict::Run,

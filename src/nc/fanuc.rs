@@ -527,14 +527,14 @@ impl Machine<'_> {
         ))?;
         let lead = val("F").ok_or((1, "G76 needs F (the lead)".to_string()))? * scale;
         if k <= 0.0 || d <= 0.0 || lead <= 0.0 || z_end == z0 {
-            return Err((
-                1,
-                "G76 needs K > 0, D > 0, F > 0 and a Z move".into(),
-            ));
+            return Err((1, "G76 needs K > 0, D > 0, F > 0 and a Z move".into()));
         }
         let a = val("A").unwrap_or(0.0);
         if !(0.0..=120.0).contains(&a) {
-            return Err((col("A"), format!("G76 A{a}: the tool angle must be 0..120 degrees")));
+            return Err((
+                col("A"),
+                format!("G76 A{a}: the tool angle must be 0..120 degrees"),
+            ));
         }
         let method = val("P").unwrap_or(1.0);
         if ![1.0, 2.0, 3.0, 4.0].contains(&method) {

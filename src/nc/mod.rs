@@ -211,6 +211,10 @@ pub struct Settings {
     /// coordinates). `None`: the machine zero (0, 0), as a control whose reference point is
     /// at its machine zero (LinuxCNC's #5161/#5163 start at 0 too).
     pub reference_point: Option<(f64, f64)>,
+    /// The second reference point FANUC/GSK `G30` (P2) goes to, and LinuxCNC's G30 home
+    /// (#5181/#5183) at the start: (X as a diameter, Z) in machine coordinates. `None`:
+    /// the machine zero.
+    pub second_reference_point: Option<(f64, f64)>,
     /// A milling machine's settings: when set, FANUC programs are read as milling programs
     /// and their moves come out as [`Toolpath::mill`].
     pub mill: Option<MillSettings>,
@@ -225,6 +229,7 @@ impl Default for Settings {
             work_offsets: [(0.0, 0.0); 6],
             block_skip: true,
             reference_point: None,
+            second_reference_point: None,
             mill: None,
             gcode_system: GcodeSystem::A,
         }
@@ -509,6 +514,8 @@ struct Machine<'l> {
     feed: Option<f64>,
     /// The G28 reference point (diameter, z): the job's, else the machine zero (0, 0).
     reference: (f64, f64),
+    /// FANUC's second reference point (G30 P2) and LinuxCNC's G30 home at the start.
+    reference2: (f64, f64),
     /// Modal G90/G94 cutting cycle: (G code, target of the axis a repeat block leaves out,
     /// taper R).
     cycle90: Option<(u32, f64, f64)>,
@@ -608,6 +615,7 @@ pub fn interpret_with(
         per_rev: true,
         feed: None,
         reference: opts.settings.reference_point.unwrap_or((0.0, 0.0)),
+        reference2: opts.settings.second_reference_point.unwrap_or((0.0, 0.0)),
         block_skip: opts.settings.block_skip,
         cycle90: None,
         runout: (None, None),
@@ -617,6 +625,7 @@ pub fn interpret_with(
         mill: opts.settings.mill.clone().map(milling::MillState::new),
     };
     m.lc.st.home28 = m.reference;
+    m.lc.st.home30 = m.reference2;
     if m.milling && real != Dialect::Fanuc {
         return Err(NcError {
             file: main.name.clone(),

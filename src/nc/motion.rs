@@ -63,6 +63,7 @@ impl Machine<'_> {
         let scale = if self.inch { 25.4 } else { 1.0 };
         let mut set_position = false;
         let mut home = false;
+        let mut second = false;
         let lcnc = self.dialect == Dialect::Linuxcnc;
         // LinuxCNC non-modal codes: G53 (this block in machine coordinates), G28/G30 (go
         // home, optionally through an intermediate point), G92 (offset), G10 (set offsets).
@@ -134,6 +135,20 @@ impl Machine<'_> {
                 // FANUC/GSK G28 (non-modal): rapid to the intermediate point, then to the
                 // reference point in the named axes.
                 28 if self.dialect == Dialect::Fanuc => home = true,
+                // FANUC/GSK G30 (P2, the default): the same through the second reference
+                // point. P3/P4 (third and fourth) are machine data vpcut does not have.
+                30 if self.dialect == Dialect::Fanuc && !self.milling => {
+                    if let Some(&(p, col)) = w.vals.get("P") {
+                        if p != 2.0 {
+                            return Err((
+                                col,
+                                format!("G30 P{p}: only the second reference point (P2) is known (the job's [program] second_reference_point)"),
+                            ));
+                        }
+                    }
+                    home = true;
+                    second = true;
+                }
                 54..=59 => self.work = (g - 54) as usize,
                 96 => self.css = true,
                 97 => self.css = false,
@@ -190,10 +205,16 @@ impl Machine<'_> {
         // offset in the job's frame.
         let (ox, oz) = if machine_coords {
             if self.incremental {
-                return Err((1, "G53 needs absolute coordinates (G90): it cannot be used with G91".into()));
+                return Err((
+                    1,
+                    "G53 needs absolute coordinates (G90): it cannot be used with G91".into(),
+                ));
             }
             if !fanuc_g53 && !matches!(self.motion, 0 | 1) {
-                return Err((1, format!("G53 needs G0 or G1 active, not G{}", self.motion)));
+                return Err((
+                    1,
+                    format!("G53 needs G0 or G1 active, not G{}", self.motion),
+                ));
             }
             (0.0, 0.0)
         } else {
@@ -213,7 +234,10 @@ impl Machine<'_> {
                 self.g92_off.1 = self.z - wz - v * scale;
             }
             if !w.vals.contains_key("X") && !w.vals.contains_key("Z") {
-                return Err((1, "G92 needs X or Z (the coordinates the current point gets)".into()));
+                return Err((
+                    1,
+                    "G92 needs X or Z (the coordinates the current point gets)".into(),
+                ));
             }
             self.lc.st.g92_params = self.g92_off;
             self.lc.st.g92_on = true;
@@ -281,7 +305,11 @@ impl Machine<'_> {
             return Ok(if end { Step::End } else { Step::Next });
         }
         if home {
-            let reference = self.reference;
+            let reference = if second {
+                self.reference2
+            } else {
+                self.reference
+            };
             let named = |a: &str, b: &str| w.vals.contains_key(a) || w.vals.contains_key(b);
             let end_point = (
                 if named("X", "U") { reference.0 } else { x },

@@ -84,7 +84,10 @@ fn linuxcnc_predefined_parameters_read_the_state() {
     ];
     for (setup, expr, want) in cases {
         let got = lc_value(setup, expr);
-        assert!((got - want).abs() < 1e-9, "{setup} / {expr}: {got} != {want}");
+        assert!(
+            (got - want).abs() < 1e-9,
+            "{setup} / {expr}: {got} != {want}"
+        );
     }
 }
 
@@ -122,7 +125,10 @@ fn linuxcnc_numbered_system_parameters() {
     ];
     for (setup, expr, want) in cases {
         let got = value(setup, expr);
-        assert!((got - want).abs() < 1e-9, "{setup} / {expr}: {got} != {want}");
+        assert!(
+            (got - want).abs() < 1e-9,
+            "{setup} / {expr}: {got} != {want}"
+        );
     }
 }
 
@@ -186,7 +192,10 @@ fn linuxcnc_offsets_homes_and_machine_coordinates() {
 #[test]
 fn linuxcnc_codes_refused_by_name() {
     let cases: [(&str, &str); 5] = [
-        ("G10 L1 P1 Z2\n", "G10 L1 (tool table or other data) is not simulated"),
+        (
+            "G10 L1 P1 Z2\n",
+            "G10 L1 (tool table or other data) is not simulated",
+        ),
         ("G91 G53 G0 X1\n", "G53 needs absolute coordinates"),
         ("G92\n", "G92 needs X or Z"),
         ("#5221=3\n", "assigning #5221 (offsets) is not simulated"),
@@ -197,8 +206,8 @@ fn linuxcnc_codes_refused_by_name() {
             name: "t.ngc".into(),
             text: text.into(),
         };
-        let e = interpret_with(&src, Dialect::Linuxcnc, &|_| None, &Options::default())
-            .unwrap_err();
+        let e =
+            interpret_with(&src, Dialect::Linuxcnc, &|_| None, &Options::default()).unwrap_err();
         assert!(e.message.contains(msg), "{text}: {e}");
     }
 }
@@ -208,16 +217,32 @@ fn fanuc_semicolon_ends_a_block_and_percent_headers() {
     // One line of tape with `;` as EOB; a `%O1200(..)` header; a `;` inside a comment.
     let cases: [(&str, usize, usize); 4] = [
         ("%;O1200;G0 X30 Z5;G32 Z-20 F1.5;G0 X40;M30;%", 3, 1),
-        ("%O1200(M20 THREAD; OD)\nG0 X30 Z5;\nG32 Z-20 F1.5;\nG0 X40;\nM30;\n%\n", 3, 1),
-        ("O1200 (A; B)\nG0 X30 Z5 ; G32 Z-20 F1.5 ; G0 X40\nM30\n", 3, 1),
+        (
+            "%O1200(M20 THREAD; OD)\nG0 X30 Z5;\nG32 Z-20 F1.5;\nG0 X40;\nM30;\n%\n",
+            3,
+            1,
+        ),
+        (
+            "O1200 (A; B)\nG0 X30 Z5 ; G32 Z-20 F1.5 ; G0 X40\nM30\n",
+            3,
+            1,
+        ),
         // G92: rapid in, thread, rapid out, rapid back: 4 moves a pass.
-        ("%\nO0001;\nG0 X30 Z5;G92 X19 Z-20 F1.5;X18.5;G0 X40;M30;\n", 10, 2),
+        (
+            "%\nO0001;\nG0 X30 Z5;G92 X19 Z-20 F1.5;X18.5;G0 X40;M30;\n",
+            10,
+            2,
+        ),
     ];
     for (text, n, threads) in cases {
         for d in [Dialect::Fanuc, Dialect::Gsk980] {
             let t = run(text, d);
             assert_eq!(t.moves.len(), n, "{text}: {:?}", ends(&t));
-            let th = t.moves.iter().filter(|m| m.kind == MoveKind::Thread).count();
+            let th = t
+                .moves
+                .iter()
+                .filter(|m| m.kind == MoveKind::Thread)
+                .count();
             assert_eq!(th, threads, "{text}");
         }
     }
@@ -302,7 +327,12 @@ fn one_block_g76_of_haas_and_0t() {
         // The same in the least input increment (0T: no decimal point, um).
         ("G0 X30 Z5\nG76 X24 Z-20 K1200 D500 F2\nM30\n", 6, 25.4, 5.0),
         // P3: constant depth n D: 0.3, 0.6, 0.9, then 1.2.
-        ("G0 X30 Z5\nG76 X24 Z-20 K1.2 D0.3 F2 P3\nM30\n", 4, 24.0 + 2.0 * 0.9, 5.0),
+        (
+            "G0 X30 Z5\nG76 X24 Z-20 K1.2 D0.3 F2 P3\nM30\n",
+            4,
+            24.0 + 2.0 * 0.9,
+            5.0,
+        ),
         // A60, one flank: the first pass stands back 0.7 and is shifted 0.7 tan 30 away
         // from the cut (towards +Z when cutting towards -Z).
         (
@@ -321,10 +351,18 @@ fn one_block_g76_of_haas_and_0t() {
     ];
     for (text, n, x, z) in cases {
         let t = run(text, Dialect::Fanuc);
-        let th: Vec<_> = t.moves.iter().filter(|m| m.kind == MoveKind::Thread).collect();
+        let th: Vec<_> = t
+            .moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect();
         assert_eq!(th.len(), n, "{text}");
         assert!((th[0].x_dia - x).abs() < 1e-9, "{text}: {}", th[0].x_dia);
-        assert!((th[0].z_start - z).abs() < 1e-9, "{text}: {}", th[0].z_start);
+        assert!(
+            (th[0].z_start - z).abs() < 1e-9,
+            "{text}: {}",
+            th[0].z_start
+        );
         // Every pass ends at the last one's depth or above it, the last at the root X.
         assert!((th[n - 1].x_dia - th[n - 1].x_dia.min(x)).abs() < 1e-9);
         assert!(t.warnings.is_empty(), "{text}: {:?}", t.warnings);
@@ -334,7 +372,11 @@ fn one_block_g76_of_haas_and_0t() {
         "G0 X30 Z5\nG76 X24 Z-20 K1.2 D0.5 F2 A60 P2\nM30\n",
         Dialect::Fanuc,
     );
-    let th: Vec<_> = t.moves.iter().filter(|m| m.kind == MoveKind::Thread).collect();
+    let th: Vec<_> = t
+        .moves
+        .iter()
+        .filter(|m| m.kind == MoveKind::Thread)
+        .collect();
     assert!(th[0].z_start > 5.0 && th[1].z_start < 5.0, "{:?}", ends(&t));
     // K without D (or D without K) is refused by name.
     let src = Source {
@@ -357,8 +399,15 @@ fn linuxcnc_tapered_g33_k_is_along_the_path() {
         let t = run(text, Dialect::Linuxcnc);
         let m = t.moves.iter().find(|m| m.kind == MoveKind::Thread).unwrap();
         let want = k * travel / rise.hypot(travel);
-        assert!((m.lead.unwrap() - want).abs() < 1e-12, "{text}: {:?}", m.lead);
-        assert!((crate::nc::path_lead(m).unwrap() - k).abs() < 1e-12, "{text}");
+        assert!(
+            (m.lead.unwrap() - want).abs() < 1e-12,
+            "{text}: {:?}",
+            m.lead
+        );
+        assert!(
+            (crate::nc::path_lead(m).unwrap() - k).abs() < 1e-12,
+            "{text}"
+        );
     }
 }
 
@@ -374,8 +423,53 @@ fn fanuc_g53_moves_in_machine_coordinates_at_rapid() {
     let kinds: Vec<MoveKind> = t.moves.iter().map(|m| m.kind).collect();
     assert_eq!(
         ends(&t),
-        vec![(30.0, -95.0), (30.0, -98.0), (100.0, 0.0), (40.0, 0.0), (40.0, -99.0)]
+        vec![
+            (30.0, -95.0),
+            (30.0, -98.0),
+            (100.0, 0.0),
+            (40.0, 0.0),
+            (40.0, -99.0)
+        ]
     );
     assert_eq!(kinds[2], MoveKind::Rapid);
     assert_eq!(kinds[3], MoveKind::Rapid);
+}
+
+#[test]
+fn fanuc_g30_goes_to_the_second_reference_point() {
+    let s = Settings {
+        reference_point: Some((300.0, 200.0)),
+        second_reference_point: Some((150.0, 100.0)),
+        ..Settings::default()
+    };
+    // (program, end points) from (X30, Z5): the intermediate point, then the named axes.
+    let cases: [(&str, Vec<(f64, f64)>); 3] = [
+        ("G0 X30 Z5\nG30 U0 W0\n", vec![(30.0, 5.0), (150.0, 100.0)]),
+        (
+            "G0 X30 Z5\nG30 P2 U10\n",
+            vec![(30.0, 5.0), (40.0, 5.0), (150.0, 5.0)],
+        ),
+        (
+            "G0 X30 Z5\nG28 W0\nG30 U0\n",
+            vec![(30.0, 5.0), (30.0, 200.0), (150.0, 200.0)],
+        ),
+    ];
+    for (text, want) in cases {
+        assert_eq!(
+            ends(&run_s(text, Dialect::Fanuc, s.clone())),
+            want,
+            "{text}"
+        );
+    }
+    // Without the key: the machine zero. P3 is refused by name.
+    assert_eq!(
+        ends(&run("G0 X30 Z5\nG30 U0 W0\n", Dialect::Fanuc)),
+        vec![(30.0, 5.0), (0.0, 0.0)]
+    );
+    let src = Source {
+        name: "t.nc".into(),
+        text: "G30 P3 U0\n".into(),
+    };
+    let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
+    assert!(e.message.contains("G30 P3"), "{e}");
 }

@@ -218,7 +218,10 @@ fn every_move_of_g33_and_g76_matches_linuxcnc() {
                 continue;
             }
             let inner = &line[line.find('(').unwrap() + 1..line.rfind(')').unwrap()];
-            let v: Vec<f64> = inner.split(',').map(|s| s.trim().parse().unwrap()).collect();
+            let v: Vec<f64> = inner
+                .split(',')
+                .map(|s| s.trim().parse().unwrap())
+                .collect();
             if (v[0], v[2]) != (x, z) {
                 want.push([x / 1000.0, z / 1000.0, v[0] / 1000.0, v[2] / 1000.0]);
             }

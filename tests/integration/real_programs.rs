@@ -7,17 +7,37 @@ use vpcut::{interpret_with, Dialect, GcodeSystem, MoveKind, NcOptions, Settings,
 
 /// (file, dialect, G-code system, thread moves)
 const CORPUS: [(&str, Dialect, GcodeSystem, usize); 11] = [
-    ("lcnc-pathpilot-g76.ngc", Dialect::Linuxcnc, GcodeSystem::A, 14),
-    ("lcnc-gui-macro-g33.ngc", Dialect::Linuxcnc, GcodeSystem::A, 5),
+    (
+        "lcnc-pathpilot-g76.ngc",
+        Dialect::Linuxcnc,
+        GcodeSystem::A,
+        14,
+    ),
+    (
+        "lcnc-gui-macro-g33.ngc",
+        Dialect::Linuxcnc,
+        GcodeSystem::A,
+        5,
+    ),
     ("lcnc-offsets-g92.ngc", Dialect::Linuxcnc, GcodeSystem::A, 4),
     ("haas-g76-oneblock.nc", Dialect::Fanuc, GcodeSystem::A, 17),
-    ("fanuc-0t-g76-increment.nc", Dialect::Fanuc, GcodeSystem::A, 10),
+    (
+        "fanuc-0t-g76-increment.nc",
+        Dialect::Fanuc,
+        GcodeSystem::A,
+        10,
+    ),
     ("fanuc-tape-eob.nc", Dialect::Fanuc, GcodeSystem::A, 9),
     ("fanuc-one-line-tape.nc", Dialect::Fanuc, GcodeSystem::A, 11),
     ("fanuc-system-b.nc", Dialect::Fanuc, GcodeSystem::B, 4),
     ("fanuc-system-c.nc", Dialect::Fanuc, GcodeSystem::C, 4),
     ("gsk-g32-passes.nc", Dialect::Gsk980, GcodeSystem::A, 3),
-    ("siemens-802d-g33.mpf", Dialect::Siemens802d, GcodeSystem::A, 4),
+    (
+        "siemens-802d-g33.mpf",
+        Dialect::Siemens802d,
+        GcodeSystem::A,
+        4,
+    ),
 ];
 
 #[test]
@@ -51,7 +71,11 @@ fn every_corpus_program_runs_strictly_with_its_thread_moves() {
         let t = interpret_with(&src, dialect, &|_| None, &opts)
             .unwrap_or_else(|e| panic!("{file}:\n{e}"));
         assert!(t.warnings.is_empty(), "{file}: {:?}", t.warnings);
-        let n = t.moves.iter().filter(|m| m.kind == MoveKind::Thread).count();
+        let n = t
+            .moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .count();
         assert_eq!(n, threads, "{file}: thread moves");
     }
 }
