@@ -5,14 +5,16 @@
 //! loader for subprograms found beside it. Every error names the file, line and column and
 //! the call stack. Layout:
 //!
-//! - `program`: splitting a file into programs and blocks (comments, N numbers, labels);
+//! - `program`: splitting a file into programs and blocks (comments, N numbers, labels,
+//!   FANUC `;` end of block and `%` tape marks);
 //! - `expr`: the block cursor and the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
 //! - `siemens`: Siemens 802D blocks, labels and jumps;
 //! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
 //! - `lcnc_expr`: LinuxCNC expressions and numbered/named parameters;
 //! - `motion`: modal state, motion words, and recording moves;
-//! - `codes`: which G/M codes and words each dialect runs, refuses or does not know;
+//! - `codes`: which G/M codes and words each dialect runs, refuses or does not know, and
+//!   FANUC G-code systems B and C read as system A;
 //! - `check`: the static check of every block before anything runs (all problems at once);
 //! - `milling`: FANUC machining-centre blocks (`Settings::mill`) into programmed moves;
 //! - `comp`: cutter radius compensation of the programmed milling moves (a pure pass);
