@@ -72,6 +72,10 @@ struct ToolpathArgs {
     /// machine coordinates (the job's `[program] reference_point`; default 0,0).
     #[arg(long, value_name = "X,Z", value_parser = parse_point, allow_hyphen_values = true)]
     reference_point: Option<(f64, f64)>,
+    /// Where FANUC/GSK G30 goes (and LinuxCNC's #5181/#5183 at the start): `X,Z` as
+    /// `--reference-point` (the job's `[program] second_reference_point`; default 0,0).
+    #[arg(long, value_name = "X,Z", value_parser = parse_point, allow_hyphen_values = true)]
+    second_reference_point: Option<(f64, f64)>,
     /// FANUC/GSK lathe G-code system: A (the default), B or C (the job's
     /// `[program] gcode_system`).
     #[arg(long, value_name = "A|B|C", value_parser = parse_gcode_system)]
@@ -1035,6 +1039,7 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
         ..vpcut::NcOptions::default()
     };
     opts.settings.reference_point = args.reference_point;
+    opts.settings.second_reference_point = args.second_reference_point;
     opts.settings.gcode_system = args.gcode_system.unwrap_or_default();
     let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts).map_err(|mut e| {
         name_files(&mut e, &inputs);

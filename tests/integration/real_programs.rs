@@ -96,3 +96,39 @@ fn the_corpus_needs_what_issue_17_added() {
     };
     assert!(interpret_with(&src, Dialect::Fanuc, &|_| None, &strict).is_err());
 }
+
+/// `vpcut toolpath` runs the corpus with its flags: the G-code system, and the reference
+/// point G28 goes to (the corpus's Haas program ends with `G28 U0. W0.`).
+#[test]
+fn toolpath_flags_gcode_system_and_reference_point() {
+    let dir = crate::support::root().join("tests/data/programs");
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .arg("toolpath")
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let b = dir.join("fanuc-system-b.nc");
+    let b = b.to_str().unwrap();
+    let (code, csv, err) = run(&[b, "--dialect", "fanuc", "--gcode-system", "B", "--strict"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(csv.lines().filter(|l| l.contains(",thread,")).count(), 4);
+    let (code, _, err) = run(&[b, "--dialect", "fanuc", "--gcode-system", "D"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("expected A, B or C"), "{err}");
+    let haas = dir.join("haas-g76-oneblock.nc");
+    let haas = haas.to_str().unwrap();
+    let (code, csv, err) = run(&[haas, "--dialect", "fanuc", "--reference-point", "250,-10.5"]);
+    assert_eq!(code, Some(0), "{err}");
+    let last = csv.lines().last().unwrap();
+    assert!(last.contains(",rapid,250,125,-10.5,"), "{last}");
+    let (code, _, err) = run(&[haas, "--dialect", "fanuc", "--reference-point", "250"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("expected X,Z"), "{err}");
+}
