@@ -61,17 +61,24 @@ fn strip_comment(line: &str, dialect: Dialect) -> String {
 /// the line is blanked to spaces so that columns stay those of the file. A `%` at the start
 /// of a line (the tape start, as in `%O1200(THREAD)`) is blanked too.
 fn split_eob(line: &str) -> Vec<String> {
+    const PAD: usize = 160;
     let mut out = Vec::new();
     let mut cur = String::new();
     let mut depth = 0;
-    for (k, c) in line.char_indices() {
+    for (k, c) in line.chars().enumerate() {
         match c {
             '(' => depth += 1,
             ')' if depth > 0 => depth -= 1,
             ';' if depth == 0 => {
                 out.push(std::mem::take(&mut cur));
-                // The next block starts after this `;`: blank what came before.
-                cur = " ".repeat(line[..=k].chars().count());
+                // The next block starts after this `;`: blank what came before, so that
+                // columns stay the file's (up to `PAD` characters: a hostile line of many
+                // thousand blocks must not cost the square of its length; later blocks
+                // count columns from their own start).
+                let before = k + 1;
+                if before <= PAD {
+                    cur = " ".repeat(before);
+                }
                 continue;
             }
             _ => {}

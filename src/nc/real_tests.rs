@@ -473,3 +473,18 @@ fn fanuc_g30_goes_to_the_second_reference_point() {
     let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
     assert!(e.message.contains("G30 P3"), "{e}");
 }
+
+#[test]
+fn a_long_line_of_blocks_runs_every_block() {
+    // Blocks far into a line count their columns from their own start (the padding that
+    // keeps columns is bounded, so a line of many blocks costs what its length does).
+    let text = "G0 X1 Z1;G0 X2 Z2;".repeat(500);
+    let t = run(&text, Dialect::Fanuc);
+    assert_eq!(t.moves.len(), 1000);
+    let src = Source {
+        name: "t.nc".into(),
+        text: format!("{text}G0 Q@\n"),
+    };
+    let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
+    assert_eq!((e.line, e.col), (1, 5), "{e}");
+}
