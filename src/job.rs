@@ -263,6 +263,10 @@ struct RawProgram {
     block_skip: bool,
     /// Where G28 goes: { x = diameter, z } in the job's frame.
     reference_point: Option<RawPoint>,
+    /// FANUC/GSK lathe G-code system: "A" (default), "B" or "C".
+    gcode_system: Option<String>,
+    /// Where FANUC/GSK G30 (and LinuxCNC's G30 at the start) goes: { x = diameter, z }.
+    second_reference_point: Option<RawPoint>,
 }
 
 #[derive(Deserialize)]
@@ -1024,6 +1028,8 @@ impl Job {
             work_offsets: Default::default(),
             block_skip: true,
             reference_point: None,
+            gcode_system: None,
+            second_reference_point: None,
         };
         let cx = Ctx { src: "", file };
         let load = |name: &str| (name == file).then(|| text.to_string());
@@ -1150,6 +1156,20 @@ fn program_passes(
                 "expected at most 9.9 leads (FANUC's 99 x 0.1 L), got {}",
                 settings.thread_chamfer
             ),
+        ));
+    }
+    if let Some(g) = &pr.gcode_system {
+        settings.gcode_system = crate::nc::GcodeSystem::from_name(g).ok_or_else(|| {
+            cx.err(
+                "program.gcode_system",
+                format!("expected \"A\", \"B\" or \"C\" (FANUC lathe G-code system), got `{g}`"),
+            )
+        })?;
+    }
+    if let Some(p) = &pr.second_reference_point {
+        settings.second_reference_point = Some((
+            cx.finite("program.second_reference_point.x", p.x)?,
+            cx.finite("program.second_reference_point.z", p.z)?,
         ));
     }
     if let Some(p) = &pr.reference_point {

@@ -81,9 +81,9 @@ pub use mill::{
     SAMPLING_BOUND_MM as MILL_SAMPLING_BOUND_MM,
 };
 pub use nc::{
-    decode_program, interpret, interpret_with, to_csv, ArcGeometry, CompSide, Diagnostic, Dialect,
-    Limits, MillArc, MillKind, MillMove, MillSettings, Move, MoveKind, NcError,
-    Options as NcOptions, Plane, Settings, Severity, Source, Toolpath,
+    decode_program, interpret, interpret_with, path_lead, to_csv, ArcGeometry, CompSide,
+    Diagnostic, Dialect, GcodeSystem, Limits, MillArc, MillKind, MillMove, MillSettings, Move,
+    MoveKind, NcError, Options as NcOptions, Plane, Settings, Severity, Source, Toolpath,
 };
 pub use pass::Pass;
 pub use plot::{developed_view, section_profile, section_view, signed_deviation};

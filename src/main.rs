@@ -59,12 +59,44 @@ struct ToolpathArgs {
     /// Print JSON instead of CSV.
     #[arg(long)]
     json: bool,
-    /// Print CSV (the default): file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg.
+    /// Print CSV (the default): file,line,kind,x_dia,x_radius,z,lead,lead_change,
+    /// sync_angle_deg,x_start_dia,z_start,path_lead: every move the control makes (cycle
+    /// rapids included), its end and start; `lead` is the Z lead, `path_lead` the lead
+    /// along the move.
     #[arg(long, conflicts_with = "json")]
     csv: bool,
     /// Unknown words and codes are errors, not warnings.
     #[arg(long)]
     strict: bool,
+    /// Where G28 goes (and LinuxCNC's #5161/#5163): `X,Z`, X as a diameter, in mm in
+    /// machine coordinates (the job's `[program] reference_point`; default 0,0).
+    #[arg(long, value_name = "X,Z", value_parser = parse_point, allow_hyphen_values = true)]
+    reference_point: Option<(f64, f64)>,
+    /// Where FANUC/GSK G30 goes (and LinuxCNC's #5181/#5183 at the start): `X,Z` as
+    /// `--reference-point` (the job's `[program] second_reference_point`; default 0,0).
+    #[arg(long, value_name = "X,Z", value_parser = parse_point, allow_hyphen_values = true)]
+    second_reference_point: Option<(f64, f64)>,
+    /// FANUC/GSK lathe G-code system: A (the default), B or C (the job's
+    /// `[program] gcode_system`).
+    #[arg(long, value_name = "A|B|C", value_parser = parse_gcode_system)]
+    gcode_system: Option<vpcut::GcodeSystem>,
+}
+
+/// `X,Z` of `--reference-point`.
+fn parse_point(s: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("expected X,Z (two numbers, X a diameter), got `{s}`");
+    let (x, z) = s.split_once(',').ok_or_else(bad)?;
+    let x: f64 = x.trim().parse().map_err(|_| bad())?;
+    let z: f64 = z.trim().parse().map_err(|_| bad())?;
+    if !(x.is_finite() && z.is_finite()) {
+        return Err(bad());
+    }
+    Ok((x, z))
+}
+
+/// `A`, `B` or `C` of `--gcode-system`.
+fn parse_gcode_system(s: &str) -> Result<vpcut::GcodeSystem, String> {
+    vpcut::GcodeSystem::from_name(s).ok_or_else(|| format!("expected A, B or C, got `{s}`"))
 }
 
 #[derive(clap::Args)]
@@ -1002,10 +1034,13 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
             text,
         })
     };
-    let opts = vpcut::NcOptions {
+    let mut opts = vpcut::NcOptions {
         strict: args.strict,
         ..vpcut::NcOptions::default()
     };
+    opts.settings.reference_point = args.reference_point;
+    opts.settings.second_reference_point = args.second_reference_point;
+    opts.settings.gcode_system = args.gcode_system.unwrap_or_default();
     let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts).map_err(|mut e| {
         name_files(&mut e, &inputs);
         e
@@ -1038,6 +1073,8 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
                     "x_dia": m.x_dia, "x_radius": m.x_dia / 2.0, "z": m.z,
                     "lead": m.lead, "lead_change": m.lead_change,
                     "sync_angle_deg": m.sync_angle_deg, "tool": m.tool,
+                    "x_start_dia": m.x_start, "z_start": m.z_start,
+                    "lead_axis": m.lead.map(|_| "z"), "path_lead": vpcut::path_lead(m),
                     "arc": m.arc.map(|a| serde_json::json!({
                         "x_centre_dia": a.x_centre_dia, "z_centre": a.z_centre,
                         "clockwise": a.clockwise,

@@ -260,6 +260,18 @@ pub(super) fn resolve_mill(
             "G28 is not simulated on mills yet",
         ));
     }
+    if pr.second_reference_point.is_some() {
+        return Err(cx.err(
+            "program.second_reference_point",
+            "G30 is not simulated on mills yet",
+        ));
+    }
+    if pr.gcode_system.is_some() {
+        return Err(cx.err(
+            "program.gcode_system",
+            "G-code systems B and C are lathe settings (a milling program has one system)",
+        ));
+    }
     let axis = match raw.machine.axis {
         Some([x, y]) => [cx.finite("machine.axis", x)?, cx.finite("machine.axis", y)?],
         None => [0.0, 0.0],

@@ -31,6 +31,8 @@ struct Line<'a> {
     dialect: Dialect,
     /// A FANUC milling program (its G/M codes and addresses).
     mill: bool,
+    /// The FANUC lathe G-code system.
+    system: codes::GcodeSystem,
     out: &'a mut Vec<(usize, Severity, String, Option<String>)>,
     /// Expressions being read inside each other (bounded: no block can exhaust the stack).
     nest: usize,
@@ -336,6 +338,7 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
         l.i += 1; // a block-skip level, /1../9
     }
     let mut g65 = false;
+    let mut g76 = false;
     let mut m98 = false;
     let mut m99 = false;
     let mut p_word: Option<(f64, usize)> = None;
@@ -426,7 +429,15 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
             'N' | 'O' => {}
             'G' | 'M' => {
                 if let Some(code) = v {
-                    let verdict = if letter == 'G' {
+                    let verdict = if letter == 'G' && !l.mill && code.fract() == 0.0 && code >= 0.0
+                    {
+                        match codes::in_system_a(l.system, code as u32) {
+                            codes::InA::Code(c) => {
+                                codes::g_verdict(l.dialect, l.mill, f64::from(c))
+                            }
+                            _ => Verdict::Run,
+                        }
+                    } else if letter == 'G' {
                         codes::g_verdict(l.dialect, l.mill, code)
                     } else {
                         codes::m_verdict(l.dialect, l.mill, code)
@@ -439,6 +450,11 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
                         }
                     }
                     g65 |= letter == 'G' && code == 65.0;
+                    g76 |= letter == 'G'
+                        && !l.mill
+                        && code.fract() == 0.0
+                        && code >= 0.0
+                        && codes::in_system_a(l.system, code as u32) == codes::InA::Code(76);
                     m98 |= letter == 'M' && code == 98.0;
                     m99 |= letter == 'M' && code == 99.0;
                 }
@@ -456,6 +472,8 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
     }
     // Every letter passes an argument in a G65 macro call.
     if !g65 {
+        // The one-block G76 (Haas, FANUC 0T) reads A (tool angle) and D (first depth).
+        strange.retain(|&(_, c)| !(g76 && matches!(c, 'A' | 'D')));
         for (col, letter) in strange {
             l.unknown(col, format!("unknown address `{letter}`"), strict);
         }
@@ -722,6 +740,7 @@ pub(super) fn check_program(
     prog: &Program,
     dialect: Dialect,
     mill: bool,
+    system: codes::GcodeSystem,
     strict: bool,
     find: &mut dyn FnMut(&str) -> bool,
 ) -> Vec<Diagnostic> {
@@ -734,6 +753,7 @@ pub(super) fn check_program(
             i: 0,
             dialect,
             mill,
+            system,
             out: &mut found,
             nest: 0,
         };

@@ -4,6 +4,7 @@
 //! check and the interpreter, so that both say the same thing.
 
 use super::Dialect;
+pub(super) use super::GcodeSystem;
 
 /// What to do with a code.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -15,6 +16,60 @@ pub(super) enum Verdict {
     Refused(String),
     /// Not a code vpcut knows: skipped with a warning (an error in strict mode).
     Unknown(String),
+}
+
+/// What a G code of system B or C is in system A.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum InA {
+    /// This system-A code.
+    Code(u32),
+    /// G90 (absolute) of B/C.
+    Absolute,
+    /// G91 (incremental) of B/C.
+    Incremental,
+    /// G98/G99 of B/C: the canned drilling cycles' return level; no lathe cycle of vpcut
+    /// uses it.
+    ReturnLevel,
+}
+
+/// The system-A code for the whole G code `g` of `system` (FANUC 0i-TF "G code list"):
+///
+/// | A | B | C | function |
+/// |---|---|---|---|
+/// | G20/G21 | G20/G21 | G70/G71 | inch/metric input |
+/// | G32 | G33 | G33 | threading |
+/// | G50 | G92 | G92 | coordinate system setting, maximum spindle speed |
+/// | G70..G76 | G70..G76 | G72..G78 | multiple repetitive cycles (G76/G78: threading) |
+/// | G90 | G77 | G20 | outer/inner diameter cutting cycle |
+/// | G92 | G78 | G21 | threading cycle |
+/// | G94 | G79 | G24 | end face turning cycle |
+/// | G98/G99 | G94/G95 | G94/G95 | feed per minute/revolution |
+/// | (U/W) | G90/G91 | G90/G91 | absolute/incremental |
+/// | - | G98/G99 | G98/G99 | canned cycle return: initial level / R point |
+///
+/// Other codes are the same in the three systems.
+pub(super) fn in_system_a(system: GcodeSystem, g: u32) -> InA {
+    use GcodeSystem::*;
+    InA::Code(match (system, g) {
+        (A, g) => g,
+        (B | C, 90) => return InA::Absolute,
+        (B | C, 91) => return InA::Incremental,
+        (B | C, 98 | 99) => return InA::ReturnLevel,
+        (B | C, 33) => 32,
+        (B | C, 92) => 50,
+        (B | C, 94) => 98,
+        (B | C, 95) => 99,
+        (B, 77) => 90,
+        (B, 78) => 92,
+        (B, 79) => 94,
+        (C, 20) => 90,
+        (C, 21) => 92,
+        (C, 24) => 94,
+        (C, 70) => 20,
+        (C, 71) => 21,
+        (C, 72..=78) => g - 2,
+        (_, g) => g,
+    })
 }
 
 /// Codes with one decimal as integers x10 (G33.1 = 331).
@@ -38,11 +93,12 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (0..=4 | 17 | 18 | 19 | 20 | 21 | 28 | 32 | 34 | 40 | 41 | 42 | 50, true) => {
                 Verdict::Run
             }
-            (54..=59 | 65 | 76 | 92 | 96 | 97 | 98 | 99, true) => Verdict::Run,
-            (30, true) => {
-                refused("second reference point return: the position after it is unknown")
-            }
-            (10 | 52 | 53, true) => refused("coordinate system setting"),
+            (53 | 54..=59 | 65 | 76 | 92 | 96 | 97 | 98 | 99, true) => Verdict::Run,
+            // G80 cancels a canned drilling cycle: none is modal in vpcut (a no-op; safety
+            // lines such as `G18 G20 G40 G80 G99` carry it).
+            (80, true) => Verdict::Run,
+            (30, true) => Verdict::Run,
+            (10 | 52, true) => refused("coordinate system setting"),
             (70..=75, true) => refused("multiple repetitive cycle"),
             (90 | 94, true) => Verdict::Run,
             (33, true) if dialect == Dialect::Gsk980 => refused("tapping cycle"),
@@ -77,11 +133,14 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (54..=59 | 61 | 64 | 76 | 90 | 91 | 93 | 94 | 95 | 96 | 97 | 98 | 99, true) => {
                 Verdict::Run
             }
-            (28 | 30, true) => refused("go to a predefined position"),
-            (10 | 52 | 53 | 92, _) => refused("coordinate system offset"),
+            // Go home, machine coordinates, G92 offsets, G10 L2/L20: run by `apply`; G80
+            // cancels a canned cycle (none is modal in vpcut: a no-op).
+            (10 | 28 | 30 | 53 | 80 | 92, true) => Verdict::Run,
+            _ if matches!(c, 281 | 301 | 591..=593 | 611 | 901 | 911 | 921..=923) => Verdict::Run,
+            (52, true) => refused("local coordinate system offset"),
             (33, false) => refused("rigid tapping"),
             (38, false) => refused("probing"),
-            (73 | 74 | 80..=89, true) => refused("canned cycle"),
+            (73 | 74 | 81..=89, true) => refused("canned cycle"),
             _ => Verdict::Unknown(format!(
                 "G{} is not a {} code vpcut knows",
                 fmt(code),

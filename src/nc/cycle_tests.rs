@@ -451,7 +451,7 @@ fn lathe_modes_are_accepted() {
 
 /// G28 U0 W0 from (X30, Z5) with the reference point at (X200, Z150): the intermediate
 /// point is the current one, then one rapid home. `G28 X40` goes via X40 (same Z) and homes
-/// X only: (X40, Z5) then (X200, Z5). Without a reference point G28 is an error.
+/// X only: (X40, Z5) then (X200, Z5). Without a reference point G28 goes to the machine zero.
 #[test]
 fn g28_returns_via_the_intermediate_point() {
     let s = Settings {
@@ -474,8 +474,9 @@ fn g28_returns_via_the_intermediate_point() {
             (R, 200.0, 5.0, 200.0, 4.0),
         ],
     );
-    let e = run("G28 U0 W0\n", Dialect::Fanuc).unwrap_err();
-    assert!(e.message.contains("reference_point"), "{e}");
+    // Without a reference point in the job: the machine zero.
+    let moves = run("G0 X30 Z5\nG28 U0 W0\n", Dialect::Fanuc).unwrap();
+    assert_eq!((moves[1].x_dia, moves[1].z), (0.0, 0.0));
 }
 
 /// FANUC G90 (modal): from (X60, Z5) `G90 X50 Z-30 F0.2` is rapid to X50, feed to Z-30, feed

@@ -153,14 +153,36 @@ impl Machine<'_> {
                 l if codes::address(self.milling, l as char) => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
+                // A and D: only the one-block G76 reads them (checked below).
+                b'A' | b'D' if !self.milling => {
+                    w.vals.insert((letter as char).to_string(), (v, at + 1));
+                }
                 other => self.unknown(at + 1, format!("unknown address `{}`", other as char))?,
             }
         }
         if self.milling {
             return self.mill_apply(&w, prog, pc);
         }
+        if self.system != codes::GcodeSystem::A {
+            // G-code system B or C: read as the system-A codes they are.
+            let mut g = Vec::with_capacity(w.g.len());
+            for &code in &w.g {
+                match codes::in_system_a(self.system, code) {
+                    codes::InA::Code(c) => g.push(c),
+                    codes::InA::Absolute => self.incremental = false,
+                    codes::InA::Incremental => self.incremental = true,
+                    codes::InA::ReturnLevel => {}
+                }
+            }
+            w.g = g;
+        }
         if w.g.contains(&76) {
             return self.g76(&w, prog, pc);
+        }
+        for k in ["A", "D"] {
+            if let Some(&(_, col)) = w.vals.get(k) {
+                self.unknown(col, format!("unknown address `{k}`"))?;
+            }
         }
         self.apply(&w, prog, pc)
     }
@@ -379,16 +401,23 @@ impl Machine<'_> {
         }
         let (x0, z0) = (self.x, self.z);
         let (ox, oz) = self.offsets[self.work];
+        // In G-code systems B/C under G91, X/Z are incremental too.
+        let inc = self.incremental;
         let x_end = match (val("X"), val("U")) {
+            (Some(x), _) if inc => x0 + x * scale,
             (Some(x), _) => x * scale + ox,
             (None, Some(u)) => x0 + u * scale,
             _ => x0,
         };
         let z_end = match (val("Z"), val("W")) {
+            (Some(z), _) if inc => z0 + z * scale,
             (Some(z), _) => z * scale + oz,
             (None, Some(wv)) => z0 + wv * scale,
             _ => z0,
         };
+        if w.vals.contains_key("K") || w.vals.contains_key("D") {
+            return self.g76_one_block(w, prog, pc, (x0, z0), (x_end, z_end));
+        }
         // i: taper, radius at the start minus radius at the end (as G92's R).
         let taper = val("R").unwrap_or(0.0) * scale;
         let k = self
@@ -447,6 +476,111 @@ impl Machine<'_> {
                 (x0, z0),
                 (x + 2.0 * taper, zs),
                 (x, ze),
+                sync,
+                chamfer,
+            );
+        }
+        Ok(Step::Next)
+    }
+
+    /// The one-block G76 of Haas lathes and FANUC 0T-style controls (`docs/job-format.md`,
+    /// "One-block G76"; Haas lathe operator's manual, G76 "Threading cycle, multiple pass";
+    /// FANUC 0-TC operator's manual, G76 of the old format):
+    /// `G76 X(U) Z(W) K(height) D(first depth) F(lead) [I(taper)] [A(tool angle)] [P(method)]`.
+    /// K and D with a decimal point are in program units, without one in the least input
+    /// increment (as 0T writes them). Pass n reaches the depth `D sqrt(n)` (P1, P2: constant
+    /// cutting amount) or `n D` (P3, P4: constant depth) below the crest while less than K,
+    /// then K once. P1/P3 feed in along one flank (each pass shifted by `(K - d_n)
+    /// tan(A/2)` as the two-block G76), P2/P4 alternate the flanks. A defaults to 0 (radial
+    /// infeed, as on Haas); I is the radius at the start minus the radius at the end (as
+    /// G92's R). Each pass is a G92-style pass (rapid in, thread, rapid out and back), with
+    /// the thread chamfer of `Settings::thread_chamfer` / M23.
+    fn g76_one_block(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        (x0, z0): (f64, f64),
+        (x_end, z_end): (f64, f64),
+    ) -> Result<Step, Fail> {
+        let scale = if self.inch { 25.4 } else { 1.0 };
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let col = |k: &str| w.vals.get(k).map_or(1, |v| v.1);
+        // A decimal point: program units; none: the least input increment.
+        let length = |k: &str| -> Option<f64> {
+            let v = val(k)?;
+            Some(if w.points.iter().any(|p| p == k) {
+                v * scale
+            } else if self.inch {
+                v * 0.0001 * 25.4
+            } else {
+                v * 0.001
+            })
+        };
+        let k = length("K").ok_or((
+            1,
+            "the one-block G76 (with D) needs K (the thread height)".to_string(),
+        ))?;
+        let d = length("D").ok_or((
+            1,
+            "the one-block G76 (with K) needs D (the first cut depth)".to_string(),
+        ))?;
+        let lead = val("F").ok_or((1, "G76 needs F (the lead)".to_string()))? * scale;
+        if k <= 0.0 || d <= 0.0 || lead <= 0.0 || z_end == z0 {
+            return Err((1, "G76 needs K > 0, D > 0, F > 0 and a Z move".into()));
+        }
+        let a = val("A").unwrap_or(0.0);
+        if !(0.0..=120.0).contains(&a) {
+            return Err((
+                col("A"),
+                format!("G76 A{a}: the tool angle must be 0..120 degrees"),
+            ));
+        }
+        let method = val("P").unwrap_or(1.0);
+        if ![1.0, 2.0, 3.0, 4.0].contains(&method) {
+            return Err((
+                col("P"),
+                format!("G76 P{method}: the one-block cutting method is P1, P2, P3 or P4"),
+            ));
+        }
+        let taper = val("I").unwrap_or(0.0) * scale;
+        let chamfer = self.thread_chamfer(lead, z_end - z0, w)?;
+        let mut depths = Vec::new();
+        for n in 1..=100_001u32 {
+            let dn = if method <= 2.0 {
+                d * f64::from(n).sqrt()
+            } else {
+                d * f64::from(n)
+            };
+            if dn >= k {
+                break;
+            }
+            depths.push(dn);
+        }
+        if depths.len() > 100_000 {
+            return Err((1, "G76 would cut more than 100000 rough passes".into()));
+        }
+        depths.push(k);
+        let side = if x0 >= x_end { 1.0 } else { -1.0 };
+        let dir = if z_end < z0 { -1.0 } else { 1.0 };
+        let tan = (a.to_radians() / 2.0).tan();
+        let alternate = method == 2.0 || method == 4.0;
+        for (n, dn) in depths.into_iter().enumerate() {
+            let back = k - dn;
+            let x = x_end + side * 2.0 * back;
+            let flank = if alternate && n % 2 == 1 { -1.0 } else { 1.0 };
+            let shift = -dir * back * tan * flank;
+            let sync = Sync {
+                lead,
+                change: 0.0,
+                angle: 0.0,
+            };
+            self.cycle_pass_chamfered(
+                prog,
+                pc,
+                (x0, z0),
+                (x + 2.0 * taper, z0 + shift),
+                (x, z_end + shift),
                 sync,
                 chamfer,
             );

@@ -10,8 +10,16 @@
 //!
 //! Parameters: `#1..#30` are local to a subroutine call, `#31..#5160` global, both read 0
 //! until set; `#<name>` is local to the call and `#<_name>` global, and reading either
-//! before it is set is an error ("Named parameter not defined"). System parameters
-//! (`#5161` and up: homes, offsets, position) are not modelled and refused.
+//! before it is set is an error ("Named parameter not defined").
+//!
+//! Machine state (LinuxCNC manual, "Predefined Named Parameters" and "Numbered Parameters",
+//! as of LinuxCNC 2.9): every `#<_..>` of the manual's list reads the interpreter's state
+//! (`lc_predefined`); where vpcut has no such state it reads the value a control reads at
+//! start-up (overrides enabled 1, adaptive feed and feed hold 0, `_task` 1, `_remap_level` 0,
+//! axes vpcut does not have 0, `_vmajor`/`_vminor` 2 and 9). `#5161..#5428` read homes,
+//! offsets, the tool and the position (`lc_system`). Lengths read in program units and X in
+//! the active X mode (a diameter in G7, a radius in G8), as the program writes them.
+//! `#<_ini[..]>` and `#<_hal[..]>` are refused (no INI file or HAL).
 
 use super::expr::Fail;
 use super::Machine;
@@ -157,8 +165,8 @@ pub(super) fn predefined(name: &str) -> bool {
         "_UNITS_PER_REV",
         "_COORD_SYSTEM",
         "_TOOL_OFFSET",
-        "_RETRACT_R",
-        "_RETRACT_OLD",
+        "_RETRACT_R_PLANE",
+        "_RETRACT_OLD_Z",
         "_SPINDLE_RPM_MODE",
         "_SPINDLE_CSS_MODE",
         "_IJK_ABSOLUTE_MODE",
@@ -200,6 +208,21 @@ pub(super) fn predefined(name: &str) -> bool {
         "_REMAP_LEVEL",
     ];
     NAMES.contains(&name) || name.starts_with("_INI[") || name.starts_with("_HAL[")
+}
+
+/// Why a program may not assign the system parameter `n` (`None`: it may). The homes
+/// #5161..#5169 and #5181..#5189 are written as a program writes them on a control (the
+/// next G28/G30 goes there); offsets are set with G10 L2/L20 and G92, which vpcut runs.
+pub(super) fn system_write_refused(n: u32) -> Option<String> {
+    match n {
+        0..=LAST_PARAMETER | 5161..=5169 | 5181..=5189 => None,
+        5210..=5390 => Some(format!(
+            "assigning #{n} (offsets) is not simulated: set offsets with G10 L2/L20 or G92"
+        )),
+        _ => Some(format!(
+            "#{n} is machine state that vpcut reads but does not let a program set"
+        )),
+    }
 }
 
 /// A parameter a line sets.
@@ -261,6 +284,9 @@ impl Machine<'_> {
     }
 
     fn lc_named(&self, name: &str) -> Option<f64> {
+        if let Some(v) = self.lc_predefined(name) {
+            return Some(v);
+        }
         if name.starts_with('_') {
             let v = self.lc.params.globals.get(name).copied();
             // rs274's predefined return-value parameters read 0 before any call returns.
@@ -274,6 +300,129 @@ impl Machine<'_> {
         }
     }
 
+    /// A length in program units and the active X mode from mm (X as a diameter).
+    fn lc_len(&self, v: f64, x_axis: bool) -> f64 {
+        let scale = if self.inch { 25.4 } else { 1.0 };
+        let xs = if x_axis && !self.diameter_mode {
+            0.5
+        } else {
+            1.0
+        };
+        v * xs / scale
+    }
+
+    /// A predefined named parameter (upper-cased name), `None` if `name` is not one (or is
+    /// `_VALUE`/`_VALUE_RETURNED`, kept with the globals).
+    pub(super) fn lc_predefined(&self, name: &str) -> Option<f64> {
+        let st = &self.lc.st;
+        let b = |v: bool| f64::from(u8::from(v));
+        let (px, pz) = self.lc_position();
+        Some(match name {
+            "_VMAJOR" => 2.0,
+            "_VMINOR" => 9.0,
+            "_LINE" => st.line as f64,
+            "_MOTION_MODE" => f64::from(self.motion * 10),
+            "_PLANE" => f64::from(st.plane),
+            "_CCOMP" => f64::from(st.ccomp),
+            "_METRIC" => b(!self.inch),
+            "_IMPERIAL" => b(self.inch),
+            "_ABSOLUTE" => b(!self.incremental),
+            "_INCREMENTAL" => b(self.incremental),
+            "_INVERSE_TIME" => b(st.feed_mode == 93),
+            "_UNITS_PER_MINUTE" => b(st.feed_mode == 94),
+            "_UNITS_PER_REV" => b(st.feed_mode == 95),
+            "_COORD_SYSTEM" => match self.work {
+                w @ 0..=5 => 540.0 + 10.0 * w as f64,
+                w => 590.0 + (w - 5) as f64,
+            },
+            "_TOOL_OFFSET" => b(st.tool_offset),
+            "_RETRACT_R_PLANE" => b(st.retract_r),
+            "_RETRACT_OLD_Z" => b(!st.retract_r),
+            "_SPINDLE_RPM_MODE" => b(!self.css),
+            "_SPINDLE_CSS_MODE" => b(self.css),
+            "_IJK_ABSOLUTE_MODE" => b(st.ijk_absolute),
+            "_LATHE_DIAMETER_MODE" => b(self.diameter_mode),
+            "_LATHE_RADIUS_MODE" => b(!self.diameter_mode),
+            "_SPINDLE_ON" => b(st.spindle_on),
+            "_SPINDLE_CW" => b(st.spindle_on && self.spindle == crate::helix::Spindle::Cw),
+            "_MIST" => b(st.mist),
+            "_FLOOD" => b(st.flood),
+            "_SPEED_OVERRIDE" => b(st.speed_override),
+            "_FEED_OVERRIDE" => b(st.feed_override),
+            "_ADAPTIVE_FEED" => b(st.adaptive_feed),
+            "_FEED_HOLD" => b(st.feed_hold),
+            "_FEED" => self.feed.unwrap_or(0.0),
+            "_RPM" => self.speed.unwrap_or(0.0),
+            "_X" => px,
+            "_Z" => pz,
+            "_ABS_X" => self.lc_len(self.x, true),
+            "_ABS_Z" => self.lc_len(self.z, false),
+            "_Y" | "_A" | "_B" | "_C" | "_U" | "_V" | "_W" | "_ABS_Y" | "_ABS_A" | "_ABS_B"
+            | "_ABS_C" => 0.0,
+            "_CURRENT_TOOL" | "_CURRENT_POCKET" => f64::from(self.tool.unwrap_or(0)),
+            "_SELECTED_TOOL" | "_SELECTED_POCKET" => st.selected_tool as f64,
+            "_TASK" => 1.0,
+            "_CALL_LEVEL" => self.lc_depth() as f64,
+            "_REMAP_LEVEL" => 0.0,
+            _ => return None,
+        })
+    }
+
+    /// The current position in the active coordinate system (work offset and G92 applied),
+    /// in program units, X in the active X mode.
+    fn lc_position(&self) -> (f64, f64) {
+        let (ox, oz) = self.offsets[self.work];
+        let (gx, gz) = self.g92_off;
+        (
+            self.lc_len(self.x - ox - gx, true),
+            self.lc_len(self.z - oz - gz, false),
+        )
+    }
+
+    /// A numbered system parameter above #5160 (LinuxCNC manual, "Numbered Parameters"):
+    /// `None` where vpcut does not model it. Axes vpcut does not have (Y, A, B, C, U, V,
+    /// W, the rotation R) read 0.
+    pub(super) fn lc_system(&self, n: u32) -> Option<f64> {
+        let st = &self.lc.st;
+        // (X, Z) of a block of nine axes X Y Z A B C U V W starting at `base`.
+        let axis = |base: u32, p: (f64, f64)| -> Option<f64> {
+            match n - base {
+                0 => Some(self.lc_len(p.0, true)),
+                2 => Some(self.lc_len(p.1, false)),
+                _ => Some(0.0),
+            }
+        };
+        match n {
+            5161..=5169 => axis(5161, st.home28),
+            5181..=5189 => axis(5181, st.home30),
+            5210 => Some(f64::from(u8::from(st.g92_on))),
+            5211..=5219 => axis(5211, st.g92_params),
+            5220 => Some(self.work as f64 + 1.0),
+            5221..=5390 => {
+                let k = ((n - 5221) / 20) as usize;
+                let base = 5221 + 20 * k as u32;
+                if n - base >= 10 {
+                    return None;
+                }
+                if n - base == 9 {
+                    return Some(0.0); // the XY rotation R
+                }
+                axis(base, self.offsets[k])
+            }
+            5400 => Some(f64::from(self.tool.unwrap_or(0))),
+            // Tool offsets, diameter, angles and orientation: vpcut has no tool table.
+            5401..=5413 => Some(0.0),
+            5420..=5428 => axis(5420, {
+                let (x, z) = self.lc_position();
+                // Back to mm and a diameter: `axis` converts again.
+                let scale = if self.inch { 25.4 } else { 1.0 };
+                let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+                (x * scale * xs, z * scale)
+            }),
+            _ => None,
+        }
+    }
+
     /// Set a parameter (after its line was read).
     pub(super) fn lc_set(&mut self, p: Param, v: f64) {
         match p {
@@ -282,6 +431,22 @@ impl Machine<'_> {
                     .last_mut()
                     .expect("level 0 always exists")
                     .insert(n, v);
+            }
+            Param::Num(n) if n > LAST_PARAMETER => {
+                // Only the homes are writable (`system_write_refused`): G28/G30 go there.
+                let scale = if self.inch { 25.4 } else { 1.0 };
+                let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+                let st = &mut self.lc.st;
+                let home = if n < 5181 {
+                    &mut st.home28
+                } else {
+                    &mut st.home30
+                };
+                match n % 20 {
+                    1 => home.0 = v * scale * xs,
+                    3 => home.1 = v * scale,
+                    _ => {}
+                }
             }
             Param::Num(n) => {
                 self.vars.insert(n, v);
@@ -312,11 +477,11 @@ impl Machine<'_> {
                 format!("parameter number {n} is out of range (1..5601)"),
             ));
         }
-        if n > f64::from(LAST_PARAMETER) {
+        if n > f64::from(LAST_PARAMETER) && self.lc_system(n as u32).is_none() {
             return Err((
                 at,
                 format!(
-                    "system parameter #{n} (offsets, homes, position) is not modelled: use #1..#{LAST_PARAMETER} or named parameters"
+                    "system parameter #{n} is not modelled (vpcut models #5161..#5189 homes, #5210..#5219 G92, #5220..#5390 work offsets, #5400..#5413 the tool, #5420..#5428 the position)"
                 ),
             ));
         }
@@ -334,6 +499,7 @@ impl Machine<'_> {
                 .and_then(|l| l.get(&n))
                 .copied()
                 .unwrap_or(0.0)),
+            Param::Num(n) if n > LAST_PARAMETER => Ok(self.lc_system(n).unwrap_or(0.0)),
             Param::Num(n) => Ok(self.vars.get(&n).copied().unwrap_or(0.0)),
             Param::Named(name) => self.lc_named(&name).ok_or_else(|| {
                 let name = name.to_lowercase();

@@ -270,9 +270,19 @@ fn bad_lines_are_errors_with_columns() {
         ("o1 endwhile\n", 1, 1, "no matching o1 while"),
         ("o1 while [1]\nG0 X1\n", 1, 1, "no matching o1 endwhile"),
         ("o1 frob\n", 1, 4, "expected sub, endsub"),
-        ("G0 X#5221\n", 1, 6, "system parameter #5221"),
+        (
+            "G0 X#5399\n",
+            1,
+            6,
+            "system parameter #5399 is not modelled",
+        ),
         ("M98 P100\n", 1, 1, "use o-word subroutines"),
-        ("G33.1 Z-10 K1\n", 1, 1, "G33.1 is not supported"),
+        (
+            "G33.1 Z-10 K1\n",
+            1,
+            1,
+            "G33.1 (rigid tapping) is not simulated",
+        ),
         ("G0 U5\n", 1, 4, "`U` is not supported"),
         ("o9 call\n", 1, 1, "o9 is not defined"),
         ("G0 X1 X2\n", 1, 7, "more than one X word"),
@@ -290,7 +300,7 @@ fn bad_lines_are_errors_with_columns() {
             1,
             "already opened a block at line 2",
         ),
-        ("G0 X#<_z>\n", 1, 5, "#<_z> (machine state) is not modelled"),
+        ("G0 X#<_ini[a]b>\n", 1, 5, "(machine state) is not modelled"),
     ];
     for (text, line, col, msg) in cases {
         let e = run(text).unwrap_err();

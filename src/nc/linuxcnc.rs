@@ -138,6 +138,71 @@ pub(super) struct Lcnc {
     /// rs274 2.9.0~pre1: after a `break` out of a while loop, the next closing `while` of a
     /// do loop does not loop (whatever its test); a `break` out of a do loop clears this.
     broke_while: bool,
+    /// Machine state that only the predefined parameters read (`lcnc_expr::lc_predefined`).
+    pub(super) st: LcState,
+}
+
+/// LinuxCNC modal and machine state beside `Machine`'s shared fields: what `#<_..>` and
+/// `#5161..` read, and the homes of G28/G30 (machine coordinates, X as a diameter, mm).
+pub(super) struct LcState {
+    /// The 1-based line of the block being run (`#<_line>`).
+    pub(super) line: usize,
+    pub(super) plane: u32,
+    pub(super) ccomp: u32,
+    /// G93, G94 or G95 (rs274 starts in G94).
+    pub(super) feed_mode: u32,
+    /// G43 on.
+    pub(super) tool_offset: bool,
+    /// G99 (R plane, rs274's start) or G98 (old Z) canned-cycle return.
+    pub(super) retract_r: bool,
+    /// G90.1 (else G91.1, rs274's start).
+    pub(super) ijk_absolute: bool,
+    pub(super) spindle_on: bool,
+    pub(super) mist: bool,
+    pub(super) flood: bool,
+    /// M48/M49 (and M50/M51 P): overrides enabled (rs274's start: on).
+    pub(super) speed_override: bool,
+    pub(super) feed_override: bool,
+    pub(super) adaptive_feed: bool,
+    pub(super) feed_hold: bool,
+    /// The last T word (-1 before any: rs274's `#<_selected_tool>`).
+    pub(super) selected_tool: i64,
+    /// G96 D: the maximum spindle speed under constant surface speed.
+    pub(super) max_rpm: Option<f64>,
+    /// G28 and G30 positions (#5161.. and #5181..).
+    pub(super) home28: (f64, f64),
+    pub(super) home30: (f64, f64),
+    /// G92 offsets as stored in #5211.. (kept by G92.2, restored by G92.3), and whether
+    /// they are applied (#5210).
+    pub(super) g92_params: (f64, f64),
+    pub(super) g92_on: bool,
+}
+
+impl Default for LcState {
+    fn default() -> LcState {
+        LcState {
+            line: 0,
+            plane: 180,
+            ccomp: 400,
+            feed_mode: 94,
+            tool_offset: false,
+            retract_r: true,
+            ijk_absolute: false,
+            spindle_on: false,
+            mist: false,
+            flood: false,
+            speed_override: true,
+            feed_override: true,
+            adaptive_feed: false,
+            feed_hold: false,
+            selected_tool: -1,
+            max_rpm: None,
+            home28: (0.0, 0.0),
+            home30: (0.0, 0.0),
+            g92_params: (0.0, 0.0),
+            g92_on: false,
+        }
+    }
 }
 
 /// A line upper-cased with comments (`( .. )`, `;` to the end) blanked, so columns stay.
@@ -278,6 +343,7 @@ impl Machine<'_> {
         text: &str,
     ) -> Result<Step, Fail> {
         let id = prog as *const Program as usize;
+        self.lc.st.line = prog.blocks[pc].0;
         let jumped = self.lc.jumped.take() == Some((id, pc));
         let orig = &prog.blocks[pc].1;
         let has_comment = orig.as_bytes().iter().any(|&b| b == b'(' || b == b')');
@@ -321,6 +387,11 @@ impl Machine<'_> {
                         ));
                     }
                 }
+                if let Param::Num(n) = p {
+                    if let Some(why) = super::lcnc_expr::system_write_refused(n) {
+                        return Err((at, why));
+                    }
+                }
                 if !c.eat("=") {
                     return c.err("expected `=` after the parameter");
                 }
@@ -344,8 +415,24 @@ impl Machine<'_> {
                 }
                 Ok((tenth / 10.0) as u32)
             };
+            // G codes with a decimal that vpcut knows (G28.1, G30.1, G59.1..G59.3, G61.1,
+            // G90.1, G91.1, G92.1..G92.3, and G33.1/G38.n to refuse them by name) come as
+            // `DECIMAL_G + tenths` (see `motion::decimal_g`).
+            let g_code = |v: f64| -> Result<u32, Fail> {
+                let tenth = (v * 10.0).round();
+                if v >= 0.0 && (v * 10.0 - tenth).abs() <= 1e-6 && tenth % 10.0 != 0.0 {
+                    let t = tenth as u32;
+                    if matches!(
+                        t,
+                        281 | 301 | 331 | 382..=385 | 591..=593 | 611 | 901 | 911 | 921..=923
+                    ) {
+                        return Ok(super::motion::DECIMAL_G + t);
+                    }
+                }
+                code(v)
+            };
             match letter {
-                b'G' => w.g.push(code(v)?),
+                b'G' => w.g.push(g_code(v)?),
                 b'M' => {
                     let m = code(v)?;
                     if m == 98 || m == 99 {
@@ -358,7 +445,7 @@ impl Machine<'_> {
                 }
                 b'N' => {}
                 b'X' | b'Z' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P' | b'L' | b'J'
-                | b'I' | b'H' | b'E' => {
+                | b'I' | b'H' | b'E' | b'D' => {
                     let k = (letter as char).to_string();
                     if w.vals.contains_key(&k) {
                         return Err((at, format!("more than one {k} word on the line")));
@@ -381,10 +468,94 @@ impl Machine<'_> {
         for (p, v) in sets {
             self.lc_set(p, v);
         }
+        self.lc_modal(&w);
         if w.g.contains(&76) {
             return self.lcnc_g76(&w, prog, pc);
         }
         self.apply(&w, prog, pc)
+    }
+
+    /// The modal state only LinuxCNC's predefined parameters read (the rest is `apply`'s).
+    fn lc_modal(&mut self, w: &Words) {
+        let st = &mut self.lc.st;
+        for &g in &w.g {
+            match g {
+                17..=19 => st.plane = g * 10,
+                40..=42 => st.ccomp = g * 10,
+                43 => st.tool_offset = true,
+                49 => st.tool_offset = false,
+                93..=95 => st.feed_mode = g,
+                98 => st.retract_r = false,
+                99 => st.retract_r = true,
+                g if g == super::motion::DECIMAL_G + 901 => st.ijk_absolute = true,
+                g if g == super::motion::DECIMAL_G + 911 => st.ijk_absolute = false,
+                _ => {}
+            }
+        }
+        if w.g.contains(&96) {
+            if let Some(&(d, _)) = w.vals.get("D") {
+                st.max_rpm = Some(d);
+            }
+        }
+        let p = w.vals.get("P").map(|v| v.0);
+        for &m in &w.m {
+            match m {
+                3 | 4 => st.spindle_on = true,
+                5 => st.spindle_on = false,
+                7 => st.mist = true,
+                8 => st.flood = true,
+                9 => (st.mist, st.flood) = (false, false),
+                48 => (st.speed_override, st.feed_override) = (true, true),
+                49 => (st.speed_override, st.feed_override) = (false, false),
+                50 => st.feed_override = p.is_none_or(|p| p != 0.0),
+                51 => st.speed_override = p.is_none_or(|p| p != 0.0),
+                52 => st.adaptive_feed = p.is_none_or(|p| p != 0.0),
+                53 => st.feed_hold = p.is_none_or(|p| p != 0.0),
+                _ => {}
+            }
+        }
+        if let Some(&(t, _)) = w.vals.get("T") {
+            st.selected_tool = t.round() as i64;
+        }
+    }
+
+    /// G10 L2 (set a work offset to X/Z) and G10 L20 (set it so that the current point reads
+    /// X/Z), `P0` the active system, `P1..P9` G54..G59.3; axes not named keep their offset.
+    /// `xs` turns an X word into a diameter, `scale` program units into mm.
+    pub(super) fn lc_g10(&mut self, w: &Words, xs: f64, scale: f64) -> Result<(), Fail> {
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let l = val("L").ok_or((1, "G10 needs L (L2 or L20 set work offsets)".to_string()))?;
+        if l != 2.0 && l != 20.0 {
+            return Err((
+                w.vals.get("L").map_or(1, |v| v.1),
+                format!("G10 L{l} (tool table or other data) is not simulated: vpcut runs G10 L2 and L20 (work offsets)"),
+            ));
+        }
+        let p = val("P").ok_or((1, format!("G10 L{l} needs P (0 active, 1..9 G54..G59.3)")))?;
+        if !(0.0..=9.0).contains(&p) || p.fract() != 0.0 {
+            return Err((
+                w.vals.get("P").map_or(1, |v| v.1),
+                format!("G10 L{l} P{p}: expected P0..P9"),
+            ));
+        }
+        if val("R").is_some_and(|r| r != 0.0) {
+            return Err((
+                w.vals.get("R").map_or(1, |v| v.1),
+                "G10 R (a rotation of the XY plane) is not simulated on a lathe".into(),
+            ));
+        }
+        let k = if p == 0.0 { self.work } else { p as usize - 1 };
+        let g92 = self.g92_off;
+        let o = &mut self.offsets[k];
+        if let Some(v) = val("X") {
+            let v = v * xs * scale;
+            o.0 = if l == 2.0 { v } else { self.x - g92.0 - v };
+        }
+        if let Some(v) = val("Z") {
+            let v = v * scale;
+            o.1 = if l == 2.0 { v } else { self.z - g92.1 - v };
+        }
+        Ok(())
     }
 
     fn lc_flow(&mut self, prog: &Program, id: usize) -> Rc<Flow> {
@@ -707,22 +878,42 @@ impl Machine<'_> {
                 "G76 E: the tapers are longer than the drive line (E > half of it with L3)".into(),
             ));
         }
+        // rs274's moves, pass by pass (checked against its canon output): a rapid straight
+        // to the pass's retract point `K + |I|` above the pass at its start Z (diagonal from
+        // the previous pass's end), then either a rapid down to the pass (no entry taper) or
+        // the synchronised radial move down to the taper start `K` above it; the thread; a
+        // rapid out to the retract X at the end Z. After the last pass a rapid to the drive
+        // line at the end Z, where the cycle leaves the tool.
+        let mut end = (self.x, self.z);
         for d in depths {
             let zoff = (d - full) * angle.tan();
             let x = 2.0 * (x0 + side * d);
             let (zs, ze) = (start_z - zoff, target_z - zoff);
+            let retract = 2.0 * (x0 + side * (d - k.abs() - full));
+            let rapid = |m: &mut Self, a: (f64, f64), b: (f64, f64)| {
+                if a != b {
+                    m.emit(prog, pc, MoveKind::Rapid, a, b, None);
+                }
+            };
+            rapid(self, end, (retract, zs));
+            let kx = 2.0 * (x0 + side * (d - k.abs()));
             if tapers > 0 {
                 // rs274: with an entry taper, from the retract line a synchronised radial
                 // move (|I| long) to the taper start K above the pass, then the taper over E;
                 // else a rapid to the pass. Then the pass, and with an exit taper the taper
                 // back up by K over E. Feeds are per path length (P hypot(E,K)/E on the
                 // tapers), so the axial lead is P throughout; the radial move uses up
-                // |I| / (P hypot(E,K)/E) revolutions before the entry taper starts.
-                let kx = 2.0 * (x0 + side * (d - k.abs()));
+                // |I| / (P hypot(E,K)/E) revolutions before the entry taper starts. It is
+                // listed as a feed move: it advances no Z, so it cuts no thread.
                 let p_taper = pitch * taper_len.hypot(k.abs()) / taper_len;
                 let mut revs = if entry { full / p_taper } else { 0.0 };
                 let z1 = if entry { zs + dir * taper_len } else { zs };
                 let z2 = if exit { ze - dir * taper_len } else { ze };
+                if entry {
+                    self.emit(prog, pc, MoveKind::Feed, (retract, zs), (kx, zs), None);
+                } else {
+                    rapid(self, (retract, zs), (x, zs));
+                }
                 let mut segments = Vec::with_capacity(3);
                 if entry {
                     segments.push((kx, zs, x, z1));
@@ -731,6 +922,7 @@ impl Machine<'_> {
                 if exit {
                     segments.push((x, z2, kx, ze));
                 }
+                let mut last = (x, ze);
                 for (i, (xa, za, xb, zb)) in segments.into_iter().enumerate() {
                     let sync = Sync {
                         lead: pitch,
@@ -743,16 +935,26 @@ impl Machine<'_> {
                         last.chained = i > 0 || entry;
                     }
                     revs += (zb - za).abs() / pitch;
+                    last = (xb, zb);
                 }
-                continue;
+                rapid(self, last, (retract, ze));
+            } else {
+                rapid(self, (retract, zs), (x, zs));
+                let sync = Sync {
+                    lead: pitch,
+                    change: 0.0,
+                    angle: 0.0,
+                };
+                self.emit(prog, pc, MoveKind::Thread, (x, zs), (x, ze), Some(sync));
+                rapid(self, (x, ze), (retract, ze));
             }
-            let sync = Sync {
-                lead: pitch,
-                change: 0.0,
-                angle: 0.0,
-            };
-            self.cycle_pass(prog, pc, (2.0 * x0, start_z), (x, zs), (x, ze), sync);
+            end = (retract, ze);
         }
+        let home = (2.0 * x0, end.1);
+        if end != home {
+            self.emit(prog, pc, MoveKind::Rapid, end, home, None);
+        }
+        (self.x, self.z) = home;
         Ok(Step::Next)
     }
 }

@@ -5,14 +5,16 @@
 //! loader for subprograms found beside it. Every error names the file, line and column and
 //! the call stack. Layout:
 //!
-//! - `program`: splitting a file into programs and blocks (comments, N numbers, labels);
+//! - `program`: splitting a file into programs and blocks (comments, N numbers, labels,
+//!   FANUC `;` end of block and `%` tape marks);
 //! - `expr`: the block cursor and the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
 //! - `siemens`: Siemens 802D blocks, labels and jumps;
 //! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
 //! - `lcnc_expr`: LinuxCNC expressions and numbered/named parameters;
 //! - `motion`: modal state, motion words, and recording moves;
-//! - `codes`: which G/M codes and words each dialect runs, refuses or does not know;
+//! - `codes`: which G/M codes and words each dialect runs, refuses or does not know, and
+//!   FANUC G-code systems B and C read as system A;
 //! - `check`: the static check of every block before anything runs (all problems at once);
 //! - `milling`: FANUC machining-centre blocks (`Settings::mill`) into programmed moves;
 //! - `comp`: cutter radius compensation of the programmed milling moves (a pure pass);
@@ -35,6 +37,8 @@ mod mill_tests;
 mod milling;
 mod motion;
 mod program;
+#[cfg(test)]
+mod real_tests;
 mod siemens;
 #[cfg(test)]
 mod tests;
@@ -84,6 +88,31 @@ impl Dialect {
         match self {
             Dialect::Gsk980 => Dialect::Fanuc,
             d => d,
+        }
+    }
+}
+
+/// FANUC lathe G-code system (FANUC 0i-TF/30i-B lathe manuals, "G code list": parameter
+/// GSB/GSC). System A writes U/W for incremental moves; B and C have G90/G91.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GcodeSystem {
+    /// System A (vpcut's FANUC/GSK lathe codes are written in it).
+    #[default]
+    A,
+    /// System B.
+    B,
+    /// System C.
+    C,
+}
+
+impl GcodeSystem {
+    /// Parse `"A"`, `"B"` or `"C"`.
+    pub fn from_name(s: &str) -> Option<GcodeSystem> {
+        match s {
+            "A" | "a" => Some(GcodeSystem::A),
+            "B" | "b" => Some(GcodeSystem::B),
+            "C" | "c" => Some(GcodeSystem::C),
+            _ => None,
         }
     }
 }
@@ -180,11 +209,19 @@ pub struct Settings {
     pub work_offsets: [(f64, f64); 6],
     /// Skip blocks that start with `/` (the block-skip switch on); false runs them.
     pub block_skip: bool,
-    /// The reference point G28 returns to: (X as a diameter, Z) in the job's frame.
+    /// The reference point G28 returns to: (X as a diameter, Z) in the job's frame (machine
+    /// coordinates). `None`: the machine zero (0, 0), as a control whose reference point is
+    /// at its machine zero (LinuxCNC's #5161/#5163 start at 0 too).
     pub reference_point: Option<(f64, f64)>,
+    /// The second reference point FANUC/GSK `G30` (P2) goes to, and LinuxCNC's G30 home
+    /// (#5181/#5183) at the start: (X as a diameter, Z) in machine coordinates. `None`:
+    /// the machine zero.
+    pub second_reference_point: Option<(f64, f64)>,
     /// A milling machine's settings: when set, FANUC programs are read as milling programs
     /// and their moves come out as [`Toolpath::mill`].
     pub mill: Option<MillSettings>,
+    /// FANUC/GSK lathe G-code system (A, B or C; [`GcodeSystem`]).
+    pub gcode_system: GcodeSystem,
 }
 
 impl Default for Settings {
@@ -194,7 +231,9 @@ impl Default for Settings {
             work_offsets: [(0.0, 0.0); 6],
             block_skip: true,
             reference_point: None,
+            second_reference_point: None,
             mill: None,
+            gcode_system: GcodeSystem::A,
         }
     }
 }
@@ -433,6 +472,8 @@ struct Machine<'l> {
     dialect: Dialect,
     /// GSK 980TDC semantics for G34.
     gsk: bool,
+    /// FANUC lathe G-code system (codes are translated to system A when read).
+    system: GcodeSystem,
     /// X words are diameters (G7; always on FANUC/GSK/Siemens lathes), else radii (G8).
     diameter_mode: bool,
     loader: &'l dyn Fn(&str) -> Option<Source>,
@@ -461,9 +502,11 @@ struct Machine<'l> {
     chamfer: f64,
     /// Thread chamfering switched on (M23) or off (M24).
     chamfer_on: bool,
-    /// Work offsets G54..G59 and the active one (0 = G54).
-    offsets: [(f64, f64); 6],
+    /// Work offsets G54..G59 (and LinuxCNC's G59.1..G59.3) and the active one (0 = G54).
+    offsets: [(f64, f64); 9],
     work: usize,
+    /// LinuxCNC G92 offset (diameter, z; mm) added to the work offset; (0, 0) when none.
+    g92_off: (f64, f64),
     /// G96 constant surface speed (else G97 rpm), and the last S value.
     css: bool,
     speed: Option<f64>,
@@ -471,8 +514,10 @@ struct Machine<'l> {
     per_rev: bool,
     /// The modal feed F (`None` before any F).
     feed: Option<f64>,
-    /// The G28 reference point (diameter, z), if the job gives one.
-    reference: Option<(f64, f64)>,
+    /// The G28 reference point (diameter, z): the job's, else the machine zero (0, 0).
+    reference: (f64, f64),
+    /// FANUC's second reference point (G30 P2) and LinuxCNC's G30 home at the start.
+    reference2: (f64, f64),
     /// Modal G90/G94 cutting cycle: (G code, target of the axis a repeat block leaves out,
     /// taper R).
     cycle90: Option<(u32, f64, f64)>,
@@ -530,6 +575,7 @@ pub fn interpret_with(
     let mut m = Machine {
         dialect,
         gsk,
+        system: opts.settings.gcode_system,
         diameter_mode: dialect != Dialect::Linuxcnc,
         loader,
         limits: opts.limits,
@@ -559,13 +605,19 @@ pub fn interpret_with(
         pending: Vec::new(),
         chamfer: opts.settings.thread_chamfer,
         chamfer_on: true,
-        offsets: opts.settings.work_offsets,
+        offsets: {
+            let mut o = [(0.0, 0.0); 9];
+            o[..6].copy_from_slice(&opts.settings.work_offsets);
+            o
+        },
         work: 0,
+        g92_off: (0.0, 0.0),
         css: false,
         speed: None,
         per_rev: true,
         feed: None,
-        reference: opts.settings.reference_point,
+        reference: opts.settings.reference_point.unwrap_or((0.0, 0.0)),
+        reference2: opts.settings.second_reference_point.unwrap_or((0.0, 0.0)),
         block_skip: opts.settings.block_skip,
         cycle90: None,
         runout: (None, None),
@@ -574,6 +626,8 @@ pub fn interpret_with(
         milling: opts.settings.mill.is_some(),
         mill: opts.settings.mill.clone().map(milling::MillState::new),
     };
+    m.lc.st.home28 = m.reference;
+    m.lc.st.home30 = m.reference2;
     if m.milling && real != Dialect::Fanuc {
         return Err(NcError {
             file: main.name.clone(),
@@ -616,6 +670,7 @@ pub fn interpret_with(
             &p,
             real,
             milling,
+            opts.settings.gcode_system,
             opts.strict,
             &mut found,
         ));
@@ -1004,13 +1059,32 @@ struct Sync {
     angle: f64,
 }
 
-/// The moves as CSV: `line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg`.
+/// The lead along the path of a thread move (mm per revolution along the move: its Z lead
+/// times path length over Z travel; equal to the Z lead on a straight thread).
+pub fn path_lead(m: &Move) -> Option<f64> {
+    let lead = m.lead?;
+    let dz = (m.z - m.z_start).abs();
+    if dz == 0.0 {
+        return Some(lead);
+    }
+    let path = ((m.x_dia - m.x_start) / 2.0).hypot(m.z - m.z_start);
+    Some(lead * path / dz)
+}
+
+/// The moves as CSV, one row per move the control makes (rapids and feeds of cycles
+/// included): `file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg,x_start_dia,
+/// z_start,path_lead`. `x_dia`/`z` are the end point, `x_start_dia`/`z_start` the start;
+/// `lead` is the Z lead (mm of Z per spindle revolution), `path_lead` the distance per
+/// revolution along the move (LinuxCNC's K on a taper; the same as `lead` on a straight
+/// thread).
 pub fn to_csv(moves: &[Move]) -> String {
-    let mut s = String::from("file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg\n");
+    let mut s = String::from(
+        "file,line,kind,x_dia,x_radius,z,lead,lead_change,sync_angle_deg,x_start_dia,z_start,path_lead\n",
+    );
     let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
     for m in moves {
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
             m.file,
             m.line,
             m.kind.name(),
@@ -1019,7 +1093,10 @@ pub fn to_csv(moves: &[Move]) -> String {
             m.z,
             o(m.lead),
             o(m.lead_change),
-            o(m.sync_angle_deg)
+            o(m.sync_angle_deg),
+            m.x_start,
+            m.z_start,
+            o(path_lead(m)),
         ));
     }
     s

@@ -6,6 +6,19 @@ use super::expr::Fail;
 use super::{ArcGeometry, Dialect, Machine, Move, MoveKind, Program, Step, Sync, Words};
 use crate::helix::{LeadLaw, Spindle};
 
+/// G codes with a decimal (LinuxCNC's G92.1, G59.1, ..) are kept in `Words::g` as this plus
+/// the code in tenths (G92.1: `DECIMAL_G + 921`).
+pub(super) const DECIMAL_G: u32 = 100_000;
+
+/// The G code `Words::g` holds `g` for, as a number (G92.1 for `DECIMAL_G + 921`).
+pub(super) fn g_number(g: u32) -> f64 {
+    if g >= DECIMAL_G {
+        f64::from(g - DECIMAL_G) / 10.0
+    } else {
+        f64::from(g)
+    }
+}
+
 /// How far an arc's end may lie off the circle through its start (mm of radius).
 pub(super) const ARC_TOLERANCE: f64 = 0.002;
 
@@ -50,8 +63,53 @@ impl Machine<'_> {
         let scale = if self.inch { 25.4 } else { 1.0 };
         let mut set_position = false;
         let mut home = false;
+        let mut second = false;
+        let lcnc = self.dialect == Dialect::Linuxcnc;
+        // LinuxCNC non-modal codes: G53 (this block in machine coordinates), G28/G30 (go
+        // home, optionally through an intermediate point), G92 (offset), G10 (set offsets).
+        let mut machine_coords = false;
+        let mut fanuc_g53 = false;
+        let mut lc_home: Option<u32> = None;
+        let mut g92_set = false;
+        let mut g10 = false;
         for &g in &w.g {
             match g {
+                53 if lcnc => machine_coords = true,
+                // FANUC/GSK G53: this block's X/Z in machine coordinates, at rapid.
+                53 if self.dialect == Dialect::Fanuc => {
+                    machine_coords = true;
+                    fanuc_g53 = true;
+                }
+                28 | 30 if lcnc => lc_home = Some(g),
+                92 if lcnc => g92_set = true,
+                10 if lcnc => g10 = true,
+                // G28.1/G30.1: store the current machine position as the home.
+                g if lcnc && (g == DECIMAL_G + 281 || g == DECIMAL_G + 301) => {
+                    let st = &mut self.lc.st;
+                    if g == DECIMAL_G + 281 {
+                        st.home28 = (self.x, self.z);
+                    } else {
+                        st.home30 = (self.x, self.z);
+                    }
+                }
+                // G92.1 clears the G92 offsets and their parameters, G92.2 clears the
+                // offsets and keeps the parameters, G92.3 applies the parameters again.
+                g if lcnc && g == DECIMAL_G + 921 => {
+                    self.g92_off = (0.0, 0.0);
+                    self.lc.st.g92_params = (0.0, 0.0);
+                    self.lc.st.g92_on = false;
+                }
+                g if lcnc && g == DECIMAL_G + 922 => {
+                    self.g92_off = (0.0, 0.0);
+                    self.lc.st.g92_on = false;
+                }
+                g if lcnc && g == DECIMAL_G + 923 => {
+                    self.g92_off = self.lc.st.g92_params;
+                    self.lc.st.g92_on = true;
+                }
+                g if lcnc && (DECIMAL_G + 591..=DECIMAL_G + 593).contains(&g) => {
+                    self.work = (g - DECIMAL_G - 591) as usize + 6;
+                }
                 0..=3 | 32 | 33 | 34 | 35 => self.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
                 92 if self.dialect == Dialect::Fanuc => self.motion = 92,
@@ -77,6 +135,20 @@ impl Machine<'_> {
                 // FANUC/GSK G28 (non-modal): rapid to the intermediate point, then to the
                 // reference point in the named axes.
                 28 if self.dialect == Dialect::Fanuc => home = true,
+                // FANUC/GSK G30 (P2, the default): the same through the second reference
+                // point. P3/P4 (third and fourth) are machine data vpcut does not have.
+                30 if self.dialect == Dialect::Fanuc && !self.milling => {
+                    if let Some(&(p, col)) = w.vals.get("P") {
+                        if p != 2.0 {
+                            return Err((
+                                col,
+                                format!("G30 P{p}: only the second reference point (P2) is known (the job's [program] second_reference_point)"),
+                            ));
+                        }
+                    }
+                    home = true;
+                    second = true;
+                }
                 54..=59 => self.work = (g - 54) as usize,
                 96 => self.css = true,
                 97 => self.css = false,
@@ -91,7 +163,7 @@ impl Machine<'_> {
                 95 if matches!(self.dialect, Dialect::Linuxcnc | Dialect::Siemens802d) => {
                     self.per_rev = true
                 }
-                other => match codes::g_code(self.real_dialect(), f64::from(other)) {
+                other => match codes::g_code(self.real_dialect(), g_number(other)) {
                     // Nothing vpcut simulates changes (planes, dwell, feed and speed modes).
                     Verdict::Run => {}
                     Verdict::Refused(msg) => return Err((1, msg)),
@@ -131,7 +203,46 @@ impl Machine<'_> {
         let xs = if self.diameter_mode { 1.0 } else { 2.0 };
         // Absolute X/Z are in the active work system (G54..G59): its zero lies at the
         // offset in the job's frame.
-        let (ox, oz) = self.offsets[self.work];
+        let (ox, oz) = if machine_coords {
+            if self.incremental {
+                return Err((
+                    1,
+                    "G53 needs absolute coordinates (G90): it cannot be used with G91".into(),
+                ));
+            }
+            if !fanuc_g53 && !matches!(self.motion, 0 | 1) {
+                return Err((
+                    1,
+                    format!("G53 needs G0 or G1 active, not G{}", self.motion),
+                ));
+            }
+            (0.0, 0.0)
+        } else {
+            let (ox, oz) = self.offsets[self.work];
+            (ox + self.g92_off.0, oz + self.g92_off.1)
+        };
+        if g10 {
+            return self.lc_g10(w, xs, scale).map(|()| Step::Next);
+        }
+        if g92_set {
+            // The current point reads X/Z from now on: the offset is what lies between.
+            let (wx, wz) = self.offsets[self.work];
+            if let Some(v) = val("X") {
+                self.g92_off.0 = self.x - wx - v * xs * scale;
+            }
+            if let Some(v) = val("Z") {
+                self.g92_off.1 = self.z - wz - v * scale;
+            }
+            if !w.vals.contains_key("X") && !w.vals.contains_key("Z") {
+                return Err((
+                    1,
+                    "G92 needs X or Z (the coordinates the current point gets)".into(),
+                ));
+            }
+            self.lc.st.g92_params = self.g92_off;
+            self.lc.st.g92_on = true;
+            return Ok(Step::Next);
+        }
         if let Some(v) = val("X").map(|v| v * xs) {
             x = if self.incremental {
                 self.x + v * scale
@@ -158,12 +269,46 @@ impl Machine<'_> {
                 moved = true;
             }
         }
+        if fanuc_g53 {
+            // FANUC: absolute X/Z only (U/W are not read with G53), a rapid move.
+            if w.vals.contains_key("U") || w.vals.contains_key("W") {
+                return Err((1, "G53 takes X/Z in machine coordinates, not U/W".into()));
+            }
+            if (x, z) != (self.x, self.z) {
+                self.emit(prog, pc, MoveKind::Rapid, (self.x, self.z), (x, z), None);
+            }
+            (self.x, self.z) = (x, z);
+            return Ok(if end { Step::End } else { Step::Next });
+        }
+        if let Some(g) = lc_home {
+            // LinuxCNC G28/G30: with axis words a rapid to that point (offsets applied),
+            // then a rapid of the named axes to #5161../#5181..; without, all axes go home.
+            let target = if g == 28 {
+                self.lc.st.home28
+            } else {
+                self.lc.st.home30
+            };
+            let named_x = w.vals.contains_key("X");
+            let named_z = w.vals.contains_key("Z");
+            let any = named_x || named_z;
+            let end_point = (
+                if named_x || !any { target.0 } else { x },
+                if named_z || !any { target.1 } else { z },
+            );
+            let path = [(self.x, self.z), (x, z), end_point];
+            for seg in path.windows(2) {
+                if seg[0] != seg[1] {
+                    self.emit(prog, pc, MoveKind::Rapid, seg[0], seg[1], None);
+                }
+            }
+            (self.x, self.z) = end_point;
+            return Ok(if end { Step::End } else { Step::Next });
+        }
         if home {
-            let Some(reference) = self.reference else {
-                return Err((
-                    1,
-                    "G28 needs the machine's reference point: set [program] reference_point in the job".into(),
-                ));
+            let reference = if second {
+                self.reference2
+            } else {
+                self.reference
             };
             let named = |a: &str, b: &str| w.vals.contains_key(a) || w.vals.contains_key(b);
             let end_point = (
@@ -204,7 +349,19 @@ impl Machine<'_> {
                 (_, 1) => (MoveKind::Feed, None, None, None),
                 (Dialect::Linuxcnc, 33) => {
                     let k = val("K").ok_or((1, "G33 needs K (the pitch)".to_string()))? * scale;
-                    (MoveKind::Thread, Some(k), Some(0.0), Some(0.0))
+                    // rs274/LinuxCNC: K is the distance per revolution along the programmed
+                    // move (the trajectory planner ties path progress to the spindle), so a
+                    // tapered G33 advances K cos(taper) in Z per revolution; vpcut's lead is
+                    // the Z lead.
+                    let (dr, dz) = ((x - self.x) / 2.0, z - self.z);
+                    let path = dr.hypot(dz);
+                    // (Exactly K on a straight thread.)
+                    let lead = if dz != 0.0 && dr != 0.0 {
+                        k * dz.abs() / path
+                    } else {
+                        k
+                    };
+                    (MoveKind::Thread, Some(lead), Some(0.0), Some(0.0))
                 }
                 (Dialect::Fanuc, 34) if self.gsk => {
                     return self.gsk_g34(w, prog, pc, x, z, scale);
@@ -461,21 +618,8 @@ impl Machine<'_> {
     }
 
     /// One pass of a threading cycle: rapid from `home` to the start (Z first, then X),
-    /// thread to `end`, rapid out to home's X and back to home's Z. Zero-length rapids are
-    /// left out.
-    pub(super) fn cycle_pass(
-        &mut self,
-        prog: &Program,
-        pc: usize,
-        home: (f64, f64),
-        start: (f64, f64),
-        end: (f64, f64),
-        sync: Sync,
-    ) {
-        self.cycle_pass_chamfered(prog, pc, home, start, end, sync, 0.0);
-    }
-
-    /// `cycle_pass` with a thread chamfer (pull-out) of `chamfer` mm (0 = none; less than
+    /// thread to `end`, rapid out to home's X and back to home's Z (zero-length rapids are
+    /// left out), with a thread chamfer (pull-out) of `chamfer` mm (0 = none; less than
     /// the Z travel): the thread runs to `chamfer` before `end`'s Z, then a second thread
     /// move, continuing the same sync (lead and spindle phase, no new index wait: see
     /// `Sync::after`), goes out by `chamfer` in radius (45 deg) towards home's X while Z

@@ -55,6 +55,51 @@ fn strip_comment(line: &str, dialect: Dialect) -> String {
     out.trim().to_string()
 }
 
+/// FANUC tape text: `;` outside a comment is the end of block (EOB, what FANUC screens and
+/// ISO tapes print for LF), so one line may hold several blocks (`%;O1200;G0 X20;...`).
+/// Each block becomes a line of its own that keeps its line number; the text before it on
+/// the line is blanked to spaces so that columns stay those of the file. A `%` at the start
+/// of a line (the tape start, as in `%O1200(THREAD)`) is blanked too.
+fn split_eob(line: &str) -> Vec<String> {
+    const PAD: usize = 160;
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut depth = 0;
+    for (k, c) in line.chars().enumerate() {
+        match c {
+            '(' => depth += 1,
+            ')' if depth > 0 => depth -= 1,
+            ';' if depth == 0 => {
+                out.push(std::mem::take(&mut cur));
+                // The next block starts after this `;`: blank what came before, so that
+                // columns stay the file's (up to `PAD` characters: a hostile line of many
+                // thousand blocks must not cost the square of its length; later blocks
+                // count columns from their own start).
+                let before = k + 1;
+                if before <= PAD {
+                    cur = " ".repeat(before);
+                }
+                continue;
+            }
+            _ => {}
+        }
+        cur.push(c);
+    }
+    out.push(cur);
+    out.into_iter()
+        .map(|b| {
+            let t = b.trim_start();
+            match t.strip_prefix('%') {
+                Some(rest) if !rest.trim().is_empty() => {
+                    format!("{} {rest}", " ".repeat(b.len() - t.len()))
+                }
+                _ => b,
+            }
+        })
+        .filter(|b| !b.trim().is_empty())
+        .collect()
+}
+
 /// The programs of a file: for FANUC syntax each `O<number>` line starts a new program
 /// (named `O<number>`, the first one also by the file's name); Siemens files hold one.
 ///
@@ -75,9 +120,21 @@ pub(super) fn load_programs(src: &Source, dialect: Dialect, skip: bool) -> Vec<P
     let mut out = Vec::new();
     let mut name = src.name.clone();
     let mut alias: Option<String> = None;
-    let mut lines: Vec<(usize, &str)> = Vec::new();
-    for (i, line) in src.text.lines().enumerate() {
-        let text = strip_comment(line, dialect);
+    let mut lines: Vec<(usize, String)> = Vec::new();
+    let split: Vec<(usize, String)> = src
+        .text
+        .lines()
+        .enumerate()
+        .flat_map(|(i, line)| {
+            if dialect == Dialect::Fanuc {
+                split_eob(line).into_iter().map(|b| (i, b)).collect()
+            } else {
+                vec![(i, line.to_string())]
+            }
+        })
+        .collect();
+    for (i, line) in split {
+        let text = strip_comment(&line, dialect);
         let onum = text
             .strip_prefix('O')
             .filter(|r| !r.is_empty() && r.chars().all(|c| c.is_ascii_digit()))
@@ -108,11 +165,12 @@ pub(super) fn load_programs(src: &Source, dialect: Dialect, skip: bool) -> Vec<P
     out
 }
 
-fn load_program(name: &str, lines: &[(usize, &str)], dialect: Dialect, skip: bool) -> Program {
+fn load_program(name: &str, lines: &[(usize, String)], dialect: Dialect, skip: bool) -> Program {
     let mut blocks = Vec::new();
     let mut labels = HashMap::new();
     let mut numbers = HashMap::new();
-    for &(i, line) in lines {
+    for (i, line) in lines {
+        let (i, line) = (*i, line.as_str());
         let mut text = strip_comment(line, dialect);
         if let Some(rest) = text.strip_prefix('/') {
             if skip {

@@ -154,10 +154,10 @@ fn g50_sets_the_position_and_g70_is_not_inch_on_fanuc() {
             .contains("G70 (multiple repetitive cycle) is not simulated"),
         "{e}"
     );
-    let e = run("G92 X10\n", Dialect::Linuxcnc).unwrap_err();
+    let e = run("G52 X10\n", Dialect::Linuxcnc).unwrap_err();
     assert!(
         e.message
-            .contains("G92 (coordinate system offset) is not simulated"),
+            .contains("G52 (local coordinate system offset) is not simulated"),
         "{e}"
     );
 }
@@ -298,12 +298,10 @@ fn unknown_codes_warn_or_fail_in_strict_mode() {
     let e = run_opts(text, Dialect::Fanuc, true).unwrap_err();
     assert_eq!(e.all().len(), 3, "{e}");
     assert!(e.all().iter().all(|d| d.severity == Severity::Error));
-    // G30 would leave the tool somewhere vpcut cannot know: refused even without --strict.
-    let e = run_opts("G30 U0 W0\n", Dialect::Fanuc, false).unwrap_err();
-    assert!(
-        e.message.contains("G30 (second reference point return"),
-        "{e}"
-    );
+    // A code that would leave the tool somewhere vpcut cannot know: refused even without
+    // --strict (G30 goes to the second reference point since issue 17).
+    let e = run_opts("G52 U0 W0\n", Dialect::Fanuc, false).unwrap_err();
+    assert!(e.message.contains("G52 (coordinate system setting"), "{e}");
     // A warning of a block inside a loop is reported once.
     let t = run_opts(
         "#1=0\nWHILE [#1 LT 3] DO1\nM123\n#1=#1+1\nEND1\n",

@@ -190,3 +190,68 @@ fn g76_tapers_match_linuxcnc() {
         }
     }
 }
+
+/// Every move rs274 makes (rapids, synchronised radial moves, threads), each from where the
+/// one before ended: vpcut lists the same moves for G33 and G76 (issue 17: the cycles'
+/// rapids, the radial move of an entry taper, and where G76 leaves the tool). rs274's
+/// zero-length traverses are left out, as vpcut leaves them out.
+#[test]
+fn every_move_of_g33_and_g76_matches_linuxcnc() {
+    let dir = root().join("tests/data/linuxcnc");
+    let names = [
+        "g33-g7",
+        "g76-g7-external-r2-q29.5-h1",
+        "g76-g8-external-r1",
+        "g76-g7-internal-r1.5-q30-h2",
+        "g76-g7-external-taper-e2-l3",
+        "g76-g7-external-taper-e2-l1",
+        "g76-g8-internal-taper-e1.5-l2",
+        "oword-sub-g76",
+    ];
+    for name in names {
+        let ngc = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+        let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
+        let mut want: Vec<[f64; 4]> = Vec::new();
+        let (mut x, mut z) = (0.0, 0.0);
+        for line in canon.lines() {
+            if !(line.contains("STRAIGHT_TRAVERSE(") || line.contains("STRAIGHT_FEED(")) {
+                continue;
+            }
+            let inner = &line[line.find('(').unwrap() + 1..line.rfind(')').unwrap()];
+            let v: Vec<f64> = inner
+                .split(',')
+                .map(|s| s.trim().parse().unwrap())
+                .collect();
+            if (v[0], v[2]) != (x, z) {
+                want.push([x / 1000.0, z / 1000.0, v[0] / 1000.0, v[2] / 1000.0]);
+            }
+            (x, z) = (v[0], v[2]);
+        }
+        let src = Source {
+            name: format!("{name}.ngc"),
+            text: ngc,
+        };
+        let moves = interpret(&src, Dialect::Linuxcnc, &beside, Limits::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let got: Vec<[f64; 4]> = moves
+            .iter()
+            .map(|m| {
+                [
+                    m.x_start / 2000.0,
+                    m.z_start / 1000.0,
+                    m.x_dia / 2000.0,
+                    m.z / 1000.0,
+                ]
+            })
+            .collect();
+        assert_eq!(got.len(), want.len(), "{name}: move count");
+        for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+            for c in 0..4 {
+                assert!(
+                    (g[c] - w[c]).abs() < 1e-6,
+                    "{name} move {k}: {g:?} vs LinuxCNC {w:?}"
+                );
+            }
+        }
+    }
+}

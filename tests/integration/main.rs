@@ -29,6 +29,8 @@ mod plan;
 mod plots;
 /// NC programs against the pass generators that transcribe the same methods.
 mod programs;
+/// Issue 17: a corpus of threading programs in the style of real ones runs end to end.
+mod real_programs;
 /// The headless renderer: shader validity, pixel geometry, determinism, golden pictures.
 mod render;
 /// Bad input never panics.
