@@ -13,7 +13,7 @@
 //! Volumes are exact per dexel in cylindrical coordinates, `|r1^2 - r2^2|/2 * dtheta * dz`,
 //! summed in a fixed order (columns, then cells) so they do not depend on the thread count.
 
-use crate::stock::{Stock, Surface};
+use crate::stock::{Grid, Stock, Surface};
 use crate::thread::{Flank, ThreadSpec};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -227,7 +227,6 @@ impl Deviation {
 /// Compare the thread's surface of `stock` with the ideal, inside the axial window
 /// `[z_lo, z_hi]` intersected with each generator's thread span.
 pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviation {
-    let grid = stock.grid;
     let surface = match thread.side {
         crate::thread::Side::External => Surface::Outer,
         crate::thread::Side::Internal => Surface::Inner,
@@ -235,157 +234,199 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
     let Some(q) = stock.surface(surface) else {
         return Deviation::default();
     };
-    let q_blank = stock.blank_q(surface);
-    let r_blank = surface.sense() * q_blank;
-    let cell = grid.dtheta() * grid.dz;
-    let z_first = grid.z(0);
-    let z_last = grid.z(grid.n_z.saturating_sub(1));
+    let grid = stock.grid;
+    let cmp = Comparer::new(grid, stock.blank_q(surface), surface, thread, window);
     let columns: Vec<Deviation> = q
         .par_chunks(grid.n_z)
         .enumerate()
-        .map(|(i, col)| {
-            let theta = grid.theta(i);
-            let ideal = thread.column(theta, z_first, z_last);
-            let mut out = Deviation::default();
-            let sense = surface.sense();
-            for &qj in col.iter() {
-                let r = sense * (qj as f64 + q_blank);
-                out.total_removed_volume += (r_blank * r_blank - r * r).abs() * 0.5 * cell;
-            }
-            let Some((a, b)) = ideal.span else {
-                return out;
-            };
-            let lo = a.max(window.0);
-            let hi = b.min(window.1);
-            if hi < lo {
-                return out;
-            }
-            let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0) as usize;
-            let j1 = (((hi - grid.z0) / grid.dz).floor().max(-1.0) + 1.0) as usize;
-            let j1 = j1.min(grid.n_z);
-            if j1 <= j0 {
-                return out;
-            }
-            out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
-            let mut ideal_h = vec![0f32; j1 - j0];
-            ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
-            let depth = thread.depth() as f32;
-            let mut groove = 0usize;
-            let mut current: Option<((u32, i64), TurnDeviation)> = None;
-            let mut seg = ideal.advance(0, grid.z(j0));
-            let mut flat = Flat {
-                theta,
-                open: None,
-                found: Vec::new(),
-            };
-            for (k, &hi32) in ideal_h.iter().enumerate() {
-                let j = j0 + k;
-                let z = grid.z(j);
-                let key = ideal
-                    .groove_at(groove, z)
-                    .map(|g| {
-                        groove = g;
-                        (ideal.grooves[g].start, ideal.grooves[g].turn)
-                    })
-                    .unwrap_or((0, 0));
-                if current.as_ref().is_none_or(|c| c.0 != key) {
-                    if let Some((k0, td)) = current.take() {
-                        out.turns.entry(k0).or_default().merge(&td);
-                    }
-                    current = Some((key, TurnDeviation::default()));
-                }
-                let td = &mut current.as_mut().expect("set above").1;
-                let r_cut = sense * (col[j] as f64 + q_blank);
-                let h_cut = thread.height(r_cut);
-                let h_ideal = hi32 as f64;
-                let r_ideal = thread.radius(h_ideal);
-                out.compared_dexels += 1;
-                td.compared += 1;
-                out.removed_volume += (r_blank * r_blank - r_cut * r_cut).abs() * 0.5 * cell;
-                let ideal_removed = if sense * (r_blank - r_ideal) > 0.0 {
-                    (r_blank * r_blank - r_ideal * r_ideal).abs() * 0.5 * cell
-                } else {
-                    0.0
-                };
-                out.ideal_removed_volume += ideal_removed;
-                let gap = h_cut - h_ideal;
-                // Flats: how far the whole root (crest) of this crossing stays above (below)
-                // its ideal height, measured radially.
-                seg = ideal.advance(seg, z);
-                let whole = || {
-                    let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
-                    a >= lo && b <= hi
-                };
-                match ideal.flat(seg) {
-                    Some(true) if hi32 == 0.0 => flat.add(seg, true, whole(), gap, z, key),
-                    Some(false) if hi32 == depth => flat.add(seg, false, whole(), -gap, z, key),
-                    _ => flat.close(),
-                }
-                if gap == 0.0 {
-                    continue;
-                }
-                let vol = (r_ideal * r_ideal - r_cut * r_cut).abs() * 0.5 * cell;
-                let slots = if gap < 0.0 {
-                    td.gouge_volume += vol;
-                    &mut td.gouge
-                } else {
-                    td.leftover_volume += vol;
-                    &mut td.leftover
-                };
-                // The normal distance never exceeds the radial gap: skip points that
-                // cannot beat the smallest per-flank maximum seen so far.
-                let floor = slots
-                    .iter()
-                    .map(|s| s.map_or(0.0, |e| e.value))
-                    .fold(f64::INFINITY, f64::min);
-                if gap.abs() <= floor {
-                    continue;
-                }
-                let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
-                Extreme::keep_max(
-                    &mut slots[flank.index()],
-                    Extreme {
-                        value: d,
-                        theta,
-                        z,
-                        turn: key.1,
-                        start: key.0,
-                        flank,
-                    },
-                );
-            }
-            if let Some((k0, td)) = current.take() {
-                out.turns.entry(k0).or_default().merge(&td);
-            }
-            flat.close();
-            for (k0, e) in flat.found {
-                let td = out.turns.entry(k0).or_default();
-                let slots = if e.flank == Flank::Root {
-                    &mut td.leftover
-                } else {
-                    &mut td.gouge
-                };
-                Extreme::keep_max(&mut slots[e.flank.index()], e);
-            }
-            out
-        })
+        .map(|(i, col)| cmp.column(i, col))
         .collect();
     let mut total = Deviation::default();
     for c in &columns {
+        total.add_column(c);
+    }
+    total
+}
+
+impl Deviation {
+    /// Add one column's comparison (columns are added in column order, so that the sums
+    /// do not depend on how the columns were split between threads or tiles).
+    pub(crate) fn add_column(&mut self, c: &Deviation) {
         for (k, t) in &c.turns {
-            total.turns.entry(*k).or_default().merge(t);
+            self.turns.entry(*k).or_default().merge(t);
         }
-        total.removed_volume += c.removed_volume;
-        total.ideal_removed_volume += c.ideal_removed_volume;
-        total.total_removed_volume += c.total_removed_volume;
-        total.compared_dexels += c.compared_dexels;
+        self.removed_volume += c.removed_volume;
+        self.ideal_removed_volume += c.ideal_removed_volume;
+        self.total_removed_volume += c.total_removed_volume;
+        self.compared_dexels += c.compared_dexels;
         if let Some((a, b)) = c.compared_z {
-            total.compared_z = Some(
-                total
-                    .compared_z
+            self.compared_z = Some(
+                self.compared_z
                     .map_or((a, b), |(x, y)| (x.min(a), y.max(b))),
             );
         }
     }
-    total
+}
+
+/// The comparison of one grid's columns, one column at a time: [`compare`] runs it over a
+/// whole stock, the streaming pipeline on each column of a tile while it is in cache.
+pub(crate) struct Comparer<'a> {
+    grid: Grid,
+    thread: &'a ThreadSpec,
+    window: (f64, f64),
+    surface: Surface,
+    q_blank: f64,
+}
+
+impl<'a> Comparer<'a> {
+    /// The comparison of `surface` (blank signed radius `q_blank`) on `grid`.
+    pub(crate) fn new(
+        grid: Grid,
+        q_blank: f64,
+        surface: Surface,
+        thread: &'a ThreadSpec,
+        window: (f64, f64),
+    ) -> Comparer<'a> {
+        Comparer {
+            grid,
+            thread,
+            window,
+            surface,
+            q_blank,
+        }
+    }
+
+    /// Compare column `i` of the grid, its stored values `col`.
+    pub(crate) fn column(&self, i: usize, col: &[f32]) -> Deviation {
+        let (grid, thread, window, surface, q_blank) =
+            (&self.grid, self.thread, self.window, self.surface, self.q_blank);
+        let r_blank = surface.sense() * q_blank;
+        let cell = grid.dtheta() * grid.dz;
+        let z_first = grid.z(0);
+        let z_last = grid.z(grid.n_z.saturating_sub(1));
+        let theta = grid.theta(i);
+        let ideal = thread.column(theta, z_first, z_last);
+        let mut out = Deviation::default();
+        let sense = surface.sense();
+        for &qj in col.iter() {
+            let r = sense * (qj as f64 + q_blank);
+            out.total_removed_volume += (r_blank * r_blank - r * r).abs() * 0.5 * cell;
+        }
+        let Some((a, b)) = ideal.span else {
+            return out;
+        };
+        let lo = a.max(window.0);
+        let hi = b.min(window.1);
+        if hi < lo {
+            return out;
+        }
+        let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0) as usize;
+        let j1 = (((hi - grid.z0) / grid.dz).floor().max(-1.0) + 1.0) as usize;
+        let j1 = j1.min(grid.n_z);
+        if j1 <= j0 {
+            return out;
+        }
+        out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
+        let mut ideal_h = vec![0f32; j1 - j0];
+        ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
+        let depth = thread.depth() as f32;
+        let mut groove = 0usize;
+        let mut current: Option<((u32, i64), TurnDeviation)> = None;
+        let mut seg = ideal.advance(0, grid.z(j0));
+        let mut flat = Flat {
+            theta,
+            open: None,
+            found: Vec::new(),
+        };
+        for (k, &hi32) in ideal_h.iter().enumerate() {
+            let j = j0 + k;
+            let z = grid.z(j);
+            let key = ideal
+                .groove_at(groove, z)
+                .map(|g| {
+                    groove = g;
+                    (ideal.grooves[g].start, ideal.grooves[g].turn)
+                })
+                .unwrap_or((0, 0));
+            if current.as_ref().is_none_or(|c| c.0 != key) {
+                if let Some((k0, td)) = current.take() {
+                    out.turns.entry(k0).or_default().merge(&td);
+                }
+                current = Some((key, TurnDeviation::default()));
+            }
+            let td = &mut current.as_mut().expect("set above").1;
+            let r_cut = sense * (col[j] as f64 + q_blank);
+            let h_cut = thread.height(r_cut);
+            let h_ideal = hi32 as f64;
+            let r_ideal = thread.radius(h_ideal);
+            out.compared_dexels += 1;
+            td.compared += 1;
+            out.removed_volume += (r_blank * r_blank - r_cut * r_cut).abs() * 0.5 * cell;
+            let ideal_removed = if sense * (r_blank - r_ideal) > 0.0 {
+                (r_blank * r_blank - r_ideal * r_ideal).abs() * 0.5 * cell
+            } else {
+                0.0
+            };
+            out.ideal_removed_volume += ideal_removed;
+            let gap = h_cut - h_ideal;
+            // Flats: how far the whole root (crest) of this crossing stays above (below)
+            // its ideal height, measured radially.
+            seg = ideal.advance(seg, z);
+            let whole = || {
+                let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
+                a >= lo && b <= hi
+            };
+            match ideal.flat(seg) {
+                Some(true) if hi32 == 0.0 => flat.add(seg, true, whole(), gap, z, key),
+                Some(false) if hi32 == depth => flat.add(seg, false, whole(), -gap, z, key),
+                _ => flat.close(),
+            }
+            if gap == 0.0 {
+                continue;
+            }
+            let vol = (r_ideal * r_ideal - r_cut * r_cut).abs() * 0.5 * cell;
+            let slots = if gap < 0.0 {
+                td.gouge_volume += vol;
+                &mut td.gouge
+            } else {
+                td.leftover_volume += vol;
+                &mut td.leftover
+            };
+            // The normal distance never exceeds the radial gap: skip points that
+            // cannot beat the smallest per-flank maximum seen so far.
+            let floor = slots
+                .iter()
+                .map(|s| s.map_or(0.0, |e| e.value))
+                .fold(f64::INFINITY, f64::min);
+            if gap.abs() <= floor {
+                continue;
+            }
+            let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
+            Extreme::keep_max(
+                &mut slots[flank.index()],
+                Extreme {
+                    value: d,
+                    theta,
+                    z,
+                    turn: key.1,
+                    start: key.0,
+                    flank,
+                },
+            );
+        }
+        if let Some((k0, td)) = current.take() {
+            out.turns.entry(k0).or_default().merge(&td);
+        }
+        flat.close();
+        for (k0, e) in flat.found {
+            let td = out.turns.entry(k0).or_default();
+            let slots = if e.flank == Flank::Root {
+                &mut td.leftover
+            } else {
+                &mut td.gouge
+            };
+            Extreme::keep_max(&mut slots[e.flank.index()], e);
+        }
+        out
+    }
 }
