@@ -236,16 +236,66 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
     };
     let grid = stock.grid;
     let cmp = Comparer::new(grid, stock.blank_q(surface), surface, thread, window);
-    let columns: Vec<Deviation> = q
-        .par_chunks(grid.n_z)
+    let tile = tile_columns(grid.n_theta);
+    let tiles: Vec<Vec<Deviation>> = q
+        .par_chunks(tile * grid.n_z.max(1))
         .enumerate()
-        .map(|(i, col)| cmp.column(i, col))
+        .map(|(t, cols)| {
+            let mut prior = Prior::default();
+            cols.chunks(grid.n_z.max(1))
+                .enumerate()
+                .map(|(k, col)| {
+                    let d = cmp.column(t * tile + k, col, &prior);
+                    prior.add(&d);
+                    d
+                })
+                .collect()
+        })
         .collect();
     let mut total = Deviation::default();
-    for c in &columns {
+    for c in tiles.iter().flatten() {
         total.add_column(c);
     }
     total
+}
+
+/// Columns per tile of a grid of `n_theta` columns: 64 tiles (or one column each), so
+/// that the tiles do not depend on the thread count.
+pub(crate) fn tile_columns(n_theta: usize) -> usize {
+    n_theta.div_ceil(64).max(1)
+}
+
+/// The largest gouge and leftover per turn and flank of the columns compared before, in
+/// one tile (compared in column order on one thread). A point whose radial gap is at most
+/// the smallest of them over the four flanks cannot beat the earlier column's extreme on
+/// whichever flank it lies (its normal distance is at most its gap, and an earlier point
+/// wins a tie), so its normal distance is not computed: the merged extremes are exactly
+/// those of comparing every point, whatever the tiles.
+#[derive(Default)]
+pub(crate) struct Prior {
+    turns: BTreeMap<(u32, i64), ([f64; 4], [f64; 4])>,
+}
+
+impl Prior {
+    /// Take in a column's extremes.
+    pub(crate) fn add(&mut self, d: &Deviation) {
+        for (k, t) in &d.turns {
+            let e = self.turns.entry(*k).or_insert(([0.0; 4], [0.0; 4]));
+            for f in 0..4 {
+                if let Some(x) = t.gouge[f] {
+                    e.0[f] = e.0[f].max(x.value);
+                }
+                if let Some(x) = t.leftover[f] {
+                    e.1[f] = e.1[f].max(x.value);
+                }
+            }
+        }
+    }
+
+    /// The largest gouge and leftover per flank of turn `key` so far (0 for none).
+    fn floors(&self, key: (u32, i64)) -> ([f64; 4], [f64; 4]) {
+        self.turns.get(&key).copied().unwrap_or(([0.0; 4], [0.0; 4]))
+    }
 }
 
 impl Deviation {
@@ -297,7 +347,8 @@ impl<'a> Comparer<'a> {
     }
 
     /// Compare column `i` of the grid, its stored values `col`.
-    pub(crate) fn column(&self, i: usize, col: &[f32]) -> Deviation {
+    /// `prior`: the extremes of the columns before it in its tile.
+    pub(crate) fn column(&self, i: usize, col: &[f32], prior: &Prior) -> Deviation {
         let (grid, thread, window, surface, q_blank) =
             (&self.grid, self.thread, self.window, self.surface, self.q_blank);
         let r_blank = surface.sense() * q_blank;
@@ -332,6 +383,10 @@ impl<'a> Comparer<'a> {
         let depth = thread.depth() as f32;
         let mut groove = 0usize;
         let mut current: Option<((u32, i64), TurnDeviation)> = None;
+        let mut floors = ([0.0; 4], [0.0; 4]);
+        let kinds: Vec<Flank> = (0..ideal.verts.len() - 1)
+            .map(|i| ideal.segment_flank(i))
+            .collect();
         let mut seg = ideal.advance(0, grid.z(j0));
         let mut flat = Flat {
             theta,
@@ -353,6 +408,7 @@ impl<'a> Comparer<'a> {
                     out.turns.entry(k0).or_default().merge(&td);
                 }
                 current = Some((key, TurnDeviation::default()));
+                floors = prior.floors(key);
             }
             let td = &mut current.as_mut().expect("set above").1;
             let r_cut = sense * (col[j] as f64 + q_blank);
@@ -385,22 +441,24 @@ impl<'a> Comparer<'a> {
                 continue;
             }
             let vol = (r_ideal * r_ideal - r_cut * r_cut).abs() * 0.5 * cell;
-            let slots = if gap < 0.0 {
+            let (slots, before) = if gap < 0.0 {
                 td.gouge_volume += vol;
-                &mut td.gouge
+                (&mut td.gouge, &floors.0)
             } else {
                 td.leftover_volume += vol;
-                &mut td.leftover
+                (&mut td.leftover, &floors.1)
             };
-            // The normal distance never exceeds the radial gap: skip points that
-            // cannot beat the smallest per-flank maximum seen so far.
-            let floor = slots
-                .iter()
-                .map(|s| s.map_or(0.0, |e| e.value))
-                .fold(f64::INFINITY, f64::min);
-            if gap.abs() <= floor {
+            // The normal distance never exceeds the radial gap: skip points that cannot
+            // beat the maximum seen so far, in this column or in those before it in the
+            // tile ([`Prior`]), on any flank they can be nearest to.
+            let mut floor = [0.0; 4];
+            for f in 0..4 {
+                floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+            }
+            if cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
                 continue;
             }
+
             let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
             Extreme::keep_max(
                 &mut slots[flank.index()],
@@ -430,3 +488,55 @@ impl<'a> Comparer<'a> {
         out
     }
 }
+
+/// Whether a point at `z` in segment `seg` with radial gap `g` to the ideal cannot beat the
+/// maxima `floor` (per flank) on whichever flank it is nearest to: its normal distance is
+/// at most `g`, so the flank is that of a segment within `g` of it along the axis (or the
+/// crest, the distance's fallback), and it cannot win where `g` is at most that flank's
+/// maximum (an earlier point wins a tie).
+fn cannot_win(
+    ideal: &crate::thread::ColumnIdeal,
+    kinds: &[Flank],
+    seg: usize,
+    (z, h): (f64, f64),
+    g: f64,
+    floor: &[f64; 4],
+) -> bool {
+    if floor.iter().all(|&v| g <= v) {
+        return true;
+    }
+    let v = &ideal.verts;
+    let n = kinds.len();
+    // The distance falls back to the crest only when no segment lies within `g`: the
+    // one it starts from (the distance's first segment) settles that.
+    let first = seg.min(n - 1);
+    if g > floor[Flank::Crest.index()]
+        && crate::thread::segment_distance2((z, h), v[first], v[first + 1]) > g * g
+    {
+        return false;
+    }
+    // A margin over `g`: candidates are a superset of the segments the distance can pick.
+    let reach = g * (1.0 + 1e-9) + 1e-12;
+    let mut i = first;
+    while i < n {
+        if v[i].z - z > reach {
+            break;
+        }
+        if g > floor[kinds[i].index()] {
+            return false;
+        }
+        i += 1;
+    }
+    let mut i = first;
+    while i > 0 {
+        i -= 1;
+        if z - v[i + 1].z > reach {
+            break;
+        }
+        if g > floor[kinds[i].index()] {
+            return false;
+        }
+    }
+    true
+}
+

@@ -272,18 +272,9 @@ pub fn simulate_report(job: &Job, opts: &Options) -> Result<Report, SimError> {
     run(job, opts, false).map(|r| r.0)
 }
 
-/// Bytes a tile of columns aims for: a few columns of a short part, one of a long one,
-/// well inside a core's L2 (cut and edge-only cut together).
-const TILE_BYTES: usize = 1 << 19;
-
 /// Dexels a run sweeps and compares at most (a 1 m screw at 0.01 mm x 3600 has 3.6e8; this
 /// is about a minute of work on two cores).
 const MAX_GRID_DEXELS: u64 = 20_000_000_000;
-
-/// Columns per tile for columns of `n_z` cells.
-fn tile_columns(n_z: usize) -> usize {
-    (TILE_BYTES / (4 * n_z.max(1))).max(1)
-}
 
 /// One column's results: what the sweep did, the comparison, the body interference, and
 /// the seconds spent sweeping and comparing (to split the fused pipeline's wall time).
@@ -306,7 +297,13 @@ struct Pipeline<'a> {
 
 impl Pipeline<'_> {
     /// Column `i`, held in `col` (and `edge`, the edges' cut): both are cut in place.
-    fn column(&self, i: usize, col: &mut [f32], edge: Option<&mut [f32]>) -> ColumnOut {
+    fn column(
+        &self,
+        i: usize,
+        col: &mut [f32],
+        edge: Option<&mut [f32]>,
+        prior: &mut compare::Prior,
+    ) -> ColumnOut {
         let t0 = Instant::now();
         let stats = self.sweep.column(i, col);
         let edge = match (edge, &self.edges) {
@@ -317,7 +314,8 @@ impl Pipeline<'_> {
             _ => None,
         };
         let t1 = Instant::now();
-        let dev = self.cmp.column(i, col);
+        let dev = self.cmp.column(i, col, prior);
+        prior.add(&dev);
         let hits = edge.map(|e| self.bodies.column(i, e, col));
         let t2 = Instant::now();
         ColumnOut {
@@ -332,11 +330,12 @@ impl Pipeline<'_> {
     fn tile(&self, first: usize, cols: &mut [f32], edges: Option<&mut [f32]>) -> Vec<ColumnOut> {
         let n_z = self.n_z;
         let mut edges = edges;
+        let mut prior = compare::Prior::default();
         cols.chunks_mut(n_z)
             .enumerate()
             .map(|(k, col)| {
                 let e = edges.as_deref_mut().map(|e| &mut e[k * n_z..(k + 1) * n_z]);
-                self.column(first + k, col, e)
+                self.column(first + k, col, e, &mut prior)
             })
             .collect()
     }
@@ -380,7 +379,7 @@ fn run(
     let twice = !swept.is_empty() && has_surface;
     let whole = keep || job.mill.is_some();
     let threads = rayon::current_num_threads().max(1);
-    let tile = tile_columns(grid.n_z * if twice { 2 } else { 1 });
+    let tile = compare::tile_columns(grid.n_theta);
     // The memory held at once: the whole grid (twice with swept bodies), or a column per
     // thread (two with swept bodies).
     let (held, held_as) = if whole {
@@ -517,13 +516,14 @@ fn run(
                 |bufs, t| {
                     let (main, edge) = bufs.as_mut()?;
                     let cols = t * tile..((t + 1) * tile).min(grid.n_theta);
+                    let mut prior = compare::Prior::default();
                     Some(
                         cols.map(|i| {
                             main.fill(0.0);
                             if let Some(e) = edge.as_mut() {
                                 e.fill(0.0);
                             }
-                            pipe.column(i, main, edge.as_deref_mut())
+                            pipe.column(i, main, edge.as_deref_mut(), &mut prior)
                         })
                         .collect(),
                     )

@@ -472,7 +472,7 @@ fn envelope(grooves: &[Groove], depth: f64, widening: f64, z_lo: f64, z_hi: f64)
 }
 
 /// Squared distance from a point to a segment in `(z, h)`.
-fn segment_distance2(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
+pub(crate) fn segment_distance2(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
     let (dz, dh) = (b.z - a.z, b.h - a.h);
     let len2 = dz * dz + dh * dh;
     let u = if len2 > 0.0 {
@@ -513,11 +513,22 @@ impl ColumnIdeal {
         while i > 0 && cell_of(self.verts[i].z) > j0 as f64 {
             i -= 1;
         }
+        // The cell the next vertex falls on, computed once per vertex.
+        let n = self.verts.len();
+        let next_of = |i: usize| {
+            if i + 2 < n {
+                cell_of(self.verts[i + 1].z)
+            } else {
+                f64::INFINITY
+            }
+        };
+        let mut next = next_of(i);
         for (k, o) in out.iter_mut().enumerate() {
             let j = (j0 + k) as f64;
             let z = z0 + j * dz;
-            while i + 2 < self.verts.len() && cell_of(self.verts[i + 1].z) <= j {
+            while next <= j {
                 i += 1;
+                next = next_of(i);
             }
             let (a, b) = (self.verts[i], self.verts[i + 1]);
             let h = if b.z <= a.z {
@@ -639,6 +650,12 @@ impl ColumnIdeal {
             hint += 1;
         }
         hint
+    }
+
+    /// The part of the profile segment `i` belongs to (as [`ColumnIdeal::distance`] names
+    /// the segments).
+    pub(crate) fn segment_flank(&self, i: usize) -> Flank {
+        self.segment_kind(self.verts[i], self.verts[i + 1])
     }
 
     fn segment_kind(&self, a: Vertex, b: Vertex) -> Flank {
