@@ -33,6 +33,7 @@ mod programs;
 mod render;
 /// Bad input never panics.
 mod robust;
+mod streaming;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;
 /// No false PASS: randomized clean cuts pass, short defects fail on their turn and flank.
