@@ -359,35 +359,75 @@ impl<'a> Comparer<'a> {
         let ideal = thread.column(theta, z_first, z_last);
         let mut out = Deviation::default();
         let sense = surface.sense();
-        for &qj in col.iter() {
+        // The volume a cell's cut removes from the blank (summed over every cell, and over
+        // the compared ones), in cell order: a sum's order is part of the report.
+        let removed = |qj: f32| {
             let r = sense * (qj as f64 + q_blank);
-            out.total_removed_volume += (r_blank * r_blank - r * r).abs() * 0.5 * cell;
-        }
-        let Some((a, b)) = ideal.span else {
+            (r_blank * r_blank - r * r).abs() * 0.5 * cell
+        };
+        // The compared cells [j0, j1), if any.
+        let range = ideal.span.and_then(|(a, b)| {
+            let lo = a.max(window.0);
+            let hi = b.min(window.1);
+            if hi < lo {
+                return None;
+            }
+            let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0) as usize;
+            let j1 = (((hi - grid.z0) / grid.dz).floor().max(-1.0) + 1.0) as usize;
+            let j1 = j1.min(grid.n_z);
+            (j1 > j0).then_some((lo, hi, j0, j1))
+        });
+        let Some((lo, hi, j0, j1)) = range else {
+            for &qj in col.iter() {
+                out.total_removed_volume += removed(qj);
+            }
             return out;
         };
-        let lo = a.max(window.0);
-        let hi = b.min(window.1);
-        if hi < lo {
-            return out;
-        }
-        let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0) as usize;
-        let j1 = (((hi - grid.z0) / grid.dz).floor().max(-1.0) + 1.0) as usize;
-        let j1 = j1.min(grid.n_z);
-        if j1 <= j0 {
-            return out;
+        for &qj in &col[..j0] {
+            out.total_removed_volume += removed(qj);
         }
         out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
         let mut ideal_h = vec![0f32; j1 - j0];
         ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
         let depth = thread.depth() as f32;
-        let mut groove = 0usize;
-        let mut current: Option<((u32, i64), TurnDeviation)> = None;
-        let mut floors = ([0.0; 4], [0.0; 4]);
         let kinds: Vec<Flank> = (0..ideal.verts.len() - 1)
             .map(|i| ideal.segment_flank(i))
             .collect();
+        let flats: Vec<Option<bool>> = (0..kinds.len()).map(|i| ideal.flat(i)).collect();
+        let whole: Vec<bool> = (0..kinds.len())
+            .map(|i| ideal.verts[i].z >= lo && ideal.verts[i + 1].z <= hi)
+            .collect();
+        // The groove and the segment of the ideal walked along z, each with the z where
+        // it next changes (as `groove_at` and `advance` decide it).
+        let grooves = &ideal.grooves;
+        let groove_end = |g: usize| {
+            if g + 1 < grooves.len() {
+                0.5 * (grooves[g].z_hi + grooves[g + 1].z_lo)
+            } else {
+                f64::INFINITY
+            }
+        };
+        let key_of = |g: usize| {
+            grooves
+                .get(g)
+                .map_or((0, 0), |g| (g.start, g.turn))
+        };
+        let mut groove = 0usize;
+        let mut next_groove = groove_end(groove);
+        let nv = ideal.verts.len();
+        let seg_end = |s: usize| {
+            if s + 2 < nv {
+                ideal.verts[s + 1].z
+            } else {
+                f64::INFINITY
+            }
+        };
         let mut seg = ideal.advance(0, grid.z(j0));
+        let mut next_seg = seg_end(seg);
+        let mut key = key_of(groove);
+        let mut td = TurnDeviation::default();
+        let mut started = false;
+        let mut floors = ([0.0; 4], [0.0; 4]);
         let mut flat = Flat {
             theta,
             open: None,
@@ -396,28 +436,34 @@ impl<'a> Comparer<'a> {
         for (k, &hi32) in ideal_h.iter().enumerate() {
             let j = j0 + k;
             let z = grid.z(j);
-            let key = ideal
-                .groove_at(groove, z)
-                .map(|g| {
-                    groove = g;
-                    (ideal.grooves[g].start, ideal.grooves[g].turn)
-                })
-                .unwrap_or((0, 0));
-            if current.as_ref().is_none_or(|c| c.0 != key) {
-                if let Some((k0, td)) = current.take() {
-                    out.turns.entry(k0).or_default().merge(&td);
+            if z >= next_groove {
+                while z >= next_groove {
+                    groove += 1;
+                    next_groove = groove_end(groove);
                 }
-                current = Some((key, TurnDeviation::default()));
+            }
+            let now = key_of(groove);
+            if !started || now != key {
+                if started {
+                    out.turns
+                        .entry(key)
+                        .or_default()
+                        .merge(&std::mem::take(&mut td));
+                }
+                started = true;
+                key = now;
                 floors = prior.floors(key);
             }
-            let td = &mut current.as_mut().expect("set above").1;
-            let r_cut = sense * (col[j] as f64 + q_blank);
+            let qj = col[j];
+            let r_cut = sense * (qj as f64 + q_blank);
             let h_cut = thread.height(r_cut);
             let h_ideal = hi32 as f64;
             let r_ideal = thread.radius(h_ideal);
             out.compared_dexels += 1;
             td.compared += 1;
-            out.removed_volume += (r_blank * r_blank - r_cut * r_cut).abs() * 0.5 * cell;
+            let v = removed(qj);
+            out.total_removed_volume += v;
+            out.removed_volume += v;
             let ideal_removed = if sense * (r_blank - r_ideal) > 0.0 {
                 (r_blank * r_blank - r_ideal * r_ideal).abs() * 0.5 * cell
             } else {
@@ -427,14 +473,13 @@ impl<'a> Comparer<'a> {
             let gap = h_cut - h_ideal;
             // Flats: how far the whole root (crest) of this crossing stays above (below)
             // its ideal height, measured radially.
-            seg = ideal.advance(seg, z);
-            let whole = || {
-                let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
-                a >= lo && b <= hi
-            };
-            match ideal.flat(seg) {
-                Some(true) if hi32 == 0.0 => flat.add(seg, true, whole(), gap, z, key),
-                Some(false) if hi32 == depth => flat.add(seg, false, whole(), -gap, z, key),
+            while next_seg <= z {
+                seg += 1;
+                next_seg = seg_end(seg);
+            }
+            match flats[seg] {
+                Some(true) if hi32 == 0.0 => flat.add(seg, true, whole[seg], gap, z, key),
+                Some(false) if hi32 == depth => flat.add(seg, false, whole[seg], -gap, z, key),
                 _ => flat.close(),
             }
             if gap == 0.0 {
@@ -458,7 +503,6 @@ impl<'a> Comparer<'a> {
             if cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
                 continue;
             }
-
             let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
             Extreme::keep_max(
                 &mut slots[flank.index()],
@@ -472,8 +516,11 @@ impl<'a> Comparer<'a> {
                 },
             );
         }
-        if let Some((k0, td)) = current.take() {
-            out.turns.entry(k0).or_default().merge(&td);
+        for &qj in &col[j1..] {
+            out.total_removed_volume += removed(qj);
+        }
+        if started {
+            out.turns.entry(key).or_default().merge(&td);
         }
         flat.close();
         for (k0, e) in flat.found {

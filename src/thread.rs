@@ -533,6 +533,9 @@ impl ColumnIdeal {
             let (a, b) = (self.verts[i], self.verts[i + 1]);
             let h = if b.z <= a.z {
                 a.h.min(b.h)
+            } else if a.h == b.h {
+                // A flat: `u * (b.h - a.h)` is +0 whatever `u` (in [0, 1]).
+                a.h + 0.0
             } else {
                 let u = ((z - a.z) / (b.z - a.z)).clamp(0.0, 1.0);
                 a.h + u * (b.h - a.h)
