@@ -7,9 +7,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::time::Duration;
-use vpcut::{
-    compare, plan_grid, simulate, simulate_report, sweep, Job, Options, Stock, Surface,
-};
+use vpcut::{compare, plan_grid, simulate, simulate_report, sweep, Job, Options, Stock, Surface};
 
 fn scene(name: &str) -> Job {
     let path = format!("{}/scenes/{name}/job.toml", env!("CARGO_MANIFEST_DIR"));

@@ -294,7 +294,10 @@ impl Prior {
 
     /// The largest gouge and leftover per flank of turn `key` so far (0 for none).
     fn floors(&self, key: (u32, i64)) -> ([f64; 4], [f64; 4]) {
-        self.turns.get(&key).copied().unwrap_or(([0.0; 4], [0.0; 4]))
+        self.turns
+            .get(&key)
+            .copied()
+            .unwrap_or(([0.0; 4], [0.0; 4]))
     }
 }
 
@@ -349,8 +352,13 @@ impl<'a> Comparer<'a> {
     /// Compare column `i` of the grid, its stored values `col`.
     /// `prior`: the extremes of the columns before it in its tile.
     pub(crate) fn column(&self, i: usize, col: &[f32], prior: &Prior) -> Deviation {
-        let (grid, thread, window, surface, q_blank) =
-            (&self.grid, self.thread, self.window, self.surface, self.q_blank);
+        let (grid, thread, window, surface, q_blank) = (
+            &self.grid,
+            self.thread,
+            self.window,
+            self.surface,
+            self.q_blank,
+        );
         let r_blank = surface.sense() * q_blank;
         let cell = grid.dtheta() * grid.dz;
         let z_first = grid.z(0);
@@ -407,11 +415,7 @@ impl<'a> Comparer<'a> {
                 f64::INFINITY
             }
         };
-        let key_of = |g: usize| {
-            grooves
-                .get(g)
-                .map_or((0, 0), |g| (g.start, g.turn))
-        };
+        let key_of = |g: usize| grooves.get(g).map_or((0, 0), |g| (g.start, g.turn));
         let mut groove = 0usize;
         let mut next_groove = groove_end(groove);
         let nv = ideal.verts.len();
@@ -586,4 +590,3 @@ fn cannot_win(
     }
     true
 }
-

@@ -555,8 +555,8 @@ fn run(
         s_compare += c.seconds.1;
     }
     drop(columns);
-    let bodies = interference::has_bodies(job)
-        .then(|| (hits, interference::clearances(job), swept));
+    let bodies =
+        interference::has_bodies(job).then(|| (hits, interference::clearances(job), swept));
     // Sweep and compare run fused: their wall time is split in proportion to their CPU
     // time.
     let fused = t0.elapsed().as_secs_f64();

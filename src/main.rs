@@ -289,8 +289,11 @@ struct SimulateArgs {
     /// Exit with code 1 when the verdict is fail (for CI).
     #[arg(long)]
     check: bool,
-    /// Dexel budget (both surfaces); the job is refused before allocating when its grid
-    /// needs more. Default: the job's [simulation] max_dexels, else 2e8 (about 0.8 GB).
+    /// Dexel budget: the dexels the run holds at once (4 bytes each); the job is refused
+    /// before allocating when it needs more. Without --gltf, --png/--renders or --plots
+    /// the columns are streamed (a column per thread is held, two with rubbing tool
+    /// bodies); with them the whole grid is held (both surfaces, and the edges' cut with
+    /// rubbing bodies). Default: the job's [simulation] max_dexels, else 2e8 (0.8 GB).
     #[arg(long, value_name = "N")]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores). Results do
@@ -781,9 +784,22 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some((developed, section)) = plot_slots {
         let tol = job.sim.tolerance;
         let (dev, sec) = progress.stage("drawing the plots", || {
-            let dev = vpcut::developed_view(&grids.as_ref().expect("the grid was kept").stock, &job.thread, tol, 1440, 900);
+            let dev = vpcut::developed_view(
+                &grids.as_ref().expect("the grid was kept").stock,
+                &job.thread,
+                tol,
+                1440,
+                900,
+            );
             let angle = args.section_angle.unwrap_or(0.0).to_radians();
-            let sec = vpcut::section_view(&grids.as_ref().expect("the grid was kept").stock, &job.thread, angle, tol, 1600, 600);
+            let sec = vpcut::section_view(
+                &grids.as_ref().expect("the grid was kept").stock,
+                &job.thread,
+                angle,
+                tol,
+                1600,
+                600,
+            );
             (png(&dev), png(&sec))
         });
         outs.put(developed, &dev?)?;
@@ -808,13 +824,11 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             say.write(&format!("  wrote {}\n", p.display()));
         }
     }
-    Ok(
-        if args.check && report.verdict == vpcut::Verdict::Fail {
-            ExitCode::from(1)
-        } else {
-            ExitCode::SUCCESS
-        },
-    )
+    Ok(if args.check && report.verdict == vpcut::Verdict::Fail {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {

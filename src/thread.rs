@@ -523,24 +523,36 @@ impl ColumnIdeal {
             }
         };
         let mut next = next_of(i);
-        for (k, o) in out.iter_mut().enumerate() {
+        // Runs of cells on one segment: a wall or a flat is one value.
+        let len = out.len();
+        let mut k = 0;
+        while k < len {
             let j = (j0 + k) as f64;
-            let z = z0 + j * dz;
             while next <= j {
                 i += 1;
                 next = next_of(i);
             }
+            // The cells before the next vertex's (`next` is a whole cell number > j).
+            let end = if next.is_finite() {
+                ((next - j0 as f64) as usize).min(len)
+            } else {
+                len
+            };
             let (a, b) = (self.verts[i], self.verts[i + 1]);
-            let h = if b.z <= a.z {
-                a.h.min(b.h)
+            let run = &mut out[k..end];
+            if b.z <= a.z {
+                run.fill(a.h.min(b.h) as f32);
             } else if a.h == b.h {
                 // A flat: `u * (b.h - a.h)` is +0 whatever `u` (in [0, 1]).
-                a.h + 0.0
+                run.fill((a.h + 0.0) as f32);
             } else {
-                let u = ((z - a.z) / (b.z - a.z)).clamp(0.0, 1.0);
-                a.h + u * (b.h - a.h)
-            };
-            *o = h as f32;
+                for (m, o) in run.iter_mut().enumerate() {
+                    let z = z0 + (j0 + k + m) as f64 * dz;
+                    let u = ((z - a.z) / (b.z - a.z)).clamp(0.0, 1.0);
+                    *o = (a.h + u * (b.h - a.h)) as f32;
+                }
+            }
+            k = end;
         }
     }
 

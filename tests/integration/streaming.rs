@@ -24,7 +24,9 @@ fn json(r: vpcut::Report) -> String {
 }
 
 fn streamed(j: &Job, threads: usize) -> String {
-    json(in_pool(threads, || simulate_report(j, &Options::default()).unwrap()))
+    json(in_pool(threads, || {
+        simulate_report(j, &Options::default()).unwrap()
+    }))
 }
 
 /// Every scene, coarsened (with its program files), streamed on 1 and 2 threads, against
@@ -73,8 +75,14 @@ fn the_dexel_budget_error_states_the_memory_held() {
         matches!(err, SimError::DexelBudget { held, .. } if held == n_theta * n_z),
         "{msg}"
     );
-    assert!(msg.contains("would hold 144000 dexels (0 MB) at once"), "{msg}");
-    assert!(msg.contains("the whole grid, 72 angular x 2000 axial"), "{msg}");
+    assert!(
+        msg.contains("would hold 144000 dexels (0 MB) at once"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("the whole grid, 72 angular x 2000 axial"),
+        "{msg}"
+    );
     assert!(simulate(&j, &opts(n_theta * n_z)).is_ok());
     // Streamed: a column per thread.
     let err = in_pool(2, || simulate_report(&j, &opts(2 * n_z - 1))).unwrap_err();
