@@ -123,6 +123,7 @@ struct OpenFlat {
 }
 
 impl Flat {
+    #[inline]
     fn add(&mut self, seg: usize, root: bool, whole: bool, v: f64, z: f64, key: (u32, i64)) {
         match &mut self.open {
             Some(o) if o.seg == seg => {
@@ -431,6 +432,19 @@ impl<'a> Comparer<'a> {
         let mut key = key_of(groove);
         let mut td = TurnDeviation::default();
         let mut started = false;
+        // The last ideal height's bits, its radius and removed volume; the last cut's bits
+        // and removed volume (both start with the values of 0).
+        let ideal_of = |hi32: f32| {
+            let r_ideal = thread.radius(hi32 as f64);
+            let ideal_removed = if sense * (r_blank - r_ideal) > 0.0 {
+                (r_blank * r_blank - r_ideal * r_ideal).abs() * 0.5 * cell
+            } else {
+                0.0
+            };
+            (hi32.to_bits(), r_ideal, ideal_removed)
+        };
+        let mut last_ideal = ideal_of(0.0);
+        let mut last_cut = (0f32.to_bits(), removed(0.0));
         let mut floors = ([0.0; 4], [0.0; 4]);
         let mut flat = Flat {
             theta,
@@ -440,39 +454,42 @@ impl<'a> Comparer<'a> {
         for (k, &hi32) in ideal_h.iter().enumerate() {
             let j = j0 + k;
             let z = grid.z(j);
-            if z >= next_groove {
+            if !started || z >= next_groove {
                 while z >= next_groove {
                     groove += 1;
                     next_groove = groove_end(groove);
                 }
-            }
-            let now = key_of(groove);
-            if !started || now != key {
-                if started {
-                    out.turns
-                        .entry(key)
-                        .or_default()
-                        .merge(&std::mem::take(&mut td));
+                let now = key_of(groove);
+                if !started || now != key {
+                    if started {
+                        out.turns
+                            .entry(key)
+                            .or_default()
+                            .merge(&std::mem::take(&mut td));
+                    }
+                    started = true;
+                    key = now;
+                    floors = prior.floors(key);
                 }
-                started = true;
-                key = now;
-                floors = prior.floors(key);
             }
             let qj = col[j];
             let r_cut = sense * (qj as f64 + q_blank);
             let h_cut = thread.height(r_cut);
             let h_ideal = hi32 as f64;
-            let r_ideal = thread.radius(h_ideal);
+            // Runs of cells share their ideal height (flats, walls) and often their cut:
+            // the same bits give the same values, computed once per run.
+            if hi32.to_bits() != last_ideal.0 {
+                last_ideal = ideal_of(hi32);
+            }
+            let (_, r_ideal, ideal_removed) = last_ideal;
+            if qj.to_bits() != last_cut.0 {
+                last_cut = (qj.to_bits(), removed(qj));
+            }
             out.compared_dexels += 1;
             td.compared += 1;
-            let v = removed(qj);
+            let v = last_cut.1;
             out.total_removed_volume += v;
             out.removed_volume += v;
-            let ideal_removed = if sense * (r_blank - r_ideal) > 0.0 {
-                (r_blank * r_blank - r_ideal * r_ideal).abs() * 0.5 * cell
-            } else {
-                0.0
-            };
             out.ideal_removed_volume += ideal_removed;
             let gap = h_cut - h_ideal;
             // Flats: how far the whole root (crest) of this crossing stays above (below)
