@@ -13,8 +13,8 @@
 //! Volumes are exact per dexel in cylindrical coordinates, `|r1^2 - r2^2|/2 * dtheta * dz`,
 //! summed in a fixed order (columns, then cells) so they do not depend on the thread count.
 
-use crate::stock::{Stock, Surface};
-use crate::thread::{Flank, ThreadSpec, WidthRule};
+use crate::stock::{Grid, Stock, Surface};
+use crate::thread::{Flank, ThreadGroove, ThreadSpec, WidthRule};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
@@ -92,6 +92,102 @@ fn worst(v: &[Option<Extreme>; 4]) -> Option<Extreme> {
     best
 }
 
+/// The least deviation over the dexels of one root or crest flat of one crossing: a root
+/// that is too shallow all across (leftover) or a crest that is too low all across (gouge)
+/// is reported at the root (crest) with its radial size, even where a flank is nearer to
+/// every dexel (a narrow root under a shallow cut). A deviation over part of a flat only
+/// (a ridge, a notch, a wall moved sideways) is the normal distance of its dexels.
+struct Flat<'a> {
+    /// The column's angle.
+    theta: f64,
+    /// The column's thread grooves.
+    grooves: &'a [ThreadGroove],
+    /// Equal groove width (else equal tooth width).
+    equal_groove: bool,
+    /// The flat the walk is on.
+    open: Option<OpenFlat>,
+    /// Flats found deviating all across: the turn and the extreme.
+    found: Vec<((u32, i64), Extreme)>,
+}
+
+/// A root or crest flat being walked.
+struct OpenFlat {
+    /// Its segment of the ideal polyline.
+    seg: usize,
+    /// A root (else a crest).
+    root: bool,
+    /// The compared range holds all of it.
+    whole: bool,
+    /// The least deviation so far (into the material for a crest).
+    least: f64,
+    /// z of its first and last dexel.
+    z: (f64, f64),
+    /// The groove region of its first dexel and of its last.
+    grooves: (usize, usize),
+}
+
+impl Flat<'_> {
+    #[inline]
+    fn add(&mut self, seg: usize, root: bool, whole: bool, v: f64, z: f64, groove: usize) {
+        match &mut self.open {
+            Some(o) if o.seg == seg => {
+                o.least = o.least.min(v);
+                o.z.1 = z;
+                o.grooves.1 = groove;
+            }
+            _ => {
+                self.close();
+                self.open = Some(OpenFlat {
+                    seg,
+                    root,
+                    whole,
+                    least: v,
+                    z: (z, z),
+                    grooves: (groove, groove),
+                });
+            }
+        }
+    }
+
+    /// Close the open flat: it deviates all across when its least value is positive and
+    /// the compared range holds all of it. It is placed at the middle of its dexels.
+    fn close(&mut self) {
+        let Some(o) = self.open.take() else {
+            return;
+        };
+        let z = 0.5 * (o.z.0 + o.z.1);
+        // A crest lies between two grooves, centred where their regions meet: it goes
+        // with the turn whose measurement takes that tooth, the groove before it along
+        // the helix for equal groove width, the one after it for equal tooth width (see
+        // `measure`). A root lies in one groove.
+        let (a, b) = o.grooves;
+        let pick = match (self.grooves.get(a), self.grooves.get(b)) {
+            (Some(ga), Some(gb)) if a != b => {
+                if (ga.g < gb.g) == self.equal_groove {
+                    a
+                } else {
+                    b
+                }
+            }
+            _ => a,
+        };
+        let key = self.grooves.get(pick).map_or((0, 0), |g| (g.start, g.turn));
+        if o.least > 0.0 && o.whole {
+            self.found.push((
+                key,
+                Extreme {
+                    value: o.least,
+                    theta: self.theta,
+                    z,
+                    turn: key.1,
+                    start: key.0,
+                    flank: if o.root { Flank::Root } else { Flank::Crest },
+                },
+            ));
+        }
+    }
+}
+
 /// The comparison of a whole stock.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Deviation {
@@ -146,7 +242,6 @@ impl Deviation {
 /// Compare the thread's surface of `stock` with the ideal, inside the axial window
 /// `[z_lo, z_hi]` intersected with each generator's thread span.
 pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviation {
-    let grid = stock.grid;
     let surface = match thread.side {
         crate::thread::Side::External => Surface::Outer,
         crate::thread::Side::Internal => Surface::Inner,
@@ -154,271 +249,377 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
     let Some(q) = stock.surface(surface) else {
         return Deviation::default();
     };
-    let q_blank = stock.blank_q(surface);
-    let r_blank = surface.sense() * q_blank;
-    let cell = grid.dtheta() * grid.dz;
-    let z_first = grid.z(0);
-    let z_last = grid.z(grid.n_z.saturating_sub(1));
-    let columns: Vec<Deviation> = q
-        .par_chunks(grid.n_z)
+    let grid = stock.grid;
+    let cmp = Comparer::new(grid, stock.blank_q(surface), surface, thread, window);
+    let tile = tile_columns(grid.n_theta);
+    let tiles: Vec<Vec<Deviation>> = q
+        .par_chunks(tile * grid.n_z.max(1))
         .enumerate()
-        .map(|(i, col)| {
-            let theta = grid.theta(i);
-            let ideal = thread.column(theta, z_first, z_last);
-            let mut out = Deviation::default();
-            let sense = surface.sense();
-            for &qj in col.iter() {
-                let r = sense * (qj as f64 + q_blank);
-                out.total_removed_volume += (r_blank * r_blank - r * r).abs() * 0.5 * cell;
-            }
-            let Some((a, b)) = ideal.span else {
-                return out;
-            };
-            let lo = a.max(window.0);
-            let hi = b.min(window.1);
-            if hi < lo {
-                return out;
-            }
-            let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0) as usize;
-            let j1 = (((hi - grid.z0) / grid.dz).floor().max(-1.0) + 1.0) as usize;
-            let j1 = j1.min(grid.n_z);
-            if j1 <= j0 {
-                return out;
-            }
-            out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
-            let mut ideal_h = vec![0f32; j1 - j0];
-            ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
-            let depth = thread.depth() as f32;
-            let mut groove = 0usize;
-            let mut current: Option<((u32, i64), TurnDeviation)> = None;
-            let mut seg = ideal.advance(0, grid.z(j0));
-            // Flats: the least deviation over the dexels of one root or crest flat of one
-            // crossing. A root that is too shallow all across (leftover) or a crest that is
-            // too low all across (gouge) is reported at the root (crest) with its radial
-            // size, even where a flank is nearer to every dexel (a narrow root under a
-            // shallow cut); a deviation over part of a flat only (a ridge, a notch, a wall
-            // moved sideways) is the normal distance of its dexels. Each flat is taken
-            // whole where the walk enters it (a reduction over its dexels), if the compared
-            // range holds all of it, and placed at the middle of its dexels, in the turn
-            // of the groove whose region holds that middle.
-            let mut flats: Vec<((u32, i64), Extreme)> = Vec::new();
-            let depth32 = depth;
-            let thread_depth = thread.depth();
-            let lean_out = thread.left_angle >= 0.0 && thread.right_angle >= 0.0;
-            let mut enter = |seg: usize, k: usize, hint: usize| {
-                let Some(root) = ideal.flat(seg) else { return };
-                let (a, b) = (ideal.verts[seg].z, ideal.verts[seg + 1].z);
-                if a < lo || b > hi {
-                    return;
-                }
-                let target = if root { 0.0 } else { depth32 };
-                let end = ((b - grid.z0) / grid.dz).ceil().max(0.0) as usize;
-                let mut kb = end.saturating_sub(j0).min(ideal_h.len());
-                let mut ka = k.min(kb);
-                while ka < kb && ideal_h[ka] != target {
-                    ka += 1;
-                }
-                while kb > ka && ideal_h[kb - 1] != target {
-                    kb -= 1;
-                }
-                if ka == kb {
-                    return;
-                }
-                let cells = &col[j0 + ka..j0 + kb];
-                // The height grows with q on both sides: the root's least leftover is at the
-                // lowest q, the crest's least gouge at the highest.
-                // Plain comparisons (no NaN in the grid) so the loops vectorise.
-                let q = if root {
-                    cells
-                        .iter()
-                        .fold(f32::INFINITY, |m, &x| if x < m { x } else { m })
-                } else {
-                    cells
-                        .iter()
-                        .fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m })
-                };
-                let h = thread.height(sense * (q as f64 + q_blank));
-                let v = if root { h } else { thread.depth() - h };
-                if v <= 0.0 {
-                    return;
-                }
-                let z = 0.5 * (grid.z(j0 + ka) + grid.z(j0 + kb - 1));
-                let gs = &ideal.grooves;
-                let pick = if root {
-                    ideal.groove_at(hint, z)
-                } else {
-                    // A crest lies between two grooves, centred where their regions meet:
-                    // it goes with the turn whose measurement takes that tooth, the groove
-                    // before it along the helix for equal groove width, the one after it
-                    // for equal tooth width (see `measure`).
-                    let i = gs.partition_point(|g| g.z_hi <= z);
-                    match (i.checked_sub(1), gs.get(i)) {
-                        (Some(a), Some(b)) => {
-                            let before = gs[a].g.min(b.g) == gs[a].g;
-                            let equal_groove = matches!(thread.width, WidthRule::Groove(_));
-                            Some(if before == equal_groove { a } else { i })
-                        }
-                        _ => ideal.groove_at(hint, z),
-                    }
-                };
-                let key = pick.map_or((0, 0), |g| (gs[g].start, gs[g].turn));
-                flats.push((
-                    key,
-                    Extreme {
-                        value: v,
-                        theta,
-                        z,
-                        turn: key.1,
-                        start: key.0,
-                        flank: if root { Flank::Root } else { Flank::Crest },
-                    },
-                ));
-            };
-            enter(seg, 0, 0);
-            // Where the walk next changes groove (the middle of the tooth to the next one)
-            // and segment: checked against z once per dexel.
-            let grooves = &ideal.grooves;
-            let boundary = |g: usize| {
-                grooves
-                    .get(g + 1)
-                    .map_or(f64::INFINITY, |n| 0.5 * (grooves[g].z_hi + n.z_lo))
-            };
-            let mut next_groove = boundary(groove);
-            let mut key = grooves.first().map_or((0, 0), |g| (g.start, g.turn));
-            let seg_end = |seg: usize| {
-                if seg + 2 < ideal.verts.len() {
-                    ideal.verts[seg + 1].z
-                } else {
-                    f64::INFINITY
-                }
-            };
-            let mut next_seg = seg_end(seg);
-            for (k, &hi32) in ideal_h.iter().enumerate() {
-                let j = j0 + k;
-                let z = grid.z(j);
-                if z >= next_groove {
-                    if let Some(g) = ideal.groove_at(groove, z) {
-                        groove = g;
-                        key = (grooves[g].start, grooves[g].turn);
-                    }
-                    next_groove = boundary(groove);
-                }
-                if current.as_ref().is_none_or(|c| c.0 != key) {
-                    if let Some((k0, td)) = current.take() {
-                        out.turns.entry(k0).or_default().merge(&td);
-                    }
-                    current = Some((key, TurnDeviation::default()));
-                }
-                let td = &mut current.as_mut().expect("set above").1;
-                let r_cut = sense * (col[j] as f64 + q_blank);
-                let h_cut = thread.height(r_cut);
-                let h_ideal = hi32 as f64;
-                let r_ideal = thread.radius(h_ideal);
-                out.compared_dexels += 1;
-                td.compared += 1;
-                out.removed_volume += (r_blank * r_blank - r_cut * r_cut).abs() * 0.5 * cell;
-                let ideal_removed = if sense * (r_blank - r_ideal) > 0.0 {
-                    (r_blank * r_blank - r_ideal * r_ideal).abs() * 0.5 * cell
-                } else {
-                    0.0
-                };
-                out.ideal_removed_volume += ideal_removed;
-                let gap = h_cut - h_ideal;
-                // Flats: how far the whole root (crest) of this crossing stays above (below)
-                // its ideal height, measured radially.
-                if z >= next_seg {
-                    seg = ideal.advance(seg, z);
-                    next_seg = seg_end(seg);
-                    enter(seg, k, groove);
-                }
-                if gap == 0.0 {
-                    continue;
-                }
-                let vol = (r_ideal * r_ideal - r_cut * r_cut).abs() * 0.5 * cell;
-                let slots = if gap < 0.0 {
-                    td.gouge_volume += vol;
-                    &mut td.gouge
-                } else {
-                    td.leftover_volume += vol;
-                    &mut td.leftover
-                };
-                // The normal distance never exceeds the radial gap: skip points that
-                // cannot beat the smallest maximum so far of the parts they can belong to.
-                // With walls that lean outward (or stand upright), a gouge at or above the
-                // root's height is never nearest to a root (its foot on the wall lies on
-                // the wall), and leftover at or below the crest's never to a crest.
-                let cannot = if !lean_out {
-                    usize::MAX
-                } else if gap < 0.0 && h_cut >= 0.0 {
-                    Flank::Root.index()
-                } else if gap > 0.0 && h_cut <= thread_depth {
-                    Flank::Crest.index()
-                } else {
-                    usize::MAX
-                };
-                let g = gap.abs();
-                let beaten = |f: usize| f == cannot || slots[f].is_some_and(|e| g <= e.value);
-                if (0..4).all(beaten) {
-                    continue;
-                }
-                let (d, flank) = match ideal.nearest(seg, z, h_cut, g) {
-                    Some((d, i, end)) => {
-                        // At a vertex, deciding the part costs more than the distance:
-                        // a point that beats no part's maximum needs no decision.
-                        let low = |f: Flank| slots[f.index()].is_some_and(|e| d <= e.value);
-                        if end != 0 {
-                            let (f1, f2) = ideal.vertex_parts(i, end);
-                            if low(f1) && f2.is_some_and(low) {
-                                continue;
-                            }
-                        }
-                        (d, ideal.flank_of(i, end, z, h_cut))
-                    }
-                    None => (g, Flank::Crest),
-                };
-                let slot = &mut slots[flank.index()];
-                if slot.is_none_or(|e| d > e.value) {
-                    *slot = Some(Extreme {
-                        value: d,
-                        theta,
-                        z,
-                        turn: key.1,
-                        start: key.0,
-                        flank,
-                    });
-                }
-            }
-            if let Some((k0, td)) = current.take() {
-                out.turns.entry(k0).or_default().merge(&td);
-            }
-            for (k0, e) in flats {
-                let td = out.turns.entry(k0).or_default();
-                let slots = if e.flank == Flank::Root {
-                    &mut td.leftover
-                } else {
-                    &mut td.gouge
-                };
-                Extreme::keep_max(&mut slots[e.flank.index()], e);
-            }
-            out
+        .map(|(t, cols)| {
+            let mut prior = Prior::default();
+            cols.chunks(grid.n_z.max(1))
+                .enumerate()
+                .map(|(k, col)| {
+                    let d = cmp.column(t * tile + k, col, &prior);
+                    prior.add(&d);
+                    d
+                })
+                .collect()
         })
         .collect();
     let mut total = Deviation::default();
-    for c in &columns {
-        for (k, t) in &c.turns {
-            total.turns.entry(*k).or_default().merge(t);
+    for c in tiles.iter().flatten() {
+        total.add_column(c);
+    }
+    total
+}
+
+/// Columns per tile of a grid of `n_theta` columns: 64 tiles (or one column each), so
+/// that the tiles do not depend on the thread count.
+pub(crate) fn tile_columns(n_theta: usize) -> usize {
+    n_theta.div_ceil(64).max(1)
+}
+
+/// The largest gouge and leftover per turn and flank of the columns compared before, in
+/// one tile (compared in column order on one thread). A point whose radial gap is at most
+/// the smallest of them over the four flanks cannot beat the earlier column's extreme on
+/// whichever flank it lies (its normal distance is at most its gap, and an earlier point
+/// wins a tie), so its normal distance is not computed: the merged extremes are exactly
+/// those of comparing every point, whatever the tiles.
+#[derive(Default)]
+pub(crate) struct Prior {
+    turns: BTreeMap<(u32, i64), ([f64; 4], [f64; 4])>,
+}
+
+impl Prior {
+    /// Take in a column's extremes.
+    pub(crate) fn add(&mut self, d: &Deviation) {
+        for (k, t) in &d.turns {
+            let e = self.turns.entry(*k).or_insert(([0.0; 4], [0.0; 4]));
+            for f in 0..4 {
+                if let Some(x) = t.gouge[f] {
+                    e.0[f] = e.0[f].max(x.value);
+                }
+                if let Some(x) = t.leftover[f] {
+                    e.1[f] = e.1[f].max(x.value);
+                }
+            }
         }
-        total.removed_volume += c.removed_volume;
-        total.ideal_removed_volume += c.ideal_removed_volume;
-        total.total_removed_volume += c.total_removed_volume;
-        total.compared_dexels += c.compared_dexels;
+    }
+
+    /// The largest gouge and leftover per flank of turn `key` so far (0 for none).
+    fn floors(&self, key: (u32, i64)) -> ([f64; 4], [f64; 4]) {
+        self.turns
+            .get(&key)
+            .copied()
+            .unwrap_or(([0.0; 4], [0.0; 4]))
+    }
+}
+
+impl Deviation {
+    /// Add one column's comparison (columns are added in column order, so that the sums
+    /// do not depend on how the columns were split between threads or tiles).
+    pub(crate) fn add_column(&mut self, c: &Deviation) {
+        for (k, t) in &c.turns {
+            self.turns.entry(*k).or_default().merge(t);
+        }
+        self.removed_volume += c.removed_volume;
+        self.ideal_removed_volume += c.ideal_removed_volume;
+        self.total_removed_volume += c.total_removed_volume;
+        self.compared_dexels += c.compared_dexels;
         if let Some((a, b)) = c.compared_z {
-            total.compared_z = Some(
-                total
-                    .compared_z
+            self.compared_z = Some(
+                self.compared_z
                     .map_or((a, b), |(x, y)| (x.min(a), y.max(b))),
             );
         }
     }
-    total
+}
+
+/// The comparison of one grid's columns, one column at a time: [`compare`] runs it over a
+/// whole stock, the streaming pipeline on each column of a tile while it is in cache.
+pub(crate) struct Comparer<'a> {
+    grid: Grid,
+    thread: &'a ThreadSpec,
+    window: (f64, f64),
+    surface: Surface,
+    q_blank: f64,
+}
+
+impl<'a> Comparer<'a> {
+    /// The comparison of `surface` (blank signed radius `q_blank`) on `grid`.
+    pub(crate) fn new(
+        grid: Grid,
+        q_blank: f64,
+        surface: Surface,
+        thread: &'a ThreadSpec,
+        window: (f64, f64),
+    ) -> Comparer<'a> {
+        Comparer {
+            grid,
+            thread,
+            window,
+            surface,
+            q_blank,
+        }
+    }
+
+    /// Compare column `i` of the grid, its stored values `col`.
+    /// `prior`: the extremes of the columns before it in its tile.
+    pub(crate) fn column(&self, i: usize, col: &[f32], prior: &Prior) -> Deviation {
+        let (grid, thread, window, surface, q_blank) = (
+            &self.grid,
+            self.thread,
+            self.window,
+            self.surface,
+            self.q_blank,
+        );
+        let r_blank = surface.sense() * q_blank;
+        let cell = grid.dtheta() * grid.dz;
+        let z_first = grid.z(0);
+        let z_last = grid.z(grid.n_z.saturating_sub(1));
+        let theta = grid.theta(i);
+        let ideal = thread.column(theta, z_first, z_last);
+        let mut out = Deviation::default();
+        let sense = surface.sense();
+        // The volume a cell's cut removes from the blank (summed over every cell, and over
+        // the compared ones), in cell order: a sum's order is part of the report.
+        let removed = |qj: f32| {
+            let r = sense * (qj as f64 + q_blank);
+            (r_blank * r_blank - r * r).abs() * 0.5 * cell
+        };
+        // The compared cells [j0, j1), if any.
+        let range = ideal.span.and_then(|(a, b)| {
+            let lo = a.max(window.0);
+            let hi = b.min(window.1);
+            if hi < lo {
+                return None;
+            }
+            let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0) as usize;
+            let j1 = (((hi - grid.z0) / grid.dz).floor().max(-1.0) + 1.0) as usize;
+            let j1 = j1.min(grid.n_z);
+            (j1 > j0).then_some((lo, hi, j0, j1))
+        });
+        let Some((lo, hi, j0, j1)) = range else {
+            for &qj in col.iter() {
+                out.total_removed_volume += removed(qj);
+            }
+            return out;
+        };
+        for &qj in &col[..j0] {
+            out.total_removed_volume += removed(qj);
+        }
+        out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
+        let mut ideal_h = vec![0f32; j1 - j0];
+        ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
+        let depth = thread.depth() as f32;
+        let kinds: Vec<Flank> = (0..ideal.verts.len() - 1)
+            .map(|i| ideal.segment_flank(i))
+            .collect();
+        let flats: Vec<Option<bool>> = (0..kinds.len()).map(|i| ideal.flat(i)).collect();
+        let whole: Vec<bool> = (0..kinds.len())
+            .map(|i| ideal.verts[i].z >= lo && ideal.verts[i + 1].z <= hi)
+            .collect();
+        // The groove and the segment of the ideal walked along z, each with the z where
+        // it next changes (as `groove_at` and `advance` decide it).
+        let grooves = &ideal.grooves;
+        let groove_end = |g: usize| {
+            if g + 1 < grooves.len() {
+                0.5 * (grooves[g].z_hi + grooves[g + 1].z_lo)
+            } else {
+                f64::INFINITY
+            }
+        };
+        let key_of = |g: usize| grooves.get(g).map_or((0, 0), |g| (g.start, g.turn));
+        let mut groove = 0usize;
+        let mut next_groove = groove_end(groove);
+        let nv = ideal.verts.len();
+        let seg_end = |s: usize| {
+            if s + 2 < nv {
+                ideal.verts[s + 1].z
+            } else {
+                f64::INFINITY
+            }
+        };
+        let mut seg = ideal.advance(0, grid.z(j0));
+        let mut next_seg = seg_end(seg);
+        let mut key = key_of(groove);
+        let mut td = TurnDeviation::default();
+        let mut started = false;
+        // The last ideal height's bits, its radius and removed volume; the last cut's bits
+        // and removed volume (both start with the values of 0).
+        let ideal_of = |hi32: f32| {
+            let r_ideal = thread.radius(hi32 as f64);
+            let ideal_removed = if sense * (r_blank - r_ideal) > 0.0 {
+                (r_blank * r_blank - r_ideal * r_ideal).abs() * 0.5 * cell
+            } else {
+                0.0
+            };
+            (hi32.to_bits(), r_ideal, ideal_removed)
+        };
+        let mut last_ideal = ideal_of(0.0);
+        let mut last_cut = (0f32.to_bits(), removed(0.0));
+        let mut floors = ([0.0; 4], [0.0; 4]);
+        let mut flat = Flat {
+            theta,
+            grooves,
+            equal_groove: matches!(thread.width, WidthRule::Groove(_)),
+            open: None,
+            found: Vec::new(),
+        };
+        for (k, &hi32) in ideal_h.iter().enumerate() {
+            let j = j0 + k;
+            let z = grid.z(j);
+            if !started || z >= next_groove {
+                while z >= next_groove {
+                    groove += 1;
+                    next_groove = groove_end(groove);
+                }
+                let now = key_of(groove);
+                if !started || now != key {
+                    if started {
+                        out.turns
+                            .entry(key)
+                            .or_default()
+                            .merge(&std::mem::take(&mut td));
+                    }
+                    started = true;
+                    key = now;
+                    floors = prior.floors(key);
+                }
+            }
+            let qj = col[j];
+            let r_cut = sense * (qj as f64 + q_blank);
+            let h_cut = thread.height(r_cut);
+            let h_ideal = hi32 as f64;
+            // Runs of cells share their ideal height (flats, walls) and often their cut:
+            // the same bits give the same values, computed once per run.
+            if hi32.to_bits() != last_ideal.0 {
+                last_ideal = ideal_of(hi32);
+            }
+            let (_, r_ideal, ideal_removed) = last_ideal;
+            if qj.to_bits() != last_cut.0 {
+                last_cut = (qj.to_bits(), removed(qj));
+            }
+            out.compared_dexels += 1;
+            td.compared += 1;
+            let v = last_cut.1;
+            out.total_removed_volume += v;
+            out.removed_volume += v;
+            out.ideal_removed_volume += ideal_removed;
+            let gap = h_cut - h_ideal;
+            // Flats: how far the whole root (crest) of this crossing stays above (below)
+            // its ideal height, measured radially.
+            while next_seg <= z {
+                seg += 1;
+                next_seg = seg_end(seg);
+            }
+            match flats[seg] {
+                Some(true) if hi32 == 0.0 => flat.add(seg, true, whole[seg], gap, z, groove),
+                Some(false) if hi32 == depth => flat.add(seg, false, whole[seg], -gap, z, groove),
+                _ => flat.close(),
+            }
+            if gap == 0.0 {
+                continue;
+            }
+            let vol = (r_ideal * r_ideal - r_cut * r_cut).abs() * 0.5 * cell;
+            let (slots, before) = if gap < 0.0 {
+                td.gouge_volume += vol;
+                (&mut td.gouge, &floors.0)
+            } else {
+                td.leftover_volume += vol;
+                (&mut td.leftover, &floors.1)
+            };
+            // The normal distance never exceeds the radial gap: skip points that cannot
+            // beat the maximum seen so far, in this column or in those before it in the
+            // tile ([`Prior`]), on any flank they can be nearest to.
+            let mut floor = [0.0; 4];
+            for f in 0..4 {
+                floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+            }
+            if cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
+                continue;
+            }
+            let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
+            Extreme::keep_max(
+                &mut slots[flank.index()],
+                Extreme {
+                    value: d,
+                    theta,
+                    z,
+                    turn: key.1,
+                    start: key.0,
+                    flank,
+                },
+            );
+        }
+        for &qj in &col[j1..] {
+            out.total_removed_volume += removed(qj);
+        }
+        if started {
+            out.turns.entry(key).or_default().merge(&td);
+        }
+        flat.close();
+        for (k0, e) in flat.found {
+            let td = out.turns.entry(k0).or_default();
+            let slots = if e.flank == Flank::Root {
+                &mut td.leftover
+            } else {
+                &mut td.gouge
+            };
+            Extreme::keep_max(&mut slots[e.flank.index()], e);
+        }
+        out
+    }
+}
+
+/// Whether a point at `z` in segment `seg` with radial gap `g` to the ideal cannot beat the
+/// maxima `floor` (per flank) on whichever flank it is nearest to: its normal distance is
+/// at most `g`, so the flank is that of a segment within `g` of it along the axis (or the
+/// crest, the distance's fallback), and it cannot win where `g` is at most that flank's
+/// maximum (an earlier point wins a tie).
+fn cannot_win(
+    ideal: &crate::thread::ColumnIdeal,
+    kinds: &[Flank],
+    seg: usize,
+    (z, h): (f64, f64),
+    g: f64,
+    floor: &[f64; 4],
+) -> bool {
+    if floor.iter().all(|&v| g <= v) {
+        return true;
+    }
+    let v = &ideal.verts;
+    let n = kinds.len();
+    // The distance falls back to the crest only when no segment lies within `g`: the
+    // one it starts from (the distance's first segment) settles that.
+    let first = seg.min(n - 1);
+    if g > floor[Flank::Crest.index()]
+        && crate::thread::segment_distance2((z, h), v[first], v[first + 1]) > g * g
+    {
+        return false;
+    }
+    // A margin over `g`: candidates are a superset of the segments the distance can pick.
+    let reach = g * (1.0 + 1e-9) + 1e-12;
+    let mut i = first;
+    while i < n {
+        if v[i].z - z > reach {
+            break;
+        }
+        if g > floor[kinds[i].index()] {
+            return false;
+        }
+        i += 1;
+    }
+    let mut i = first;
+    while i > 0 {
+        i -= 1;
+        if z - v[i + 1].z > reach {
+            break;
+        }
+        if g > floor[kinds[i].index()] {
+            return false;
+        }
+    }
+    true
 }

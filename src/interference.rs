@@ -20,10 +20,9 @@
 use crate::body;
 use crate::job::Job;
 use crate::mesh::seg_dist2;
-use crate::stock::{Stock, Surface};
+use crate::stock::{Grid, Surface};
 use crate::thread::{Flank, ThreadSpec};
 use crate::tool::Tool;
-use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 
@@ -76,108 +75,118 @@ pub(crate) fn swept_bodies(job: &Job, q_blank: f64, surface: Surface) -> Vec<(us
         .collect()
 }
 
-/// Compare the cut with bodies (`cut`) and without (`planar`).
-pub(crate) fn measure(
-    planar: &Stock,
-    cut: &Stock,
-    thread: &ThreadSpec,
-    surface: Surface,
-) -> Interference {
-    let grid = cut.grid;
-    let (Some(qp), Some(qc)) = (planar.surface(surface), cut.surface(surface)) else {
-        return Interference::new();
-    };
-    let q_blank = cut.blank_q(surface);
-    let sense = surface.sense();
-    let cell = grid.dtheta() * grid.dz;
-    let (z_first, z_last) = (grid.z(0), grid.z(grid.n_z.saturating_sub(1)));
-    let columns: Vec<Interference> = qp
-        .par_chunks(grid.n_z)
-        .zip(qc.par_chunks(grid.n_z))
-        .enumerate()
-        .map(|(i, (p, c))| {
-            let mut out = Interference::new();
-            // Cells the body cut deeper (a few per flank and turn, if any).
-            let hits: Vec<usize> = (0..grid.n_z)
-                .filter(|&j| sense * (p[j] as f64 - c[j] as f64) > EPS_MM)
-                .collect();
-            if hits.is_empty() {
-                return out;
-            }
-            let theta = grid.theta(i);
-            let ideal = thread.column(theta, z_first, z_last);
-            let r = |q: &[f32], j: usize| sense * (q[j] as f64 + q_blank);
-            // The edge-cut profile as points (z, r); the distance to it is searched outward
-            // from the cell, a segment on each side per step, until the segments' nearer
-            // ends lie farther along the axis than the best distance so far (no farther
-            // segment can be closer). It starts at the radial gap and shrinks at the first
-            // wall met on either side.
-            let seg = |k: usize| ((grid.z(k), r(p, k)), (grid.z(k + 1), r(p, k + 1)));
-            for &j in &hits {
-                let (z, rc, rp) = (grid.z(j), r(c, j), r(p, j));
-                let radial = (rp - rc).abs();
-                let mut d2 = radial * radial;
-                for step in 0.. {
-                    // Segment [k, k+1] towards -z (k = j - 1 - step) and towards +z (k = j + step).
-                    let below = (step < j).then(|| j - 1 - step);
-                    let above = (j + step + 1 < grid.n_z).then_some(j + step);
-                    let mut any = false;
-                    for k in below.into_iter().chain(above) {
-                        let gap = if k < j {
-                            z - grid.z(k + 1)
-                        } else {
-                            grid.z(k) - z
-                        };
-                        if gap * gap <= d2 {
-                            any = true;
-                            let (a, b) = seg(k);
-                            d2 = d2.min(seg_dist2((z, rc), a, b));
-                        }
-                    }
-                    if !any {
-                        break;
-                    }
-                }
-                // Inside the thread the turns are the comparison's (the groove whose region
-                // holds the point); outside, in the run-in and run-out, the turn of the
-                // feature above it (0 before the first, past the last turn after it).
-                let inside = ideal.span.is_some_and(|(a, b)| z >= a && z <= b);
-                let key = match ideal.groove_at(0, z).filter(|_| inside) {
-                    Some(g) => (ideal.grooves[g].start, ideal.grooves[g].turn),
-                    None => {
-                        let feature = ideal.features.partition_point(|f| f.z < z);
-                        ideal
-                            .features
-                            .get(feature)
-                            .map_or((0, 0), |f| (f.start, f.turn()))
-                    }
-                };
-                let (_, flank) = ideal.distance(z, thread.height(rc), f64::INFINITY);
-                let hit = Hit {
-                    depth: d2.sqrt(),
-                    theta,
-                    z,
-                    volume: (rp * rp - rc * rc).abs() * 0.5 * cell,
-                };
-                out.entry(key).or_default()[flank.index()]
-                    .get_or_insert_with(Hit::default)
-                    .merge(&hit);
-            }
-            out
-        })
-        .collect();
-    let mut total = Interference::new();
-    for c in columns {
-        for (k, flanks) in c {
-            let slot = total.entry(k).or_default();
-            for (s, f) in slot.iter_mut().zip(flanks) {
-                if let Some(f) = f {
-                    s.get_or_insert_with(Hit::default).merge(&f);
-                }
+/// Add one column's interference to `total` (in column order).
+pub(crate) fn add_column(total: &mut Interference, c: &Interference) {
+    for (k, flanks) in c {
+        let slot = total.entry(*k).or_default();
+        for (s, f) in slot.iter_mut().zip(flanks) {
+            if let Some(f) = f {
+                s.get_or_insert_with(Hit::default).merge(f);
             }
         }
     }
-    total
+}
+
+/// The body interference of one grid's columns, one column at a time (the streaming
+/// pipeline runs it on each column of a tile while both cuts are in cache).
+pub(crate) struct Measurer<'a> {
+    grid: Grid,
+    q_blank: f64,
+    surface: Surface,
+    thread: &'a ThreadSpec,
+}
+
+impl<'a> Measurer<'a> {
+    /// The measurement of `surface` (blank signed radius `q_blank`) on `grid`.
+    pub(crate) fn new(
+        grid: Grid,
+        q_blank: f64,
+        surface: Surface,
+        thread: &'a ThreadSpec,
+    ) -> Measurer<'a> {
+        Measurer {
+            grid,
+            q_blank,
+            surface,
+            thread,
+        }
+    }
+
+    /// Column `i`: `p` cut by the edges alone, `c` with the bodies.
+    pub(crate) fn column(&self, i: usize, p: &[f32], c: &[f32]) -> Interference {
+        let (grid, q_blank, thread) = (&self.grid, self.q_blank, self.thread);
+        let sense = self.surface.sense();
+        let cell = grid.dtheta() * grid.dz;
+        let (z_first, z_last) = (grid.z(0), grid.z(grid.n_z.saturating_sub(1)));
+        let mut out = Interference::new();
+        // Cells the body cut deeper (a few per flank and turn, if any).
+        let hits: Vec<usize> = (0..grid.n_z)
+            .filter(|&j| sense * (p[j] as f64 - c[j] as f64) > EPS_MM)
+            .collect();
+        if hits.is_empty() {
+            return out;
+        }
+        let theta = grid.theta(i);
+        let ideal = thread.column(theta, z_first, z_last);
+        let r = |q: &[f32], j: usize| sense * (q[j] as f64 + q_blank);
+        // The edge-cut profile as points (z, r); the distance to it is searched outward
+        // from the cell, a segment on each side per step, until the segments' nearer
+        // ends lie farther along the axis than the best distance so far (no farther
+        // segment can be closer). It starts at the radial gap and shrinks at the first
+        // wall met on either side.
+        let seg = |k: usize| ((grid.z(k), r(p, k)), (grid.z(k + 1), r(p, k + 1)));
+        for &j in &hits {
+            let (z, rc, rp) = (grid.z(j), r(c, j), r(p, j));
+            let radial = (rp - rc).abs();
+            let mut d2 = radial * radial;
+            for step in 0.. {
+                // Segment [k, k+1] towards -z (k = j - 1 - step) and towards +z (k = j + step).
+                let below = (step < j).then(|| j - 1 - step);
+                let above = (j + step + 1 < grid.n_z).then_some(j + step);
+                let mut any = false;
+                for k in below.into_iter().chain(above) {
+                    let gap = if k < j {
+                        z - grid.z(k + 1)
+                    } else {
+                        grid.z(k) - z
+                    };
+                    if gap * gap <= d2 {
+                        any = true;
+                        let (a, b) = seg(k);
+                        d2 = d2.min(seg_dist2((z, rc), a, b));
+                    }
+                }
+                if !any {
+                    break;
+                }
+            }
+            // Inside the thread the turns are the comparison's (the groove whose region
+            // holds the point); outside, in the run-in and run-out, the turn of the feature
+            // above it (0 before the first, past the last turn after it).
+            let inside = ideal.span.is_some_and(|(a, b)| z >= a && z <= b);
+            let key = match ideal.groove_at(0, z).filter(|_| inside) {
+                Some(g) => (ideal.grooves[g].start, ideal.grooves[g].turn),
+                None => {
+                    let feature = ideal.features.partition_point(|f| f.z < z);
+                    ideal
+                        .features
+                        .get(feature)
+                        .map_or((0, 0), |f| (f.start, f.turn()))
+                }
+            };
+            let (_, flank) = ideal.distance(z, thread.height(rc), f64::INFINITY);
+            let hit = Hit {
+                depth: d2.sqrt(),
+                theta,
+                z,
+                volume: (rp * rp - rc * rc).abs() * 0.5 * cell,
+            };
+            out.entry(key).or_default()[flank.index()]
+                .get_or_insert_with(Hit::default)
+                .merge(&hit);
+        }
+        out
+    }
 }
 
 /// Effective side clearances (deg) of one turn: -z and +z flank at crest and root, each the

@@ -118,19 +118,35 @@ pub struct Options {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum SimError {
-    /// The grid would need more dexels than allowed.
-    #[error("the stock needs {} dexels ({angular} angular x {} axial x {surfaces} surface(s)), over the budget of {}; coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels", readable(*requested), readable(*axial as u64), readable(*limit))]
+    /// The run would hold more dexels in memory at once than allowed.
+    #[error("the run would hold {} dexels ({} MB) at once: {held_as}; over the budget of {}; coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels", readable(*held), readable(held.saturating_mul(4) / 1_000_000), readable(*limit))]
     DexelBudget {
-        /// Dexels the grid needs.
-        requested: u64,
+        /// Dexels held at once (4 bytes each).
+        held: u64,
         /// The budget.
         limit: u64,
+        /// What they are: the whole grid (its size and why) or the tiles in flight.
+        held_as: String,
+        /// Dexels the whole grid has (all surfaces).
+        requested: u64,
         /// Angular cells.
         angular: usize,
         /// Axial cells.
         axial: usize,
         /// Surfaces.
         surfaces: u32,
+    },
+    /// A streaming run would sweep and compare more dexels than any sensible job does.
+    #[error("the grid has {} dexels ({angular} angular x {} axial), over the limit of {} a run sweeps and compares: coarsen [simulation] axial_spacing or angular_cells, or narrow z_range", readable(*dexels), readable(*axial as u64), readable(*limit))]
+    TooManyDexels {
+        /// Dexels of the grid.
+        dexels: u64,
+        /// The limit.
+        limit: u64,
+        /// Angular cells.
+        angular: usize,
+        /// Axial cells.
+        axial: usize,
     },
     /// The passes would place the tool more often than any sensible job does.
     #[error("the passes cross the {columns} angular columns about {placements:.2e} times, over the limit of {limit:.0e}: check the leads and the number of passes, or use fewer angular cells")]
@@ -234,22 +250,195 @@ fn blank_stock(job: &Job, grid: Grid) -> Result<Stock, SimError> {
     })
 }
 
-/// Simulate a job: sweep, compare, measure, check, report.
+/// Simulate a job: sweep, compare, measure, check, report. The whole grid is kept and
+/// returned (the model, the pictures and the plots need it); [`simulate_report`] streams
+/// the columns instead and returns the same report holding only a column per thread.
 pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
+    let (report, stock, edge_stock) = run(job, opts, true)?;
+    Ok(Outcome {
+        report,
+        stock: stock.expect("a full-grid run keeps its stock"),
+        edge_stock,
+    })
+}
+
+/// Simulate a job as [`simulate`] does, for its report only: the columns are swept,
+/// compared and checked for body interference one at a time, each while it is in cache,
+/// in buffers of one column per thread, and their results merged in column order. The
+/// report is byte for byte the one [`simulate`] gives, for any thread count; the memory
+/// held no longer grows with the number of angular cells, and the dexel budget applies to
+/// what is held. Milling jobs still build their whole grid.
+pub fn simulate_report(job: &Job, opts: &Options) -> Result<Report, SimError> {
+    run(job, opts, false).map(|r| r.0)
+}
+
+/// Dexels a run sweeps and compares at most (a 1 m screw at 0.01 mm x 3600 has 3.6e8; this
+/// is about a minute of work on two cores).
+const MAX_GRID_DEXELS: u64 = 20_000_000_000;
+
+/// One column's results: what the sweep did, the comparison, the body interference, and
+/// the seconds spent sweeping and comparing (to split the fused pipeline's wall time).
+struct ColumnOut {
+    stats: SweepStats,
+    dev: Deviation,
+    hits: Option<interference::Interference>,
+    seconds: (f64, f64),
+}
+
+/// The per-column pipeline: sweep (and the edges alone, with swept bodies), compare, body
+/// interference.
+struct Pipeline<'a> {
+    sweep: sweep::GridSweep<'a>,
+    edges: Option<sweep::GridSweep<'a>>,
+    cmp: compare::Comparer<'a>,
+    bodies: interference::Measurer<'a>,
+    n_z: usize,
+}
+
+impl Pipeline<'_> {
+    /// Column `i`, held in `col` (and `edge`, the edges' cut): both are cut in place.
+    fn column(
+        &self,
+        i: usize,
+        col: &mut [f32],
+        edge: Option<&mut [f32]>,
+        prior: &mut compare::Prior,
+    ) -> ColumnOut {
+        let t0 = Instant::now();
+        let stats = self.sweep.column(i, col);
+        let edge = match (edge, &self.edges) {
+            (Some(e), Some(s)) => {
+                s.column(i, e);
+                Some(e)
+            }
+            _ => None,
+        };
+        let t1 = Instant::now();
+        let dev = self.cmp.column(i, col, prior);
+        prior.add(&dev);
+        let hits = edge.map(|e| self.bodies.column(i, e, col));
+        let t2 = Instant::now();
+        ColumnOut {
+            stats,
+            dev,
+            hits,
+            seconds: ((t1 - t0).as_secs_f64(), (t2 - t1).as_secs_f64()),
+        }
+    }
+
+    /// The columns from `first` on, held contiguously in `cols` (and `edges`).
+    fn tile(&self, first: usize, cols: &mut [f32], edges: Option<&mut [f32]>) -> Vec<ColumnOut> {
+        let n_z = self.n_z;
+        let mut edges = edges;
+        let mut prior = compare::Prior::default();
+        cols.chunks_mut(n_z)
+            .enumerate()
+            .map(|(k, col)| {
+                let e = edges.as_deref_mut().map(|e| &mut e[k * n_z..(k + 1) * n_z]);
+                self.column(first + k, col, e, &mut prior)
+            })
+            .collect()
+    }
+}
+
+/// A zeroed column buffer, or `None` when the memory cannot be had.
+fn column_buffer(n: usize) -> Option<Vec<f32>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).ok()?;
+    v.resize(n, 0.0);
+    Some(v)
+}
+
+/// The run behind [`simulate`] (`keep`: the whole grid, returned) and
+/// [`simulate_report`] (streamed).
+#[allow(clippy::type_complexity)]
+fn run(
+    job: &Job,
+    opts: &Options,
+    keep: bool,
+) -> Result<(Report, Option<Stock>, Option<Stock>), SimError> {
     let t_start = Instant::now();
     let (grid, requested) = plan_grid(job)?;
     let limit = opts.max_dexels.unwrap_or(job.sim.max_dexels);
-    if requested > limit {
+    let surfaces: u32 = if job.blank.bore > 0.0 { 2 } else { 1 };
+    let thread = &job.thread;
+    let surface = thread_surface(thread);
+    let q_blank = match surface {
+        Surface::Outer => job.blank.diameter / 2.0,
+        Surface::Inner => -job.blank.bore / 2.0,
+    };
+    let has_surface = surface == Surface::Outer || job.blank.bore > 0.0;
+    // With tool bodies whose sections are swept, the edges alone cut a second stock: the
+    // difference is what the bodies cut beyond their edges. Bodies that are all skipped
+    // (they cannot reach past their edges) cut exactly the edges' stock: no second sweep.
+    let swept = if job.mill.is_some() {
+        Vec::new()
+    } else {
+        interference::swept_bodies(job, q_blank, surface)
+    };
+    let twice = !swept.is_empty() && has_surface;
+    let whole = keep || job.mill.is_some();
+    let threads = rayon::current_num_threads().max(1);
+    let tile = compare::tile_columns(grid.n_theta);
+    // The memory held at once: the whole grid (twice with swept bodies), or a column per
+    // thread (two with swept bodies).
+    let (held, held_as) = if whole {
+        let held = requested.saturating_add(if twice { grid.dexels() as u64 } else { 0 });
+        let why = if job.mill.is_some() {
+            "a milling job keeps it"
+        } else {
+            "the model, pictures and plots need it"
+        };
+        (
+            held,
+            format!(
+                "the whole grid, {} angular x {} axial x {surfaces} surface(s){}, as {why}",
+                grid.n_theta,
+                readable(grid.n_z as u64),
+                if twice {
+                    " and its cut by the edges alone"
+                } else {
+                    ""
+                }
+            ),
+        )
+    } else {
+        let per = if twice { 2 } else { 1 };
+        let in_flight = threads.min(grid.n_theta.max(1));
+        (
+            (in_flight as u64)
+                .saturating_mul(per)
+                .saturating_mul(grid.n_z as u64),
+            format!(
+                "{} column(s) of {} axial cells, {per} per thread on {in_flight} thread(s); the {} angular columns are streamed",
+                in_flight as u64 * per,
+                readable(grid.n_z as u64),
+                grid.n_theta
+            ),
+        )
+    };
+    if held > limit {
         return Err(SimError::DexelBudget {
-            requested,
+            held,
             limit,
+            held_as,
+            requested,
             angular: grid.n_theta,
             axial: grid.n_z,
-            surfaces: if job.blank.bore > 0.0 { 2 } else { 1 },
+            surfaces,
         });
     }
     if let Some(mill) = &job.mill {
-        return simulate_mill(job, mill, grid, t_start);
+        let out = simulate_mill(job, mill, grid, t_start)?;
+        return Ok((out.report, keep.then_some(out.stock), None));
+    }
+    if requested > MAX_GRID_DEXELS {
+        return Err(SimError::TooManyDexels {
+            dexels: requested,
+            limit: MAX_GRID_DEXELS,
+            angular: grid.n_theta,
+            axial: grid.n_z,
+        });
     }
     // Each pass crosses every column once per revolution: bound the work before doing it.
     let revs: f64 = job
@@ -265,41 +454,118 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
             columns: grid.n_theta,
         });
     }
-    let thread = &job.thread;
-    let surface = thread_surface(thread);
-    let mut stock = blank_stock(job, grid)?;
+    let mut stock = if keep {
+        Some(blank_stock(job, grid)?)
+    } else {
+        None
+    };
+    let mut edge_stock = if keep && twice {
+        Some(blank_stock(job, grid)?)
+    } else {
+        None
+    };
     let t_setup = t_start.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
-    let stats = sweep(&mut stock, surface, &job.passes, &job.tools);
-    // With tool bodies whose sections are swept, the edges alone cut a second stock: the
-    // difference is what the bodies cut beyond their edges. Bodies that are all skipped
-    // (they cannot reach past their edges) cut exactly the edges' stock: no second sweep.
-    let swept = interference::swept_bodies(job, stock.blank_q(surface), surface);
-    let edge_stock = if swept.is_empty() {
-        None
-    } else {
-        let edges: Vec<Tool> = job.tools.iter().map(Tool::edge_only).collect();
-        let mut planar = blank_stock(job, grid)?;
-        sweep(&mut planar, surface, &job.passes, &edges);
-        Some(planar)
-    };
-    let bodies = interference::has_bodies(job).then(|| {
-        (
-            edge_stock
-                .as_ref()
-                .map(|planar| interference::measure(planar, &stock, &job.thread, surface))
-                .unwrap_or_default(),
-            interference::clearances(job),
-            swept,
-        )
-    });
-    let t_sweep = t0.elapsed().as_secs_f64();
-
-    let t0 = Instant::now();
     let window = grid_window(&grid);
-    let dev = compare(&stock, thread, window);
-    let t_compare = t0.elapsed().as_secs_f64();
+    let edges: Vec<Tool> = job.tools.iter().map(Tool::edge_only).collect();
+    let pipe = Pipeline {
+        sweep: sweep::GridSweep::new(grid, q_blank, surface, &job.passes, &job.tools),
+        edges: twice.then(|| sweep::GridSweep::new(grid, q_blank, surface, &job.passes, &edges)),
+        cmp: compare::Comparer::new(grid, q_blank, surface, thread, window),
+        bodies: interference::Measurer::new(grid, q_blank, surface, thread),
+        n_z: grid.n_z,
+    };
+    let n_z = grid.n_z;
+    let columns: Vec<ColumnOut> = if !has_surface || n_z == 0 {
+        Vec::new()
+    } else if let Some(stock) = &mut stock {
+        use rayon::prelude::*;
+        let q = stock.surface_mut(surface).expect("the thread's surface");
+        let tiles: Vec<Vec<ColumnOut>> = match &mut edge_stock {
+            Some(e) => {
+                let qe = e.surface_mut(surface).expect("the thread's surface");
+                q.par_chunks_mut(tile * n_z)
+                    .zip(qe.par_chunks_mut(tile * n_z))
+                    .enumerate()
+                    .map(|(t, (c, e))| pipe.tile(t * tile, c, Some(e)))
+                    .collect()
+            }
+            None => q
+                .par_chunks_mut(tile * n_z)
+                .enumerate()
+                .map(|(t, c)| pipe.tile(t * tile, c, None))
+                .collect(),
+        };
+        tiles.into_iter().flatten().collect()
+    } else {
+        use rayon::prelude::*;
+        let n_tiles = grid.n_theta.div_ceil(tile);
+        let tiles: Vec<Option<Vec<ColumnOut>>> = (0..n_tiles)
+            .into_par_iter()
+            .map_init(
+                || {
+                    let main = column_buffer(n_z)?;
+                    let edge = if twice {
+                        Some(column_buffer(n_z)?)
+                    } else {
+                        None
+                    };
+                    Some((main, edge))
+                },
+                |bufs, t| {
+                    let (main, edge) = bufs.as_mut()?;
+                    let cols = t * tile..((t + 1) * tile).min(grid.n_theta);
+                    let mut prior = compare::Prior::default();
+                    Some(
+                        cols.map(|i| {
+                            main.fill(0.0);
+                            if let Some(e) = edge.as_mut() {
+                                e.fill(0.0);
+                            }
+                            pipe.column(i, main, edge.as_deref_mut(), &mut prior)
+                        })
+                        .collect(),
+                    )
+                },
+            )
+            .collect();
+        let mut out = Vec::with_capacity(grid.n_theta);
+        for t in tiles {
+            out.extend(t.ok_or(SimError::OutOfMemory {
+                bytes: n_z as u128 * 4 * if twice { 2 } else { 1 },
+                angular: grid.n_theta,
+                axial: grid.n_z,
+            })?);
+        }
+        out
+    };
+    // Merge in column order.
+    let mut stats = SweepStats::default();
+    let mut dev = Deviation::default();
+    let mut hits = interference::Interference::new();
+    let (mut s_sweep, mut s_compare) = (0.0, 0.0);
+    for c in &columns {
+        stats = stats + c.stats;
+        dev.add_column(&c.dev);
+        if let Some(h) = &c.hits {
+            interference::add_column(&mut hits, h);
+        }
+        s_sweep += c.seconds.0;
+        s_compare += c.seconds.1;
+    }
+    drop(columns);
+    let bodies =
+        interference::has_bodies(job).then(|| (hits, interference::clearances(job), swept));
+    // Sweep and compare run fused: their wall time is split in proportion to their CPU
+    // time.
+    let fused = t0.elapsed().as_secs_f64();
+    let share = if s_sweep + s_compare > 0.0 {
+        s_sweep / (s_sweep + s_compare)
+    } else {
+        1.0
+    };
+    let (t_sweep, t_compare) = (fused * share, fused * (1.0 - share));
 
     let t0 = Instant::now();
     let ((m_lo, m_hi), spacing) = measure_window(job, window);
@@ -308,7 +574,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
             thread,
             &job.passes,
             &job.tools,
-            stock.blank_q(surface),
+            q_blank,
             (m_lo, m_hi),
             MeasureConfig {
                 spacing,
@@ -338,7 +604,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
     ));
     let mut report = build_report(
         job,
-        &stock,
+        grid,
         stats,
         &dev,
         &measures,
@@ -353,11 +619,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
         measure: t_measure,
         total: t_start.elapsed().as_secs_f64(),
     };
-    Ok(Outcome {
-        report,
-        stock,
-        edge_stock,
-    })
+    Ok((report, stock, edge_stock))
 }
 
 /// A milling job: the cutters swept along the program's path, then the same comparison
@@ -412,7 +674,7 @@ fn simulate_mill(
     };
     let mut report = build_report(
         job,
-        &stock,
+        stock.grid,
         sweep_stats,
         &dev,
         &measures,
@@ -668,7 +930,7 @@ fn location(e: &Extreme) -> report::Location {
 #[allow(clippy::too_many_arguments)]
 fn build_report(
     job: &Job,
-    stock: &Stock,
+    grid: Grid,
     stats: SweepStats,
     dev: &Deviation,
     measures: &[Vec<TurnMeasure>],
@@ -678,7 +940,6 @@ fn build_report(
 ) -> Report {
     let thread = &job.thread;
     let tol = job.sim.tolerance;
-    let grid = stock.grid;
     let (major, minor) = match thread.side {
         Side::External => (2.0 * thread.crest_radius, 2.0 * thread.root_radius),
         Side::Internal => (2.0 * thread.root_radius, 2.0 * thread.crest_radius),
@@ -959,8 +1220,8 @@ fn build_report(
             angular_cells: grid.n_theta,
             axial_cells: grid.n_z,
             axial_spacing_mm: r6(grid.dz),
-            dexels: stock.stored_dexels() as u64,
-            surfaces: if stock.inner.is_some() {
+            dexels: grid.dexels() as u64 * if job.blank.bore > 0.0 { 2 } else { 1 },
+            surfaces: if job.blank.bore > 0.0 {
                 vec!["outer", "inner"]
             } else {
                 vec!["outer"]

@@ -321,8 +321,11 @@ struct SimulateArgs {
     /// Exit with code 1 when the verdict is fail (for CI).
     #[arg(long)]
     check: bool,
-    /// Dexel budget (both surfaces); the job is refused before allocating when its grid
-    /// needs more. Default: the job's [simulation] max_dexels, else 2e8 (about 0.8 GB).
+    /// Dexel budget: the dexels the run holds at once (4 bytes each); the job is refused
+    /// before allocating when it needs more. Without --gltf, --png/--renders or --plots
+    /// the columns are streamed (a column per thread is held, two with rubbing tool
+    /// bodies); with them the whole grid is held (both surfaces, and the edges' cut with
+    /// rubbing bodies). Default: the job's [simulation] max_dexels, else 2e8 (0.8 GB).
     #[arg(long, value_name = "N")]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores). Results do
@@ -735,14 +738,24 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let opts = vpcut::Options {
         max_dexels: args.max_dexels,
     };
-    let mut out = progress
+    // Only the model, the pictures and the plots need the whole grid: without them the
+    // columns are streamed (the same report, memory that does not grow with the part).
+    let needs_grid = gltf_slot.is_some() || pictures.is_some() || plot_slots.is_some();
+    let (mut report, mut grids) = progress
         .stage("simulating: sweep, compare, measure", || {
-            vpcut::simulate(&job, &opts)
+            if needs_grid {
+                vpcut::simulate(&job, &opts).map(|o| (o.report.clone(), Some(o)))
+            } else {
+                vpcut::simulate_report(&job, &opts).map(|r| (r, None))
+            }
         })
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
-    complete_report(&mut out.report, &inputs);
+    complete_report(&mut report, &inputs);
+    if let Some(o) = &mut grids {
+        o.report = report.clone();
+    }
     if let Some(slot) = report_slot {
-        outs.put(slot, out.report.to_json().as_bytes())?;
+        outs.put(slot, report.to_json().as_bytes())?;
     }
     let e = if args.gltf_full {
         Some(0.0)
@@ -755,7 +768,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         progress.stage("meshing the part", || {
             vpcut::build_scene(
                 &job,
-                &out,
+                grids.as_ref().expect("the grid was kept"),
                 &vpcut::SceneOptions {
                     mesh_tolerance: None,
                     ideal: true,
@@ -765,11 +778,11 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     });
     if let Some(slot) = gltf_slot {
         if args.gltf_full && !args.quiet {
-            let bytes = GLB_BYTES_PER_DEXEL * out.report.stock.dexels as f64;
+            let bytes = GLB_BYTES_PER_DEXEL * report.stock.dexels as f64;
             if bytes > 50e6 {
                 term::err(&format!(
                     "--gltf-full: every one of the {} dexels is a vertex: about {} MB to write\n",
-                    readable(out.report.stock.dexels as f64),
+                    readable(report.stock.dexels as f64),
                     readable(bytes / 1e6)
                 ));
             }
@@ -786,7 +799,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             _ => progress.stage("meshing the part for the model", || {
                 vpcut::build_scene(
                     &job,
-                    &out,
+                    grids.as_ref().expect("the grid was kept"),
                     &vpcut::SceneOptions {
                         mesh_tolerance: e,
                         ideal: args.gltf_ideal,
@@ -803,9 +816,22 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some((developed, section)) = plot_slots {
         let tol = job.sim.tolerance;
         let (dev, sec) = progress.stage("drawing the plots", || {
-            let dev = vpcut::developed_view(&out.stock, &job.thread, tol, 1440, 900);
+            let dev = vpcut::developed_view(
+                &grids.as_ref().expect("the grid was kept").stock,
+                &job.thread,
+                tol,
+                1440,
+                900,
+            );
             let angle = args.section_angle.unwrap_or(0.0).to_radians();
-            let sec = vpcut::section_view(&out.stock, &job.thread, angle, tol, 1600, 600);
+            let sec = vpcut::section_view(
+                &grids.as_ref().expect("the grid was kept").stock,
+                &job.thread,
+                angle,
+                tol,
+                1600,
+                600,
+            );
             (png(&dev), png(&sec))
         });
         outs.put(developed, &dev?)?;
@@ -816,8 +842,8 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             job: args.job.clone(),
             seconds: clock.elapsed().as_secs_f64(),
             result: Ok(Checked {
-                places: places(&out.report, &args.job, &job_text, &job, &inputs),
-                report: out.report.clone(),
+                places: places(&report, &args.job, &job_text, &job, &inputs),
+                report: report.clone(),
             }),
         };
         CiArgs::write(ci_slots, std::slice::from_ref(&case), &mut outs)?;
@@ -825,18 +851,16 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let written = progress.stage("writing", || outs.commit())?;
     if !args.quiet {
         let wall = clock.elapsed().as_secs_f64();
-        say.write(&term::summary(&out.report, say, Some(wall)));
+        say.write(&term::summary(&report, say, Some(wall)));
         for p in written {
             say.write(&format!("  wrote {}\n", p.display()));
         }
     }
-    Ok(
-        if args.check && out.report.verdict == vpcut::Verdict::Fail {
-            ExitCode::from(1)
-        } else {
-            ExitCode::SUCCESS
-        },
-    )
+    Ok(if args.check && report.verdict == vpcut::Verdict::Fail {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
@@ -896,12 +920,12 @@ fn check_one(path: &Path, strict: bool, opts: &vpcut::Options) -> (Case, Vec<Pat
     let inputs = Inputs::default();
     let run = || -> anyhow::Result<Checked> {
         let (job, text) = load_job(path, strict, &inputs)?;
-        let mut out =
-            vpcut::simulate(&job, opts).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        complete_report(&mut out.report, &inputs);
+        let mut report = vpcut::simulate_report(&job, opts)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        complete_report(&mut report, &inputs);
         Ok(Checked {
-            places: places(&out.report, path, &text, &job, &inputs),
-            report: out.report,
+            places: places(&report, path, &text, &job, &inputs),
+            report,
         })
     };
     let result = run().map_err(|e| Failed {

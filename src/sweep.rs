@@ -15,7 +15,7 @@
 
 use crate::body::{self, fmax, fmin, Ray, Sections, Tables};
 use crate::pass::Pass;
-use crate::stock::{first_cell, Stock, Surface};
+use crate::stock::{first_cell, Grid, Stock, Surface};
 use crate::tool::{Kernel, Tool};
 use rayon::prelude::*;
 
@@ -59,26 +59,58 @@ struct Prepared {
 /// the job validation rejects them before).
 pub fn sweep(stock: &mut Stock, surface: Surface, passes: &[Pass], tools: &[Tool]) -> SweepStats {
     let grid = stock.grid;
-    let q_blank = stock.blank_q(surface);
-    let prepared = prepare(passes, tools, q_blank, surface, true);
+    let kernel = GridSweep::new(grid, stock.blank_q(surface), surface, passes, tools);
     let Some(q) = stock.surface_mut(surface) else {
         return SweepStats::default();
     };
     q.par_chunks_mut(grid.n_z)
         .enumerate()
-        .map(|(i, col)| {
-            cut_column(
-                col,
-                grid.theta(i),
-                grid.z0,
-                grid.dz,
-                q_blank,
-                surface,
-                passes,
-                &prepared,
-            )
-        })
+        .map(|(i, col)| kernel.column(i, col))
         .reduce(SweepStats::default, |a, b| a + b)
+}
+
+/// The passes made ready to cut the columns of one grid, one column at a time (the
+/// streaming pipeline calls [`GridSweep::column`] per column of its tiles).
+pub(crate) struct GridSweep<'a> {
+    grid: Grid,
+    q_blank: f64,
+    surface: Surface,
+    passes: &'a [Pass],
+    prepared: Vec<Prepared>,
+}
+
+impl<'a> GridSweep<'a> {
+    /// The passes prepared for `grid` (the bodies' tables built once).
+    pub(crate) fn new(
+        grid: Grid,
+        q_blank: f64,
+        surface: Surface,
+        passes: &'a [Pass],
+        tools: &[Tool],
+    ) -> GridSweep<'a> {
+        GridSweep {
+            grid,
+            q_blank,
+            surface,
+            passes,
+            prepared: prepare(passes, tools, q_blank, surface, true),
+        }
+    }
+
+    /// Cut column `i` of the grid, held in `col` (`n_z` values, `q - q_blank`), in place.
+    pub(crate) fn column(&self, i: usize, col: &mut [f32]) -> SweepStats {
+        let g = &self.grid;
+        cut_column(
+            col,
+            g.theta(i),
+            g.z0,
+            g.dz,
+            self.q_blank,
+            self.surface,
+            self.passes,
+            &self.prepared,
+        )
+    }
 }
 
 /// A free-standing column: its angle, its cells `z0 + j*dz`, and the surface it samples.

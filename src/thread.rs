@@ -471,8 +471,13 @@ fn envelope(grooves: &[Groove], depth: f64, widening: f64, z_lo: f64, z_hi: f64)
     v
 }
 
-/// Squared distance from a point to a segment in `(z, h)`, and whether the nearest point
-/// is an end of the segment.
+/// Squared distance from a point to a segment in `(z, h)`.
+pub(crate) fn segment_distance2(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
+    segment_foot(p, a, b).0
+}
+
+/// [`segment_distance2`], and whether the nearest point is an end of the segment (-1 its
+/// first vertex, 1 its last, 0 neither).
 #[inline]
 fn segment_foot(p: (f64, f64), a: Vertex, b: Vertex) -> (f64, i8) {
     let (dz, dh) = (b.z - a.z, b.h - a.h);
@@ -523,23 +528,46 @@ impl ColumnIdeal {
         while i > 0 && cell_of(self.verts[i].z) > j0 as f64 {
             i -= 1;
         }
-        // The cell where the next vertex begins, computed once per vertex.
-        let mut next = cell_of(self.verts[i + 1].z);
-        for (k, o) in out.iter_mut().enumerate() {
-            let j = (j0 + k) as f64;
-            let z = z0 + j * dz;
-            while i + 2 < self.verts.len() && next <= j {
-                i += 1;
-                next = cell_of(self.verts[i + 1].z);
-            }
-            let (a, b) = (self.verts[i], self.verts[i + 1]);
-            let h = if b.z <= a.z {
-                a.h.min(b.h)
+        // The cell the next vertex falls on, computed once per vertex.
+        let n = self.verts.len();
+        let next_of = |i: usize| {
+            if i + 2 < n {
+                cell_of(self.verts[i + 1].z)
             } else {
-                let u = ((z - a.z) / (b.z - a.z)).clamp(0.0, 1.0);
-                a.h + u * (b.h - a.h)
+                f64::INFINITY
+            }
+        };
+        let mut next = next_of(i);
+        // Runs of cells on one segment: a wall or a flat is one value.
+        let len = out.len();
+        let mut k = 0;
+        while k < len {
+            let j = (j0 + k) as f64;
+            while next <= j {
+                i += 1;
+                next = next_of(i);
+            }
+            // The cells before the next vertex's (`next` is a whole cell number > j).
+            let end = if next.is_finite() {
+                ((next - j0 as f64) as usize).min(len)
+            } else {
+                len
             };
-            *o = h as f32;
+            let (a, b) = (self.verts[i], self.verts[i + 1]);
+            let run = &mut out[k..end];
+            if b.z <= a.z {
+                run.fill(a.h.min(b.h) as f32);
+            } else if a.h == b.h {
+                // A flat: `u * (b.h - a.h)` is +0 whatever `u` (in [0, 1]).
+                run.fill((a.h + 0.0) as f32);
+            } else {
+                for (m, o) in run.iter_mut().enumerate() {
+                    let z = z0 + (j0 + k + m) as f64 * dz;
+                    let u = ((z - a.z) / (b.z - a.z)).clamp(0.0, 1.0);
+                    *o = (a.h + u * (b.h - a.h)) as f32;
+                }
+            }
+            k = end;
         }
     }
 
@@ -610,23 +638,6 @@ impl ColumnIdeal {
         (best_i != usize::MAX).then(|| (best.sqrt(), best_i, best_end))
     }
 
-    /// The parts meeting at the end `end` (-1 or 1) of segment `i`: its own and its
-    /// neighbour's there (`None` at the polyline's ends or past a degenerate segment,
-    /// where only [`ColumnIdeal::flank_of`] decides).
-    pub(crate) fn vertex_parts(&self, i: usize, end: i8) -> (Flank, Option<Flank>) {
-        let kind = |k: usize| self.segment_kind(self.verts[k], self.verts[k + 1]);
-        let k = if end < 0 {
-            i.checked_sub(1)
-        } else {
-            Some(i + 1).filter(|&k| k + 1 < self.verts.len())
-        };
-        let other = k.filter(|&k| {
-            let (a, b) = (self.verts[k], self.verts[k + 1]);
-            a.z != b.z || a.h != b.h
-        });
-        (kind(i), other.map(kind))
-    }
-
     /// The part a point nearest to segment `i` (at its end `end`, see
     /// [`ColumnIdeal::nearest`]) belongs to.
     pub(crate) fn flank_of(&self, i: usize, end: i8, z: f64, h: f64) -> Flank {
@@ -690,6 +701,12 @@ impl ColumnIdeal {
             hint += 1;
         }
         hint
+    }
+
+    /// The part of the profile segment `i` belongs to (as [`ColumnIdeal::distance`] names
+    /// the segments).
+    pub(crate) fn segment_flank(&self, i: usize) -> Flank {
+        self.segment_kind(self.verts[i], self.verts[i + 1])
     }
 
     fn segment_kind(&self, a: Vertex, b: Vertex) -> Flank {

@@ -722,7 +722,7 @@ fn the_command_line_exits_2_naming_the_place() {
                     ("simulation", "angular_cells", "3600"),
                 ],
             ),
-            "cannot allocate",
+            "a run sweeps and compares",
         ),
     ];
     for (text, want) in jobs {

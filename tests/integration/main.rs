@@ -35,6 +35,7 @@ mod real_programs;
 mod render;
 /// Bad input never panics.
 mod robust;
+mod streaming;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;
 /// No false PASS: randomized clean cuts pass, short defects fail on their turn and flank.
