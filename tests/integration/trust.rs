@@ -301,6 +301,16 @@ fn run(c: &Case, with_defect: bool) -> vpcut::Report {
         .report
 }
 
+/// The first three error messages of a report (for failure messages).
+fn first_errors(r: &vpcut::Report) -> Vec<&str> {
+    r.findings
+        .iter()
+        .filter(|f| f.severity == "error")
+        .map(|f| f.message.as_str())
+        .take(3)
+        .collect()
+}
+
 fn flank_gouge(row: &vpcut::TurnRow, kind: Kind) -> f64 {
     match kind {
         Kind::Radial => row.flanks.root.max_gouge_mm,
@@ -321,13 +331,7 @@ fn clean_cuts_pass_and_every_short_defect_fails_on_its_turn_and_flank() {
                 || clean.deviation.max_gouge_mm > 0.25 * 0.01
                 || clean.deviation.max_leftover_mm > 0.25 * 0.01
             {
-                let errs: Vec<&str> = clean
-                    .findings
-                    .iter()
-                    .filter(|f| f.severity == "error")
-                    .map(|f| f.message.as_str())
-                    .take(3)
-                    .collect();
+                let errs = first_errors(&clean);
                 return Some(format!(
                     "seed {}: the clean cut gives {:?} (gouge {}, leftover {}): {errs:?}\n{}",
                     c.seed,
@@ -347,13 +351,7 @@ fn clean_cuts_pass_and_every_short_defect_fails_on_its_turn_and_flank() {
                 let at = bad.deviation.max_gouge_at.as_ref().map(|l| {
                     format!("turn {} start {} {} z {}", l.turn, l.start, l.flank, l.z_mm)
                 });
-                let errs: Vec<&str> = bad
-                    .findings
-                    .iter()
-                    .filter(|f| f.severity == "error")
-                    .map(|f| f.message.as_str())
-                    .take(3)
-                    .collect();
+                let errs = first_errors(&bad);
                 return Some(format!(
                     "seed {}: {:?} defect of {:.3} mm on turn {} start {}: {:?}, {:?} gouge there {got} (expected >= {:.4}); worst {} at {at:?}; {errs:?}; defect {:?}\n{}",
                     c.seed,
