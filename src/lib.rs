@@ -1030,22 +1030,15 @@ fn build_report(
             };
             if td.compared == 0 && dev.compared_dexels > 0 {
                 findings.push(Finding {
-                    kind: "not_compared",
-                    severity: "warning",
                     turn: Some(n),
                     start: Some(s),
-                    flank: None,
-                    pass: None,
-                    angle_deg: None,
-                    z_mm: None,
-                    value: None,
-                    unit: None,
-                    file: None,
-                    line: None,
-                    column: None,
-                    message: format!(
-                        "turn {n}: no dexel of it lies on the simulated stock ([simulation] z_range): it is not checked"
-                    ),
+                    ..Finding::new(
+                        "not_compared",
+                        "warning",
+                        format!(
+                            "turn {n}: no dexel of it lies on the simulated stock ([simulation] z_range): it is not checked"
+                        ),
+                    )
                 });
             }
             turn_findings(&row, &td, all, tol, &mut findings);
@@ -1163,22 +1156,11 @@ fn build_report(
         });
     }
     if dev.compared_dexels == 0 {
-        findings.push(Finding {
-            kind: "not_compared",
-            severity: "error",
-            turn: None,
-            start: None,
-            flank: None,
-            pass: None,
-            angle_deg: None,
-            z_mm: None,
-            value: None,
-            unit: None,
-                    file: None,
-                    line: None,
-                    column: None,
-            message: "no dexel of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
-        });
+        findings.push(Finding::new(
+            "not_compared",
+            "error",
+            "no dexel of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
+        ));
     }
     let verdict = rank_findings(&mut findings);
     let gouge = dev.max_gouge();

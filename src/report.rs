@@ -424,6 +424,29 @@ pub struct Finding {
     pub message: String,
 }
 
+impl Finding {
+    /// A finding with a kind, a severity and a message and no location or value; the
+    /// fields that apply are set with struct update syntax (`..Finding::new(..)`).
+    pub fn new(kind: &'static str, severity: &'static str, message: String) -> Finding {
+        Finding {
+            kind,
+            severity,
+            turn: None,
+            start: None,
+            flank: None,
+            pass: None,
+            angle_deg: None,
+            z_mm: None,
+            file: None,
+            line: None,
+            column: None,
+            value: None,
+            unit: None,
+            message,
+        }
+    }
+}
+
 /// Wall-clock times.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Timing {

@@ -478,22 +478,7 @@ mod tests {
     fn findings_without_a_program_line_point_at_the_job_table() {
         let job =
             "name = \"x\"\n\n[blank]\ndiameter = 1\n\n  [thread]\nform = \"square\"\n[machine]\n";
-        let f = |kind: &'static str| vpcut::Finding {
-            kind,
-            severity: "error",
-            turn: None,
-            start: None,
-            flank: None,
-            pass: None,
-            angle_deg: None,
-            z_mm: None,
-            file: None,
-            line: None,
-            column: None,
-            value: None,
-            unit: None,
-            message: String::new(),
-        };
+        let f = |kind: &'static str| vpcut::Finding::new(kind, "error", String::new());
         let none = |_: &str| None;
         let at = |kind| place(&f(kind), Path::new("j.toml"), job, &none, &[]);
         assert_eq!((at("gouge").line, at("gouge").column), (6, 3));

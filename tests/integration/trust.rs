@@ -379,23 +379,23 @@ fn clean_cuts_pass_and_every_short_defect_fails_on_its_turn_and_flank() {
     );
 }
 
-/// The case of the issue: a 0.3 mm gouge into the -z wall of the last turn's groove of a
-/// 3-turn square thread, on the generators where the first feature is not on the
-/// reference generator, fails on turn 3 (before, the comparison ended at the last
-/// feature's centre and it passed); the same defect one turn earlier fails on turn 2.
-#[test]
-fn a_gouge_into_the_last_turns_wall_fails() {
-    let base = r#"
+/// The issue's 3-turn square thread (pitch 10, 5 mm groove, first groove at `z_start`) on a
+/// 60 mm blank whose front face is at `z_front`, cut clean by one 5 mm grooving pass from
+/// z 5 to -45, then `extra` (more passes) and the `[simulation]` keys `sim`.
+fn square_3_turns(z_front: f64, z_start: f64, extra: &str, sim: &str) -> String {
+    format!(
+        r#"
         [blank]
         diameter = 40.0
         length = 60.0
+        z_front = {z_front}
         [thread]
         form = "square"
         major_diameter = 40.0
         minor_diameter = 34.0
-        pitch = { first = 10.0, increment = 0.0, turns = 3 }
-        width = { groove = 5.0 }
-        z_start = -10.0
+        pitch = {{ first = 10.0, increment = 0.0, turns = 3 }}
+        width = {{ groove = 5.0 }}
+        z_start = {z_start}
         start_angle = 0.0
         [[tool]]
         id = 1
@@ -409,16 +409,28 @@ fn a_gouge_into_the_last_turns_wall_fails() {
         z_end = -45.0
         lead = 10.0
         start_angle = 180.0
+        {extra}
         [simulation]
-        axial_spacing = 0.01
-        angular_cells = 720
-    "#;
+        {sim}
+        "#
+    )
+}
+
+/// The case of the issue: a 0.3 mm gouge into the -z wall of the last turn's groove of a
+/// 3-turn square thread, on the generators where the first feature is not on the
+/// reference generator, fails on turn 3 (before, the comparison ended at the last
+/// feature's centre and it passed); the same defect one turn earlier fails on turn 2.
+#[test]
+fn a_gouge_into_the_last_turns_wall_fails() {
+    let sim = "axial_spacing = 0.01\nangular_cells = 720";
+    let base = square_3_turns(0.0, -10.0, "", sim);
     let defect = |z0: f64, z1: f64, angle: f64| {
-        format!(
-            "{base}\n[[pass]]\ntool = 1\nx = 34.0\nz_start = {z0}\nz_end = {z1}\nlead = 10.0\nstart_angle = {angle}\n"
-        )
+        let pass = format!(
+            "[[pass]]\ntool = 1\nx = 34.0\nz_start = {z0}\nz_end = {z1}\nlead = 10.0\nstart_angle = {angle}"
+        );
+        square_3_turns(0.0, -10.0, &pass, sim)
     };
-    let clean = crate::support::run(base).report;
+    let clean = crate::support::run(&base).report;
     assert_eq!(clean.verdict, Verdict::Pass);
     assert_eq!(clean.deviation.max_gouge_mm, 0.0);
     assert_eq!(clean.deviation.gouge_volume_mm3, 0.0);
@@ -634,38 +646,10 @@ fn exact_fit_tools_of_standard_forms_are_accepted() {
 /// outside the simulated window compares nothing and fails.
 #[test]
 fn a_thread_that_is_not_on_the_blank_never_passes() {
-    let text = |z_start: f64, extra: &str| {
-        format!(
-            r#"
-            [blank]
-            diameter = 40.0
-            length = 60.0
-            [thread]
-            form = "square"
-            major_diameter = 40.0
-            minor_diameter = 34.0
-            pitch = {{ first = 10.0, increment = 0.0, turns = 3 }}
-            width = {{ groove = 5.0 }}
-            z_start = {z_start}
-            [[tool]]
-            id = 1
-            kind = "grooving"
-            width = 5.0
-            [[pass]]
-            tool = 1
-            x = 34.0
-            z_start = 5.0
-            z_end = -45.0
-            lead = 10.0
-            {extra}
-            [simulation]
-            axial_spacing = 0.02
-            angular_cells = 90
-            "#
-        )
-    };
+    let sim = "axial_spacing = 0.02\nangular_cells = 90";
+    let text = |z_start: f64| square_3_turns(0.0, z_start, "", sim);
     for z in [200.0, -5000.0, 8.0, -75.0] {
-        let e = vpcut::Job::from_toml(&text(z, ""), "off.toml").expect_err("off the blank");
+        let e = vpcut::Job::from_toml(&text(z), "off.toml").expect_err("off the blank");
         let msg = e.to_string();
         assert!(
             msg.contains("thread.z_start") && msg.contains("off the blank"),
@@ -673,7 +657,7 @@ fn a_thread_that_is_not_on_the_blank_never_passes() {
         );
     }
     // On the blank, but the simulated window holds none of it.
-    let mut job = vpcut::Job::from_toml(&text(-10.0, ""), "w.toml").unwrap();
+    let mut job = vpcut::Job::from_toml(&text(-10.0), "w.toml").unwrap();
     job.sim.z_range = Some((-59.0, -55.0));
     let r = simulate(&job, &Options::default()).unwrap().report;
     assert_eq!(r.verdict, Verdict::Fail);
@@ -687,36 +671,8 @@ fn a_thread_that_is_not_on_the_blank_never_passes() {
 #[test]
 fn walls_on_cell_centres_compare_and_measure_exactly() {
     for z_front in [0.0, 0.005, 0.0025] {
-        let text = format!(
-            r#"
-            [blank]
-            diameter = 40.0
-            length = 60.0
-            z_front = {z_front}
-            [thread]
-            form = "square"
-            major_diameter = 40.0
-            minor_diameter = 34.0
-            pitch = {{ first = 10.0, increment = 0.0, turns = 3 }}
-            width = {{ groove = 5.0 }}
-            z_start = -10.0
-            [[tool]]
-            id = 1
-            kind = "grooving"
-            width = 5.0
-            [[pass]]
-            tool = 1
-            x = 34.0
-            z_start = 5.0
-            z_end = -45.0
-            lead = 10.0
-            start_angle = 180.0
-            [simulation]
-            axial_spacing = 0.01
-            angular_cells = 72
-            measure_spacing = 0.01
-            "#
-        );
+        let sim = "axial_spacing = 0.01\nangular_cells = 72\nmeasure_spacing = 0.01";
+        let text = square_3_turns(z_front, -10.0, "", sim);
         let r = crate::support::run(&text).report;
         assert_eq!(r.deviation.gouge_volume_mm3, 0.0, "z_front {z_front}");
         assert_eq!(r.deviation.leftover_volume_mm3, 0.0, "z_front {z_front}");
