@@ -5,12 +5,13 @@
 //! or a [`JobError`] that names the file, the key, its line and column, and what was
 //! expected. Unknown keys are errors. The format is documented in `docs/job-format.md`.
 
-use crate::helix::{Hand, Helix, LeadLaw, Spindle};
-use crate::pass::Pass;
-use crate::process::{self, Process};
-use crate::solid::Solid;
-use crate::thread::{Side, ThreadSpec, WidthRule};
-use crate::tool::{Body, Edge, Reference, Tool};
+use crate::gen::process::{self, Process};
+use crate::model::helix::{Hand, Helix, LeadLaw, Spindle};
+use crate::model::pass::Pass;
+pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
+use crate::model::solid::Solid;
+use crate::model::thread::{Side, ThreadSpec, WidthRule};
+use crate::model::tool::{Body, Edge, Reference, Tool};
 use serde::Deserialize;
 use std::fmt;
 
@@ -79,32 +80,6 @@ fn render(file: &str, line: usize, col: usize, key: &str, message: &str, snippet
         ));
     }
     s
-}
-
-/// The blank.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Blank {
-    /// Outer diameter (mm).
-    pub diameter: f64,
-    /// Bore diameter (mm), 0 = solid.
-    pub bore: f64,
-    /// Length (mm).
-    pub length: f64,
-    /// z of the right (front) face; the bar extends toward -z.
-    pub z_front: f64,
-}
-
-/// Machine data for the checks.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Machine {
-    /// Spindle speed during threading (rev/min).
-    pub spindle_rpm: f64,
-    /// Maximum axis feed (mm/min), if known.
-    pub max_feed: Option<f64>,
-    /// Axis acceleration (mm/s^2), if known.
-    pub acceleration: Option<f64>,
-    /// Spindle direction.
-    pub spindle: Spindle,
 }
 
 /// Simulation settings.
@@ -197,30 +172,7 @@ pub struct Job {
     /// checked on the measured simple pitch diameter of every turn (milling jobs).
     pub pitch_diameter_limits: Option<(f64, f64)>,
     /// The plan of `[process] kind = "plan"`, whose passes are [`Job::passes`].
-    pub plan: Option<crate::plan::Plan>,
-}
-
-/// A program's thread move that continues the previous one without a re-sync (a chained
-/// move, [`crate::nc::Move::chained`]): where it is, and the lead law on both sides of the
-/// joint. The `thread_chain` machine check compares them.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ChainLink {
-    /// Index of the chained pass in [`Job::passes`].
-    pub pass: usize,
-    /// Program file of its block.
-    pub file: String,
-    /// Line of its block.
-    pub line: usize,
-    /// z of the joint (mm).
-    pub z: f64,
-    /// Lead the previous pass ended with (mm/rev).
-    pub lead_before: f64,
-    /// Lead change per revolution of the previous pass (mm/rev^2).
-    pub change_before: f64,
-    /// Start lead of the chained pass (mm/rev).
-    pub lead_after: f64,
-    /// Its lead change per revolution (mm/rev^2).
-    pub change_after: f64,
+    pub plan: Option<crate::gen::plan::Plan>,
 }
 
 // ---------------------------------------------------------------------------------------
@@ -496,7 +448,7 @@ struct RawProcess {
     root_width: Option<f64>,
     max_depth: Option<f64>,
     min_depth: Option<f64>,
-    infeed: Option<crate::plan::Infeed>,
+    infeed: Option<crate::gen::plan::Infeed>,
     finish_passes: Option<u32>,
     spring_passes: Option<u32>,
     finish_allowance: Option<f64>,
@@ -1082,7 +1034,7 @@ fn plan_process(
     sim: &SimConfig,
     tool_index: &dyn Fn(u32, &str) -> Result<usize, JobError>,
     cx: &Ctx,
-) -> Result<crate::plan::Plan, JobError> {
+) -> Result<crate::gen::plan::Plan, JobError> {
     for (key, given) in [
         ("layers", pr.layers.is_some()),
         ("depths", pr.depths.is_some()),
@@ -1106,7 +1058,7 @@ fn plan_process(
         )
     })?;
     let allowance = pr.finish_allowance.unwrap_or(0.0);
-    let limits = crate::plan::Limits {
+    let limits = crate::gen::plan::Limits {
         max_depth,
         min_depth: pr.min_depth.unwrap_or(0.0),
         schedule: pr.schedule,
@@ -1118,7 +1070,7 @@ fn plan_process(
         finish_allowance: allowance,
     };
     let tool = tool_index(pr.tool, "process.tool")?;
-    crate::plan::plan(&limits, tool, thread, tools, blank, machine, sim.tolerance)
+    crate::gen::plan::plan(&limits, tool, thread, tools, blank, machine, sim.tolerance)
         .map_err(|e| cx.err(&format!("process.{}", e.key), e.message))
 }
 

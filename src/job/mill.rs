@@ -2,7 +2,7 @@
 //! program's milling moves turned into the kernel's path in the part's frame.
 
 use super::{Ctx, JobError, RawJob, RawProgram, RawTool};
-use crate::mill::{Cutter, CutterSpec, MillPath, Motion, PathMove};
+use crate::kernel::mill::{Cutter, CutterSpec, MillPath, Motion, PathMove};
 use crate::nc::{MillKind, MillMove, MillSettings, Plane};
 use serde::Deserialize;
 
@@ -334,7 +334,7 @@ pub(super) fn resolve_mill(
     let path = MillPath::new(path, &cutters).map_err(|e| {
         cx.err(
             "program",
-            format!("the path needs {} samples at the stated sampling bound, over the limit of {}: a shorter program or fewer moves", e.0, crate::mill::MAX_SAMPLES),
+            format!("the path needs {} samples at the stated sampling bound, over the limit of {}: a shorter program or fewer moves", e.0, crate::kernel::mill::MAX_SAMPLES),
         )
     })?;
     Ok((

@@ -6,8 +6,8 @@
 //! radius `x` points up. A section plane contains the axis; the half of the part on the
 //! camera's side of it is cut away.
 
-use crate::plot::OUTSIDE;
-use crate::scene::Scene;
+use crate::output::plot::OUTSIDE;
+use crate::output::scene::Scene;
 use glam::{DMat4, DVec3, DVec4};
 
 /// Which picture to take.
@@ -249,7 +249,7 @@ pub(crate) fn closeup_target(scene: &Scene) -> (DVec3, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Focus, Legend, Mesh};
+    use crate::output::scene::{Focus, Legend, Mesh};
 
     /// The vertices of a bar of radius `r` from `z0` to `z1` (no triangles needed here).
     fn bar(r: f64, z0: f64, z1: f64) -> Scene {

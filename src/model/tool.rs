@@ -4,12 +4,12 @@
 //! through the tool (the rake face, on centre). An optional [`Body`] gives the insert its
 //! thickness behind the rake face with side and front clearance and an inclination: the
 //! solid that can rub a flank when the helix angle outgrows the clearance (see
-//! [`crate::sweep`] for how it is swept). The profile is a function `h(v) >= 0`: how far the edge stands back
+//! [`crate::kernel::sweep`] for how it is swept). The profile is a function `h(v) >= 0`: how far the edge stands back
 //! from its tip at axial offset `v` from the tip centre, `+inf` outside the edge. The
 //! tool's reference point (the point the program drives) sits at the tip height and at
 //! axial offset [`Tool::reference_offset`] from the tip centre.
 
-use crate::solid::Solid;
+use crate::model::solid::Solid;
 use std::sync::Arc;
 
 /// Which point of the tool the passes drive.

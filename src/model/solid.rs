@@ -1,11 +1,11 @@
 //! Convex tool solids as half-spaces in the tool frame, made from a triangle mesh.
 //!
-//! The tool frame is the one of [`crate::tool`]: `H` the height above the tip away from the
+//! The tool frame is the one of [`crate::model::tool`]: `H` the height above the tip away from the
 //! material (radially outward for an external tool), `Y` the depth behind the rake face
 //! (tangential, on the side the freshly cut surface moves to), `V` the axial offset from the
 //! tool's reference point along +z of the part. A convex solid is the intersection of the
 //! half-spaces of its faces, `h H + y Y + v V >= d`, each with a unit normal `(h, y, v)`
-//! pointing into the solid. That is the form the sweep cuts with ([`crate::body`]): on a ray
+//! pointing into the solid. That is the form the sweep cuts with ([`crate::kernel::body`]): on a ray
 //! of a column every face is a linear bound on the radius, so a convex solid is cut exactly
 //! per ray, like the parametric insert.
 //!

@@ -7,7 +7,7 @@
 //! (centre `c` in xy, tip at `z_tip`) the disc of radius `R(z - z_tip)` meets the radial ray
 //! of column `theta` (direction `d`, normal `n`) between `s = d.c -+ sqrt(R^2 - (n.c)^2)`;
 //! an outer surface keeps what lies inside the near end, a bore what lies outside the far
-//! end, so in signed radii (`q = sense r`, see [`crate::stock`]) every dexel is cut by
+//! end, so in signed radii (`q = sense r`, see [`crate::model::stock`]) every dexel is cut by
 //! `q = min(q, sense (d.c) - sqrt(R^2 - (n.c)^2))`. Each profile segment is linear in `z`,
 //! so the cells it covers are walked as a ramp, clipped to where the disc can reach past
 //! the blank, without branches (vectorised; AVX2 when the CPU has it, with the same bits).
@@ -20,7 +20,7 @@
 //! not matter and the per-move figures are merged in column order, so the result does not
 //! depend on the thread count.
 
-use crate::stock::{Stock, Surface};
+use crate::model::stock::{Stock, Surface};
 use rayon::prelude::*;
 
 /// The stated bound of the path sampling on the cut surface (mm, axial-plane distance).
@@ -497,7 +497,12 @@ pub fn sweep_mill(
 
 /// Cut one free-standing column (the fine measurement generators). `q` holds
 /// `q - q_blank` and is cut in place.
-pub fn mill_column(q: &mut [f32], c: crate::sweep::Column, path: &MillPath, cutters: &[Cutter]) {
+pub fn mill_column(
+    q: &mut [f32],
+    c: crate::kernel::sweep::Column,
+    path: &MillPath,
+    cutters: &[Cutter],
+) {
     let segs: Vec<Vec<Seg>> = cutters.iter().map(Cutter::segments).collect();
     let ray = Ray::new(c.theta, c.z0, c.dz, q.len(), c.q_blank, c.surface);
     let mut hits = Vec::new();
@@ -707,7 +712,7 @@ pub(crate) fn engagement(path: &MillPath, r_tip: &[f64], ring: (f64, f64)) -> Ve
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stock::Grid;
+    use crate::model::stock::Grid;
 
     fn comb(teeth: u32) -> CutterSpec {
         CutterSpec {

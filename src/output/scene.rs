@@ -5,8 +5,8 @@
 //! Colours are sRGB bytes, the same ones the developed view and the legend use, so a
 //! picture and a model of the same job agree colour for colour.
 //!
-//! A [`Scene`] is plain data: [`crate::mesh`] builds one from a simulation, [`crate::glb`]
-//! writes it to a `.glb` and reads it back, [`crate::render`] draws it.
+//! A [`Scene`] is plain data: [`crate::output::mesh`] builds one from a simulation, [`crate::output::glb`]
+//! writes it to a `.glb` and reads it back, [`crate::output::render`] draws it.
 
 /// A triangle mesh with one sRGB colour per vertex.
 #[derive(Clone, Debug, Default, PartialEq)]

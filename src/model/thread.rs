@@ -13,8 +13,8 @@
 //! polyline ([`ColumnIdeal`]): crest flats, groove walls and root flats, with the walls of
 //! neighbouring grooves intersected where they overlap (sharp crests).
 
-use crate::helix::{Hand, Helix};
-use crate::stock::first_cell;
+use crate::model::helix::{Hand, Helix};
+use crate::model::stock::first_cell;
 use std::f64::consts::TAU;
 
 /// Which surface of the part carries the thread.
@@ -519,7 +519,7 @@ impl ColumnIdeal {
 
     /// Fill `out[k]` with the ideal height of cell `j0 + k` of a column whose cell `j` lies
     /// at `z0 + j*dz`, walking the polyline once. A wall is placed on the cells by the
-    /// stock's tie rule ([`crate::stock::first_cell`], computed from `z0` as the sweep
+    /// stock's tie rule ([`crate::model::stock::first_cell`], computed from `z0` as the sweep
     /// does): a cell on a vertical wall takes the wall's +z side.
     pub fn fill_heights(&self, z0: f64, dz: f64, j0: usize, out: &mut [f32]) {
         let cell_of = |z: f64| first_cell((z - z0) / dz);
@@ -756,7 +756,7 @@ impl ColumnIdeal {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::helix::LeadLaw;
+    use crate::model::helix::LeadLaw;
 
     fn square_equal_tooth() -> ThreadSpec {
         ThreadSpec {

@@ -14,11 +14,11 @@
 //! one at `t = n`; its lead is the mean of the two same-side flank spacings, its groove
 //! and tooth are the pair that starts at its first feature.
 
-use crate::pass::Pass;
-use crate::stock::Surface;
-use crate::sweep::{sweep_column, Column};
-use crate::thread::{Feature, Side, ThreadSpec, WidthRule};
-use crate::tool::Tool;
+use crate::kernel::sweep::{sweep_column, Column};
+use crate::model::pass::Pass;
+use crate::model::stock::Surface;
+use crate::model::thread::{Feature, Side, ThreadSpec, WidthRule};
+use crate::model::tool::Tool;
 
 /// An interval of the pitch line inside a feature, `lo < hi` in z.
 #[derive(Clone, Copy, Debug, PartialEq)]

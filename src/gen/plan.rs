@@ -1,6 +1,6 @@
 //! The pass planner (`[process] kind = "plan"`): the fewest threading passes that respect
 //! the job's limits and leave no ridge above the tolerance, in a form every post-processor
-//! can write (`crate::post`).
+//! can write (`crate::gen::post`).
 //!
 //! **Layers.** Depths below the crest follow the schedule: `constant-depth` takes
 //! `ceil(D_r / max_depth)` equal layers, `constant-area` FANUC G76's `d_n = d_1 sqrt(n)` with
@@ -35,12 +35,12 @@
 //! deepest chip of any pass and the leftover and gouge against the ideal profile. Coverage
 //! beyond the tolerance is an error, not a hope.
 
-use crate::helix::{Helix, Spindle};
-use crate::job::{Blank, Machine};
-use crate::pass::Pass;
-use crate::process::{GenError, Schedule};
-use crate::thread::{ThreadSpec, WidthRule};
-use crate::tool::Tool;
+use crate::gen::process::{GenError, Schedule};
+use crate::model::helix::{Helix, Spindle};
+use crate::model::pass::Pass;
+use crate::model::setup::{Blank, Machine};
+use crate::model::thread::{ThreadSpec, WidthRule};
+use crate::model::tool::Tool;
 use serde::Deserialize;
 use std::f64::consts::TAU;
 
@@ -468,10 +468,12 @@ pub(crate) fn plan(
     let run_out = stop(lead_out);
     let z_end = quantize(base.z(t_out) + dir * run_out, POS);
     let clear_x = match thread.side {
-        crate::thread::Side::External => {
+        crate::model::thread::Side::External => {
             quantize(blank.diameter.max(2.0 * thread.crest_radius) + 2.0, POS)
         }
-        crate::thread::Side::Internal => quantize((2.0 * thread.crest_radius - 1.0).max(0.0), POS),
+        crate::model::thread::Side::Internal => {
+            quantize((2.0 * thread.crest_radius - 1.0).max(0.0), POS)
+        }
     };
     let mut plan = Plan {
         tool: tool_idx,

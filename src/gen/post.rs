@@ -24,10 +24,10 @@
 //!   helix (`K/(8 n^2)` off it) stays within a quarter of the tolerance; the spindle phase runs
 //!   on from block to block.
 
-use crate::helix::{LeadLaw, Spindle};
+use crate::gen::plan::{quantize, Plan, TABLE};
+use crate::model::helix::{LeadLaw, Spindle};
+use crate::model::pass::Pass;
 use crate::nc::Dialect;
-use crate::pass::Pass;
-use crate::plan::{quantize, Plan, TABLE};
 use std::fmt::Write;
 
 /// Which program to write.

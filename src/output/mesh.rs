@@ -23,21 +23,21 @@
 //! becomes a vertex (`--gltf-full`). The integration tests measure the bound on columns the
 //! mesh skipped (sections of the triangles against dexel data the mesh never saw).
 //!
-//! **Colours** are the developed view's colour map ([`crate::plot`]) of the signed normal
+//! **Colours** are the developed view's colour map ([`crate::output::plot`]) of the signed normal
 //! deviation at each vertex (an exact dexel sample), so the 3D model, the developed view
 //! and the legend agree. Columns are built in parallel (rayon) and concatenated in column
 //! order, so the mesh does not depend on the thread count.
 
-use crate::helix::Hand;
 use crate::job::Job;
-use crate::pass::Pass;
-use crate::plot::{colour, signed_deviation, BODY_RUB};
+use crate::model::helix::Hand;
+use crate::model::pass::Pass;
+use crate::model::stock::{Stock, Surface};
+use crate::model::thread::{Side, ThreadSpec};
+use crate::model::tool::Tool;
+use crate::output::plot::{colour, signed_deviation, BODY_RUB};
+use crate::output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
+use crate::pipeline::Outcome;
 use crate::report::Report;
-use crate::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
-use crate::stock::{Stock, Surface};
-use crate::thread::{Side, ThreadSpec};
-use crate::tool::Tool;
-use crate::Outcome;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -649,7 +649,7 @@ pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
         grid.z(0) - 0.5 * grid.dz,
         grid.z(grid.n_z - 1) + 0.5 * grid.dz,
     );
-    let ideals: Vec<crate::thread::ColumnIdeal> = cols
+    let ideals: Vec<crate::model::thread::ColumnIdeal> = cols
         .par_iter()
         .map(|&i| thread.column(grid.theta(i), lo, hi))
         .collect();
@@ -833,7 +833,7 @@ fn cutter_mesh(mj: &crate::MillJob) -> Mesh {
 /// A milling path: the tool tip centre along every move (rapids and cutting moves), at
 /// most [`PATH_STEPS_PER_REV`] points per revolution of an arc.
 fn mill_toolpath(mj: &crate::MillJob) -> Vec<Polyline> {
-    use crate::mill::Motion;
+    use crate::kernel::mill::Motion;
     mj.path
         .moves
         .iter()
@@ -945,7 +945,7 @@ fn edge_solid(tool: &Tool, r_tip: f64, theta: f64, z_tip: f64, sense: f64, depth
             (v, tool.height(v).min(top))
         })
         .collect();
-    if let crate::tool::Edge::Trapezoid { tip, .. } = tool.edge {
+    if let crate::model::tool::Edge::Trapezoid { tip, .. } = tool.edge {
         // The tip corners exactly.
         poly.push((-tip / 2.0, 0.0));
         poly.push((tip / 2.0, 0.0));

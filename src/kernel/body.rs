@@ -1,7 +1,7 @@
 //! The tool body behind the cutting edge, swept through the radial dexels.
 //!
 //! The edge (the rake face, on centre) cuts a column exactly at the revolution `t_c` where
-//! the pass crosses the column's angle ([`crate::sweep`]). The body trails the edge: at
+//! the pass crosses the column's angle ([`crate::kernel::sweep`]). The body trails the edge: at
 //! relative angle `phi > 0` behind the rake face it meets the same column at `t_c + phi/2pi`,
 //! when the tool has moved on along the helix by the travel of that fraction of a turn. So
 //! the column sees a sequence of body sections, each placed at the tool's position of its
@@ -9,7 +9,7 @@
 //! `X = r cos phi` (radial) and `Y = r sin phi` (depth behind the rake face), and every face
 //! of the solid is then a linear constraint `A r >= B` on the radius along the ray: the
 //! parametric insert's (the section's tip, its two flanks with their clearance and
-//! inclination, its back at `Y = thickness`) or a convex mesh's ([`crate::solid`]). The first
+//! inclination, its back at `Y = thickness`) or a convex mesh's ([`crate::model::solid`]). The first
 //! radius inside all of them is where the body meets the ray (external: the smallest;
 //! internal: the largest), and the column is cut there ([`ray`]; at `phi = 0` the same is a
 //! mesh's edge).
@@ -39,10 +39,10 @@
 //! did not and the pass needs no sections: the result is exactly the planar one. Likewise a
 //! flank that cannot reach out does not count in the sampling speed.
 
-use crate::pass::Pass;
-use crate::solid::{Face, Solid};
-use crate::stock::{first_cell, Surface};
-use crate::tool::{cot, Body, Edge, Tool};
+use crate::model::pass::Pass;
+use crate::model::solid::{Face, Solid};
+use crate::model::stock::{first_cell, Surface};
+use crate::model::tool::{cot, Body, Edge, Tool};
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::sync::Arc;
 

@@ -3,10 +3,10 @@
 //! A pass is what one `G32`/`G33`/`G34` block does: the tool's reference point moves from
 //! `z_start` to `z_end` while the spindle turns, synchronised so that at `t = 0` the tool
 //! is at `start_angle` on the part. The lead law is the continuous one of
-//! [`crate::helix::LeadLaw`]; the diameter may change linearly with z (a taper thread).
+//! [`crate::model::helix::LeadLaw`]; the diameter may change linearly with z (a taper thread).
 //! Handedness is not a flag: it follows from the spindle direction and the feed direction.
 
-use crate::helix::{Helix, LeadLaw, Spindle};
+use crate::model::helix::{Helix, LeadLaw, Spindle};
 
 /// One synchronised threading move.
 #[derive(Clone, Debug, PartialEq)]
@@ -80,7 +80,7 @@ impl Pass {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::helix::Hand;
+    use crate::model::helix::Hand;
 
     fn pass(z_end: f64, spindle: Spindle) -> Pass {
         Pass {

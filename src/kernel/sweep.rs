@@ -7,16 +7,16 @@
 //! angular sampling), and each column is independent, so columns run in parallel with
 //! rayon and the result does not depend on the thread count (`min` is order-free).
 //!
-//! A tool with a [`crate::tool::Body`] also cuts with the sections of its body behind the
-//! edge, at the instants after each crossing when they pass the column ([`crate::body`]);
+//! A tool with a [`crate::model::tool::Body`] also cuts with the sections of its body behind the
+//! edge, at the instants after each crossing when they pass the column ([`crate::kernel::body`]);
 //! passes whose body cannot reach beyond the edge's own cut skip them.
 //!
 //! One *dexel update* is one dexel tested against one tool placement; the kernel counts them.
 
-use crate::body::{self, fmax, fmin, Ray, Sections, Tables};
-use crate::pass::Pass;
-use crate::stock::{first_cell, Grid, Stock, Surface};
-use crate::tool::{Kernel, Tool};
+use crate::kernel::body::{self, fmax, fmin, Ray, Sections, Tables};
+use crate::model::pass::Pass;
+use crate::model::stock::{first_cell, Grid, Stock, Surface};
+use crate::model::tool::{Kernel, Tool};
 use rayon::prelude::*;
 
 /// What a sweep did.
@@ -368,8 +368,8 @@ fn apply(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::helix::Spindle;
-    use crate::tool::{Edge, Reference};
+    use crate::model::helix::Spindle;
+    use crate::model::tool::{Edge, Reference};
 
     /// The kernel's profile placement against a direct evaluation of the tool height.
     #[test]
@@ -443,7 +443,7 @@ mod tests {
                 right_angle: 0.0,
             },
             reference: Reference::Center,
-            body: Some(crate::tool::Body {
+            body: Some(crate::model::tool::Body {
                 thickness: 4.0,
                 clearance_left: left_deg.to_radians(),
                 clearance_right: right_deg.to_radians(),

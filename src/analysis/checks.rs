@@ -17,10 +17,10 @@
 //!   joint (lag, or a pause and re-sync) is control-specific, so the cut shown there may
 //!   not be the machine's.
 
-use crate::job::{Blank, ChainLink, Machine};
-use crate::pass::Pass;
-use crate::thread::Side;
-use crate::tool::Tool;
+use crate::model::pass::Pass;
+use crate::model::setup::{Blank, ChainLink, Machine};
+use crate::model::thread::Side;
+use crate::model::tool::Tool;
 
 /// A machine check that failed.
 #[derive(Clone, Debug, PartialEq)]
@@ -177,7 +177,7 @@ pub(crate) const CHAIN_LEAD_TOL: f64 = 0.0005;
 /// The `thread_chain` check: every chain joint whose lead law jumps. With a known
 /// acceleration a lead step `dL` is a feed step `dv = dL rpm/60` that the axis makes up
 /// with a lag of `dv^2/(2a)`: a step whose lag stays under a tenth of the tolerance (a
-/// variable lead written as chained G33 blocks, `crate::post`) is no finding.
+/// variable lead written as chained G33 blocks, `crate::gen::post`) is no finding.
 pub(crate) fn chain_check(
     links: &[ChainLink],
     machine: &Machine,
@@ -219,7 +219,7 @@ pub(crate) fn chain_check(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::helix::Spindle;
+    use crate::model::helix::Spindle;
 
     #[test]
     fn feed_worst_case_is_the_larger_end() {

@@ -6,7 +6,7 @@
 //! on a GPU or on Mesa's software Vulkan (lavapipe) in CI. The 3D part is drawn by the GPU
 //! (`gpu`, `shaders/scene.wgsl`); cameras are plain arithmetic (`camera`); captions, the
 //! colour bar and the close-up marker are drawn on the read-back image with the same font
-//! and colour bar as the pictures that need no GPU ([`crate::plot`]), so every picture vpcut
+//! and colour bar as the pictures that need no GPU ([`crate::output::plot`]), so every picture vpcut
 //! makes uses one legend.
 //!
 //! Deterministic: the geometry sent to the GPU does not depend on the thread count, and a
@@ -18,8 +18,8 @@ mod gpu;
 
 pub use camera::View;
 
-use crate::plot::{colour_bar, text, BODY_RUB};
-use crate::scene::{Mesh, PathKind, Scene};
+use crate::output::plot::{colour_bar, text, BODY_RUB};
+use crate::output::scene::{Mesh, PathKind, Scene};
 use camera::Camera;
 use glam::DVec3;
 use gpu::{Frame, Gpu, Uniforms, Vertex};
@@ -27,7 +27,7 @@ use image::{Rgb, RgbImage};
 use std::collections::HashMap;
 
 /// The shader source (WGSL), validated by naga in the tests.
-pub const SHADER: &str = include_str!("../../shaders/scene.wgsl");
+pub const SHADER: &str = include_str!("../../../shaders/scene.wgsl");
 
 /// Background (sRGB).
 const BACKGROUND: [u8; 3] = [244, 244, 240];

@@ -18,8 +18,8 @@
 //! A block without compared dexels is "not compared". Pure: images are returned, `main.rs`
 //! writes them.
 
-use crate::stock::{Stock, Surface};
-use crate::thread::{ColumnIdeal, Side, ThreadSpec};
+use crate::model::stock::{Stock, Surface};
+use crate::model::thread::{ColumnIdeal, Side, ThreadSpec};
 use image::{Rgb, RgbImage};
 use rayon::prelude::*;
 

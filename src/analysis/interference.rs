@@ -17,12 +17,12 @@
 //!   crest and root radii, per turn, are `alpha -/+ (psi - lambda)` of `domain.md` §4 in
 //!   tangent form.
 
-use crate::body;
 use crate::job::Job;
-use crate::mesh::seg_dist2;
-use crate::stock::{Grid, Surface};
-use crate::thread::{Flank, ThreadSpec};
-use crate::tool::Tool;
+use crate::kernel::body;
+use crate::model::stock::{Grid, Surface};
+use crate::model::thread::{Flank, ThreadSpec};
+use crate::model::tool::Tool;
+use crate::output::mesh::seg_dist2;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 

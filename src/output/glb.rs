@@ -13,7 +13,7 @@
 //!
 //! Pure: bytes in, bytes out.
 
-use crate::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
+use crate::output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 use gltf::json;
 use json::validation::Checked::Valid;
 use json::validation::USize64;

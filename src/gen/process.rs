@@ -16,11 +16,11 @@
 //!
 //! Generators are pure: thread, tools and blank in, passes out.
 
-use crate::helix::{Helix, LeadLaw, Spindle};
-use crate::job::Blank;
-use crate::pass::Pass;
-use crate::thread::{ThreadSpec, WidthRule};
-use crate::tool::Tool;
+use crate::model::helix::{Helix, LeadLaw, Spindle};
+use crate::model::pass::Pass;
+use crate::model::setup::Blank;
+use crate::model::thread::{ThreadSpec, WidthRule};
+use crate::model::tool::Tool;
 use serde::Deserialize;
 
 /// Which generator.
@@ -33,7 +33,7 @@ pub(crate) enum Kind {
     EqualToothAxial,
     /// Middle, right and left cuts per layer along the flank angle (seed 004).
     FlankBorrow,
-    /// The planner (`crate::plan`): the fewest passes within the limits, checked.
+    /// The planner (`crate::gen::plan`): the fewest passes within the limits, checked.
     Plan,
 }
 
@@ -122,7 +122,7 @@ pub(crate) fn generate(
             AxialMethod::Seed002 => seed002(p, thread, tool, spindle),
         },
         Kind::FlankBorrow => flank_borrow(p, thread, tool, blank, spindle),
-        Kind::Plan => return fail("kind", "the planner runs from the job (`crate::plan`)"),
+        Kind::Plan => return fail("kind", "the planner runs from the job (`crate::gen::plan`)"),
     }?;
     if passes.len() > MAX_PASSES {
         return fail("kind", format!("the process generates {} passes, more than {MAX_PASSES}: use fewer or deeper layers", passes.len()));
@@ -390,8 +390,12 @@ fn seed002(
     }
     let r0 = p.origin_z.unwrap_or(0.0);
     let (r1, r2) = match thread.side {
-        crate::thread::Side::External => (2.0 * thread.crest_radius, 2.0 * thread.root_radius),
-        crate::thread::Side::Internal => return fail("method", "`seed002` is an external program"),
+        crate::model::thread::Side::External => {
+            (2.0 * thread.crest_radius, 2.0 * thread.root_radius)
+        }
+        crate::model::thread::Side::Internal => {
+            return fail("method", "`seed002` is an external program")
+        }
     };
     let r3 = p.layers.unwrap_or(1) as f64;
     let r5 = thread.helix.law.k;

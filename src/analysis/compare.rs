@@ -13,8 +13,8 @@
 //! Volumes are exact per dexel in cylindrical coordinates, `|r1^2 - r2^2|/2 * dtheta * dz`,
 //! summed in a fixed order (columns, then cells) so they do not depend on the thread count.
 
-use crate::stock::{Grid, Stock, Surface};
-use crate::thread::{Flank, ThreadGroove, ThreadSpec, WidthRule};
+use crate::model::stock::{Grid, Stock, Surface};
+use crate::model::thread::{Flank, ThreadGroove, ThreadSpec, WidthRule};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
@@ -243,8 +243,8 @@ impl Deviation {
 /// `[z_lo, z_hi]` intersected with each generator's thread span.
 pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviation {
     let surface = match thread.side {
-        crate::thread::Side::External => Surface::Outer,
-        crate::thread::Side::Internal => Surface::Inner,
+        crate::model::thread::Side::External => Surface::Outer,
+        crate::model::thread::Side::Internal => Surface::Inner,
     };
     let Some(q) = stock.surface(surface) else {
         return Deviation::default();
@@ -579,7 +579,7 @@ impl<'a> Comparer<'a> {
 /// crest, the distance's fallback), and it cannot win where `g` is at most that flank's
 /// maximum (an earlier point wins a tie).
 fn cannot_win(
-    ideal: &crate::thread::ColumnIdeal,
+    ideal: &crate::model::thread::ColumnIdeal,
     kinds: &[Flank],
     seg: usize,
     (z, h): (f64, f64),
@@ -595,7 +595,7 @@ fn cannot_win(
     // one it starts from (the distance's first segment) settles that.
     let first = seg.min(n - 1);
     if g > floor[Flank::Crest.index()]
-        && crate::thread::segment_distance2((z, h), v[first], v[first + 1]) > g * g
+        && crate::model::thread::segment_distance2((z, h), v[first], v[first + 1]) > g * g
     {
         return false;
     }

@@ -1,0 +1,53 @@
+//! The setting of a job that is not the thread or the tools: the blank, the machine's data
+//! for the checks, and the joints of continuous thread chains a program makes.
+
+use crate::model::helix::Spindle;
+
+/// The blank.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blank {
+    /// Outer diameter (mm).
+    pub diameter: f64,
+    /// Bore diameter (mm), 0 = solid.
+    pub bore: f64,
+    /// Length (mm).
+    pub length: f64,
+    /// z of the right (front) face; the bar extends toward -z.
+    pub z_front: f64,
+}
+
+/// Machine data for the checks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Machine {
+    /// Spindle speed during threading (rev/min).
+    pub spindle_rpm: f64,
+    /// Maximum axis feed (mm/min), if known.
+    pub max_feed: Option<f64>,
+    /// Axis acceleration (mm/s^2), if known.
+    pub acceleration: Option<f64>,
+    /// Spindle direction.
+    pub spindle: Spindle,
+}
+
+/// A program's thread move that continues the previous one without a re-sync (a chained
+/// move of the program): where it is, and the lead law on both sides of the
+/// joint. The `thread_chain` machine check compares them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChainLink {
+    /// Index of the chained pass in the job's passes.
+    pub pass: usize,
+    /// Program file of its block.
+    pub file: String,
+    /// Line of its block.
+    pub line: usize,
+    /// z of the joint (mm).
+    pub z: f64,
+    /// Lead the previous pass ended with (mm/rev).
+    pub lead_before: f64,
+    /// Lead change per revolution of the previous pass (mm/rev^2).
+    pub change_before: f64,
+    /// Start lead of the chained pass (mm/rev).
+    pub lead_after: f64,
+    /// Its lead change per revolution (mm/rev^2).
+    pub change_after: f64,
+}
