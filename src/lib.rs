@@ -46,7 +46,7 @@ mod kernel;
 mod model;
 // An `NcError` carries every diagnostic of a program (160 bytes); it is returned once per run,
 // never in a loop, so boxing it would only make the API clumsier.
-pub mod gen;
+mod gen;
 mod job;
 #[allow(clippy::result_large_err)]
 mod nc;
@@ -85,6 +85,6 @@ pub use output::render::{encode_png, RenderError, RenderOptions, Renderer, View,
 pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use pipeline::{plan_grid, simulate, simulate_report, Options, Outcome, SimError};
 pub use report::{
-    Finding, FindingCounts, InputFile, Painter, Report, SummaryStyle, Tone, TurnRow, Verdict,
-    SCHEMA, VERSION,
+    Finding, FindingCounts, FindingKind, InputFile, Painter, Report, SummaryStyle, Tone, TurnRow,
+    Verdict, SCHEMA, VERSION,
 };

@@ -17,6 +17,7 @@
 //!   joint (lag, or a pause and re-sync) is control-specific, so the cut shown there may
 //!   not be the machine's.
 
+use crate::analysis::findings::FindingKind;
 use crate::model::pass::Pass;
 use crate::model::setup::{Blank, ChainLink, Machine};
 use crate::model::thread::Side;
@@ -26,7 +27,7 @@ use crate::model::tool::Tool;
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct MachineIssue {
     /// `feed_limit`, `run_in` or `axis_acceleration`.
-    pub kind: &'static str,
+    pub kind: FindingKind,
     /// Whether it makes the job fail.
     pub error: bool,
     /// Pass index.
@@ -68,7 +69,7 @@ pub(crate) fn head_check(
         };
         if depth > length + 1e-9 {
             out.push(MachineIssue {
-                kind: "head_length",
+                kind: FindingKind::HeadLength,
                 error: true,
                 pass: i,
                 z,
@@ -102,7 +103,7 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
             let feed = lead_max * machine.spindle_rpm;
             if feed > max_feed {
                 out.push(MachineIssue {
-                    kind: "feed_limit",
+                    kind: FindingKind::FeedLimit,
                     error: true,
                     pass: i,
                     z: z_at,
@@ -130,7 +131,7 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
             .max(0.0);
             if available < needed {
                 out.push(MachineIssue {
-                    kind: "run_in",
+                    kind: FindingKind::RunIn,
                     error: false,
                     pass: i,
                     z: p.z_start,
@@ -149,7 +150,7 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
             let acc = p.lead_change.abs() * rps * rps;
             if acc > a {
                 out.push(MachineIssue {
-                    kind: "axis_acceleration",
+                    kind: FindingKind::AxisAcceleration,
                     error: false,
                     pass: i,
                     z: p.z_start,
@@ -195,7 +196,7 @@ pub(crate) fn chain_check(
             (step > CHAIN_LEAD_TOL && felt) || (l.change_after - l.change_before).abs() > 1e-9
         })
         .map(|l| MachineIssue {
-            kind: "thread_chain",
+            kind: FindingKind::ThreadChain,
             error: false,
             pass: l.pass,
             z: l.z,
@@ -248,11 +249,14 @@ mod tests {
         };
         let issues = check(std::slice::from_ref(&p), &m, &blank);
         // End lead: sqrt(16 + 2*1.5*86) = 16.565 mm/rev -> 3313 mm/min.
-        let feed = issues.iter().find(|i| i.kind == "feed_limit").unwrap();
+        let feed = issues
+            .iter()
+            .find(|i| i.kind == FindingKind::FeedLimit)
+            .unwrap();
         assert!((feed.value - (16.0f64 + 3.0 * 86.0).sqrt() * 200.0).abs() < 1e-9);
         assert!(feed.error);
         // Run-in: v = 4*200/60 = 13.33 mm/s, needs 0.0889 mm; 5.5 available.
-        assert!(issues.iter().all(|i| i.kind != "run_in"));
+        assert!(issues.iter().all(|i| i.kind != FindingKind::RunIn));
     }
 
     /// A job whose `[program]` is `text` (dialect `dialect`), one 2 mm grooving tool.
@@ -329,7 +333,7 @@ mod tests {
         let i = &issues[0];
         assert_eq!(
             (i.kind, i.error, i.pass, i.z),
-            ("thread_chain", false, 1, -7.0)
+            (FindingKind::ThreadChain, false, 1, -7.0)
         );
         assert!((i.value - (7.0 - 40f64.sqrt())).abs() < 1e-12, "{i:?}");
         assert!(i.message.contains("P.NC:4"), "{}", i.message);

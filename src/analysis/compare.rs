@@ -15,6 +15,7 @@
 
 use crate::model::stock::{Grid, Stock, Surface};
 use crate::model::thread::{Flank, ThreadGroove, ThreadSpec, WidthRule};
+use glam::DVec2;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
@@ -595,7 +596,11 @@ fn cannot_win(
     // one it starts from (the distance's first segment) settles that.
     let first = seg.min(n - 1);
     if g > floor[Flank::Crest.index()]
-        && crate::model::thread::segment_distance2((z, h), v[first], v[first + 1]) > g * g
+        && crate::model::geom::segment_distance2(
+            DVec2::new(z, h),
+            v[first].vec(),
+            v[first + 1].vec(),
+        ) > g * g
     {
         return false;
     }

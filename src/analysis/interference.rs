@@ -17,12 +17,13 @@
 //!   crest and root radii, per turn, are `alpha -/+ (psi - lambda)` of `domain.md` §4 in
 //!   tangent form.
 
-use crate::job::Job;
 use crate::kernel::body;
+use crate::model::geom::segment_distance2;
+use crate::model::pass::Pass;
 use crate::model::stock::{Grid, Surface};
 use crate::model::thread::{Flank, ThreadSpec};
 use crate::model::tool::Tool;
-use crate::output::mesh::seg_dist2;
+use glam::DVec2;
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 
@@ -63,11 +64,16 @@ pub(crate) type Bodies = (
 
 /// The section count and sampling bound of each pass whose body is swept (not skipped as
 /// unable to reach past its edge), for the blank's signed radius `q_blank`.
-pub(crate) fn swept_bodies(job: &Job, q_blank: f64, surface: Surface) -> Vec<(usize, f64)> {
-    job.passes
+pub(crate) fn swept_bodies(
+    passes: &[Pass],
+    tools: &[Tool],
+    q_blank: f64,
+    surface: Surface,
+) -> Vec<(usize, f64)> {
+    passes
         .iter()
         .filter_map(|p| {
-            let tool = job.tools.get(p.tool)?;
+            let tool = tools.get(p.tool)?;
             let zone = body::zone(p, q_blank, surface);
             let s = body::sections(p, tool, zone, surface.sense())?;
             Some((s.samples.len(), s.bound))
@@ -153,7 +159,11 @@ impl<'a> Measurer<'a> {
                     if gap * gap <= d2 {
                         any = true;
                         let (a, b) = seg(k);
-                        d2 = d2.min(seg_dist2((z, rc), a, b));
+                        d2 = d2.min(segment_distance2(
+                            DVec2::new(z, rc),
+                            DVec2::from(a),
+                            DVec2::from(b),
+                        ));
                     }
                 }
                 if !any {
@@ -203,11 +213,14 @@ pub(crate) struct Clearance {
 
 /// The effective clearances of the bodies per `(start, turn)`, from each pass's lead where
 /// it crosses the middle of the turn (`None` for turns no bodied pass reaches).
-pub(crate) fn clearances(job: &Job) -> BTreeMap<(u32, i64), Clearance> {
-    let thread = &job.thread;
+pub(crate) fn clearances(
+    thread: &ThreadSpec,
+    passes: &[Pass],
+    tools: &[Tool],
+) -> BTreeMap<(u32, i64), Clearance> {
     let mut out: BTreeMap<(u32, i64), Clearance> = BTreeMap::new();
-    for (i, p) in job.passes.iter().enumerate() {
-        let Some(body) = job.tools.get(p.tool).and_then(|t| t.body) else {
+    for (i, p) in passes.iter().enumerate() {
+        let Some(body) = tools.get(p.tool).and_then(|t| t.body) else {
             continue;
         };
         let (Some(t_end), h) = (p.revolutions(), p.helix()) else {
@@ -264,10 +277,10 @@ pub(crate) fn clearances(job: &Job) -> BTreeMap<(u32, i64), Clearance> {
 }
 
 /// Whether any pass of the job has a tool body whose sections are swept.
-pub(crate) fn has_bodies(job: &Job) -> bool {
-    job.passes
+pub(crate) fn has_bodies(passes: &[Pass], tools: &[Tool]) -> bool {
+    passes
         .iter()
-        .any(|p| job.tools.get(p.tool).is_some_and(Tool::has_body))
+        .any(|p| tools.get(p.tool).is_some_and(Tool::has_body))
 }
 
 /// Flank names for the findings.

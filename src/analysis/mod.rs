@@ -4,5 +4,6 @@
 
 pub(crate) mod checks;
 pub(crate) mod compare;
+pub(crate) mod findings;
 pub(crate) mod interference;
 pub(crate) mod measure;

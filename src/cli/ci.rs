@@ -125,7 +125,7 @@ fn test_cases(report: &vpcut::Report) -> Vec<TestCase<'_>> {
                 }
             }
         };
-        if f.severity == "error" {
+        if f.is_error() {
             cases[i].failures.push(f);
         } else {
             cases[i].warnings.push(f);
@@ -179,7 +179,7 @@ pub(crate) fn junit(cases: &[Case]) -> String {
                         let _ = writeln!(
                             suites,
                             "      <failure type=\"{}\" message=\"{}\">{}</failure>",
-                            xml(f.kind),
+                            xml(f.kind.name()),
                             xml(&f.message),
                             xml(&f.message)
                         );
@@ -334,13 +334,13 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
         match &case.result {
             Ok(c) => {
                 for (f, p) in c.report.findings.iter().zip(&c.places) {
-                    let i = rule_index(f.kind);
+                    let i = rule_index(f.kind.name());
                     let mut props = serde_json::Map::new();
                     props.insert("job".into(), json!(job));
                     for (k, v) in [
                         ("turn", json!(f.turn)),
                         ("start", json!(f.start)),
-                        ("flank", json!(f.flank)),
+                        ("flank", json!(f.flank.map(|f| f.name()))),
                         ("pass", json!(f.pass)),
                         ("angle_deg", json!(f.angle_deg)),
                         ("z_mm", json!(f.z_mm)),
@@ -354,7 +354,7 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
                     results.push(json!({
                         "ruleId": RULES[i].0,
                         "ruleIndex": i,
-                        "level": if f.severity == "error" { "error" } else { "warning" },
+                        "level": if f.is_error() { "error" } else { "warning" },
                         "message": { "text": format!("{}: {}", case.name(), f.message) },
                         "locations": location(p),
                         "properties": props,
@@ -432,11 +432,18 @@ pub(crate) fn place(
             .nth(nth)
             .map(|(i, l)| (i + 1, l.len() - l.trim_start().len() + 1))
     };
+    use vpcut::FindingKind as K;
     let found = match f.kind {
-        "gouge" | "leftover" | "missing_feature" | "lead" | "groove_width" | "tooth_width"
-        | "split_feature" | "pitch_diameter" => header("[thread]", 0),
-        "feed_limit" | "run_in" | "axis_acceleration" => header("[machine]", 0),
-        "flank_interference" => header("[[tool]]", 0),
+        K::Gouge
+        | K::Leftover
+        | K::MissingFeature
+        | K::Lead
+        | K::GrooveWidth
+        | K::ToothWidth
+        | K::SplitFeature
+        | K::PitchDiameter => header("[thread]", 0),
+        K::FeedLimit | K::RunIn | K::AxisAcceleration => header("[machine]", 0),
+        K::FlankInterference => header("[[tool]]", 0),
         _ => None,
     }
     .or_else(|| f.pass.and_then(|p| header("[[pass]]", p.saturating_sub(1))))
@@ -478,17 +485,29 @@ mod tests {
     fn findings_without_a_program_line_point_at_the_job_table() {
         let job =
             "name = \"x\"\n\n[blank]\ndiameter = 1\n\n  [thread]\nform = \"square\"\n[machine]\n";
-        let f = |kind: &'static str| vpcut::Finding::new(kind, "error", String::new());
+        let f = |kind| vpcut::Finding::new(kind, vpcut::Severity::Error, String::new());
         let none = |_: &str| None;
         let at = |kind| place(&f(kind), Path::new("j.toml"), job, &none, &[]);
-        assert_eq!((at("gouge").line, at("gouge").column), (6, 3));
-        assert_eq!(at("run_in").line, 8);
-        assert_eq!((at("hand").line, at("hand").column), (1, 1));
+        assert_eq!(
+            (
+                at(vpcut::FindingKind::Gouge).line,
+                at(vpcut::FindingKind::Gouge).column
+            ),
+            (6, 3)
+        );
+        assert_eq!(at(vpcut::FindingKind::RunIn).line, 8);
+        assert_eq!(
+            (
+                at(vpcut::FindingKind::Hand).line,
+                at(vpcut::FindingKind::Hand).column
+            ),
+            (1, 1)
+        );
         let program = vpcut::Finding {
             file: Some("O1.NC".into()),
             line: Some(12),
             column: Some(4),
-            ..f("program")
+            ..f(vpcut::FindingKind::Program)
         };
         let p = place(&program, Path::new("jobs/j.toml"), job, &none, &[]);
         assert_eq!(

@@ -20,7 +20,7 @@
 //! not matter and the per-move figures are merged in column order, so the result does not
 //! depend on the thread count.
 
-use crate::model::stock::{Stock, Surface};
+use crate::model::stock::{Grid, Stock, Surface};
 use rayon::prelude::*;
 
 /// The stated bound of the path sampling on the cut surface (mm, axial-plane distance).
@@ -419,7 +419,8 @@ pub struct MillStats {
     pub dexel_updates: u64,
 }
 
-/// Cut `surface` of the stock along the path.
+/// Cut `surface` of the stock along the path: every column by [`GridMill::column`] on
+/// rayon, the per-move figures merged in column order.
 pub fn sweep_mill(
     stock: &mut Stock,
     surface: Surface,
@@ -427,72 +428,134 @@ pub fn sweep_mill(
     cutters: &[Cutter],
 ) -> MillStats {
     let grid = stock.grid;
-    let q_blank = stock.blank_q(surface);
-    let segs: Vec<Vec<Seg>> = cutters.iter().map(Cutter::segments).collect();
+    let mill = GridMill::new(grid, stock.blank_q(surface), surface, path, cutters);
     let Some(q) = stock.surface_mut(surface) else {
         return MillStats::default();
     };
-    let cell_area = grid.dtheta() * 0.5 * grid.dz;
-    let per_column: Vec<(Vec<MoveCut>, u64, u64)> = q
+    let per_column: Vec<MillColumn> = q
         .par_chunks_mut(grid.n_z)
         .enumerate()
-        .map(|(i, col)| {
-            let theta = grid.theta(i);
-            let ray = Ray::new(theta, grid.z0, grid.dz, col.len(), q_blank, surface);
-            let mut cuts = vec![MoveCut::default(); path.moves.len()];
-            let (mut hits, mut snapshot) = (Vec::new(), Vec::new());
-            let (mut placements, mut updates) = (0u64, 0u64);
-            for (m, mv) in path.moves.iter().enumerate() {
-                let segs = &segs[mv.cutter];
-                ray.hits(path, m, segs, &mut hits);
-                // The cells the move may change: from its lowest placed tip up the cutter.
-                let len = cutters[mv.cutter].length();
-                let (lo, hi) = hits
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
-                        (lo.min(h.z_tip), hi.max(h.z_tip + len))
-                    });
-                let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0);
-                let j1 = ((hi - grid.z0) / grid.dz)
-                    .floor()
-                    .min(col.len() as f64 - 1.0);
-                if j1 < j0 {
-                    continue;
-                }
-                let range = j0 as usize..j1 as usize + 1;
-                snapshot.clear();
-                snapshot.extend_from_slice(&col[range.clone()]);
-                placements += hits.len() as u64;
-                updates += ray.apply(col, &hits, segs);
-                let c = &mut cuts[m];
-                for (k, (&old, &new)) in snapshot.iter().zip(&col[range.clone()]).enumerate() {
-                    if new < old {
-                        let (ro, rn) = (old as f64 + q_blank, new as f64 + q_blank);
-                        c.volume += (ro * ro - rn * rn).abs() * cell_area;
-                        c.dexels += 1;
-                        let d = (old - new) as f64;
-                        if d > c.depth {
-                            c.depth = d;
-                            c.at = (theta, grid.z(range.start + k));
-                        }
+        .map(|(i, col)| mill.column(i, col))
+        .collect();
+    let mut stats = mill.stats();
+    for c in &per_column {
+        stats.add_column(c);
+    }
+    stats
+}
+
+/// What the path did to one column: per move, and the placements and dexel updates.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct MillColumn {
+    /// Per move.
+    pub(crate) cuts: Vec<MoveCut>,
+    /// Samples that reached the column.
+    pub(crate) placements: u64,
+    /// Dexel updates.
+    pub(crate) updates: u64,
+}
+
+impl MillStats {
+    /// Add one column's figures (in column order, so that sums do not depend on the
+    /// thread count).
+    pub(crate) fn add_column(&mut self, c: &MillColumn) {
+        for (a, b) in self.moves.iter_mut().zip(&c.cuts) {
+            a.merge(b);
+        }
+        self.placements += c.placements;
+        self.dexel_updates += c.updates;
+    }
+}
+
+/// The path cutting the columns of a grid one at a time, each in a buffer of its own (the
+/// whole grid's column or a streamed one: `q - q_blank`, cut in place).
+pub(crate) struct GridMill<'a> {
+    grid: Grid,
+    q_blank: f64,
+    surface: Surface,
+    path: &'a MillPath,
+    cutters: &'a [Cutter],
+    segs: Vec<Vec<Seg>>,
+}
+
+impl<'a> GridMill<'a> {
+    /// The path's cutters on `grid`'s `surface` of a blank at `q_blank`.
+    pub(crate) fn new(
+        grid: Grid,
+        q_blank: f64,
+        surface: Surface,
+        path: &'a MillPath,
+        cutters: &'a [Cutter],
+    ) -> GridMill<'a> {
+        GridMill {
+            grid,
+            q_blank,
+            surface,
+            path,
+            cutters,
+            segs: cutters.iter().map(Cutter::segments).collect(),
+        }
+    }
+
+    /// Empty figures with a slot per move.
+    pub(crate) fn stats(&self) -> MillStats {
+        MillStats {
+            moves: vec![MoveCut::default(); self.path.moves.len()],
+            ..MillStats::default()
+        }
+    }
+
+    /// Cut column `i`, held in `col`.
+    pub(crate) fn column(&self, i: usize, col: &mut [f32]) -> MillColumn {
+        let (grid, path, q_blank) = (self.grid, self.path, self.q_blank);
+        let cell_area = grid.dtheta() * 0.5 * grid.dz;
+        let theta = grid.theta(i);
+        let ray = Ray::new(theta, grid.z0, grid.dz, col.len(), q_blank, self.surface);
+        let mut cuts = vec![MoveCut::default(); path.moves.len()];
+        let (mut hits, mut snapshot) = (Vec::new(), Vec::new());
+        let (mut placements, mut updates) = (0u64, 0u64);
+        for (m, mv) in path.moves.iter().enumerate() {
+            let segs = &self.segs[mv.cutter];
+            ray.hits(path, m, segs, &mut hits);
+            // The cells the move may change: from its lowest placed tip up the cutter.
+            let len = self.cutters[mv.cutter].length();
+            let (lo, hi) = hits
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
+                    (lo.min(h.z_tip), hi.max(h.z_tip + len))
+                });
+            let j0 = ((lo - grid.z0) / grid.dz).ceil().max(0.0);
+            let j1 = ((hi - grid.z0) / grid.dz)
+                .floor()
+                .min(col.len() as f64 - 1.0);
+            if j1 < j0 {
+                continue;
+            }
+            let range = j0 as usize..j1 as usize + 1;
+            snapshot.clear();
+            snapshot.extend_from_slice(&col[range.clone()]);
+            placements += hits.len() as u64;
+            updates += ray.apply(col, &hits, segs);
+            let c = &mut cuts[m];
+            for (k, (&old, &new)) in snapshot.iter().zip(&col[range.clone()]).enumerate() {
+                if new < old {
+                    let (ro, rn) = (old as f64 + q_blank, new as f64 + q_blank);
+                    c.volume += (ro * ro - rn * rn).abs() * cell_area;
+                    c.dexels += 1;
+                    let d = (old - new) as f64;
+                    if d > c.depth {
+                        c.depth = d;
+                        c.at = (theta, grid.z(range.start + k));
                     }
                 }
             }
-            (cuts, placements, updates)
-        })
-        .collect();
-    let mut stats = MillStats {
-        moves: vec![MoveCut::default(); path.moves.len()],
-        ..MillStats::default()
-    };
-    for (cuts, p, u) in &per_column {
-        for (a, b) in stats.moves.iter_mut().zip(cuts) {
-            a.merge(b);
         }
-        stats.placements += p;
-        stats.dexel_updates += u;
+        MillColumn {
+            cuts,
+            placements,
+            updates,
+        }
     }
-    stats
 }
 
 /// Cut one free-standing column (the fine measurement generators). `q` holds

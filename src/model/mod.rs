@@ -2,6 +2,7 @@
 //! thread the drawing asks for, the tools and their solids, a pass, the dexel stock, and the
 //! blank and machine a job names. Pure: no IO, no dependency on any other stage.
 
+pub(crate) mod geom;
 pub(crate) mod helix;
 pub(crate) mod pass;
 pub(crate) mod setup;

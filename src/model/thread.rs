@@ -13,8 +13,10 @@
 //! polyline ([`ColumnIdeal`]): crest flats, groove walls and root flats, with the walls of
 //! neighbouring grooves intersected where they overlap (sharp crests).
 
+use crate::model::geom;
 use crate::model::helix::{Hand, Helix};
 use crate::model::stock::first_cell;
+use glam::DVec2;
 use std::f64::consts::TAU;
 
 /// Which surface of the part carries the thread.
@@ -471,32 +473,18 @@ fn envelope(grooves: &[Groove], depth: f64, widening: f64, z_lo: f64, z_hi: f64)
     v
 }
 
-/// Squared distance from a point to a segment in `(z, h)`.
-pub(crate) fn segment_distance2(p: (f64, f64), a: Vertex, b: Vertex) -> f64 {
-    segment_foot(p, a, b).0
-}
-
-/// [`segment_distance2`], and whether the nearest point is an end of the segment (-1 its
-/// first vertex, 1 its last, 0 neither).
+/// [`geom::segment_foot`] in `(z, h)` for the profile's vertices.
 #[inline]
 fn segment_foot(p: (f64, f64), a: Vertex, b: Vertex) -> (f64, i8) {
-    let (dz, dh) = (b.z - a.z, b.h - a.h);
-    let len2 = dz * dz + dh * dh;
-    let raw = if len2 > 0.0 {
-        ((p.0 - a.z) * dz + (p.1 - a.h) * dh) / len2
-    } else {
-        0.0
-    };
-    let u = raw.clamp(0.0, 1.0);
-    let (qz, qh) = (a.z + u * dz, a.h + u * dh);
-    let end = if u <= 0.0 {
-        -1
-    } else if u >= 1.0 {
-        1
-    } else {
-        0
-    };
-    ((p.0 - qz).powi(2) + (p.1 - qh).powi(2), end)
+    geom::segment_foot(DVec2::from(p), a.vec(), b.vec())
+}
+
+impl Vertex {
+    /// The vertex as `(z, h)`.
+    #[inline]
+    pub(crate) fn vec(self) -> DVec2 {
+        DVec2::new(self.z, self.h)
+    }
 }
 
 impl ColumnIdeal {

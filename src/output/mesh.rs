@@ -28,7 +28,9 @@
 //! and the legend agree. Columns are built in parallel (rayon) and concatenated in column
 //! order, so the mesh does not depend on the thread count.
 
+use crate::analysis::compare::{Deviation, Extreme};
 use crate::job::Job;
+use crate::model::geom::segment_distance2;
 use crate::model::helix::Hand;
 use crate::model::pass::Pass;
 use crate::model::stock::{Stock, Surface};
@@ -37,7 +39,8 @@ use crate::model::tool::Tool;
 use crate::output::plot::{colour, signed_deviation, BODY_RUB};
 use crate::output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 use crate::pipeline::Outcome;
-use crate::report::Report;
+use crate::report::r6;
+use glam::DVec2;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -59,7 +62,7 @@ pub struct SceneOptions {
 /// Build the 3D scene of a simulated job.
 pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
     let tol = job.sim.tolerance;
-    let legend = legend(&out.report, tol);
+    let legend = legend(&out.deviation, tol);
     let e = opts.mesh_tolerance.unwrap_or(tol).max(0.0);
     let stock = stock_mesh_with(&out.stock, out.edge_stock.as_ref(), &job.thread, legend, e);
     let ideal = opts
@@ -81,46 +84,49 @@ pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
             None => tool_mesh(job),
         },
         legend,
-        focus: focus(&out.report, &out.stock, &job.thread, tol),
+        focus: focus(&out.deviation, &out.stock, &job.thread, tol),
         summary: out.report.summary_json(legend.scale_mm),
     }
 }
 
 /// The colour scale: the tolerance, and the largest deviation (at least twice the
-/// tolerance), as the developed view uses.
-fn legend(report: &Report, tol: f64) -> Legend {
-    let d = &report.deviation;
+/// tolerance, and as the report rounds it), as the developed view uses.
+fn legend(dev: &Deviation, tol: f64) -> Legend {
+    let worst = |e: Option<Extreme>| r6(e.map_or(0.0, |e| e.value));
     Legend {
         tolerance_mm: tol,
-        scale_mm: (2.0 * tol).max(d.max_gouge_mm).max(d.max_leftover_mm),
+        scale_mm: (2.0 * tol)
+            .max(worst(dev.max_gouge()))
+            .max(worst(dev.max_leftover())),
     }
 }
 
-/// The worst finding beyond the tolerance, on the cut surface.
-fn focus(report: &Report, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Option<Focus> {
-    let d = &report.deviation;
-    let (kind, value, at) = if d.max_gouge_mm >= d.max_leftover_mm {
-        ("gouge", d.max_gouge_mm, d.max_gouge_at.as_ref()?)
+/// The worst deviation beyond the tolerance, on the cut surface: the exact extreme's dexel
+/// (its value as the report rounds it).
+fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Option<Focus> {
+    let (gouge, leftover) = (dev.max_gouge(), dev.max_leftover());
+    let value = |e: &Option<Extreme>| r6(e.map_or(0.0, |e| e.value));
+    let (kind, e) = if value(&gouge) >= value(&leftover) {
+        ("gouge", gouge?)
     } else {
-        ("leftover", d.max_leftover_mm, d.max_leftover_at.as_ref()?)
+        ("leftover", leftover?)
     };
-    if value <= tol {
+    if r6(e.value) <= tol {
         return None;
     }
     let grid = stock.grid;
-    let theta = at.angle_deg.to_radians();
-    let i = ((theta - grid.theta0) / grid.dtheta())
+    let i = ((e.theta - grid.theta0) / grid.dtheta())
         .round()
         .rem_euclid(grid.n_theta as f64) as usize
         % grid.n_theta;
-    let j = ((at.z_mm - grid.z0) / grid.dz)
+    let j = ((e.z - grid.z0) / grid.dz)
         .round()
         .clamp(0.0, (grid.n_z - 1) as f64) as usize;
     let r = stock.radius(surface(thread), i, j)?;
     Some(Focus {
         kind: kind.to_string(),
-        value_mm: value,
-        point: point(r, theta, at.z_mm),
+        value_mm: r6(e.value),
+        point: point(r, e.theta, e.z),
     })
 }
 
@@ -209,17 +215,9 @@ fn simplify(pts: &[(f64, f64)], forced: &[usize], eps: f64, out: &mut Vec<usize>
     out.dedup();
 }
 
-/// Squared distance from `p` to the segment `a b` in the axial plane.
-pub(crate) fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    let (dz, dr) = (b.0 - a.0, b.1 - a.1);
-    let len2 = dz * dz + dr * dr;
-    let s = if len2 > 0.0 {
-        (((p.0 - a.0) * dz + (p.1 - a.1) * dr) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let (ez, er) = (p.0 - a.0 - s * dz, p.1 - a.1 - s * dr);
-    ez * ez + er * er
+/// Squared distance from `p` to the segment `[a, b]` in the axial plane.
+fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    segment_distance2(DVec2::from(p), DVec2::from(a), DVec2::from(b))
 }
 
 /// Whether some sample of `pts` lies further than `limit` from the polyline `line` (both

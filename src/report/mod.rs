@@ -4,8 +4,13 @@
 //! mm rounded to 1e-6 mm (volumes to 1e-6 mm^3), angles in degrees rounded to 1e-4, so the
 //! file is byte-identical between runs and thread counts; only `timing_s` changes.
 
+pub use crate::analysis::findings::{Finding, FindingCounts, FindingKind, Verdict};
+use crate::nc::Severity;
 use serde::Serialize;
 use std::fmt::Write as _;
+
+mod build;
+pub(crate) use build::build_report;
 
 /// The schema tag.
 pub const SCHEMA: &str = "vpcut.report/1";
@@ -59,36 +64,6 @@ impl InputFile {
             sha256,
         }
     }
-}
-
-/// Findings counted by severity.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-pub struct FindingCounts {
-    /// Findings that fail the job.
-    pub errors: usize,
-    /// The others.
-    pub warnings: usize,
-}
-
-impl FindingCounts {
-    /// Count `findings`.
-    pub fn of(findings: &[Finding]) -> FindingCounts {
-        let errors = findings.iter().filter(|f| f.severity == "error").count();
-        FindingCounts {
-            errors,
-            warnings: findings.len() - errors,
-        }
-    }
-}
-
-/// pass / fail.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Verdict {
-    /// Within tolerance, no error findings.
-    Pass,
-    /// At least one error finding.
-    Fail,
 }
 
 /// The whole report.
@@ -384,69 +359,6 @@ pub struct InterferenceRow {
     pub volume_mm3: f64,
 }
 
-/// Something the user must know.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Finding {
-    /// `gouge`, `leftover`, `lead`, `groove_width`, `tooth_width`, `missing_feature`,
-    /// `split_feature`, `feed_limit`, `run_in`, `axis_acceleration`, `thread_chain`,
-    /// `program` (a warning from interpreting the NC program: a skipped unknown word or code).
-    pub kind: &'static str,
-    /// `error` (fails the job) or `warning`.
-    pub severity: &'static str,
-    /// Turn, if it belongs to one.
-    pub turn: Option<i64>,
-    /// Start.
-    pub start: Option<u32>,
-    /// Flank, for deviations.
-    pub flank: Option<&'static str>,
-    /// Pass (1-based), for machine checks.
-    pub pass: Option<usize>,
-    /// Angle on the part (deg).
-    pub angle_deg: Option<f64>,
-    /// Axial position (mm).
-    pub z_mm: Option<f64>,
-    /// The program file the finding is in (program findings): as the job names it.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub file: Option<String>,
-    /// 1-based line in `file`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub line: Option<usize>,
-    /// 1-based column in `file`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub column: Option<usize>,
-    /// The value (unit in `unit`); absent where a finding has none (program findings).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub value: Option<f64>,
-    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`; absent with `value`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub unit: Option<&'static str>,
-    /// One line for a person.
-    pub message: String,
-}
-
-impl Finding {
-    /// A finding with a kind, a severity and a message and no location or value; the
-    /// fields that apply are set with struct update syntax (`..Finding::new(..)`).
-    pub fn new(kind: &'static str, severity: &'static str, message: String) -> Finding {
-        Finding {
-            kind,
-            severity,
-            turn: None,
-            start: None,
-            flank: None,
-            pass: None,
-            angle_deg: None,
-            z_mm: None,
-            file: None,
-            line: None,
-            column: None,
-            value: None,
-            unit: None,
-            message,
-        }
-    }
-}
-
 /// Wall-clock times.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Timing {
@@ -477,7 +389,7 @@ impl Report {
     pub fn summary_json(&self, scale_mm: f64) -> String {
         let mut kinds = std::collections::BTreeMap::<&str, usize>::new();
         for f in &self.findings {
-            *kinds.entry(f.kind).or_default() += 1;
+            *kinds.entry(f.kind.name()).or_default() += 1;
         }
         serde_json::json!({
             "schema": self.schema,
@@ -649,7 +561,7 @@ impl Report {
         let FindingCounts { errors, warnings } = FindingCounts::of(&self.findings);
         let _ = writeln!(s, "\n  findings: {errors} errors, {warnings} warnings");
         // Grouped by severity and kind, in report order, with the first few messages.
-        let mut groups: Vec<(&str, &str, Vec<&str>)> = Vec::new();
+        let mut groups: Vec<(Severity, FindingKind, Vec<&str>)> = Vec::new();
         for f in &self.findings {
             match groups
                 .iter_mut()
@@ -661,12 +573,11 @@ impl Report {
         }
         const SHOWN: usize = 3;
         for (severity, kind, messages) in groups {
-            let tone = if severity == "error" {
-                Tone::Fail
-            } else {
-                Tone::Warning
+            let tone = match severity {
+                Severity::Error => Tone::Fail,
+                Severity::Warning => Tone::Warning,
             };
-            let head = format!("{severity:<7}");
+            let head = format!("{:<7}", crate::analysis::findings::severity_name(severity));
             let _ = writeln!(s, "    {} {kind} x{}", paint(tone, &head), messages.len());
             for m in messages.iter().take(SHOWN) {
                 let _ = writeln!(s, "        {m}");

@@ -42,7 +42,7 @@ fn a_cleared_body_leaves_the_planar_cut() {
         .report
         .findings
         .iter()
-        .all(|f| f.kind != "flank_interference"));
+        .all(|f| f.kind != vpcut::FindingKind::FlankInterference));
     // The effective clearance is reported per turn, positive everywhere.
     for t in &bodied.report.turns {
         let c = t.clearance_deg.as_ref().expect("clearance per turn");
@@ -111,7 +111,8 @@ fn the_helix_angle_overtaking_the_clearance_rubs_the_leading_flank() {
         .report
         .findings
         .iter()
-        .any(|f| f.kind == "flank_interference" && f.severity == "error"));
+        .any(|f| f.kind == vpcut::FindingKind::FlankInterference
+            && f.severity == vpcut::Severity::Error));
 }
 
 #[test]
@@ -497,10 +498,10 @@ fn a_head_shorter_than_the_cut_is_an_error() {
         .report
         .findings
         .iter()
-        .filter(|f| f.kind == "head_length")
+        .filter(|f| f.kind == vpcut::FindingKind::HeadLength)
         .collect();
     assert_eq!(heads.len(), 1, "{heads:?}");
-    assert_eq!(heads[0].severity, "error");
+    assert_eq!(heads[0].severity, vpcut::Severity::Error);
     assert_eq!(heads[0].pass, Some(3));
     let depth = heads[0].value.expect("a depth");
     assert!((depth - 3.0).abs() < 1e-9, "{depth}");
@@ -509,7 +510,11 @@ fn a_head_shorter_than_the_cut_is_an_error() {
         &text("5.5"),
         &[("simulation", "angular_cells", "360")],
     ));
-    assert!(long.report.findings.iter().all(|f| f.kind != "head_length"));
+    assert!(long
+        .report
+        .findings
+        .iter()
+        .all(|f| f.kind != vpcut::FindingKind::HeadLength));
     let err = vpcut::Job::from_toml(&text("-1.0"), "job.toml")
         .unwrap_err()
         .to_string();

@@ -283,23 +283,38 @@ fn thread_chain_finding_in_the_report() {
     let chain: Vec<_> = r
         .findings
         .iter()
-        .filter(|f| f.kind == "thread_chain")
+        .filter(|f| f.kind == vpcut::FindingKind::ThreadChain)
         .collect();
     assert_eq!(chain.len(), 1, "{:?}", r.findings);
     let f = chain[0];
     assert_eq!(
         (f.severity, f.pass, f.z_mm, f.value, f.unit),
-        ("warning", Some(2), Some(-7.0), Some(1.0), Some("mm/rev"))
+        (
+            vpcut::Severity::Warning,
+            Some(2),
+            Some(-7.0),
+            Some(1.0),
+            Some("mm/rev")
+        )
     );
     assert!(f.message.contains("P.NC:4"), "{}", f.message);
     assert!(
-        r.findings.iter().all(|f| f.kind != "run_in"),
+        r.findings
+            .iter()
+            .all(|f| f.kind != vpcut::FindingKind::RunIn),
         "{:?}",
         r.findings
     );
     let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG0 X31\nG0 X29\nG32 Z-20 F3\nM30\n");
-    assert!(r.findings.iter().all(|f| f.kind != "thread_chain"));
-    let run_in: Vec<_> = r.findings.iter().filter(|f| f.kind == "run_in").collect();
+    assert!(r
+        .findings
+        .iter()
+        .all(|f| f.kind != vpcut::FindingKind::ThreadChain));
+    let run_in: Vec<_> = r
+        .findings
+        .iter()
+        .filter(|f| f.kind == vpcut::FindingKind::RunIn)
+        .collect();
     assert_eq!(run_in.len(), 1, "{:?}", r.findings);
     assert_eq!((run_in[0].pass, run_in[0].value), (Some(2), Some(0.0)));
 }

@@ -305,7 +305,7 @@ fn run(c: &Case, with_defect: bool) -> vpcut::Report {
 fn first_errors(r: &vpcut::Report) -> Vec<&str> {
     r.findings
         .iter()
-        .filter(|f| f.severity == "error")
+        .filter(|f| f.severity == vpcut::Severity::Error)
         .map(|f| f.message.as_str())
         .take(3)
         .collect()
@@ -661,7 +661,7 @@ fn a_thread_that_is_not_on_the_blank_never_passes() {
     job.sim.z_range = Some((-59.0, -55.0));
     let r = simulate(&job, &Options::default()).unwrap().report;
     assert_eq!(r.verdict, Verdict::Fail);
-    assert_eq!(r.findings[0].kind, "not_compared");
+    assert_eq!(r.findings[0].kind, vpcut::FindingKind::NotCompared);
 }
 
 /// One tie rule: with the grid shifted so that every groove wall falls exactly on a cell

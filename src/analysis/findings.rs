@@ -1,0 +1,275 @@
+//! Findings: what the user must know about a run, typed. A [`Finding`] has a
+//! [`FindingKind`] (its declaration order is the report's order), a [`Severity`] (an error
+//! fails the job) and, where it has one, the [`Flank`] it is on; the report writes their
+//! snake-case names. [`rank`] sorts findings and gives the [`Verdict`].
+
+use crate::model::thread::Flank;
+use crate::nc::Severity;
+use serde::{Serialize, Serializer};
+use std::fmt;
+
+/// What a finding is about. The order of the variants is the order of the report's
+/// findings within a severity.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum FindingKind {
+    /// A turn (or the whole thread) has no dexel on the simulated stock: it is not checked.
+    NotCompared,
+    /// A pass cuts a helix of the other hand than the drawing's.
+    Hand,
+    /// A rapid move cuts material.
+    RapidCut,
+    /// The tool's head is too short for the thread's depth.
+    HeadLength,
+    /// Material removed beyond the ideal surface, beyond the tolerance.
+    Gouge,
+    /// Material left above the ideal surface, beyond the tolerance.
+    Leftover,
+    /// A tool body cut past its edge's surface.
+    FlankInterference,
+    /// A groove or tooth the drawing has is not found at the pitch diameter.
+    MissingFeature,
+    /// A turn's measured lead is off.
+    Lead,
+    /// A turn's pitch diameter is outside the drawing's limits (milling jobs).
+    PitchDiameter,
+    /// A groove's width at the pitch diameter is off.
+    GrooveWidth,
+    /// A tooth's width at the pitch diameter is off.
+    ToothWidth,
+    /// A feed over the machine's limit.
+    FeedLimit,
+    /// A ridge or notch crosses the pitch diameter inside one feature.
+    SplitFeature,
+    /// A pass starts too close to the part to reach its speed.
+    RunIn,
+    /// A lead change the axis cannot follow.
+    AxisAcceleration,
+    /// A warning from interpreting the NC program: a skipped unknown word or code.
+    Program,
+    /// A continuous thread chain changes the lead at a joint.
+    ThreadChain,
+}
+
+impl FindingKind {
+    /// Every kind, in report order.
+    pub const ALL: [FindingKind; 18] = [
+        FindingKind::NotCompared,
+        FindingKind::Hand,
+        FindingKind::RapidCut,
+        FindingKind::HeadLength,
+        FindingKind::Gouge,
+        FindingKind::Leftover,
+        FindingKind::FlankInterference,
+        FindingKind::MissingFeature,
+        FindingKind::Lead,
+        FindingKind::PitchDiameter,
+        FindingKind::GrooveWidth,
+        FindingKind::ToothWidth,
+        FindingKind::FeedLimit,
+        FindingKind::SplitFeature,
+        FindingKind::RunIn,
+        FindingKind::AxisAcceleration,
+        FindingKind::Program,
+        FindingKind::ThreadChain,
+    ];
+
+    /// The name the report uses (`not_compared`, `gouge`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            FindingKind::NotCompared => "not_compared",
+            FindingKind::Hand => "hand",
+            FindingKind::RapidCut => "rapid_cut",
+            FindingKind::HeadLength => "head_length",
+            FindingKind::Gouge => "gouge",
+            FindingKind::Leftover => "leftover",
+            FindingKind::FlankInterference => "flank_interference",
+            FindingKind::MissingFeature => "missing_feature",
+            FindingKind::Lead => "lead",
+            FindingKind::PitchDiameter => "pitch_diameter",
+            FindingKind::GrooveWidth => "groove_width",
+            FindingKind::ToothWidth => "tooth_width",
+            FindingKind::FeedLimit => "feed_limit",
+            FindingKind::SplitFeature => "split_feature",
+            FindingKind::RunIn => "run_in",
+            FindingKind::AxisAcceleration => "axis_acceleration",
+            FindingKind::Program => "program",
+            FindingKind::ThreadChain => "thread_chain",
+        }
+    }
+}
+
+impl fmt::Display for FindingKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The severity's report name: `error` or `warning`.
+pub(crate) fn severity_name(s: Severity) -> &'static str {
+    match s {
+        Severity::Error => "error",
+        Severity::Warning => "warning",
+    }
+}
+
+fn ser_severity<S: Serializer>(s: &Severity, ser: S) -> Result<S::Ok, S::Error> {
+    ser.serialize_str(severity_name(*s))
+}
+
+fn ser_flank<S: Serializer>(f: &Option<Flank>, ser: S) -> Result<S::Ok, S::Error> {
+    match f {
+        Some(f) => ser.serialize_some(f.name()),
+        None => ser.serialize_none(),
+    }
+}
+
+/// Something the user must know.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Finding {
+    /// What it is about.
+    pub kind: FindingKind,
+    /// An error fails the job.
+    #[serde(serialize_with = "ser_severity")]
+    pub severity: Severity,
+    /// Turn, if it belongs to one.
+    pub turn: Option<i64>,
+    /// Start.
+    pub start: Option<u32>,
+    /// Flank, for deviations and body interference.
+    #[serde(serialize_with = "ser_flank")]
+    pub flank: Option<Flank>,
+    /// Pass (1-based), for machine checks.
+    pub pass: Option<usize>,
+    /// Angle on the part (deg).
+    pub angle_deg: Option<f64>,
+    /// Axial position (mm).
+    pub z_mm: Option<f64>,
+    /// The program file the finding is in (program findings): as the job names it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// 1-based line in `file`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<usize>,
+    /// 1-based column in `file`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub column: Option<usize>,
+    /// The value (unit in `unit`); absent where a finding has none (program findings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value: Option<f64>,
+    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`; absent with `value`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unit: Option<&'static str>,
+    /// One line for a person.
+    pub message: String,
+}
+
+impl Finding {
+    /// A finding with a kind, a severity and a message and no location or value; the
+    /// fields that apply are set with struct update syntax (`..Finding::new(..)`).
+    pub fn new(kind: FindingKind, severity: Severity, message: String) -> Finding {
+        Finding {
+            kind,
+            severity,
+            turn: None,
+            start: None,
+            flank: None,
+            pass: None,
+            angle_deg: None,
+            z_mm: None,
+            file: None,
+            line: None,
+            column: None,
+            value: None,
+            unit: None,
+            message,
+        }
+    }
+
+    /// Whether it fails the job.
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+}
+
+/// How many findings of each severity a report has.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct FindingCounts {
+    /// Findings that fail the job.
+    pub errors: usize,
+    /// The others.
+    pub warnings: usize,
+}
+
+impl FindingCounts {
+    /// Count `findings`.
+    pub fn of(findings: &[Finding]) -> FindingCounts {
+        let errors = findings.iter().filter(|f| f.is_error()).count();
+        FindingCounts {
+            errors,
+            warnings: findings.len() - errors,
+        }
+    }
+}
+
+/// pass / fail.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// Within tolerance, no error findings.
+    Pass,
+    /// At least one error finding.
+    Fail,
+}
+
+/// Sort findings, errors first and then by kind (a stable sort: findings of one kind keep
+/// their order); the verdict they give.
+pub(crate) fn rank(findings: &mut [Finding]) -> Verdict {
+    findings.sort_by_key(|f| (!f.is_error(), f.kind));
+    if findings.iter().any(Finding::is_error) {
+        Verdict::Fail
+    } else {
+        Verdict::Pass
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kinds_are_listed_once_in_declaration_order_with_their_serde_names() {
+        for w in FindingKind::ALL.windows(2) {
+            assert!(w[0] < w[1], "{:?} before {:?}", w[0], w[1]);
+        }
+        for k in FindingKind::ALL {
+            let json = serde_json::to_string(&k).unwrap();
+            assert_eq!(json, format!("\"{}\"", k.name()));
+        }
+    }
+
+    #[test]
+    fn errors_come_first_then_kinds_in_order() {
+        let f = |k, s| Finding::new(k, s, String::new());
+        let mut v = vec![
+            f(FindingKind::Program, Severity::Warning),
+            f(FindingKind::Lead, Severity::Error),
+            f(FindingKind::Gouge, Severity::Error),
+            f(FindingKind::NotCompared, Severity::Warning),
+        ];
+        assert_eq!(rank(&mut v), Verdict::Fail);
+        let kinds: Vec<_> = v.iter().map(|f| f.kind).collect();
+        assert_eq!(
+            kinds,
+            [
+                FindingKind::Gouge,
+                FindingKind::Lead,
+                FindingKind::NotCompared,
+                FindingKind::Program
+            ]
+        );
+        v.retain(|f| !f.is_error());
+        assert_eq!(rank(&mut v), Verdict::Pass);
+    }
+}

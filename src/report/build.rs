@@ -1,0 +1,499 @@
+//! The report assembled from a run's results: the thread and stock, the per-turn rows
+//! (deviation per flank, measured leads and widths, clearances), the body interference, and
+//! the findings each of them gives, ranked into the verdict.
+
+use crate::analysis::checks::MachineIssue;
+use crate::analysis::compare::{Deviation, Extreme, TurnDeviation};
+use crate::analysis::findings::{rank, Finding, FindingKind};
+use crate::analysis::interference;
+use crate::analysis::measure::TurnMeasure;
+use crate::job::Job;
+use crate::kernel::sweep::SweepStats;
+use crate::model::helix::{Hand, Spindle};
+use crate::model::stock::Grid;
+use crate::model::thread::{Flank, Side, WidthRule};
+use crate::nc::Severity;
+use crate::report::{self, r4, r6, Report, TurnRow, SCHEMA};
+use std::collections::BTreeMap;
+
+pub(crate) fn location(e: &Extreme) -> report::Location {
+    report::Location {
+        turn: e.turn,
+        start: e.start,
+        flank: e.flank.name(),
+        angle_deg: r4(e.theta.to_degrees().rem_euclid(360.0)),
+        z_mm: r6(e.z),
+    }
+}
+
+/// The report of a run.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn build_report(
+    job: &Job,
+    grid: Grid,
+    stats: SweepStats,
+    dev: &Deviation,
+    measures: &[Vec<TurnMeasure>],
+    spacing: f64,
+    machine_issues: &[MachineIssue],
+    bodies: Option<&interference::Bodies>,
+) -> Report {
+    let thread = &job.thread;
+    let tol = job.sim.tolerance;
+    let (major, minor) = match thread.side {
+        Side::External => (2.0 * thread.crest_radius, 2.0 * thread.root_radius),
+        Side::Internal => (2.0 * thread.root_radius, 2.0 * thread.crest_radius),
+    };
+    let mut findings: Vec<Finding> = Vec::new();
+    let mut turns = Vec::new();
+    // Index the measurements by (start, turn): the reference generator, and all of them.
+    let mut reference: BTreeMap<(u32, i64), &TurnMeasure> = BTreeMap::new();
+    let mut by_turn: BTreeMap<(u32, i64), Vec<&TurnMeasure>> = BTreeMap::new();
+    for (g, list) in measures.iter().enumerate() {
+        for m in list {
+            if g == 0 {
+                reference.entry((m.start, m.turn)).or_insert(m);
+            }
+            by_turn.entry((m.start, m.turn)).or_default().push(m);
+        }
+    }
+    for s in 0..thread.starts {
+        for n in 1..=thread.whole_turns() {
+            let m = reference.get(&(s, n)).copied();
+            let all: &[&TurnMeasure] = by_turn.get(&(s, n)).map_or(&[], Vec::as_slice);
+            let td = dev.turns.get(&(s, n)).cloned().unwrap_or_default();
+            let flank = |f: Flank| report::FlankRow {
+                max_gouge_mm: r6(td.gouge[f.index()].map_or(0.0, |e| e.value)),
+                max_leftover_mm: r6(td.leftover[f.index()].map_or(0.0, |e| e.value)),
+            };
+            let fold = |v: &mut Option<(f64, f64)>, x: f64| {
+                *v = Some(v.map_or((x, x), |(a, b)| (a.min(x), b.max(x))));
+            };
+            let (mut ideal_rng, mut meas_rng, mut max_err) = (None, None, None::<f64>);
+            for g in all {
+                if let Some(i) = g.ideal_lead {
+                    fold(&mut ideal_rng, i);
+                }
+                if let Some(x) = g.lead {
+                    fold(&mut meas_rng, x);
+                }
+                if let (Some(i), Some(x)) = (g.ideal_lead, g.lead) {
+                    max_err = Some(max_err.map_or((x - i).abs(), |e: f64| e.max((x - i).abs())));
+                }
+            }
+            let diam = m.and_then(|m| m.cut_heights).map(|(a, b)| {
+                let (ra, rb) = (thread.radius(a), thread.radius(b));
+                (2.0 * ra.min(rb), 2.0 * ra.max(rb))
+            });
+            let lead_mid = thread.helix.law.lead(n as f64 - 0.5);
+            let psi = (lead_mid / (std::f64::consts::PI * 2.0 * thread.pitch_radius)).atan();
+            let row = TurnRow {
+                turn: n,
+                start: s,
+                pitch_diameter_mm: m.and_then(|m| m.pitch_diameter).map(r6),
+                ideal_pitch_diameter_mm: m.and_then(|m| m.ideal_pitch_diameter).map(r6),
+                ideal_lead_mm: m.and_then(|m| m.ideal_lead).map(r6),
+                measured_lead_mm: m.and_then(|m| m.lead).map(r6),
+                lead_spread: report::LeadSpread {
+                    ideal_min_mm: r6(ideal_rng.map_or(0.0, |r| r.0)),
+                    ideal_max_mm: r6(ideal_rng.map_or(0.0, |r| r.1)),
+                    measured_min_mm: meas_rng.map(|r| r6(r.0)),
+                    measured_max_mm: meas_rng.map(|r| r6(r.1)),
+                    max_error_mm: max_err.map(r6),
+                },
+                ideal_groove_width_mm: m.and_then(|m| m.ideal_groove).map(r6),
+                groove_width_mm: m.and_then(|m| m.groove).map(r6),
+                ideal_tooth_width_mm: m.and_then(|m| m.ideal_tooth).map(r6),
+                tooth_width_mm: m.and_then(|m| m.tooth).map(r6),
+                min_diameter_mm: diam.map(|d| r6(d.0)),
+                max_diameter_mm: diam.map(|d| r6(d.1)),
+                helix_angle_deg: r4(psi.to_degrees()),
+                max_gouge_mm: r6(td.max_gouge().map_or(0.0, |e| e.value)),
+                max_leftover_mm: r6(td.max_leftover().map_or(0.0, |e| e.value)),
+                gouge_volume_mm3: r6(td.gouge_volume),
+                leftover_volume_mm3: r6(td.leftover_volume),
+                flanks: report::Flanks {
+                    left: flank(Flank::Left),
+                    right: flank(Flank::Right),
+                    root: flank(Flank::Root),
+                    crest: flank(Flank::Crest),
+                },
+                clearance_deg: bodies.and_then(|b| b.1.get(&(s, n))).map(|c| {
+                    report::ClearanceRow {
+                        left_crest: r4(c.left_crest),
+                        left_root: r4(c.left_root),
+                        right_crest: r4(c.right_crest),
+                        right_root: r4(c.right_root),
+                        pass: c.pass + 1,
+                    }
+                }),
+            };
+            if td.compared == 0 && dev.compared_dexels > 0 {
+                findings.push(Finding {
+                    turn: Some(n),
+                    start: Some(s),
+                    ..Finding::new(
+                        FindingKind::NotCompared,
+                        Severity::Warning,
+                        format!(
+                            "turn {n}: no dexel of it lies on the simulated stock ([simulation] z_range): it is not checked"
+                        ),
+                    )
+                });
+            }
+            turn_findings(&row, &td, all, tol, &mut findings);
+            turns.push(row);
+        }
+    }
+    for (i, p) in job.passes.iter().enumerate() {
+        let hand = p.helix().hand();
+        if hand != thread.hand() {
+            let name = |h: Hand| if h == Hand::Right { "right" } else { "left" };
+            findings.push(Finding {
+                kind: FindingKind::Hand,
+                severity: Severity::Error,
+                turn: None,
+                start: None,
+                flank: None,
+                pass: Some(i + 1),
+                angle_deg: None,
+                z_mm: Some(r6(p.z_start)),
+                file: None,
+                line: None,
+                column: None,
+                value: None,
+                unit: None,
+                message: format!(
+                    "pass {}: spindle {} feeding toward {}z cuts a {}-hand helix; the drawing's thread is {}-hand",
+                    i + 1,
+                    if p.spindle == Spindle::Cw { "cw (M03)" } else { "ccw (M04)" },
+                    if p.z_end < p.z_start { "-" } else { "+" },
+                    name(hand),
+                    name(thread.hand())
+                ),
+            });
+        }
+    }
+    let mut interference_rows = bodies.map(|_| Vec::new());
+    if let (Some((hits, _, _)), Some(rows)) = (bodies, interference_rows.as_mut()) {
+        for (&(start, turn), flanks) in hits {
+            for (k, h) in flanks.iter().enumerate() {
+                let Some(h) = h.filter(|h| r6(h.depth) > 0.0) else {
+                    continue;
+                };
+                let flank = interference::flank_name(k);
+                let angle = r4(h.theta.to_degrees().rem_euclid(360.0));
+                rows.push(report::InterferenceRow {
+                    turn,
+                    start,
+                    flank,
+                    max_mm: r6(h.depth),
+                    angle_deg: angle,
+                    z_mm: r6(h.z),
+                    volume_mm3: r6(h.volume),
+                });
+                findings.push(Finding {
+                    kind: FindingKind::FlankInterference,
+                    severity: if h.depth > tol { Severity::Error } else { Severity::Warning },
+                    turn: Some(turn),
+                    start: Some(start),
+                    flank: Some(Flank::ALL[k]),
+                    pass: None,
+                    angle_deg: Some(angle),
+                    z_mm: Some(r6(h.z)),
+                    file: None,
+                    line: None,
+                    column: None,
+                    value: Some(r6(h.depth)),
+                    unit: Some("mm"),
+                    message: format!(
+                        "turn {turn} {flank} flank: the tool body cut {:.4} mm past its edge's surface at {angle:.1} deg, z {:.3} ({:.3} mm3): the side clearance is smaller than the helix angle there",
+                        h.depth, h.z, h.volume
+                    ),
+                });
+            }
+        }
+    }
+    for mi in machine_issues {
+        findings.push(Finding {
+            kind: mi.kind,
+            severity: if mi.error {
+                Severity::Error
+            } else {
+                Severity::Warning
+            },
+            turn: None,
+            start: None,
+            flank: None,
+            pass: Some(mi.pass + 1),
+            angle_deg: None,
+            z_mm: Some(r6(mi.z)),
+            file: None,
+            line: None,
+            column: None,
+            value: Some(r6(mi.value)),
+            unit: Some(match mi.kind {
+                FindingKind::FeedLimit => "mm/min",
+                FindingKind::AxisAcceleration => "mm/s^2",
+                FindingKind::ThreadChain => "mm/rev",
+                _ => "mm",
+            }),
+            message: mi.message.clone(),
+        });
+    }
+    for w in &job.program_warnings {
+        findings.push(Finding {
+            kind: FindingKind::Program,
+            severity: Severity::Warning,
+            turn: None,
+            start: None,
+            flank: None,
+            pass: None,
+            angle_deg: None,
+            z_mm: None,
+            file: Some(w.file.clone()),
+            line: Some(w.line),
+            column: Some(w.col.max(1)),
+            value: None,
+            unit: None,
+            message: format!("{}:{}:{}: {}", w.file, w.line, w.col.max(1), w.message),
+        });
+    }
+    if dev.compared_dexels == 0 {
+        findings.push(Finding::new(
+            FindingKind::NotCompared,
+            Severity::Error,
+            "no dexel of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
+        ));
+    }
+    let verdict = rank(&mut findings);
+    let gouge = dev.max_gouge();
+    let leftover = dev.max_leftover();
+    Report {
+        schema: SCHEMA,
+        vpcut_version: report::VERSION,
+        job: job.name.clone(),
+        inputs: Vec::new(),
+        verdict,
+        finding_counts: report::FindingCounts::of(&findings),
+        tolerance_mm: r6(tol),
+        thread: report::ThreadInfo {
+            side: match thread.side {
+                Side::External => "external",
+                Side::Internal => "internal",
+            },
+            form: job.form.name(),
+            hand: match thread.hand() {
+                Hand::Right => "right",
+                Hand::Left => "left",
+            },
+            starts: thread.starts,
+            major_diameter_mm: r6(major),
+            minor_diameter_mm: r6(minor),
+            pitch_diameter_mm: r6(2.0 * thread.pitch_radius),
+            constant_width: match thread.width {
+                WidthRule::Groove(_) => "groove",
+                WidthRule::Tooth(_) => "tooth",
+            },
+            width_mm: r6(match thread.width {
+                WidthRule::Groove(w) | WidthRule::Tooth(w) => w,
+            }),
+            lead_at_start_mm: r6(thread.helix.law.f),
+            lead_change_mm: r6(thread.helix.law.k),
+            turns: r6(thread.turns),
+        },
+        stock: report::StockInfo {
+            angular_cells: grid.n_theta,
+            axial_cells: grid.n_z,
+            axial_spacing_mm: r6(grid.dz),
+            dexels: grid.dexels() as u64 * if job.blank.bore > 0.0 { 2 } else { 1 },
+            surfaces: if job.blank.bore > 0.0 {
+                vec!["outer", "inner"]
+            } else {
+                vec!["outer"]
+            },
+            bytes_per_dexel: 4,
+            z_min_mm: r6(grid.z(0)),
+            z_max_mm: r6(grid.z(grid.n_z - 1)),
+        },
+        passes: job.passes.len(),
+        kernel: {
+            // The swept bodies' sections (the same the sweep used).
+            let swept = bodies.map_or(&[][..], |b| &b.2[..]);
+            report::KernelInfo {
+                placements: stats.placements,
+                dexel_updates: stats.dexel_updates,
+                body_sections: swept.iter().map(|s| s.0).max(),
+                body_sampling_bound_mm: swept
+                    .iter()
+                    .map(|s| s.1)
+                    .reduce(f64::max)
+                    .map(|b| r6(b.max(1e-6))),
+            }
+        },
+        measurement: report::MeasurementInfo {
+            axial_spacing_mm: r6(spacing),
+            generators: measures.len(),
+            reference_angle_deg: r4(thread.helix.theta0.to_degrees()),
+        },
+        deviation: report::DeviationInfo {
+            max_gouge_mm: r6(gouge.map_or(0.0, |e| e.value)),
+            max_gouge_at: gouge.filter(|e| r6(e.value) > 0.0).as_ref().map(location),
+            max_leftover_mm: r6(leftover.map_or(0.0, |e| e.value)),
+            max_leftover_at: leftover
+                .filter(|e| r6(e.value) > 0.0)
+                .as_ref()
+                .map(location),
+            gouge_volume_mm3: r6(dev.gouge_volume()),
+            leftover_volume_mm3: r6(dev.leftover_volume()),
+            removed_volume_mm3: r6(dev.removed_volume),
+            ideal_removed_volume_mm3: r6(dev.ideal_removed_volume),
+            total_removed_volume_mm3: r6(dev.total_removed_volume),
+            compared_dexels: dev.compared_dexels,
+            compared_z_mm: dev
+                .compared_z
+                .map(|(a, b)| [r6(a - 0.5 * grid.dz), r6(b + 0.5 * grid.dz)]),
+            uncompared_removed_volume_mm3: r6(
+                (dev.total_removed_volume - dev.removed_volume).max(0.0)
+            ),
+        },
+        turns,
+        interference: interference_rows,
+        mill: None,
+        findings,
+        timing_s: report::Timing::default(),
+    }
+}
+
+fn turn_findings(
+    row: &TurnRow,
+    td: &TurnDeviation,
+    all: &[&TurnMeasure],
+    tol: f64,
+    out: &mut Vec<Finding>,
+) {
+    let base = |kind, severity, value: f64, message: String| Finding {
+        kind,
+        severity,
+        turn: Some(row.turn),
+        start: Some(row.start),
+        flank: None,
+        pass: None,
+        angle_deg: None,
+        z_mm: None,
+        file: None,
+        line: None,
+        column: None,
+        value: Some(r6(value)),
+        unit: Some("mm"),
+        message,
+    };
+    for (kind, slots) in [
+        (FindingKind::Gouge, &td.gouge),
+        (FindingKind::Leftover, &td.leftover),
+    ] {
+        for f in Flank::ALL {
+            let Some(e) = slots[f.index()] else { continue };
+            if e.value <= tol {
+                continue;
+            }
+            let l = location(&e);
+            out.push(Finding {
+                flank: Some(f),
+                angle_deg: Some(l.angle_deg),
+                z_mm: Some(l.z_mm),
+                ..base(
+                    kind,
+                    Severity::Error,
+                    e.value,
+                    format!(
+                        "turn {} {}: {kind} {:.4} mm at {:.1} deg, z {:.3}",
+                        row.turn,
+                        f.label(),
+                        e.value,
+                        l.angle_deg,
+                        l.z_mm
+                    ),
+                )
+            });
+        }
+    }
+    if all.iter().any(|m| {
+        (m.ideal_groove.is_some() && m.groove.is_none())
+            || (m.ideal_tooth.is_some() && m.tooth.is_none())
+    }) {
+        out.push(base(
+            FindingKind::MissingFeature,
+            Severity::Error,
+            0.0,
+            format!(
+                "turn {}: a groove or tooth the drawing has is not found at the pitch diameter on some generator",
+                row.turn
+            ),
+        ));
+    }
+    if let Some(err) = row.lead_spread.max_error_mm {
+        if err > tol {
+            out.push(base(
+                FindingKind::Lead,
+                Severity::Error,
+                err,
+                format!(
+                    "turn {}: lead off by up to {:.4} mm (reference generator: measured {} vs ideal {})",
+                    row.turn,
+                    err,
+                    fmt_opt(row.measured_lead_mm),
+                    fmt_opt(row.ideal_lead_mm)
+                ),
+            ));
+        }
+    }
+    // Widths on every generator: the worst difference from the ideal (the row shows the
+    // reference generator's).
+    for (kind, what, pick) in [
+        (
+            FindingKind::GrooveWidth,
+            "groove",
+            (|m: &TurnMeasure| m.ideal_groove.zip(m.groove)) as fn(&TurnMeasure) -> _,
+        ),
+        (FindingKind::ToothWidth, "tooth", |m: &TurnMeasure| {
+            m.ideal_tooth.zip(m.tooth)
+        }),
+    ] {
+        let worst = all
+            .iter()
+            .filter_map(|m| pick(m))
+            .fold(None::<(f64, f64)>, |acc, (i, g)| match acc {
+                Some((ai, ag)) if (ag - ai).abs() >= (g - i).abs() => Some((ai, ag)),
+                _ => Some((i, g)),
+            });
+        if let Some((i, g)) = worst {
+            if (g - i).abs() > tol {
+                out.push(base(
+                    kind,
+                    Severity::Error,
+                    g - i,
+                    format!(
+                        "turn {}: {what} width {g:.4} mm, drawing {i:.4} mm",
+                        row.turn
+                    ),
+                ));
+            }
+        }
+    }
+    if all.iter().any(|m| m.split) {
+        out.push(base(
+            FindingKind::SplitFeature,
+            Severity::Warning,
+            0.0,
+            format!(
+                "turn {}: a ridge or notch crosses the pitch diameter inside one feature",
+                row.turn
+            ),
+        ));
+    }
+}
+
+fn fmt_opt(v: Option<f64>) -> String {
+    v.map_or("-".to_string(), |x| format!("{x:.4}"))
+}
