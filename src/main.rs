@@ -1115,10 +1115,7 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// An image as PNG bytes.
+/// An image as PNG bytes (the renders' encoder, without text chunks).
 fn png(img: &image::RgbImage) -> anyhow::Result<Vec<u8>> {
-    let mut bytes = Vec::new();
-    img.write_with_encoder(image::codecs::png::PngEncoder::new(&mut bytes))
-        .context("cannot encode a PNG")?;
-    Ok(bytes)
+    vpcut::encode_png(img, &[]).context("cannot encode a PNG")
 }

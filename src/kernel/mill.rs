@@ -510,7 +510,7 @@ impl<'a> GridMill<'a> {
         let (grid, path, q_blank) = (self.grid, self.path, self.q_blank);
         let cell_area = grid.dtheta() * 0.5 * grid.dz;
         let theta = grid.theta(i);
-        let ray = Ray::new(theta, grid.z0, grid.dz, col.len(), q_blank, self.surface);
+        let ray = MillRay::new(theta, grid.z0, grid.dz, col.len(), q_blank, self.surface);
         let mut cuts = vec![MoveCut::default(); path.moves.len()];
         let (mut hits, mut snapshot) = (Vec::new(), Vec::new());
         let (mut placements, mut updates) = (0u64, 0u64);
@@ -567,7 +567,7 @@ pub fn mill_column(
     cutters: &[Cutter],
 ) {
     let segs: Vec<Vec<Seg>> = cutters.iter().map(Cutter::segments).collect();
-    let ray = Ray::new(c.theta, c.z0, c.dz, q.len(), c.q_blank, c.surface);
+    let ray = MillRay::new(c.theta, c.z0, c.dz, q.len(), c.q_blank, c.surface);
     let mut hits = Vec::new();
     for (m, mv) in path.moves.iter().enumerate() {
         ray.hits(path, m, &segs[mv.cutter], &mut hits);
@@ -576,7 +576,7 @@ pub fn mill_column(
 }
 
 /// A column's ray: its direction, cells and surface.
-struct Ray {
+struct MillRay {
     sin: f64,
     cos: f64,
     z0: f64,
@@ -596,10 +596,10 @@ struct Hit {
     need2: f64,
 }
 
-impl Ray {
-    fn new(theta: f64, z0: f64, dz: f64, n: usize, q_blank: f64, surface: Surface) -> Ray {
+impl MillRay {
+    fn new(theta: f64, z0: f64, dz: f64, n: usize, q_blank: f64, surface: Surface) -> MillRay {
         let (sin, cos) = theta.sin_cos();
-        Ray {
+        MillRay {
             sin,
             cos,
             z0,
