@@ -1,7 +1,7 @@
 //! The block cursor and the expression evaluators: FANUC Macro B (`#` variables with null,
 //! `[ ]`, EQ..LE, AND/OR, functions in degrees) and Siemens (`R` parameters, `( )`, `==`..).
 
-use super::{deg, Dialect, Machine, Program};
+use super::{to_rad, Dialect, Interp, Program};
 
 /// A cursor over one block's text.
 pub(super) struct Cur<'a> {
@@ -227,12 +227,12 @@ pub(super) fn z(v: f64) -> f64 {
 /// A comparison operator.
 type Compare = fn(f64, f64) -> bool;
 
-impl Machine<'_> {
+impl Interp<'_> {
     pub(super) fn register(&mut self, p: std::rc::Rc<Program>) {
         if let Some(a) = &p.alias {
-            self.programs.insert(a.clone(), p.clone());
+            self.progs.by_name.insert(a.clone(), p.clone());
         }
-        self.programs.insert(p.name.clone(), p);
+        self.progs.by_name.insert(p.name.clone(), p);
     }
 
     /// The value of R parameter `idx` (Siemens) or variable `#idx` (FANUC/GSK); `col` is
@@ -241,7 +241,7 @@ impl Machine<'_> {
         match c.dialect {
             Dialect::Siemens802d => {
                 let n = r_index(idx, col)?;
-                Ok(*self.r.get(&n).unwrap_or(&0.0))
+                Ok(*self.vars.r.get(&n).unwrap_or(&0.0))
             }
             Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
                 // Null (vacant, and #0) is carried as NaN: 0 in arithmetic, but not equal
@@ -250,9 +250,9 @@ impl Machine<'_> {
                 let v = if idx == 0 {
                     None
                 } else if (1..=33).contains(&idx) {
-                    self.locals.last().and_then(|l| l.get(&idx))
+                    self.vars.locals.last().and_then(|l| l.get(&idx))
                 } else {
-                    self.vars.get(&idx)
+                    self.vars.common.get(&idx)
                 };
                 Ok(v.copied().unwrap_or(f64::NAN))
             }
@@ -266,9 +266,9 @@ impl Machine<'_> {
     /// Store a FANUC variable; null (NaN) makes it vacant.
     pub(super) fn set_var(&mut self, idx: u32, v: f64) {
         let map = if (1..=33).contains(&idx) {
-            self.locals.last_mut().expect("level 0 always exists")
+            self.vars.locals.last_mut().expect("level 0 always exists")
         } else {
-            &mut self.vars
+            &mut self.vars.common
         };
         if v.is_nan() {
             map.remove(&idx);
@@ -505,9 +505,9 @@ impl Machine<'_> {
             }
             ("ASIN", None) => a.asin().to_degrees(),
             ("ACOS", None) => a.acos().to_degrees(),
-            ("SIN", None) => deg(a).sin(),
-            ("COS", None) => deg(a).cos(),
-            ("TAN", None) => deg(a).tan(),
+            ("SIN", None) => to_rad(a).sin(),
+            ("COS", None) => to_rad(a).cos(),
+            ("TAN", None) => to_rad(a).tan(),
             ("ATAN2", Some(b)) => a.atan2(b).to_degrees(),
             ("ATAN", Some(b)) => a.atan2(b).to_degrees(),
             ("ATAN", None) => a.atan().to_degrees(),
@@ -607,11 +607,11 @@ impl Machine<'_> {
     /// A word's value in the dialect's range (`col` is the word's letter); null (a vacant
     /// FANUC variable) passes, it leaves the word out.
     pub(super) fn word_value(&self, name: &str, v: f64, col: usize) -> Result<f64, Fail> {
-        let (max, digits) = match self.dialect {
+        let (max, digits) = match self.cfg.dialect {
             Dialect::Siemens802d => (SIEMENS_MAX_WORD, "nine"),
             _ => (FANUC_MAX_WORD, "eight"),
         };
-        if v.is_nan() && self.dialect != Dialect::Siemens802d {
+        if v.is_nan() && self.cfg.dialect != Dialect::Siemens802d {
             return Ok(v);
         }
         if v.is_finite() && v.abs() <= max {

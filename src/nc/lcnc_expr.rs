@@ -22,7 +22,7 @@
 //! `#<_ini[..]>` and `#<_hal[..]>` are refused (no INI file or HAL).
 
 use super::expr::Fail;
-use super::Machine;
+use super::Interp;
 use std::collections::HashMap;
 
 /// rs274's `TOLERANCE_EQUAL` for `EQ` and `NE`.
@@ -260,10 +260,10 @@ const LEVELS: [&[&str]; 5] = [
     &["**"],
 ];
 
-impl Machine<'_> {
+impl Interp<'_> {
     /// The current call depth (0 in the main program).
     pub(super) fn lc_depth(&self) -> usize {
-        self.locals.len() - 1
+        self.vars.locals.len() - 1
     }
 
     /// This call's level of named locals and repeat counters.
@@ -302,8 +302,8 @@ impl Machine<'_> {
 
     /// A length in program units and the active X mode from mm (X as a diameter).
     fn lc_len(&self, v: f64, x_axis: bool) -> f64 {
-        let scale = if self.inch { 25.4 } else { 1.0 };
-        let xs = if x_axis && !self.diameter_mode {
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
+        let xs = if x_axis && !self.modal.diameter_mode {
             0.5
         } else {
             1.0
@@ -321,45 +321,45 @@ impl Machine<'_> {
             "_VMAJOR" => 2.0,
             "_VMINOR" => 9.0,
             "_LINE" => st.line as f64,
-            "_MOTION_MODE" => f64::from(self.motion * 10),
+            "_MOTION_MODE" => f64::from(self.modal.motion * 10),
             "_PLANE" => f64::from(st.plane),
             "_CCOMP" => f64::from(st.ccomp),
-            "_METRIC" => b(!self.inch),
-            "_IMPERIAL" => b(self.inch),
-            "_ABSOLUTE" => b(!self.incremental),
-            "_INCREMENTAL" => b(self.incremental),
+            "_METRIC" => b(!self.modal.inch),
+            "_IMPERIAL" => b(self.modal.inch),
+            "_ABSOLUTE" => b(!self.modal.incremental),
+            "_INCREMENTAL" => b(self.modal.incremental),
             "_INVERSE_TIME" => b(st.feed_mode == 93),
             "_UNITS_PER_MINUTE" => b(st.feed_mode == 94),
             "_UNITS_PER_REV" => b(st.feed_mode == 95),
-            "_COORD_SYSTEM" => match self.work {
+            "_COORD_SYSTEM" => match self.frames.work {
                 w @ 0..=5 => 540.0 + 10.0 * w as f64,
                 w => 590.0 + (w - 5) as f64,
             },
             "_TOOL_OFFSET" => b(st.tool_offset),
             "_RETRACT_R_PLANE" => b(st.retract_r),
             "_RETRACT_OLD_Z" => b(!st.retract_r),
-            "_SPINDLE_RPM_MODE" => b(!self.css),
-            "_SPINDLE_CSS_MODE" => b(self.css),
+            "_SPINDLE_RPM_MODE" => b(!self.modal.css),
+            "_SPINDLE_CSS_MODE" => b(self.modal.css),
             "_IJK_ABSOLUTE_MODE" => b(st.ijk_absolute),
-            "_LATHE_DIAMETER_MODE" => b(self.diameter_mode),
-            "_LATHE_RADIUS_MODE" => b(!self.diameter_mode),
+            "_LATHE_DIAMETER_MODE" => b(self.modal.diameter_mode),
+            "_LATHE_RADIUS_MODE" => b(!self.modal.diameter_mode),
             "_SPINDLE_ON" => b(st.spindle_on),
-            "_SPINDLE_CW" => b(st.spindle_on && self.spindle == crate::helix::Spindle::Cw),
+            "_SPINDLE_CW" => b(st.spindle_on && self.modal.spindle == crate::helix::Spindle::Cw),
             "_MIST" => b(st.mist),
             "_FLOOD" => b(st.flood),
             "_SPEED_OVERRIDE" => b(st.speed_override),
             "_FEED_OVERRIDE" => b(st.feed_override),
             "_ADAPTIVE_FEED" => b(st.adaptive_feed),
             "_FEED_HOLD" => b(st.feed_hold),
-            "_FEED" => self.feed.unwrap_or(0.0),
-            "_RPM" => self.speed.unwrap_or(0.0),
+            "_FEED" => self.modal.feed.unwrap_or(0.0),
+            "_RPM" => self.modal.speed.unwrap_or(0.0),
             "_X" => px,
             "_Z" => pz,
             "_ABS_X" => self.lc_len(self.x, true),
             "_ABS_Z" => self.lc_len(self.z, false),
             "_Y" | "_A" | "_B" | "_C" | "_U" | "_V" | "_W" | "_ABS_Y" | "_ABS_A" | "_ABS_B"
             | "_ABS_C" => 0.0,
-            "_CURRENT_TOOL" | "_CURRENT_POCKET" => f64::from(self.tool.unwrap_or(0)),
+            "_CURRENT_TOOL" | "_CURRENT_POCKET" => f64::from(self.modal.tool.unwrap_or(0)),
             "_SELECTED_TOOL" | "_SELECTED_POCKET" => st.selected_tool as f64,
             "_TASK" => 1.0,
             "_CALL_LEVEL" => self.lc_depth() as f64,
@@ -371,8 +371,8 @@ impl Machine<'_> {
     /// The current position in the active coordinate system (work offset and G92 applied),
     /// in program units, X in the active X mode.
     fn lc_position(&self) -> (f64, f64) {
-        let (ox, oz) = self.offsets[self.work];
-        let (gx, gz) = self.g92_off;
+        let (ox, oz) = self.frames.offsets[self.frames.work];
+        let (gx, gz) = self.frames.g92_off;
         (
             self.lc_len(self.x - ox - gx, true),
             self.lc_len(self.z - oz - gz, false),
@@ -397,7 +397,7 @@ impl Machine<'_> {
             5181..=5189 => axis(5181, st.home30),
             5210 => Some(f64::from(u8::from(st.g92_on))),
             5211..=5219 => axis(5211, st.g92_params),
-            5220 => Some(self.work as f64 + 1.0),
+            5220 => Some(self.frames.work as f64 + 1.0),
             5221..=5390 => {
                 let k = ((n - 5221) / 20) as usize;
                 let base = 5221 + 20 * k as u32;
@@ -407,16 +407,16 @@ impl Machine<'_> {
                 if n - base == 9 {
                     return Some(0.0); // the XY rotation R
                 }
-                axis(base, self.offsets[k])
+                axis(base, self.frames.offsets[k])
             }
-            5400 => Some(f64::from(self.tool.unwrap_or(0))),
+            5400 => Some(f64::from(self.modal.tool.unwrap_or(0))),
             // Tool offsets, diameter, angles and orientation: vpcut has no tool table.
             5401..=5413 => Some(0.0),
             5420..=5428 => axis(5420, {
                 let (x, z) = self.lc_position();
                 // Back to mm and a diameter: `axis` converts again.
-                let scale = if self.inch { 25.4 } else { 1.0 };
-                let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+                let scale = if self.modal.inch { 25.4 } else { 1.0 };
+                let xs = if self.modal.diameter_mode { 1.0 } else { 2.0 };
                 (x * scale * xs, z * scale)
             }),
             _ => None,
@@ -427,15 +427,16 @@ impl Machine<'_> {
     pub(super) fn lc_set(&mut self, p: Param, v: f64) {
         match p {
             Param::Num(n) if n <= 30 => {
-                self.locals
+                self.vars
+                    .locals
                     .last_mut()
                     .expect("level 0 always exists")
                     .insert(n, v);
             }
             Param::Num(n) if n > LAST_PARAMETER => {
                 // Only the homes are writable (`system_write_refused`): G28/G30 go there.
-                let scale = if self.inch { 25.4 } else { 1.0 };
-                let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+                let scale = if self.modal.inch { 25.4 } else { 1.0 };
+                let xs = if self.modal.diameter_mode { 1.0 } else { 2.0 };
                 let st = &mut self.lc.st;
                 let home = if n < 5181 {
                     &mut st.home28
@@ -449,7 +450,7 @@ impl Machine<'_> {
                 }
             }
             Param::Num(n) => {
-                self.vars.insert(n, v);
+                self.vars.common.insert(n, v);
             }
             Param::Named(name) if name.starts_with('_') => {
                 self.lc.params.globals.insert(name, v);
@@ -494,13 +495,14 @@ impl Machine<'_> {
         let at = c.col_at(c.i.saturating_sub(1));
         match self.lc_param(c)? {
             Param::Num(n) if n <= 30 => Ok(self
+                .vars
                 .locals
                 .last()
                 .and_then(|l| l.get(&n))
                 .copied()
                 .unwrap_or(0.0)),
             Param::Num(n) if n > LAST_PARAMETER => Ok(self.lc_system(n).unwrap_or(0.0)),
-            Param::Num(n) => Ok(self.vars.get(&n).copied().unwrap_or(0.0)),
+            Param::Num(n) => Ok(self.vars.common.get(&n).copied().unwrap_or(0.0)),
             Param::Named(name) => self.lc_named(&name).ok_or_else(|| {
                 let name = name.to_lowercase();
                 let msg = if predefined(&name.to_uppercase()) {

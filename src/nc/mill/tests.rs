@@ -1,7 +1,7 @@
 //! Unit tests of the FANUC milling interpreter and of cutter radius compensation.
 
 use super::comp::{compensate, Comp, Programmed, Site};
-use super::*;
+use crate::nc::*;
 use std::f64::consts::{PI, TAU};
 
 /// G57's work zero at the job's origin, G54's at (100, 50, -10); H10 a length offset,
