@@ -2,7 +2,8 @@
 //! G65 macro calls, the two-block G76, the modal G92 and GSK's G34.
 
 use super::codes;
-use super::expr::{z, Cur, Fail};
+use super::expr::{z, Fail};
+use super::lex::Cursor;
 use super::{Interp, MoveKind, Program, Step, Sync, Words};
 
 /// The first G76 block's `P(mm)(rr)(aa)` (`controllers.md` 2.3; GSK 980TDc writes it the
@@ -59,7 +60,7 @@ impl Interp<'_> {
         text: &str,
         loops: &mut Vec<(u32, usize)>,
     ) -> Result<Step, Fail> {
-        let mut c = Cur::new(text, self.cfg.dialect);
+        let mut c = Cursor::new(text, self.cfg.dialect);
         if text.starts_with('O') && text[1..].chars().all(|ch| ch.is_ascii_digit()) {
             return Ok(Step::Next);
         }
@@ -189,7 +190,7 @@ impl Interp<'_> {
 
     /// FANUC/GSK Custom Macro A: `G65 Hnn P#i Q#j R#k` (`controllers.md` 5). P names the
     /// result variable (or the block number of a jump); Q and R are variables or constants.
-    pub(super) fn macro_a(&mut self, c: &mut Cur, prog: &Program) -> Result<Step, Fail> {
+    pub(super) fn macro_a(&mut self, c: &mut Cursor, prog: &Program) -> Result<Step, Fail> {
         let mut h = None;
         let mut p: Option<(f64, bool, usize)> = None; // (value, written as #n, column)
         let (mut q, mut r) = (0.0, 0.0);

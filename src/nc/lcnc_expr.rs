@@ -22,6 +22,7 @@
 //! `#<_ini[..]>` and `#<_hal[..]>` are refused (no INI file or HAL).
 
 use super::expr::Fail;
+use super::lex::Cursor;
 use super::Interp;
 use std::collections::HashMap;
 
@@ -29,122 +30,6 @@ use std::collections::HashMap;
 const TOLERANCE_EQUAL: f64 = 0.0001;
 /// The last numbered parameter a program may use.
 const LAST_PARAMETER: u32 = 5160;
-
-/// A cursor over one line with white space removed; `cols` maps back to 1-based columns of
-/// the line.
-pub(super) struct LCur {
-    s: Vec<u8>,
-    cols: Vec<usize>,
-    pub(super) i: usize,
-    /// Values being read inside each other (bounded: no line can exhaust the stack).
-    nest: usize,
-}
-
-impl LCur {
-    /// `text` is the upper-cased line with comments blanked (columns as in the file).
-    pub(super) fn new(text: &str) -> LCur {
-        let mut s = Vec::with_capacity(text.len());
-        let mut cols = Vec::with_capacity(text.len());
-        for (k, b) in text.bytes().enumerate() {
-            if !b.is_ascii_whitespace() {
-                s.push(b);
-                cols.push(k + 1);
-            }
-        }
-        LCur {
-            s,
-            cols,
-            i: 0,
-            nest: 0,
-        }
-    }
-    pub(super) fn peek(&self) -> Option<u8> {
-        self.s.get(self.i).copied()
-    }
-    /// What stands at the cursor, for a message.
-    pub(super) fn here(&self) -> String {
-        if self.i >= self.s.len() {
-            return "the end of the line".into();
-        }
-        super::expr::describe_char(super::expr::char_at(&self.s, self.i))
-    }
-    pub(super) fn peek_at(&self, k: usize) -> Option<u8> {
-        self.s.get(self.i + k).copied()
-    }
-    pub(super) fn done(&self) -> bool {
-        self.i >= self.s.len()
-    }
-    pub(super) fn eat(&mut self, t: &str) -> bool {
-        if self.s[self.i..].starts_with(t.as_bytes()) {
-            self.i += t.len();
-            true
-        } else {
-            false
-        }
-    }
-    /// The 1-based column of the cursor (one past the last character at the end).
-    pub(super) fn col(&self) -> usize {
-        self.col_at(self.i)
-    }
-    pub(super) fn col_at(&self, i: usize) -> usize {
-        match self.cols.get(i) {
-            Some(&c) => c,
-            None => self.cols.last().map_or(1, |c| c + 1),
-        }
-    }
-    pub(super) fn err<T>(&self, msg: impl Into<String>) -> Result<T, Fail> {
-        Err((self.col(), msg.into()))
-    }
-    /// Letters and `_` (a keyword or function name).
-    pub(super) fn ident(&mut self) -> String {
-        let st = self.i;
-        while self
-            .peek()
-            .is_some_and(|b| b.is_ascii_alphabetic() || b == b'_')
-        {
-            self.i += 1;
-        }
-        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
-    }
-    /// An unsigned decimal number (`12`, `12.`, `.5`, `1.5`).
-    pub(super) fn number(&mut self) -> Option<f64> {
-        let st = self.i;
-        let mut points = 0;
-        while let Some(b) = self.peek() {
-            if b == b'.' {
-                points += 1;
-            } else if !b.is_ascii_digit() {
-                break;
-            }
-            self.i += 1;
-        }
-        match super::expr::ascii_number(&self.s[st..self.i]) {
-            Some(v) if points <= 1 => Some(v),
-            _ => {
-                self.i = st;
-                None
-            }
-        }
-    }
-    /// The name inside `<..>` after `#` or `O` (the `<` already read), upper-cased.
-    pub(super) fn angle_name(&mut self) -> Result<String, Fail> {
-        let st = self.i;
-        while self.peek().is_some_and(|b| b != b'>') {
-            self.i += 1;
-        }
-        if !self.eat(">") {
-            return Err((self.col_at(st), "expected `>` closing the name".into()));
-        }
-        let name = String::from_utf8_lossy(&self.s[st..self.i - 1]).into_owned();
-        if name.is_empty() {
-            return Err((
-                self.col_at(st),
-                "expected a name between `<` and `>`".into(),
-            ));
-        }
-        Ok(name)
-    }
-}
 
 /// rs274's predefined (read-only) named parameters, upper-cased, with the `_ini[..]` and
 /// `_hal[..]` forms.
@@ -462,7 +347,7 @@ impl Interp<'_> {
     }
 
     /// After `#`: which parameter (`n`, `[expr]`, `#..`, `<name>`).
-    pub(super) fn lc_param(&self, c: &mut LCur) -> Result<Param, Fail> {
+    pub(super) fn lc_param(&self, c: &mut Cursor) -> Result<Param, Fail> {
         let at = c.col();
         if c.eat("<") {
             return Ok(Param::Named(c.angle_name()?));
@@ -490,7 +375,7 @@ impl Interp<'_> {
     }
 
     /// Read a parameter after `#`.
-    fn lc_read(&self, c: &mut LCur) -> Result<f64, Fail> {
+    fn lc_read(&self, c: &mut Cursor) -> Result<f64, Fail> {
         // Errors point at the `#`.
         let at = c.col_at(c.i.saturating_sub(1));
         match self.lc_param(c)? {
@@ -516,7 +401,7 @@ impl Interp<'_> {
     }
 
     /// A bracketed expression `[..]`.
-    pub(super) fn lc_bracket(&self, c: &mut LCur) -> Result<f64, Fail> {
+    pub(super) fn lc_bracket(&self, c: &mut Cursor) -> Result<f64, Fail> {
         if !c.eat("[") {
             return c.err("expected `[` starting an expression");
         }
@@ -533,7 +418,7 @@ impl Interp<'_> {
         Ok(v)
     }
 
-    fn lc_binary(&self, c: &mut LCur, level: usize) -> Result<f64, Fail> {
+    fn lc_binary(&self, c: &mut Cursor, level: usize) -> Result<f64, Fail> {
         if level == LEVELS.len() {
             return self.lc_value(c);
         }
@@ -590,7 +475,7 @@ impl Interp<'_> {
 
     /// rs274's `read_real_value`: a number, `[expr]`, a parameter, a function or a sign
     /// followed by one of those.
-    pub(super) fn lc_value(&self, c: &mut LCur) -> Result<f64, Fail> {
+    pub(super) fn lc_value(&self, c: &mut Cursor) -> Result<f64, Fail> {
         if c.nest >= 100 {
             return c.err("values nested more than 100 deep");
         }
@@ -600,7 +485,7 @@ impl Interp<'_> {
         v
     }
 
-    fn lc_value_inner(&self, c: &mut LCur) -> Result<f64, Fail> {
+    fn lc_value_inner(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let at = c.col();
         match c.peek() {
             None => c.err("expected a value"),
@@ -634,7 +519,7 @@ impl Interp<'_> {
         }
     }
 
-    fn lc_function(&self, c: &mut LCur, name: &str, at: usize) -> Result<f64, Fail> {
+    fn lc_function(&self, c: &mut Cursor, name: &str, at: usize) -> Result<f64, Fail> {
         if name == "EXISTS" {
             if !(c.eat("[") && c.eat("#") && c.eat("<")) {
                 return c.err("expected EXISTS[#<name>]");

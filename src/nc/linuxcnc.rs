@@ -15,7 +15,8 @@
 //! the next closing `while` of a `do` loop does not loop). Parameter assignments of a line take effect after the whole line is read.
 
 use super::expr::Fail;
-use super::lcnc_expr::{LCur, Param, Params};
+use super::lcnc_expr::{Param, Params};
+use super::lex::Cursor;
 use super::{Interp, MoveKind, Program, Source, Step, Sync, Words};
 use std::collections::HashMap;
 use std::rc::Rc;
@@ -254,7 +255,7 @@ fn comment_error(line: &str) -> Option<Fail> {
 
 /// The O-word at the start of a line (after an optional N number): key and keyword; the
 /// cursor is left after the keyword. `Ok(None)` when the line does not start with `O`.
-fn oword(c: &mut LCur) -> Result<Option<(String, Kw)>, Fail> {
+fn oword(c: &mut Cursor) -> Result<Option<(String, Kw)>, Fail> {
     if c.peek() == Some(b'N') && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
         c.i += 1;
         let _ = c.number();
@@ -286,7 +287,7 @@ fn oword(c: &mut LCur) -> Result<Option<(String, Kw)>, Fail> {
 }
 
 fn oword_of(text: &str) -> Option<(String, Kw)> {
-    oword(&mut LCur::new(text)).ok().flatten()
+    oword(&mut Cursor::squeezed(text)).ok().flatten()
 }
 
 /// Split a LinuxCNC file into its main program and its subroutines (see the module docs).
@@ -366,7 +367,7 @@ impl Interp<'_> {
                 ),
             ));
         }
-        let mut c = LCur::new(text);
+        let mut c = Cursor::squeezed(text);
         if let Some((key, kw)) = oword(&mut c)? {
             return self.lcnc_oword(prog, pc, id, key, kw, &mut c, jumped);
         }
@@ -578,7 +579,7 @@ impl Interp<'_> {
         id: usize,
         key: String,
         kw: Kw,
-        c: &mut LCur,
+        c: &mut Cursor,
         jumped: bool,
     ) -> Result<Step, Fail> {
         let flow = self.lc_flow(prog, id);
@@ -607,7 +608,7 @@ impl Interp<'_> {
                 ),
             ));
         }
-        let cond = |m: &Self, c: &mut LCur| -> Result<bool, Fail> {
+        let cond = |m: &Self, c: &mut Cursor| -> Result<bool, Fail> {
             let v = m.lc_bracket(c)?;
             Ok(v != 0.0)
         };

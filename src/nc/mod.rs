@@ -7,7 +7,9 @@
 //!
 //! - `program`: splitting a file into programs and blocks (comments, N numbers, labels,
 //!   FANUC `;` end of block and `%` tape marks);
-//! - `expr`: the block cursor and the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
+//! - `lex`: the one lexer (a cursor with spans mapped to columns) of every dialect, for the
+//!   static check and both expression readers;
+//! - `expr`: the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
 //! - `siemens`: Siemens 802D blocks, labels and jumps;
 //! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
@@ -15,6 +17,8 @@
 //! - `motion`: modal state, motion words, and recording moves;
 //! - `codes`: which G/M codes and words each dialect runs, refuses or does not know, and
 //!   FANUC G-code systems B and C read as system A;
+//! - `state`: the interpreter's state (`Interp`), grouped: run settings, programs, modal
+//!   state, frames, threading state, FANUC/Siemens variables, output;
 //! - `check`: the static check of every block before anything runs (all problems at once);
 //! - `mill/`: FANUC machining-centre programs (`Settings::mill`): the public milling nouns
 //!   (`mill/mod.rs`), the blocks into programmed moves (`mill/blocks.rs`) and cutter radius
@@ -30,6 +34,7 @@ mod cycle_tests;
 mod expr;
 mod fanuc;
 mod lcnc_expr;
+mod lex;
 mod linuxcnc;
 mod mill;
 mod motion;
@@ -37,6 +42,7 @@ mod program;
 #[cfg(test)]
 mod real_tests;
 mod siemens;
+mod state;
 #[cfg(test)]
 mod tests;
 
@@ -45,6 +51,7 @@ pub use mill::{CompSide, MillArc, MillKind, MillMove, MillSettings, Plane};
 use expr::Fail;
 pub use program::decode_program;
 use program::{load_programs, Program};
+use state::Interp;
 
 use crate::helix::Spindle;
 use std::collections::HashMap;
@@ -463,141 +470,6 @@ pub struct Toolpath {
     pub warnings: Vec<Diagnostic>,
 }
 
-/// Interpreter state, grouped by what it is about. (Named `Interp`: the crate's `machine`
-/// is the machine tool's settings.)
-struct Interp<'l> {
-    /// What the run was started with; fixed for the run.
-    cfg: Config,
-    /// Programs known by name and the loader that finds more beside the main file.
-    progs: Programs<'l>,
-    /// Where the tool is: diameter (mm).
-    x: f64,
-    /// Where the tool is: z (mm).
-    z: f64,
-    /// Modal state of motion, units, feed and spindle.
-    modal: Modal,
-    /// Work offsets, G92 offsets and reference points.
-    frames: Frames,
-    /// Threading cycles' modal state and continuous threading.
-    thread: ThreadState,
-    /// FANUC `#` variables and Siemens R parameters.
-    vars: Vars,
-    /// What the run has made so far.
-    out: Output,
-    /// LinuxCNC named parameters, call levels and O-word tables.
-    lc: linuxcnc::Lcnc,
-    /// A FANUC milling program's codes, addresses and state (`Settings::mill`).
-    mill: Option<mill::MillState>,
-}
-
-/// The run's fixed settings.
-struct Config {
-    /// Syntax family (FANUC for GSK too).
-    dialect: Dialect,
-    /// GSK 980TDC semantics for G34.
-    gsk: bool,
-    /// FANUC lathe G-code system (codes are translated to system A when read).
-    system: GcodeSystem,
-    /// Unknown words and codes are errors.
-    strict: bool,
-    /// Skip blocks that start with `/`.
-    block_skip: bool,
-    /// Limits on executed blocks, moves and nesting.
-    limits: Limits,
-    /// A FANUC milling program (`Settings::mill`).
-    milling: bool,
-}
-
-/// The programs of a run.
-struct Programs<'l> {
-    /// Finds a file beside the main one by name.
-    loader: &'l dyn Fn(&str) -> Option<Source>,
-    /// Programs by the names they are called by.
-    by_name: HashMap<String, std::rc::Rc<Program>>,
-}
-
-/// Modal state: motion mode, units, X mode, feed, spindle and tool.
-struct Modal {
-    /// Active motion G code (0, 1, 2, 3, 32, ...).
-    motion: u32,
-    /// Incremental moves (G91 on LinuxCNC and G-code systems B/C).
-    incremental: bool,
-    /// Inch units (G20).
-    inch: bool,
-    /// X words are diameters (G7; always on FANUC/GSK/Siemens lathes), else radii (G8).
-    diameter_mode: bool,
-    /// G99 feed per revolution (else G98 per minute).
-    per_rev: bool,
-    /// The modal feed F (`None` before any F).
-    feed: Option<f64>,
-    /// G96 constant surface speed (else G97 rpm).
-    css: bool,
-    /// The last S value.
-    speed: Option<f64>,
-    /// Active tool number.
-    tool: Option<u32>,
-    /// Spindle direction.
-    spindle: Spindle,
-}
-
-/// Coordinate frames: work offsets, G92 offsets, reference points.
-struct Frames {
-    /// Work offsets G54..G59 (and LinuxCNC's G59.1..G59.3).
-    offsets: [(f64, f64); 9],
-    /// The active work offset (0 = G54).
-    work: usize,
-    /// LinuxCNC G92 offset (diameter, z; mm) added to the work offset; (0, 0) when none.
-    g92_off: (f64, f64),
-    /// The G28 reference point (diameter, z): the job's, else the machine zero (0, 0).
-    reference: (f64, f64),
-    /// FANUC's second reference point (G30 P2) and LinuxCNC's G30 home at the start.
-    reference2: (f64, f64),
-}
-
-/// Threading cycles' modal state.
-struct ThreadState {
-    /// G76 parameters set by its first block.
-    g76: G76Setup,
-    /// Modal G92 target z, lead and taper R (radius, start minus end).
-    g92: Option<(f64, f64, f64)>,
-    /// Thread chamfer length in leads (FANUC parameter 5130; G76 P rr sets it).
-    chamfer: f64,
-    /// Thread chamfering switched on (M23) or off (M24).
-    chamfer_on: bool,
-    /// Modal G90/G94 cutting cycle: (G code, target of the axis a repeat block leaves out,
-    /// taper R).
-    cycle90: Option<(u32, f64, f64)>,
-    /// GSK modal thread run-out: J (short axis, signed, radius) and K (long axis, `None` =
-    /// as long as |J|), in mm.
-    runout: (Option<f64>, Option<f64>),
-    /// Spindle angle (deg) where the last thread block's move ended, and its Z direction,
-    /// while the next thread block would continue it without a re-sync; `None` once
-    /// anything else moved.
-    chain_end: Option<(f64, f64)>,
-}
-
-/// FANUC and Siemens variable stores (LinuxCNC's are in [`linuxcnc::Lcnc`]).
-struct Vars {
-    /// FANUC common variables (#100.., #500..); a missing entry is null (vacant).
-    common: HashMap<u32, f64>,
-    /// FANUC local variables #1..#33, one level per G65 macro call; missing = null.
-    locals: Vec<HashMap<u32, f64>>,
-    /// Siemens R parameters.
-    r: HashMap<u32, f64>,
-}
-
-/// What the run has made and counted.
-struct Output {
-    /// The moves in execution order.
-    moves: Vec<Move>,
-    /// A block tried to record more than `limits.max_moves` moves (the rest were dropped).
-    too_many_moves: bool,
-    /// Blocks executed.
-    blocks: u64,
-    /// Warnings of the block being run: (column, message).
-    pending: Vec<(usize, String)>,
-}
-
 /// Degrees (as the programs write angles) to radians.
 pub(super) fn to_rad(x: f64) -> f64 {
     x.to_radians()
@@ -630,74 +502,7 @@ pub fn interpret_with(
     let real = dialect;
     let gsk = dialect == Dialect::Gsk980;
     let dialect = dialect.syntax();
-    let mut m = Interp {
-        cfg: Config {
-            dialect,
-            gsk,
-            system: opts.settings.gcode_system,
-            strict: opts.strict,
-            block_skip: opts.settings.block_skip,
-            limits: opts.limits,
-            milling: opts.settings.mill.is_some(),
-        },
-        progs: Programs {
-            loader,
-            by_name: HashMap::new(),
-        },
-        x: 0.0,
-        z: 0.0,
-        modal: Modal {
-            motion: 0,
-            incremental: false,
-            inch: false,
-            diameter_mode: dialect != Dialect::Linuxcnc,
-            per_rev: true,
-            feed: None,
-            css: false,
-            speed: None,
-            tool: None,
-            spindle: Spindle::Cw,
-        },
-        frames: Frames {
-            offsets: {
-                let mut o = [(0.0, 0.0); 9];
-                o[..6].copy_from_slice(&opts.settings.work_offsets);
-                o
-            },
-            work: 0,
-            g92_off: (0.0, 0.0),
-            reference: opts.settings.reference_point.unwrap_or((0.0, 0.0)),
-            reference2: opts.settings.second_reference_point.unwrap_or((0.0, 0.0)),
-        },
-        thread: ThreadState {
-            g76: G76Setup {
-                m: 1,
-                r: 0,
-                a: 60.0,
-                dmin: 0.0,
-                d: 0.0,
-            },
-            g92: None,
-            chamfer: opts.settings.thread_chamfer,
-            chamfer_on: true,
-            cycle90: None,
-            runout: (None, None),
-            chain_end: None,
-        },
-        vars: Vars {
-            common: HashMap::new(),
-            locals: vec![HashMap::new()],
-            r: HashMap::new(),
-        },
-        out: Output {
-            moves: Vec::new(),
-            too_many_moves: false,
-            blocks: 0,
-            pending: Vec::new(),
-        },
-        lc: Default::default(),
-        mill: opts.settings.mill.clone().map(mill::MillState::new),
-    };
+    let mut m = Interp::new(dialect, gsk, loader, opts);
     m.lc.st.home28 = m.frames.reference;
     m.lc.st.home30 = m.frames.reference2;
     if m.cfg.milling && real != Dialect::Fanuc {
@@ -883,7 +688,7 @@ impl Interp<'_> {
             let fail = |stack: &[Frame], col: usize, message: String| NcError {
                 file: cur.name.clone(),
                 line: *line,
-                col: expr::char_col(orig, col),
+                col: lex::char_col(orig, col),
                 message,
                 hint: None,
                 others: Vec::new(),
@@ -1108,17 +913,6 @@ struct Words {
     vals: HashMap<String, (f64, usize)>,
     /// Letters whose value was written with a decimal point.
     points: Vec<String>,
-}
-
-/// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
-/// minimum cut and finishing allowance (mm).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct G76Setup {
-    m: u32,
-    r: u32,
-    a: f64,
-    dmin: f64,
-    d: f64,
 }
 
 /// What synchronises a thread move to the spindle.

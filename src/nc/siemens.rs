@@ -2,7 +2,8 @@
 //! GOTO, IF .. GOTOF, subprogram calls by name with P repeats, RET.
 
 use super::codes;
-use super::expr::{r_index, Cur, Fail};
+use super::expr::{r_index, Fail};
+use super::lex::Cursor;
 use super::{Interp, Program, Step, Words};
 
 impl Interp<'_> {
@@ -12,7 +13,7 @@ impl Interp<'_> {
         pc: usize,
         text: &str,
     ) -> Result<Step, Fail> {
-        let mut c = Cur::new(text, self.cfg.dialect);
+        let mut c = Cursor::new(text, self.cfg.dialect);
         // Skip N and a label.
         // A block number (not the first letter of a name such as NEXT_PASS).
         c.ws();

@@ -452,7 +452,7 @@ fn numbers_read_as_str_parse_reads_them() {
     ];
     for s in cases {
         assert_eq!(
-            expr::ascii_number(s.as_bytes()),
+            lex::ascii_number(s.as_bytes()),
             s.parse::<f64>().ok(),
             "{s}"
         );
@@ -472,13 +472,13 @@ fn numbers_read_as_str_parse_reads_them() {
             s.insert(point, '.');
         }
         assert_eq!(
-            expr::ascii_number(s.as_bytes()),
+            lex::ascii_number(s.as_bytes()),
             s.parse::<f64>().ok(),
             "{s}"
         );
     }
-    assert_eq!(expr::ascii_number(b"1..5"), None);
-    assert_eq!(expr::ascii_number(b"."), None);
+    assert_eq!(lex::ascii_number(b"1..5"), None);
+    assert_eq!(lex::ascii_number(b"."), None);
 }
 
 /// FANUC's two-argument arc tangent `ATAN[y]/[x]` is atan2, not atan(y) divided by x.

@@ -7,7 +7,7 @@
 //! `L<line> <kind> X<x0> Z<z0> -> X<x1> Z<z1>` with `lead=`, `change=`, `sync=`, `chained`,
 //! `tool=`, `ccw` and an arc's `centre=X..,Z.. cw|ccw` where they apply; milling moves
 //! `L<line> <kind> (x,y,z) -> (x,y,z)` with `prog=`, `feed=`, `tool=`, `comp=`, an arc's
-//! `centre=`, `r=`, `sweep=`; `warning L<line>:<col> <message>`; a failed run's
+//! `centre=`, `r=`, `sweep=`, `plane=`, `spindle=`; `warning L<line>:<col> <message>`; a failed run's
 //! `error L<line>:<col> <message>`. `VPCUT_BLESS=1` rewrites the files (header kept): review
 //! the difference against the header's source before committing it.
 
@@ -117,10 +117,11 @@ fn mill_move(out: &mut String, m: &MillMove) {
     if let Some(a) = m.arc {
         let _ = write!(
             out,
-            " centre={} r={} sweep={}",
+            " centre={} r={} sweep={} plane={:?}",
             point(a.centre),
             num(a.radius),
-            num(a.sweep)
+            num(a.sweep),
+            a.plane
         );
     }
     if let Some(f) = m.feed {
@@ -128,6 +129,11 @@ fn mill_move(out: &mut String, m: &MillMove) {
     }
     if let Some(t) = m.tool {
         let _ = write!(out, " tool={t}");
+    }
+    match m.spindle {
+        Some(Spindle::Cw) => {}
+        Some(Spindle::Ccw) => out.push_str(" spindle=ccw"),
+        None => out.push_str(" spindle=off"),
     }
     if let Some((side, r)) = m.comp {
         let _ = write!(out, " comp={:?}:{}", side, num(r));
