@@ -262,10 +262,7 @@ impl Interp<'_> {
         Ok(Some(v))
     }
     pub(super) fn primary(&self, c: &mut Cursor) -> Result<f64, Fail> {
-        let (open, close) = match c.dialect {
-            Dialect::Siemens802d => ("(", ")"),
-            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => ("[", "]"),
-        };
+        let (open, close) = c.brackets();
         if c.eat(open) {
             let v = self.expr(c)?;
             if !c.eat(close) {

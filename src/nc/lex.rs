@@ -104,6 +104,14 @@ impl<'a> Cursor<'a> {
         }
     }
 
+    /// The dialect's expression brackets: `( )` on Siemens, `[ ]` elsewhere.
+    pub(super) fn brackets(&self) -> (&'static str, &'static str) {
+        match self.dialect {
+            Dialect::Siemens802d => ("(", ")"),
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => ("[", "]"),
+        }
+    }
+
     /// Skip what lies between tokens.
     pub(super) fn ws(&mut self) {
         match self.blanks {

@@ -8,15 +8,16 @@
 //! `tool=`, `ccw` and an arc's `centre=X..,Z.. cw|ccw` where they apply; milling moves
 //! `L<line> <kind> (x,y,z) -> (x,y,z)` with `prog=`, `feed=`, `tool=`, `comp=`, an arc's
 //! `centre=`, `r=`, `sweep=`, `plane=`, `spindle=`; `warning L<line>:<col> <message>`; a failed run's
-//! `error L<line>:<col> <message>`. `VPCUT_BLESS=1` rewrites the files (header kept): review
+//! `error L<line>:<col> <message>` and after it the other errors and warnings the static
+//! check found, one a line. `VPCUT_BLESS=1` rewrites the files (header kept): review
 //! the difference against the header's source before committing it.
 
 use crate::support::{blessing, root};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use vpcut::{
-    interpret_with, Dialect, MillMove, MillSettings, Move, MoveKind, NcOptions, Settings, Source,
-    Spindle, Toolpath,
+    interpret_with, Dialect, MillMove, MillSettings, Move, MoveKind, NcOptions, Settings, Severity,
+    Source, Spindle, Toolpath,
 };
 
 /// The dialect folders and what they run as.
@@ -158,6 +159,14 @@ fn render(result: &Result<Toolpath, Box<vpcut::NcError>>) -> String {
         }
         Err(e) => {
             let _ = writeln!(out, "error L{}:{} {}", e.line, e.col, e.message);
+            // The static check's other findings, in line order.
+            for d in &e.others {
+                let severity = match d.severity {
+                    Severity::Error => "error",
+                    Severity::Warning => "warning",
+                };
+                let _ = writeln!(out, "{severity} L{}:{} {}", d.line, d.col, d.message);
+            }
         }
     }
     out
