@@ -36,10 +36,28 @@
 //! (a face thread's run-out is refused with an error).
 
 use super::expr::Fail;
-use super::{Machine, MoveKind, Program, Sync, Words};
+use super::{Interp, MoveKind, Program, Sync, Words};
 
 /// A point of the tool path: (diameter, z) in mm.
 type Point = (f64, f64);
+
+/// Why a GSK thread run-out cannot split its block.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub(super) enum RunoutError {
+    /// The block's long axis is X.
+    #[error(
+        "thread run-out (J/K) on a block whose long axis is X (a face thread) is not supported yet"
+    )]
+    FaceThread,
+    /// K reaches back past the block's start.
+    #[error("thread run-out K = {k} mm is not shorter than the block's travel in Z ({travel} mm)")]
+    NotShorter {
+        /// The run-out's length along Z (mm).
+        k: f64,
+        /// The block's travel in Z (mm).
+        travel: f64,
+    },
+}
 
 /// Where a run-out splits a thread block from `start` to `end` (diameter, z) whose long
 /// axis is Z: the split point on the programmed line `k` before the end, and the run-out's
@@ -49,37 +67,34 @@ pub(super) fn runout_split(
     end: Point,
     j: f64,
     k: f64,
-) -> Result<(Point, Point), String> {
+) -> Result<(Point, Point), RunoutError> {
     let dz = end.1 - start.1;
     if (end.0 - start.0).abs() / 2.0 > dz.abs() {
-        return Err(
-            "thread run-out (J/K) on a block whose long axis is X (a face thread) is not supported yet"
-                .into(),
-        );
+        return Err(RunoutError::FaceThread);
     }
     if k >= dz.abs() {
-        return Err(format!(
-            "thread run-out K = {k} mm is not shorter than the block's travel in Z ({} mm)",
-            dz.abs()
-        ));
+        return Err(RunoutError::NotShorter {
+            k,
+            travel: dz.abs(),
+        });
     }
     let z_split = end.1 - dz.signum() * k;
     let x_split = start.0 + (end.0 - start.0) * (z_split - start.1) / dz;
     Ok(((x_split, z_split), (end.0 + 2.0 * j, end.1)))
 }
 
-impl Machine<'_> {
+impl Interp<'_> {
     /// The GSK modal run-out after this block's J/K words: `(j, k)` in mm when there is
     /// one (`k` resolved: K = |J| when omitted or 0).
     fn gsk_runout(&mut self, w: &Words, scale: f64) -> Option<(f64, f64)> {
         let j = w.vals.get("J").map(|v| v.0 * scale);
         let k = w.vals.get("K").map(|v| v.0 * scale);
         match (j, k) {
-            (Some(j), None) => self.runout = (Some(j), None),
-            (j, Some(k)) => self.runout = (j.or(self.runout.0), Some(k.abs())),
+            (Some(j), None) => self.thread.runout = (Some(j), None),
+            (j, Some(k)) => self.thread.runout = (j.or(self.thread.runout.0), Some(k.abs())),
             (None, None) => {}
         }
-        match self.runout {
+        match self.thread.runout {
             (Some(j), k) if j != 0.0 => Some((j, k.filter(|&k| k != 0.0).unwrap_or(j.abs()))),
             _ => None,
         }
@@ -99,11 +114,11 @@ impl Machine<'_> {
     ) -> Result<(), Fail> {
         let start = (self.x, self.z);
         let dir = (end.1 - start.1).signum();
-        let chained = self.chain_end.filter(|c| c.1 == dir).map(|c| c.0);
+        let chained = self.thread.chain_end.filter(|c| c.1 == dir).map(|c| c.0);
         if let Some(angle) = chained {
             sync.angle = angle;
         }
-        let runout = if self.gsk {
+        let runout = if self.cfg.gsk {
             self.gsk_runout(w, scale)
         } else {
             None
@@ -111,7 +126,8 @@ impl Machine<'_> {
         let col = |k: &str| w.vals.get(k).map_or(1, |v| v.1);
         let mut segments = vec![(start, end, sync)];
         if let Some((j, k)) = runout {
-            let (split, stop) = runout_split(start, end, j, k).map_err(|m| (col("K"), m))?;
+            let (split, stop) =
+                runout_split(start, end, j, k).map_err(|e| (col("K"), e.to_string()))?;
             let rest = sync.after(split.1 - start.1).ok_or((
                 1,
                 "the lead would reach zero before the thread run-out (a real control alarms)"
@@ -122,7 +138,7 @@ impl Machine<'_> {
         let mut end_angle = None;
         for (i, &(a, b, s)) in segments.iter().enumerate() {
             self.emit(prog, pc, MoveKind::Thread, a, b, Some(s));
-            if let Some(m) = self.moves.last_mut() {
+            if let Some(m) = self.out.moves.last_mut() {
                 m.chained = i > 0 || chained.is_some();
             }
             end_angle = s.after(b.1 - a.1).map(|s| s.angle);
@@ -130,7 +146,7 @@ impl Machine<'_> {
         let last = segments.last().map_or(end, |s| s.1);
         self.x = last.0;
         self.z = last.1;
-        self.chain_end = end_angle.map(|a| (a, dir));
+        self.thread.chain_end = end_angle.map(|a| (a, dir));
         Ok(())
     }
 }
@@ -172,9 +188,11 @@ mod tests {
         assert_eq!(s, (20.0, -3.0));
         assert!(runout_split((20.0, 0.0), (20.0, -2.0), 1.0, 2.0)
             .unwrap_err()
+            .to_string()
             .contains("not shorter"));
         assert!(runout_split((20.0, 0.0), (60.0, -2.0), 1.0, 1.0)
             .unwrap_err()
+            .to_string()
             .contains("long axis is X"));
     }
 

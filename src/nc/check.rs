@@ -20,78 +20,60 @@
 //! language is read by the interpreter itself.
 
 use super::codes::{self, Verdict};
-use super::expr::{char_at, char_col, describe_char, FANUC_MAX_VALUE, MAX_NEST, SIEMENS_MAX_VALUE};
+use super::expr::{FANUC_MAX_VALUE, SIEMENS_MAX_VALUE};
+use super::lex::{char_at, char_col, describe_char, Cursor, MAX_NEST};
 use super::program::Program;
 use super::{Diagnostic, Dialect, Severity};
 
-/// The checker's view of one block: the original line, upper-cased, with a cursor.
+/// The checker's view of one block: the original line, upper-cased, in the lexer's cursor
+/// (which skips comments), with where its findings go.
 struct Line<'a> {
-    s: Vec<u8>,
-    i: usize,
-    dialect: Dialect,
+    c: Cursor<'static>,
     /// A FANUC milling program (its G/M codes and addresses).
     mill: bool,
     /// The FANUC lathe G-code system.
     system: codes::GcodeSystem,
     out: &'a mut Vec<(usize, Severity, String, Option<String>)>,
-    /// Expressions being read inside each other (bounded: no block can exhaust the stack).
-    nest: usize,
 }
 
 type Stop = ();
 
+impl std::ops::Deref for Line<'_> {
+    type Target = Cursor<'static>;
+    fn deref(&self) -> &Cursor<'static> {
+        &self.c
+    }
+}
+
+impl std::ops::DerefMut for Line<'_> {
+    fn deref_mut(&mut self) -> &mut Cursor<'static> {
+        &mut self.c
+    }
+}
+
 impl Line<'_> {
+    /// Skip blanks and comments, reporting a comment left open.
     fn ws(&mut self) {
-        loop {
-            while self.i < self.s.len() && (self.s[self.i] == b' ' || self.s[self.i] == b'\t') {
-                self.i += 1;
-            }
-            // Comments are skipped here so that columns stay those of the original line.
-            let fanuc = self.dialect != Dialect::Siemens802d;
-            match self.s.get(self.i) {
-                Some(b'(') if fanuc => {
-                    let start = self.i;
-                    let mut depth = 0;
-                    while self.i < self.s.len() {
-                        match self.s[self.i] {
-                            b'(' => depth += 1,
-                            b')' => depth -= 1,
-                            _ => {}
-                        }
-                        self.i += 1;
-                        if depth == 0 {
-                            break;
-                        }
-                    }
-                    if depth != 0 {
-                        self.out.push((
-                            start + 1,
-                            Severity::Error,
-                            "unclosed comment: `(` without `)`".into(),
-                            Some("add `)` at the end of the comment".into()),
-                        ));
-                    }
-                }
-                Some(b';') | Some(b'\r') => self.i = self.s.len(),
-                _ => return,
-            }
+        self.c.ws();
+        for start in std::mem::take(&mut self.c.unclosed) {
+            self.out.push((
+                start + 1,
+                Severity::Error,
+                "unclosed comment: `(` without `)`".into(),
+                Some("add `)` at the end of the comment".into()),
+            ));
         }
     }
     fn peek(&mut self) -> Option<u8> {
         self.ws();
-        self.s.get(self.i).copied()
+        self.c.peek()
     }
     fn at_end(&mut self) -> bool {
         self.peek().is_none()
     }
     fn eat(&mut self, t: &str) -> bool {
         self.ws();
-        if self.s[self.i..].starts_with(t.as_bytes()) {
-            self.i += t.len();
-            true
-        } else {
-            false
-        }
+        self.c.eat(t)
     }
     fn error(
         &mut self,
@@ -118,25 +100,13 @@ impl Line<'_> {
     }
     fn letters(&mut self) -> String {
         self.ws();
-        let st = self.i;
-        while self.i < self.s.len()
-            && (self.s[self.i].is_ascii_alphabetic() || self.s[self.i] == b'_')
-        {
-            self.i += 1;
-        }
-        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
+        self.c.ident()
     }
     /// An unsigned number; `Some(None)` when malformed (reported), `None` when absent.
     fn number(&mut self) -> Option<Option<f64>> {
         self.ws();
-        let st = self.i;
-        while self.i < self.s.len() && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.') {
-            self.i += 1;
-        }
-        if st == self.i {
-            return None;
-        }
-        let t = String::from_utf8_lossy(&self.s[st..self.i]).into_owned();
+        let (st, end) = self.c.number_span()?;
+        let t = self.c.text((st, end));
         let max = match self.dialect {
             Dialect::Siemens802d => SIEMENS_MAX_VALUE,
             _ => FANUC_MAX_VALUE,
@@ -749,13 +719,10 @@ pub(super) fn check_program(
     for (idx, (line, orig, _)) in prog.blocks.iter().enumerate() {
         let mut found = Vec::new();
         let mut l = Line {
-            s: orig.to_ascii_uppercase().into_bytes(),
-            i: 0,
-            dialect,
+            c: Cursor::line(orig, dialect),
             mill,
             system,
             out: &mut found,
-            nest: 0,
         };
         let diag =
             |col: usize, severity: Severity, message: String, hint: Option<String>| Diagnostic {

@@ -266,47 +266,6 @@ fn arc_end_off_the_circle_is_an_error_at_line_and_column() {
     assert!(e.message.contains("needs R"), "{e}");
 }
 
-/// Siemens `CR=` and I/K, LinuxCNC G8 (radius X): the same quarter round as above.
-/// Siemens second arc: from (r 10, z -10) with I=-10 K=0 the centre is (r 0, z -10); the end
-/// (r 0, z -20) is 10 from it: start at 90 deg, end at 180 deg: counter-clockwise, G3.
-#[test]
-fn siemens_and_linuxcnc_arcs() {
-    let moves = run(
-        "G0 X0 Z0 F0.2\nG3 X20 Z-10 CR=10\nG3 X0 Z-20 I=-10 K=0\nM30\n",
-        Dialect::Siemens802d,
-    )
-    .unwrap();
-    let a: Vec<(f64, f64, f64, f64)> = moves
-        .iter()
-        .filter(|m| m.kind == A)
-        .map(|m| {
-            (
-                m.x_dia,
-                m.z,
-                m.arc.unwrap().x_centre_dia,
-                m.arc.unwrap().z_centre,
-            )
-        })
-        .collect();
-    let want = [(20.0, -10.0, 0.0, -10.0), (0.0, -20.0, 0.0, -10.0)];
-    assert_eq!(a.len(), 2);
-    for (g, w) in a.iter().zip(&want) {
-        assert!(close(g.0, w.0) && close(g.1, w.1) && close(g.2, w.2) && close(g.3, w.3));
-    }
-    let moves = run(
-        "G8\nG0 X0 Z0 F0.2\nG3 X10 Z-10 R10\nM2\n",
-        Dialect::Linuxcnc,
-    )
-    .unwrap();
-    let m = &moves[1];
-    let c = m.arc.unwrap();
-    assert!(close(m.x_dia, 20.0) && close(m.z, -10.0), "{m:?}");
-    assert!(
-        close(c.x_centre_dia, 0.0) && close(c.z_centre, -10.0),
-        "{c:?}"
-    );
-}
-
 /// G55 with the offset (X 1 as a diameter, Z -12.5): absolute X/Z shift by exactly the
 /// offset; incremental W does not. G76's X/Z shift the same way.
 #[test]
@@ -477,43 +436,4 @@ fn g28_returns_via_the_intermediate_point() {
     // Without a reference point in the job: the machine zero.
     let moves = run("G0 X30 Z5\nG28 U0 W0\n", Dialect::Fanuc).unwrap();
     assert_eq!((moves[1].x_dia, moves[1].z), (0.0, 0.0));
-}
-
-/// FANUC G90 (modal): from (X60, Z5) `G90 X50 Z-30 F0.2` is rapid to X50, feed to Z-30, feed
-/// out to X60, rapid back to Z5; `X45` repeats it; `X40 R-2` starts at 40 + 2(-2) = 36.
-/// G94 from (X60, Z5): `G94 X20 Z0` is rapid to Z0, feed to X20, feed back to Z5, rapid to
-/// X60. The tool ends where it started each time.
-#[test]
-fn g90_and_g94_cutting_cycles() {
-    let m = run(
-        "G0 X60 Z5\nG90 X50 Z-30 F0.2\nX45\nX40 R-2\nG94 X20 Z0\nZ-1\nG0 X70\n",
-        Dialect::Fanuc,
-    )
-    .unwrap();
-    use MoveKind::{Feed as F, Rapid as R};
-    let got: Vec<(MoveKind, f64, f64)> = m[1..].iter().map(|m| (m.kind, m.x_dia, m.z)).collect();
-    let want = vec![
-        (R, 50.0, 5.0),
-        (F, 50.0, -30.0),
-        (F, 60.0, -30.0),
-        (R, 60.0, 5.0),
-        (R, 45.0, 5.0),
-        (F, 45.0, -30.0),
-        (F, 60.0, -30.0),
-        (R, 60.0, 5.0),
-        (R, 36.0, 5.0),
-        (F, 40.0, -30.0),
-        (F, 60.0, -30.0),
-        (R, 60.0, 5.0),
-        (R, 60.0, 0.0),
-        (F, 20.0, 0.0),
-        (F, 20.0, 5.0),
-        (R, 60.0, 5.0),
-        (R, 60.0, -1.0),
-        (F, 20.0, -1.0),
-        (F, 20.0, 5.0),
-        (R, 60.0, 5.0),
-        (R, 70.0, 5.0),
-    ];
-    assert_eq!(got, want);
 }

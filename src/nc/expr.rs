@@ -1,19 +1,8 @@
-//! The block cursor and the expression evaluators: FANUC Macro B (`#` variables with null,
+//! The expression evaluators: FANUC Macro B (`#` variables with null,
 //! `[ ]`, EQ..LE, AND/OR, functions in degrees) and Siemens (`R` parameters, `( )`, `==`..).
 
-use super::{deg, Dialect, Machine, Program};
-
-/// A cursor over one block's text.
-pub(super) struct Cur<'a> {
-    pub(super) s: &'a [u8],
-    pub(super) i: usize,
-    pub(super) dialect: Dialect,
-    /// Values being read inside each other (bounded: no block can exhaust the stack).
-    nest: usize,
-}
-
-/// How deep expressions may nest (brackets, signs, functions) in every dialect's reader.
-pub(super) const MAX_NEST: usize = 100;
+use super::lex::{Cursor, MAX_NEST};
+use super::{to_rad, Dialect, Interp, Program};
 
 /// The largest magnitude a FANUC/GSK macro variable holds: "-10^47 to 10^47" (FANUC Custom
 /// Macro B; beyond it alarm 111, calculation data overflow).
@@ -55,165 +44,7 @@ pub(super) fn in_range(
     Err((col, format!("{} {why}", what())))
 }
 
-/// How a character reads in a message: itself in backquotes, or its code for a NUL,
-/// another control character or a character that is not ASCII.
-pub(super) fn describe_char(c: char) -> String {
-    match c {
-        '\0' => "a NUL byte (0x00)".to_string(),
-        c if c.is_ascii_control() => format!("a control character (0x{:02X})", c as u32),
-        c if !c.is_ascii() => {
-            let latin1 = if (c as u32) < 0x100 {
-                format!("; the byte 0x{:02X} in a Latin-1 file", c as u32)
-            } else {
-                String::new()
-            };
-            format!(
-                "a character that is not ASCII, `{c}` (U+{:04X}{latin1})",
-                c as u32
-            )
-        }
-        c => format!("`{c}`"),
-    }
-}
-
-/// A 1-based column counted in bytes of `line` as one counted in characters (0 stays 0:
-/// the whole block).
-pub(super) fn char_col(line: &str, col: usize) -> usize {
-    if col <= 1 {
-        return col;
-    }
-    match line.get(..(col - 1).min(line.len())) {
-        Some(before) => before.chars().count() + 1,
-        None => col,
-    }
-}
-
-/// The character starting at byte `i` of `s` (valid UTF-8 from a char boundary).
-pub(super) fn char_at(s: &[u8], i: usize) -> char {
-    let end = (i + 4).min(s.len());
-    let bytes = &s[i.min(end)..end];
-    match std::str::from_utf8(bytes) {
-        Ok(t) => t.chars().next(),
-        Err(e) => std::str::from_utf8(&bytes[..e.valid_up_to()])
-            .ok()
-            .and_then(|t| t.chars().next()),
-    }
-    .unwrap_or(char::from(bytes.first().copied().unwrap_or(b' ')))
-}
-
 pub(super) type Fail = (usize, String);
-
-impl<'a> Cur<'a> {
-    pub(super) fn new(s: &'a str, dialect: Dialect) -> Cur<'a> {
-        Cur {
-            s: s.as_bytes(),
-            i: 0,
-            dialect,
-            nest: 0,
-        }
-    }
-    /// What stands at the cursor, for a message (`the block ends here` at the end).
-    pub(super) fn here(&self) -> String {
-        if self.i >= self.s.len() {
-            return "the end of the block".into();
-        }
-        describe_char(char_at(self.s, self.i))
-    }
-    pub(super) fn ws(&mut self) {
-        while self.i < self.s.len() && self.s[self.i].is_ascii_whitespace() {
-            self.i += 1;
-        }
-    }
-    pub(super) fn peek(&mut self) -> Option<u8> {
-        self.ws();
-        self.s.get(self.i).copied()
-    }
-    pub(super) fn eat(&mut self, t: &str) -> bool {
-        self.ws();
-        if self.s[self.i..].starts_with(t.as_bytes()) {
-            self.i += t.len();
-            true
-        } else {
-            false
-        }
-    }
-    pub(super) fn done(&mut self) -> bool {
-        self.peek().is_none()
-    }
-    pub(super) fn err<T>(&self, msg: impl Into<String>) -> Result<T, Fail> {
-        Err((self.i + 1, msg.into()))
-    }
-    pub(super) fn ident(&mut self) -> String {
-        self.ws();
-        let st = self.i;
-        while self.i < self.s.len()
-            && (self.s[self.i].is_ascii_alphabetic() || self.s[self.i] == b'_')
-        {
-            self.i += 1;
-        }
-        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
-    }
-    pub(super) fn name_with_digits(&mut self) -> String {
-        self.ws();
-        let st = self.i;
-        while self.i < self.s.len()
-            && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_')
-        {
-            self.i += 1;
-        }
-        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
-    }
-    /// An unsigned decimal number (`12`, `12.`, `.5`, `1.5`).
-    pub(super) fn number(&mut self) -> Option<f64> {
-        self.ws();
-        let st = self.i;
-        while self.i < self.s.len() && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.') {
-            self.i += 1;
-        }
-        if st == self.i {
-            return None;
-        }
-        match ascii_number(&self.s[st..self.i]) {
-            Some(v) => Some(v),
-            None => {
-                self.i = st;
-                None
-            }
-        }
-    }
-}
-
-/// An unsigned decimal of ASCII digits and at most one point (`12`, `12.`, `.5`, `1.5`).
-/// Up to 15 digits and 22 decimals it is the integer of all digits divided by a power of
-/// ten: one division of two exact values, so correctly rounded, as `str::parse` is (which
-/// takes the rest). The interpreters read numbers in every executed block: this is their
-/// hot path.
-pub(super) fn ascii_number(b: &[u8]) -> Option<f64> {
-    let mut int: u64 = 0;
-    let mut digits = 0;
-    let mut decimals = None;
-    for &c in b {
-        match c {
-            b'0'..=b'9' => {
-                int = int.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-                digits += 1;
-                if let Some(d) = decimals.as_mut() {
-                    *d += 1;
-                }
-            }
-            b'.' if decimals.is_none() => decimals = Some(0),
-            _ => return None,
-        }
-    }
-    if digits == 0 {
-        return None;
-    }
-    let k: i32 = decimals.unwrap_or(0);
-    if digits <= 15 && k <= 22 {
-        return Some(int as f64 / 10f64.powi(k));
-    }
-    std::str::from_utf8(b).ok()?.parse().ok()
-}
 
 /// Null (NaN) as 0, for arithmetic.
 pub(super) fn z(v: f64) -> f64 {
@@ -227,21 +58,21 @@ pub(super) fn z(v: f64) -> f64 {
 /// A comparison operator.
 type Compare = fn(f64, f64) -> bool;
 
-impl Machine<'_> {
+impl Interp<'_> {
     pub(super) fn register(&mut self, p: std::rc::Rc<Program>) {
         if let Some(a) = &p.alias {
-            self.programs.insert(a.clone(), p.clone());
+            self.progs.by_name.insert(a.clone(), p.clone());
         }
-        self.programs.insert(p.name.clone(), p);
+        self.progs.by_name.insert(p.name.clone(), p);
     }
 
     /// The value of R parameter `idx` (Siemens) or variable `#idx` (FANUC/GSK); `col` is
     /// where the reference starts, for errors.
-    pub(super) fn get(&self, c: &Cur, idx: f64, col: usize) -> Result<f64, Fail> {
+    pub(super) fn get(&self, c: &Cursor, idx: f64, col: usize) -> Result<f64, Fail> {
         match c.dialect {
             Dialect::Siemens802d => {
                 let n = r_index(idx, col)?;
-                Ok(*self.r.get(&n).unwrap_or(&0.0))
+                Ok(*self.vars.r.get(&n).unwrap_or(&0.0))
             }
             Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
                 // Null (vacant, and #0) is carried as NaN: 0 in arithmetic, but not equal
@@ -250,25 +81,25 @@ impl Machine<'_> {
                 let v = if idx == 0 {
                     None
                 } else if (1..=33).contains(&idx) {
-                    self.locals.last().and_then(|l| l.get(&idx))
+                    self.vars.locals.last().and_then(|l| l.get(&idx))
                 } else {
-                    self.vars.get(&idx)
+                    self.vars.common.get(&idx)
                 };
                 Ok(v.copied().unwrap_or(f64::NAN))
             }
         }
     }
 
-    pub(super) fn expr(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn expr(&self, c: &mut Cursor) -> Result<f64, Fail> {
         self.or(c)
     }
 
     /// Store a FANUC variable; null (NaN) makes it vacant.
     pub(super) fn set_var(&mut self, idx: u32, v: f64) {
         let map = if (1..=33).contains(&idx) {
-            self.locals.last_mut().expect("level 0 always exists")
+            self.vars.locals.last_mut().expect("level 0 always exists")
         } else {
-            &mut self.vars
+            &mut self.vars.common
         };
         if v.is_nan() {
             map.remove(&idx);
@@ -276,7 +107,7 @@ impl Machine<'_> {
             map.insert(idx, v);
         }
     }
-    pub(super) fn or(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn or(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let mut v = self.and(c)?;
         loop {
             if c.eat("OR") {
@@ -290,7 +121,7 @@ impl Machine<'_> {
             }
         }
     }
-    pub(super) fn and(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn and(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let mut v = self.cmp(c)?;
         while c.eat("AND") {
             let w = self.cmp(c)?;
@@ -298,7 +129,7 @@ impl Machine<'_> {
         }
         Ok(v)
     }
-    pub(super) fn cmp(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn cmp(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let v = self.add(c)?;
         let ops: &[(&str, Compare)] = match c.dialect {
             Dialect::Siemens802d => &[
@@ -333,7 +164,7 @@ impl Machine<'_> {
         }
         Ok(v)
     }
-    pub(super) fn add(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn add(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let mut v = self.mul(c)?;
         loop {
             c.ws();
@@ -349,7 +180,7 @@ impl Machine<'_> {
             v = in_range(c.dialect, at, r, || format!("`{op}`"))?;
         }
     }
-    pub(super) fn mul(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn mul(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let mut v = self.unary(c)?;
         loop {
             c.ws();
@@ -381,7 +212,7 @@ impl Machine<'_> {
             v = in_range(c.dialect, at, r, || format!("`{op}`"))?;
         }
     }
-    pub(super) fn unary(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn unary(&self, c: &mut Cursor) -> Result<f64, Fail> {
         if c.nest >= MAX_NEST {
             c.ws();
             return c.err(format!(
@@ -393,7 +224,7 @@ impl Machine<'_> {
         c.nest -= 1;
         v
     }
-    fn unary_inner(&self, c: &mut Cur) -> Result<f64, Fail> {
+    fn unary_inner(&self, c: &mut Cursor) -> Result<f64, Fail> {
         if c.eat("-") {
             return Ok(-z(self.unary(c)?));
         }
@@ -406,7 +237,7 @@ impl Machine<'_> {
         self.primary(c)
     }
     /// An unsigned number in an expression or a word, in the dialect's range.
-    pub(super) fn literal(&self, c: &mut Cur) -> Result<Option<f64>, Fail> {
+    pub(super) fn literal(&self, c: &mut Cursor) -> Result<Option<f64>, Fail> {
         c.ws();
         let at = c.i + 1;
         let Some(v) = c.number() else {
@@ -430,11 +261,8 @@ impl Machine<'_> {
         }
         Ok(Some(v))
     }
-    pub(super) fn primary(&self, c: &mut Cur) -> Result<f64, Fail> {
-        let (open, close) = match c.dialect {
-            Dialect::Siemens802d => ("(", ")"),
-            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => ("[", "]"),
-        };
+    pub(super) fn primary(&self, c: &mut Cursor) -> Result<f64, Fail> {
+        let (open, close) = c.brackets();
         if c.eat(open) {
             let v = self.expr(c)?;
             if !c.eat(close) {
@@ -505,9 +333,9 @@ impl Machine<'_> {
             }
             ("ASIN", None) => a.asin().to_degrees(),
             ("ACOS", None) => a.acos().to_degrees(),
-            ("SIN", None) => deg(a).sin(),
-            ("COS", None) => deg(a).cos(),
-            ("TAN", None) => deg(a).tan(),
+            ("SIN", None) => to_rad(a).sin(),
+            ("COS", None) => to_rad(a).cos(),
+            ("TAN", None) => to_rad(a).tan(),
             ("ATAN2", Some(b)) => a.atan2(b).to_degrees(),
             ("ATAN", Some(b)) => a.atan2(b).to_degrees(),
             ("ATAN", None) => a.atan().to_degrees(),
@@ -533,7 +361,7 @@ impl Machine<'_> {
         };
         in_range(c.dialect, at + 1, v, || format!("{name} of {a}"))
     }
-    pub(super) fn var_ref(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn var_ref(&self, c: &mut Cursor) -> Result<f64, Fail> {
         // Errors point at the `#`.
         let col = c.i;
         let idx = if c.peek() == Some(b'[') {
@@ -554,7 +382,7 @@ impl Machine<'_> {
     }
 
     /// A FANUC word value: a number, `#n`, `-#n` or `[expr]`.
-    pub(super) fn fanuc_value(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn fanuc_value(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let neg = c.eat("-");
         let _ = c.eat("+");
         let v = if c.eat("#") {
@@ -574,7 +402,7 @@ impl Machine<'_> {
     }
 
     /// The variable a FANUC assignment `#n=` or `#[..]=` sets.
-    pub(super) fn var_index(&self, c: &mut Cur) -> Result<u32, Fail> {
+    pub(super) fn var_index(&self, c: &mut Cursor) -> Result<u32, Fail> {
         let col = c.i;
         let v = if c.peek() == Some(b'[') {
             c.i += 1;
@@ -593,7 +421,7 @@ impl Machine<'_> {
         var_number(v, col, false)
     }
 
-    pub(super) fn bracket(&self, c: &mut Cur) -> Result<f64, Fail> {
+    pub(super) fn bracket(&self, c: &mut Cursor) -> Result<f64, Fail> {
         if !c.eat("[") {
             return c.err("expected `[`");
         }
@@ -607,11 +435,11 @@ impl Machine<'_> {
     /// A word's value in the dialect's range (`col` is the word's letter); null (a vacant
     /// FANUC variable) passes, it leaves the word out.
     pub(super) fn word_value(&self, name: &str, v: f64, col: usize) -> Result<f64, Fail> {
-        let (max, digits) = match self.dialect {
+        let (max, digits) = match self.cfg.dialect {
             Dialect::Siemens802d => (SIEMENS_MAX_WORD, "nine"),
             _ => (FANUC_MAX_WORD, "eight"),
         };
-        if v.is_nan() && self.dialect != Dialect::Siemens802d {
+        if v.is_nan() && self.cfg.dialect != Dialect::Siemens802d {
             return Ok(v);
         }
         if v.is_finite() && v.abs() <= max {

@@ -2,8 +2,9 @@
 //! G65 macro calls, the two-block G76, the modal G92 and GSK's G34.
 
 use super::codes;
-use super::expr::{z, Cur, Fail};
-use super::{Machine, MoveKind, Program, Step, Sync, Words};
+use super::expr::{z, Fail};
+use super::lex::Cursor;
+use super::{Interp, MoveKind, Program, Step, Sync, Words};
 
 /// The first G76 block's `P(mm)(rr)(aa)` (`controllers.md` 2.3; GSK 980TDc writes it the
 /// same way): six digits at most, mm finishing passes 01..99, rr chamfer 00..99 (0.1 L),
@@ -51,7 +52,7 @@ fn goto(prog: &Program, n: f64, col: usize) -> Result<Step, Fail> {
         .ok_or((col, format!("no block N{n} in {}", prog.name)))
 }
 
-impl Machine<'_> {
+impl Interp<'_> {
     pub(super) fn fanuc_block(
         &mut self,
         prog: &Program,
@@ -59,7 +60,7 @@ impl Machine<'_> {
         text: &str,
         loops: &mut Vec<(u32, usize)>,
     ) -> Result<Step, Fail> {
-        let mut c = Cur::new(text, self.dialect);
+        let mut c = Cursor::new(text, self.cfg.dialect);
         if text.starts_with('O') && text[1..].chars().all(|ch| ch.is_ascii_digit()) {
             return Ok(Step::Next);
         }
@@ -150,27 +151,27 @@ impl Machine<'_> {
                 b'G' => w.g.push(v.round() as u32),
                 b'M' => w.m.push(v.round() as u32),
                 b'N' | b'O' => {}
-                l if codes::address(self.milling, l as char) => {
+                l if codes::address(self.cfg.milling, l as char) => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
                 // A and D: only the one-block G76 reads them (checked below).
-                b'A' | b'D' if !self.milling => {
+                b'A' | b'D' if !self.cfg.milling => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
                 other => self.unknown(at + 1, format!("unknown address `{}`", other as char))?,
             }
         }
-        if self.milling {
+        if self.cfg.milling {
             return self.mill_apply(&w, prog, pc);
         }
-        if self.system != codes::GcodeSystem::A {
+        if self.cfg.system != codes::GcodeSystem::A {
             // G-code system B or C: read as the system-A codes they are.
             let mut g = Vec::with_capacity(w.g.len());
             for &code in &w.g {
-                match codes::in_system_a(self.system, code) {
+                match codes::in_system_a(self.cfg.system, code) {
                     codes::InA::Code(c) => g.push(c),
-                    codes::InA::Absolute => self.incremental = false,
-                    codes::InA::Incremental => self.incremental = true,
+                    codes::InA::Absolute => self.modal.incremental = false,
+                    codes::InA::Incremental => self.modal.incremental = true,
                     codes::InA::ReturnLevel => {}
                 }
             }
@@ -189,7 +190,7 @@ impl Machine<'_> {
 
     /// FANUC/GSK Custom Macro A: `G65 Hnn P#i Q#j R#k` (`controllers.md` 5). P names the
     /// result variable (or the block number of a jump); Q and R are variables or constants.
-    pub(super) fn macro_a(&mut self, c: &mut Cur, prog: &Program) -> Result<Step, Fail> {
+    pub(super) fn macro_a(&mut self, c: &mut Cursor, prog: &Program) -> Result<Step, Fail> {
         let mut h = None;
         let mut p: Option<(f64, bool, usize)> = None; // (value, written as #n, column)
         let (mut q, mut r) = (0.0, 0.0);
@@ -303,7 +304,7 @@ impl Machine<'_> {
             if !pvar {
                 return Err((pcol, format!("G65 H{h:02}: P must name a variable (#n)")));
             }
-            let v = super::expr::in_range(m.dialect, 1, v, || format!("G65 H{h:02}"))?;
+            let v = super::expr::in_range(m.cfg.dialect, 1, v, || format!("G65 H{h:02}"))?;
             let idx = super::expr::var_number(pv, pcol + 1, false)?;
             m.set_var(idx, v);
             Ok(Step::Next)
@@ -362,7 +363,7 @@ impl Machine<'_> {
                 format!("G76 {k} counts in the least input increment and takes no decimal point"),
             ));
         }
-        Ok(Some(if self.inch {
+        Ok(Some(if self.modal.inch {
             v * 0.0001 * 25.4
         } else {
             v * 0.001
@@ -379,30 +380,30 @@ impl Machine<'_> {
     /// Chamfer: `rr` of block 1 (0.1 L steps; it is FANUC's parameter 5130, so it also sets
     /// G92's) ends every pass in a 45 deg pull-out (`cycle_pass_chamfered`).
     pub(super) fn g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
-        let scale = if self.inch { 25.4 } else { 1.0 };
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let is_second = ["X", "Z", "U", "W"].iter().any(|k| w.vals.contains_key(*k));
         if !is_second {
             if let Some(&(p, col)) = w.vals.get("P") {
                 let (m, r, a) = g76_p(p, col)?;
-                self.g76.m = m;
-                self.g76.r = r;
+                self.thread.g76.m = m;
+                self.thread.g76.r = r;
                 // As on FANUC, rr is the chamfer parameter (5130) that G92 uses too.
-                self.chamfer = f64::from(r) / 10.0;
-                self.g76.a = f64::from(a);
+                self.thread.chamfer = f64::from(r) / 10.0;
+                self.thread.g76.a = f64::from(a);
             }
             if let Some(q) = self.increment_word(w, "Q")? {
-                self.g76.dmin = q;
+                self.thread.g76.dmin = q;
             }
             if let Some(r) = val("R") {
-                self.g76.d = r * scale;
+                self.thread.g76.d = r * scale;
             }
             return Ok(Step::Next);
         }
         let (x0, z0) = (self.x, self.z);
-        let (ox, oz) = self.offsets[self.work];
+        let (ox, oz) = self.frames.offsets[self.frames.work];
         // In G-code systems B/C under G91, X/Z are incremental too.
-        let inc = self.incremental;
+        let inc = self.modal.incremental;
         let x_end = match (val("X"), val("U")) {
             (Some(x), _) if inc => x0 + x * scale,
             (Some(x), _) => x * scale + ox,
@@ -433,7 +434,7 @@ impl Machine<'_> {
                 "G76 needs a positive height, first cut, lead and a Z move".into(),
             ));
         }
-        let s = self.g76;
+        let s = self.thread.g76;
         let chamfer = self.thread_chamfer(lead, z_end - z0, w)?;
         let stop = (k - s.d).max(0.0);
         let mut depths = Vec::new();
@@ -503,7 +504,7 @@ impl Machine<'_> {
         (x0, z0): (f64, f64),
         (x_end, z_end): (f64, f64),
     ) -> Result<Step, Fail> {
-        let scale = if self.inch { 25.4 } else { 1.0 };
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let col = |k: &str| w.vals.get(k).map_or(1, |v| v.1);
         // A decimal point: program units; none: the least input increment.
@@ -511,7 +512,7 @@ impl Machine<'_> {
             let v = val(k)?;
             Some(if w.points.iter().any(|p| p == k) {
                 v * scale
-            } else if self.inch {
+            } else if self.modal.inch {
                 v * 0.0001 * 25.4
             } else {
                 v * 0.001
@@ -590,7 +591,7 @@ impl Machine<'_> {
 
     /// GSK 980TDC `G34 X(U) Z(W) F(I) J K R` (`domain.md` section 3, seed 000): F start
     /// lead (or I threads per inch), R lead change per revolution, J/K the thread run-out
-    /// (`Machine::thread_block`, `chain.rs`).
+    /// (`Interp::thread_block`, `chain.rs`).
     pub(super) fn gsk_g34(
         &mut self,
         w: &Words,
@@ -636,23 +637,25 @@ impl Machine<'_> {
         let z_target = if w.vals.contains_key("Z") || w.vals.contains_key("W") {
             z
         } else {
-            self.g92
+            self.thread
+                .g92
                 .map(|g| g.0)
                 .ok_or((1, "G92 needs Z (or W) the first time".to_string()))?
         };
         let lead = match val("F") {
             Some(f) => f * scale,
             None => self
+                .thread
                 .g92
                 .map(|g| g.1)
                 .ok_or((1, "G92 needs F (the lead)".to_string()))?,
         };
         let taper = match val("R") {
             Some(r) => r * scale,
-            None => self.g92.map_or(0.0, |g| g.2),
+            None => self.thread.g92.map_or(0.0, |g| g.2),
         };
         let chamfer = self.thread_chamfer(lead, z_target - z0, w)?;
-        self.g92 = Some((z_target, lead, taper));
+        self.thread.g92 = Some((z_target, lead, taper));
         let q = val("Q").unwrap_or(0.0) / 1000.0;
         let sync = Sync {
             lead,
@@ -688,11 +691,12 @@ impl Machine<'_> {
         scale: f64,
     ) -> Result<Step, Fail> {
         let (x0, z0) = (self.x, self.z);
-        let g = self.motion;
+        let g = self.modal.motion;
         let face = g == 94;
         let given = |k: &[&str]| k.iter().any(|k| w.vals.contains_key(*k));
         // The modal target of the other axis and the taper.
         let (other, taper) = self
+            .thread
             .cycle90
             .filter(|c| c.0 == g)
             .map_or((None, 0.0), |c| (Some(c.1), c.2));
@@ -712,7 +716,7 @@ impl Machine<'_> {
             (x, z_end)
         };
         let r = w.vals.get("R").map_or(taper, |v| v.0 * scale);
-        self.cycle90 = Some((g, if face { x_end } else { z_end }, r));
+        self.thread.cycle90 = Some((g, if face { x_end } else { z_end }, r));
         use MoveKind::{Feed, Rapid};
         let path: [(MoveKind, (f64, f64)); 4] = if face {
             [
@@ -743,10 +747,10 @@ impl Machine<'_> {
     /// Z travel `travel`: 0 when chamfering is off (M24) or no length is set; an error when
     /// it would not be shorter than the thread.
     fn thread_chamfer(&self, lead: f64, travel: f64, w: &Words) -> Result<f64, Fail> {
-        if !self.chamfer_on || self.chamfer <= 0.0 {
+        if !self.thread.chamfer_on || self.thread.chamfer <= 0.0 {
             return Ok(0.0);
         }
-        let len = self.chamfer * lead;
+        let len = self.thread.chamfer * lead;
         if len >= travel.abs() {
             let col = ["Z", "W"]
                 .iter()
@@ -756,7 +760,7 @@ impl Machine<'_> {
                 col,
                 format!(
                     "the thread chamfer ({len} mm = {} leads) is not shorter than the thread's Z travel {}",
-                    self.chamfer,
+                    self.thread.chamfer,
                     travel.abs()
                 ),
             ));

@@ -22,129 +22,14 @@
 //! `#<_ini[..]>` and `#<_hal[..]>` are refused (no INI file or HAL).
 
 use super::expr::Fail;
-use super::Machine;
+use super::lex::Cursor;
+use super::Interp;
 use std::collections::HashMap;
 
 /// rs274's `TOLERANCE_EQUAL` for `EQ` and `NE`.
 const TOLERANCE_EQUAL: f64 = 0.0001;
 /// The last numbered parameter a program may use.
 const LAST_PARAMETER: u32 = 5160;
-
-/// A cursor over one line with white space removed; `cols` maps back to 1-based columns of
-/// the line.
-pub(super) struct LCur {
-    s: Vec<u8>,
-    cols: Vec<usize>,
-    pub(super) i: usize,
-    /// Values being read inside each other (bounded: no line can exhaust the stack).
-    nest: usize,
-}
-
-impl LCur {
-    /// `text` is the upper-cased line with comments blanked (columns as in the file).
-    pub(super) fn new(text: &str) -> LCur {
-        let mut s = Vec::with_capacity(text.len());
-        let mut cols = Vec::with_capacity(text.len());
-        for (k, b) in text.bytes().enumerate() {
-            if !b.is_ascii_whitespace() {
-                s.push(b);
-                cols.push(k + 1);
-            }
-        }
-        LCur {
-            s,
-            cols,
-            i: 0,
-            nest: 0,
-        }
-    }
-    pub(super) fn peek(&self) -> Option<u8> {
-        self.s.get(self.i).copied()
-    }
-    /// What stands at the cursor, for a message.
-    pub(super) fn here(&self) -> String {
-        if self.i >= self.s.len() {
-            return "the end of the line".into();
-        }
-        super::expr::describe_char(super::expr::char_at(&self.s, self.i))
-    }
-    pub(super) fn peek_at(&self, k: usize) -> Option<u8> {
-        self.s.get(self.i + k).copied()
-    }
-    pub(super) fn done(&self) -> bool {
-        self.i >= self.s.len()
-    }
-    pub(super) fn eat(&mut self, t: &str) -> bool {
-        if self.s[self.i..].starts_with(t.as_bytes()) {
-            self.i += t.len();
-            true
-        } else {
-            false
-        }
-    }
-    /// The 1-based column of the cursor (one past the last character at the end).
-    pub(super) fn col(&self) -> usize {
-        self.col_at(self.i)
-    }
-    pub(super) fn col_at(&self, i: usize) -> usize {
-        match self.cols.get(i) {
-            Some(&c) => c,
-            None => self.cols.last().map_or(1, |c| c + 1),
-        }
-    }
-    pub(super) fn err<T>(&self, msg: impl Into<String>) -> Result<T, Fail> {
-        Err((self.col(), msg.into()))
-    }
-    /// Letters and `_` (a keyword or function name).
-    pub(super) fn ident(&mut self) -> String {
-        let st = self.i;
-        while self
-            .peek()
-            .is_some_and(|b| b.is_ascii_alphabetic() || b == b'_')
-        {
-            self.i += 1;
-        }
-        String::from_utf8_lossy(&self.s[st..self.i]).into_owned()
-    }
-    /// An unsigned decimal number (`12`, `12.`, `.5`, `1.5`).
-    pub(super) fn number(&mut self) -> Option<f64> {
-        let st = self.i;
-        let mut points = 0;
-        while let Some(b) = self.peek() {
-            if b == b'.' {
-                points += 1;
-            } else if !b.is_ascii_digit() {
-                break;
-            }
-            self.i += 1;
-        }
-        match super::expr::ascii_number(&self.s[st..self.i]) {
-            Some(v) if points <= 1 => Some(v),
-            _ => {
-                self.i = st;
-                None
-            }
-        }
-    }
-    /// The name inside `<..>` after `#` or `O` (the `<` already read), upper-cased.
-    pub(super) fn angle_name(&mut self) -> Result<String, Fail> {
-        let st = self.i;
-        while self.peek().is_some_and(|b| b != b'>') {
-            self.i += 1;
-        }
-        if !self.eat(">") {
-            return Err((self.col_at(st), "expected `>` closing the name".into()));
-        }
-        let name = String::from_utf8_lossy(&self.s[st..self.i - 1]).into_owned();
-        if name.is_empty() {
-            return Err((
-                self.col_at(st),
-                "expected a name between `<` and `>`".into(),
-            ));
-        }
-        Ok(name)
-    }
-}
 
 /// rs274's predefined (read-only) named parameters, upper-cased, with the `_ini[..]` and
 /// `_hal[..]` forms.
@@ -260,10 +145,10 @@ const LEVELS: [&[&str]; 5] = [
     &["**"],
 ];
 
-impl Machine<'_> {
+impl Interp<'_> {
     /// The current call depth (0 in the main program).
     pub(super) fn lc_depth(&self) -> usize {
-        self.locals.len() - 1
+        self.vars.locals.len() - 1
     }
 
     /// This call's level of named locals and repeat counters.
@@ -302,8 +187,8 @@ impl Machine<'_> {
 
     /// A length in program units and the active X mode from mm (X as a diameter).
     fn lc_len(&self, v: f64, x_axis: bool) -> f64 {
-        let scale = if self.inch { 25.4 } else { 1.0 };
-        let xs = if x_axis && !self.diameter_mode {
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
+        let xs = if x_axis && !self.modal.diameter_mode {
             0.5
         } else {
             1.0
@@ -321,45 +206,45 @@ impl Machine<'_> {
             "_VMAJOR" => 2.0,
             "_VMINOR" => 9.0,
             "_LINE" => st.line as f64,
-            "_MOTION_MODE" => f64::from(self.motion * 10),
+            "_MOTION_MODE" => f64::from(self.modal.motion * 10),
             "_PLANE" => f64::from(st.plane),
             "_CCOMP" => f64::from(st.ccomp),
-            "_METRIC" => b(!self.inch),
-            "_IMPERIAL" => b(self.inch),
-            "_ABSOLUTE" => b(!self.incremental),
-            "_INCREMENTAL" => b(self.incremental),
+            "_METRIC" => b(!self.modal.inch),
+            "_IMPERIAL" => b(self.modal.inch),
+            "_ABSOLUTE" => b(!self.modal.incremental),
+            "_INCREMENTAL" => b(self.modal.incremental),
             "_INVERSE_TIME" => b(st.feed_mode == 93),
             "_UNITS_PER_MINUTE" => b(st.feed_mode == 94),
             "_UNITS_PER_REV" => b(st.feed_mode == 95),
-            "_COORD_SYSTEM" => match self.work {
+            "_COORD_SYSTEM" => match self.frames.work {
                 w @ 0..=5 => 540.0 + 10.0 * w as f64,
                 w => 590.0 + (w - 5) as f64,
             },
             "_TOOL_OFFSET" => b(st.tool_offset),
             "_RETRACT_R_PLANE" => b(st.retract_r),
             "_RETRACT_OLD_Z" => b(!st.retract_r),
-            "_SPINDLE_RPM_MODE" => b(!self.css),
-            "_SPINDLE_CSS_MODE" => b(self.css),
+            "_SPINDLE_RPM_MODE" => b(!self.modal.css),
+            "_SPINDLE_CSS_MODE" => b(self.modal.css),
             "_IJK_ABSOLUTE_MODE" => b(st.ijk_absolute),
-            "_LATHE_DIAMETER_MODE" => b(self.diameter_mode),
-            "_LATHE_RADIUS_MODE" => b(!self.diameter_mode),
+            "_LATHE_DIAMETER_MODE" => b(self.modal.diameter_mode),
+            "_LATHE_RADIUS_MODE" => b(!self.modal.diameter_mode),
             "_SPINDLE_ON" => b(st.spindle_on),
-            "_SPINDLE_CW" => b(st.spindle_on && self.spindle == crate::helix::Spindle::Cw),
+            "_SPINDLE_CW" => b(st.spindle_on && self.modal.spindle == crate::helix::Spindle::Cw),
             "_MIST" => b(st.mist),
             "_FLOOD" => b(st.flood),
             "_SPEED_OVERRIDE" => b(st.speed_override),
             "_FEED_OVERRIDE" => b(st.feed_override),
             "_ADAPTIVE_FEED" => b(st.adaptive_feed),
             "_FEED_HOLD" => b(st.feed_hold),
-            "_FEED" => self.feed.unwrap_or(0.0),
-            "_RPM" => self.speed.unwrap_or(0.0),
+            "_FEED" => self.modal.feed.unwrap_or(0.0),
+            "_RPM" => self.modal.speed.unwrap_or(0.0),
             "_X" => px,
             "_Z" => pz,
             "_ABS_X" => self.lc_len(self.x, true),
             "_ABS_Z" => self.lc_len(self.z, false),
             "_Y" | "_A" | "_B" | "_C" | "_U" | "_V" | "_W" | "_ABS_Y" | "_ABS_A" | "_ABS_B"
             | "_ABS_C" => 0.0,
-            "_CURRENT_TOOL" | "_CURRENT_POCKET" => f64::from(self.tool.unwrap_or(0)),
+            "_CURRENT_TOOL" | "_CURRENT_POCKET" => f64::from(self.modal.tool.unwrap_or(0)),
             "_SELECTED_TOOL" | "_SELECTED_POCKET" => st.selected_tool as f64,
             "_TASK" => 1.0,
             "_CALL_LEVEL" => self.lc_depth() as f64,
@@ -371,8 +256,8 @@ impl Machine<'_> {
     /// The current position in the active coordinate system (work offset and G92 applied),
     /// in program units, X in the active X mode.
     fn lc_position(&self) -> (f64, f64) {
-        let (ox, oz) = self.offsets[self.work];
-        let (gx, gz) = self.g92_off;
+        let (ox, oz) = self.frames.offsets[self.frames.work];
+        let (gx, gz) = self.frames.g92_off;
         (
             self.lc_len(self.x - ox - gx, true),
             self.lc_len(self.z - oz - gz, false),
@@ -397,7 +282,7 @@ impl Machine<'_> {
             5181..=5189 => axis(5181, st.home30),
             5210 => Some(f64::from(u8::from(st.g92_on))),
             5211..=5219 => axis(5211, st.g92_params),
-            5220 => Some(self.work as f64 + 1.0),
+            5220 => Some(self.frames.work as f64 + 1.0),
             5221..=5390 => {
                 let k = ((n - 5221) / 20) as usize;
                 let base = 5221 + 20 * k as u32;
@@ -407,16 +292,16 @@ impl Machine<'_> {
                 if n - base == 9 {
                     return Some(0.0); // the XY rotation R
                 }
-                axis(base, self.offsets[k])
+                axis(base, self.frames.offsets[k])
             }
-            5400 => Some(f64::from(self.tool.unwrap_or(0))),
+            5400 => Some(f64::from(self.modal.tool.unwrap_or(0))),
             // Tool offsets, diameter, angles and orientation: vpcut has no tool table.
             5401..=5413 => Some(0.0),
             5420..=5428 => axis(5420, {
                 let (x, z) = self.lc_position();
                 // Back to mm and a diameter: `axis` converts again.
-                let scale = if self.inch { 25.4 } else { 1.0 };
-                let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+                let scale = if self.modal.inch { 25.4 } else { 1.0 };
+                let xs = if self.modal.diameter_mode { 1.0 } else { 2.0 };
                 (x * scale * xs, z * scale)
             }),
             _ => None,
@@ -427,15 +312,16 @@ impl Machine<'_> {
     pub(super) fn lc_set(&mut self, p: Param, v: f64) {
         match p {
             Param::Num(n) if n <= 30 => {
-                self.locals
+                self.vars
+                    .locals
                     .last_mut()
                     .expect("level 0 always exists")
                     .insert(n, v);
             }
             Param::Num(n) if n > LAST_PARAMETER => {
                 // Only the homes are writable (`system_write_refused`): G28/G30 go there.
-                let scale = if self.inch { 25.4 } else { 1.0 };
-                let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+                let scale = if self.modal.inch { 25.4 } else { 1.0 };
+                let xs = if self.modal.diameter_mode { 1.0 } else { 2.0 };
                 let st = &mut self.lc.st;
                 let home = if n < 5181 {
                     &mut st.home28
@@ -449,7 +335,7 @@ impl Machine<'_> {
                 }
             }
             Param::Num(n) => {
-                self.vars.insert(n, v);
+                self.vars.common.insert(n, v);
             }
             Param::Named(name) if name.starts_with('_') => {
                 self.lc.params.globals.insert(name, v);
@@ -461,7 +347,7 @@ impl Machine<'_> {
     }
 
     /// After `#`: which parameter (`n`, `[expr]`, `#..`, `<name>`).
-    pub(super) fn lc_param(&self, c: &mut LCur) -> Result<Param, Fail> {
+    pub(super) fn lc_param(&self, c: &mut Cursor) -> Result<Param, Fail> {
         let at = c.col();
         if c.eat("<") {
             return Ok(Param::Named(c.angle_name()?));
@@ -489,18 +375,19 @@ impl Machine<'_> {
     }
 
     /// Read a parameter after `#`.
-    fn lc_read(&self, c: &mut LCur) -> Result<f64, Fail> {
+    fn lc_read(&self, c: &mut Cursor) -> Result<f64, Fail> {
         // Errors point at the `#`.
         let at = c.col_at(c.i.saturating_sub(1));
         match self.lc_param(c)? {
             Param::Num(n) if n <= 30 => Ok(self
+                .vars
                 .locals
                 .last()
                 .and_then(|l| l.get(&n))
                 .copied()
                 .unwrap_or(0.0)),
             Param::Num(n) if n > LAST_PARAMETER => Ok(self.lc_system(n).unwrap_or(0.0)),
-            Param::Num(n) => Ok(self.vars.get(&n).copied().unwrap_or(0.0)),
+            Param::Num(n) => Ok(self.vars.common.get(&n).copied().unwrap_or(0.0)),
             Param::Named(name) => self.lc_named(&name).ok_or_else(|| {
                 let name = name.to_lowercase();
                 let msg = if predefined(&name.to_uppercase()) {
@@ -514,7 +401,7 @@ impl Machine<'_> {
     }
 
     /// A bracketed expression `[..]`.
-    pub(super) fn lc_bracket(&self, c: &mut LCur) -> Result<f64, Fail> {
+    pub(super) fn lc_bracket(&self, c: &mut Cursor) -> Result<f64, Fail> {
         if !c.eat("[") {
             return c.err("expected `[` starting an expression");
         }
@@ -531,7 +418,7 @@ impl Machine<'_> {
         Ok(v)
     }
 
-    fn lc_binary(&self, c: &mut LCur, level: usize) -> Result<f64, Fail> {
+    fn lc_binary(&self, c: &mut Cursor, level: usize) -> Result<f64, Fail> {
         if level == LEVELS.len() {
             return self.lc_value(c);
         }
@@ -588,7 +475,7 @@ impl Machine<'_> {
 
     /// rs274's `read_real_value`: a number, `[expr]`, a parameter, a function or a sign
     /// followed by one of those.
-    pub(super) fn lc_value(&self, c: &mut LCur) -> Result<f64, Fail> {
+    pub(super) fn lc_value(&self, c: &mut Cursor) -> Result<f64, Fail> {
         if c.nest >= 100 {
             return c.err("values nested more than 100 deep");
         }
@@ -598,7 +485,7 @@ impl Machine<'_> {
         v
     }
 
-    fn lc_value_inner(&self, c: &mut LCur) -> Result<f64, Fail> {
+    fn lc_value_inner(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let at = c.col();
         match c.peek() {
             None => c.err("expected a value"),
@@ -632,7 +519,7 @@ impl Machine<'_> {
         }
     }
 
-    fn lc_function(&self, c: &mut LCur, name: &str, at: usize) -> Result<f64, Fail> {
+    fn lc_function(&self, c: &mut Cursor, name: &str, at: usize) -> Result<f64, Fail> {
         if name == "EXISTS" {
             if !(c.eat("[") && c.eat("#") && c.eat("<")) {
                 return c.err("expected EXISTS[#<name>]");

@@ -40,16 +40,6 @@ fn close(got: &[f64], want: &[f64]) {
     }
 }
 
-/// rs274: `#1=5` then `#1=1 #2=[#1]` prints p2=5; a word on the line of an assignment uses
-/// the old value too (`#32=7000 G0 X[#32+30000]` moved to X30000 in oword-g33-loop.canon).
-#[test]
-fn parameters_are_set_after_the_line() {
-    close(
-        &xs("#1=5\n#1=1 #2=[#1]\nG0 X#2\nG0 X#1\n#3=4 G0 X[#3+1]\nG0 X#3\n"),
-        &[5.0, 1.0, 1.0, 4.0],
-    );
-}
-
 /// rs274 (b.ngc): caller `#<a>=7 #1=9`; the sub sets `#<a>=3 #1=4 #31=31`; after the call
 /// the caller reads 7, 9 and 31. The sub cannot read the caller's `#<a>` (rs274: "Named
 /// parameter #<a> not defined" when read in an expression).
@@ -157,18 +147,6 @@ fn nested_if_elseif_else() {
     close(&chain(7.0), &[3.0, 6.0]);
     close(&chain(15.0), &[4.0, 6.0]);
     close(&chain(25.0), &[5.0, 6.0]);
-}
-
-/// rs274 (a.ngc, b.ngc): `o100 endsub [#<loc>]` with #<loc> = 2 x 21 gives `#<_value>` 42
-/// and `#<_value_returned>` 1; an endsub without a value gives 0 and 0; `o30 return
-/// [#1+1]` called with 4 gives 5.
-#[test]
-fn endsub_and_return_values_go_to_value() {
-    let text = "o100 sub\n#<loc>=[#1*2]\no100 endsub [#<loc>]\no200 sub\no200 endsub\n\
-                o30 sub\no30 return [#1+1]\nG0 X999\no30 endsub\n\
-                G0 X#<_value>\no100 call [21]\nG0 X#<_value>\nG0 X#<_value_returned>\n\
-                o200 call\nG0 X#<_value>\nG0 X#<_value_returned>\no30 call [4]\nG0 X#<_value>\n";
-    close(&xs(text), &[0.0, 42.0, 1.0, 0.0, 0.0, 5.0]);
 }
 
 #[test]

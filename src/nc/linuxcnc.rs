@@ -15,8 +15,9 @@
 //! the next closing `while` of a `do` loop does not loop). Parameter assignments of a line take effect after the whole line is read.
 
 use super::expr::Fail;
-use super::lcnc_expr::{LCur, Param, Params};
-use super::{Machine, MoveKind, Program, Source, Step, Sync, Words};
+use super::lcnc_expr::{Param, Params};
+use super::lex::Cursor;
+use super::{Interp, MoveKind, Program, Source, Step, Sync, Words};
 use std::collections::HashMap;
 use std::rc::Rc;
 
@@ -127,7 +128,7 @@ impl Flow {
     }
 }
 
-/// LinuxCNC interpreter state kept beside the shared `Machine` fields.
+/// LinuxCNC interpreter state kept beside the shared `Interp` fields.
 #[derive(Default)]
 pub(super) struct Lcnc {
     pub(super) params: Params,
@@ -142,7 +143,7 @@ pub(super) struct Lcnc {
     pub(super) st: LcState,
 }
 
-/// LinuxCNC modal and machine state beside `Machine`'s shared fields: what `#<_..>` and
+/// LinuxCNC modal and machine state beside `Interp`'s shared fields: what `#<_..>` and
 /// `#5161..` read, and the homes of G28/G30 (machine coordinates, X as a diameter, mm).
 pub(super) struct LcState {
     /// The 1-based line of the block being run (`#<_line>`).
@@ -254,7 +255,7 @@ fn comment_error(line: &str) -> Option<Fail> {
 
 /// The O-word at the start of a line (after an optional N number): key and keyword; the
 /// cursor is left after the keyword. `Ok(None)` when the line does not start with `O`.
-fn oword(c: &mut LCur) -> Result<Option<(String, Kw)>, Fail> {
+fn oword(c: &mut Cursor) -> Result<Option<(String, Kw)>, Fail> {
     if c.peek() == Some(b'N') && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
         c.i += 1;
         let _ = c.number();
@@ -286,7 +287,7 @@ fn oword(c: &mut LCur) -> Result<Option<(String, Kw)>, Fail> {
 }
 
 fn oword_of(text: &str) -> Option<(String, Kw)> {
-    oword(&mut LCur::new(text)).ok().flatten()
+    oword(&mut Cursor::squeezed(text)).ok().flatten()
 }
 
 /// Split a LinuxCNC file into its main program and its subroutines (see the module docs).
@@ -334,7 +335,7 @@ pub(super) fn load(src: &Source) -> Vec<Program> {
     out
 }
 
-impl Machine<'_> {
+impl Interp<'_> {
     /// One LinuxCNC block: an O-word line, or words and parameter assignments.
     pub(super) fn lcnc_block(
         &mut self,
@@ -366,7 +367,7 @@ impl Machine<'_> {
                 ),
             ));
         }
-        let mut c = LCur::new(text);
+        let mut c = Cursor::squeezed(text);
         if let Some((key, kw)) = oword(&mut c)? {
             return self.lcnc_oword(prog, pc, id, key, kw, &mut c, jumped);
         }
@@ -544,9 +545,13 @@ impl Machine<'_> {
                 "G10 R (a rotation of the XY plane) is not simulated on a lathe".into(),
             ));
         }
-        let k = if p == 0.0 { self.work } else { p as usize - 1 };
-        let g92 = self.g92_off;
-        let o = &mut self.offsets[k];
+        let k = if p == 0.0 {
+            self.frames.work
+        } else {
+            p as usize - 1
+        };
+        let g92 = self.frames.g92_off;
+        let o = &mut self.frames.offsets[k];
         if let Some(v) = val("X") {
             let v = v * xs * scale;
             o.0 = if l == 2.0 { v } else { self.x - g92.0 - v };
@@ -574,7 +579,7 @@ impl Machine<'_> {
         id: usize,
         key: String,
         kw: Kw,
-        c: &mut LCur,
+        c: &mut Cursor,
         jumped: bool,
     ) -> Result<Step, Fail> {
         let flow = self.lc_flow(prog, id);
@@ -603,7 +608,7 @@ impl Machine<'_> {
                 ),
             ));
         }
-        let cond = |m: &Self, c: &mut LCur| -> Result<bool, Fail> {
+        let cond = |m: &Self, c: &mut Cursor| -> Result<bool, Fail> {
             let v = m.lc_bracket(c)?;
             Ok(v != 0.0)
         };
@@ -636,7 +641,7 @@ impl Machine<'_> {
                     }
                     args.push((args.len() as u32 + 1, self.lc_bracket(c)?));
                 }
-                if !self.programs.contains_key(&key) {
+                if !self.progs.by_name.contains_key(&key) {
                     self.lc_load_sub(&key)?;
                 }
                 self.lc_push_level();
@@ -778,7 +783,7 @@ impl Machine<'_> {
             ));
         };
         let file = format!("{name}.ngc");
-        let Some(src) = (self.loader)(&file) else {
+        let Some(src) = (self.progs.loader)(&file) else {
             return Err((
                 1,
                 format!("subroutine {lname} not found (in this file or as {file} beside it)"),
@@ -786,10 +791,10 @@ impl Machine<'_> {
         };
         for p in load(&src).into_iter().skip(1) {
             if let Some(a) = p.alias.clone() {
-                self.programs.entry(a).or_insert_with(|| Rc::new(p));
+                self.progs.by_name.entry(a).or_insert_with(|| Rc::new(p));
             }
         }
-        if !self.programs.contains_key(key) {
+        if !self.progs.by_name.contains_key(key) {
             return Err((1, format!("{file} does not define {lname} sub")));
         }
         Ok(())
@@ -801,9 +806,9 @@ impl Machine<'_> {
     /// by `(depth - |I|) tan Q` in z and ends at `Z + K tan Q` less that shift. In G7, I, J
     /// and K are diameters. Reproduced against rs274's output in the tests.
     pub(super) fn lcnc_g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
-        let scale = if self.inch { 25.4 } else { 1.0 };
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
-        let half = if self.diameter_mode { 0.5 } else { 1.0 };
+        let half = if self.modal.diameter_mode { 0.5 } else { 1.0 };
         let pitch = val("P").ok_or((1, "G76 needs P (the pitch)".to_string()))? * scale;
         let end_z = val("Z").ok_or((1, "G76 needs Z".to_string()))? * scale;
         let i = val("I").ok_or((
@@ -839,13 +844,13 @@ impl Machine<'_> {
             angle = -angle;
         }
         let springs = val("H").unwrap_or(0.0).max(0.0);
-        if springs >= self.limits.max_moves as f64 {
+        if springs >= self.cfg.limits.max_moves as f64 {
             let col = w.vals.get("H").map_or(1, |v| v.1);
             return Err((
                 col,
                 format!(
                     "G76 H{springs}: more spring passes than the {} moves a program may make",
-                    self.limits.max_moves
+                    self.cfg.limits.max_moves
                 ),
             ));
         }
@@ -931,7 +936,7 @@ impl Machine<'_> {
                     };
                     self.emit(prog, pc, MoveKind::Thread, (xa, za), (xb, zb), Some(sync));
                     // The segments after the first continue one synchronised motion.
-                    if let Some(last) = self.moves.last_mut() {
+                    if let Some(last) = self.out.moves.last_mut() {
                         last.chained = i > 0 || entry;
                     }
                     revs += (zb - za).abs() / pitch;

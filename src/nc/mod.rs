@@ -7,7 +7,9 @@
 //!
 //! - `program`: splitting a file into programs and blocks (comments, N numbers, labels,
 //!   FANUC `;` end of block and `%` tape marks);
-//! - `expr`: the block cursor and the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
+//! - `lex`: the one lexer (a cursor with spans mapped to columns) of every dialect, for the
+//!   static check and both expression readers;
+//! - `expr`: the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
 //! - `siemens`: Siemens 802D blocks, labels and jumps;
 //! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
@@ -15,31 +17,32 @@
 //! - `motion`: modal state, motion words, and recording moves;
 //! - `codes`: which G/M codes and words each dialect runs, refuses or does not know, and
 //!   FANUC G-code systems B and C read as system A;
+//! - `state`: the interpreter's state (`Interp`), grouped: run settings, programs, modal
+//!   state, frames, threading state, FANUC/Siemens variables, output;
 //! - `check`: the static check of every block before anything runs (all problems at once);
-//! - `milling`: FANUC machining-centre blocks (`Settings::mill`) into programmed moves;
-//! - `comp`: cutter radius compensation of the programmed milling moves (a pure pass);
+//! - `mill/`: FANUC machining-centre programs (`Settings::mill`): the public milling nouns
+//!   (`mill/mod.rs`), the blocks into programmed moves (`mill/blocks.rs`) and cutter radius
+//!   compensation of the programmed moves as a pure pass (`mill/comp.rs`);
 //! - `chain`: continuous threading (thread blocks that follow each other without a re-sync)
 //!   and the GSK thread run-out J/K.
 
 mod chain;
 mod check;
 mod codes;
-mod comp;
 #[cfg(test)]
 mod cycle_tests;
 mod expr;
 mod fanuc;
 mod lcnc_expr;
+mod lex;
 mod linuxcnc;
 mod mill;
-#[cfg(test)]
-mod mill_tests;
-mod milling;
 mod motion;
 mod program;
 #[cfg(test)]
 mod real_tests;
 mod siemens;
+mod state;
 #[cfg(test)]
 mod tests;
 
@@ -48,6 +51,7 @@ pub use mill::{CompSide, MillArc, MillKind, MillMove, MillSettings, Plane};
 use expr::Fail;
 pub use program::decode_program;
 use program::{load_programs, Program};
+use state::Interp;
 
 use crate::helix::Spindle;
 use std::collections::HashMap;
@@ -466,82 +470,8 @@ pub struct Toolpath {
     pub warnings: Vec<Diagnostic>,
 }
 
-/// Interpreter state.
-struct Machine<'l> {
-    /// Syntax family (FANUC for GSK too).
-    dialect: Dialect,
-    /// GSK 980TDC semantics for G34.
-    gsk: bool,
-    /// FANUC lathe G-code system (codes are translated to system A when read).
-    system: GcodeSystem,
-    /// X words are diameters (G7; always on FANUC/GSK/Siemens lathes), else radii (G8).
-    diameter_mode: bool,
-    loader: &'l dyn Fn(&str) -> Option<Source>,
-    limits: Limits,
-    programs: HashMap<String, std::rc::Rc<Program>>,
-    r: HashMap<u32, f64>,
-    /// FANUC common variables (#100.., #500..); a missing entry is null (vacant).
-    vars: HashMap<u32, f64>,
-    /// FANUC local variables #1..#33, one level per G65 macro call; missing = null.
-    locals: Vec<HashMap<u32, f64>>,
-    x: f64,
-    z: f64,
-    motion: u32,
-    incremental: bool,
-    inch: bool,
-    tool: Option<u32>,
-    spindle: Spindle,
-    moves: Vec<Move>,
-    /// A block tried to record more than `limits.max_moves` moves (the rest were dropped).
-    too_many_moves: bool,
-    blocks: u64,
-    g76: G76Setup,
-    /// Modal G92 target z, lead and taper R (radius, start minus end).
-    g92: Option<(f64, f64, f64)>,
-    /// Thread chamfer length in leads (FANUC parameter 5130; G76 P rr sets it).
-    chamfer: f64,
-    /// Thread chamfering switched on (M23) or off (M24).
-    chamfer_on: bool,
-    /// Work offsets G54..G59 (and LinuxCNC's G59.1..G59.3) and the active one (0 = G54).
-    offsets: [(f64, f64); 9],
-    work: usize,
-    /// LinuxCNC G92 offset (diameter, z; mm) added to the work offset; (0, 0) when none.
-    g92_off: (f64, f64),
-    /// G96 constant surface speed (else G97 rpm), and the last S value.
-    css: bool,
-    speed: Option<f64>,
-    /// G99 feed per revolution (else G98 per minute).
-    per_rev: bool,
-    /// The modal feed F (`None` before any F).
-    feed: Option<f64>,
-    /// The G28 reference point (diameter, z): the job's, else the machine zero (0, 0).
-    reference: (f64, f64),
-    /// FANUC's second reference point (G30 P2) and LinuxCNC's G30 home at the start.
-    reference2: (f64, f64),
-    /// Modal G90/G94 cutting cycle: (G code, target of the axis a repeat block leaves out,
-    /// taper R).
-    cycle90: Option<(u32, f64, f64)>,
-    /// Skip blocks that start with `/`.
-    block_skip: bool,
-    /// Unknown words and codes are errors.
-    strict: bool,
-    /// Warnings of the block being run: (column, message).
-    pending: Vec<(usize, String)>,
-    /// GSK modal thread run-out: J (short axis, signed, radius) and K (long axis, `None` =
-    /// as long as |J|), in mm.
-    runout: (Option<f64>, Option<f64>),
-    /// Spindle angle (deg) where the last thread block's move ended, and its Z direction,
-    /// while the next thread block would continue it without a re-sync; `None` once
-    /// anything else moved.
-    chain_end: Option<(f64, f64)>,
-    /// LinuxCNC named parameters, call levels and O-word tables.
-    lc: linuxcnc::Lcnc,
-    /// A FANUC milling program (`Settings::mill`): its codes, addresses and state.
-    milling: bool,
-    mill: Option<milling::MillState>,
-}
-
-pub(super) fn deg(x: f64) -> f64 {
+/// Degrees (as the programs write angles) to radians.
+pub(super) fn to_rad(x: f64) -> f64 {
     x.to_radians()
 }
 
@@ -572,63 +502,10 @@ pub fn interpret_with(
     let real = dialect;
     let gsk = dialect == Dialect::Gsk980;
     let dialect = dialect.syntax();
-    let mut m = Machine {
-        dialect,
-        gsk,
-        system: opts.settings.gcode_system,
-        diameter_mode: dialect != Dialect::Linuxcnc,
-        loader,
-        limits: opts.limits,
-        programs: HashMap::new(),
-        r: HashMap::new(),
-        vars: HashMap::new(),
-        locals: vec![HashMap::new()],
-        x: 0.0,
-        z: 0.0,
-        motion: 0,
-        incremental: false,
-        inch: false,
-        tool: None,
-        spindle: Spindle::Cw,
-        moves: Vec::new(),
-        too_many_moves: false,
-        blocks: 0,
-        g76: G76Setup {
-            m: 1,
-            r: 0,
-            a: 60.0,
-            dmin: 0.0,
-            d: 0.0,
-        },
-        g92: None,
-        strict: opts.strict,
-        pending: Vec::new(),
-        chamfer: opts.settings.thread_chamfer,
-        chamfer_on: true,
-        offsets: {
-            let mut o = [(0.0, 0.0); 9];
-            o[..6].copy_from_slice(&opts.settings.work_offsets);
-            o
-        },
-        work: 0,
-        g92_off: (0.0, 0.0),
-        css: false,
-        speed: None,
-        per_rev: true,
-        feed: None,
-        reference: opts.settings.reference_point.unwrap_or((0.0, 0.0)),
-        reference2: opts.settings.second_reference_point.unwrap_or((0.0, 0.0)),
-        block_skip: opts.settings.block_skip,
-        cycle90: None,
-        runout: (None, None),
-        chain_end: None,
-        lc: Default::default(),
-        milling: opts.settings.mill.is_some(),
-        mill: opts.settings.mill.clone().map(milling::MillState::new),
-    };
-    m.lc.st.home28 = m.reference;
-    m.lc.st.home30 = m.reference2;
-    if m.milling && real != Dialect::Fanuc {
+    let mut m = Interp::new(dialect, gsk, loader, opts);
+    m.lc.st.home28 = m.frames.reference;
+    m.lc.st.home30 = m.frames.reference2;
+    if m.cfg.milling && real != Dialect::Fanuc {
         return Err(NcError {
             file: main.name.clone(),
             line: 1,
@@ -652,7 +529,7 @@ pub fn interpret_with(
     }
     // The static check, program by program; called programs are loaded as they are named.
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
-    let milling = m.milling;
+    let milling = m.cfg.milling;
     let mut checked: Vec<String> = Vec::new();
     while let Some(p) = to_check.pop() {
         if checked.contains(&p.name) {
@@ -685,7 +562,7 @@ pub fn interpret_with(
         e
     })?;
     let mill = match m.mill.take() {
-        Some(st) => comp::compensate(&st.path).map_err(|(k, message)| {
+        Some(st) => mill::compensate(&st.path).map_err(|(k, message)| {
             let site = &st.path[k].site;
             NcError {
                 file: site.file.clone(),
@@ -707,16 +584,16 @@ pub fn interpret_with(
     })
 }
 
-impl Machine<'_> {
+impl Interp<'_> {
     /// A program by the name it is called by: already known, or loaded beside the main
     /// file (FANUC `O0002`, `O0002.NC`; Siemens `NAME.SPF`, `NAME.MPF`).
     fn find_program(&mut self, name: &str) -> Option<std::rc::Rc<Program>> {
-        if let Some(p) = self.programs.get(name) {
+        if let Some(p) = self.progs.by_name.get(name) {
             return Some(p.clone());
         }
         let candidates: Vec<String> =
             match name.strip_prefix('O').and_then(|n| n.parse::<u32>().ok()) {
-                Some(n) if self.dialect == Dialect::Fanuc => vec![
+                Some(n) if self.cfg.dialect == Dialect::Fanuc => vec![
                     format!("O{n:04}"),
                     format!("O{n:04}.NC"),
                     format!("O{n:04}.nc"),
@@ -729,11 +606,11 @@ impl Machine<'_> {
                     name.to_string(),
                 ],
             };
-        let src = candidates.iter().find_map(|c| (self.loader)(c))?;
-        let mut loaded = load_programs(&src, self.dialect, self.block_skip).into_iter();
+        let src = candidates.iter().find_map(|c| (self.progs.loader)(c))?;
+        let mut loaded = load_programs(&src, self.cfg.dialect, self.cfg.block_skip).into_iter();
         let first = std::rc::Rc::new(loaded.next().expect("one program"));
         self.register(first.clone());
-        self.programs.insert(name.to_string(), first.clone());
+        self.progs.by_name.insert(name.to_string(), first.clone());
         for other in loaded {
             self.register(std::rc::Rc::new(other));
         }
@@ -742,19 +619,19 @@ impl Machine<'_> {
 
     /// The dialect as the user named it (GSK shares FANUC's syntax).
     fn real_dialect(&self) -> Dialect {
-        if self.gsk {
+        if self.cfg.gsk {
             Dialect::Gsk980
         } else {
-            self.dialect
+            self.cfg.dialect
         }
     }
 
     /// A word or code vpcut does not know: a warning (skipped), or an error in strict mode.
     fn unknown(&mut self, col: usize, message: String) -> Result<(), Fail> {
-        if self.strict {
+        if self.cfg.strict {
             return Err((col, message));
         }
-        self.pending.push((col, message));
+        self.out.pending.push((col, message));
         Ok(())
     }
 
@@ -766,7 +643,7 @@ impl Machine<'_> {
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Vec<Move>, NcError> {
         let m = self;
-        let dialect = m.dialect;
+        let dialect = m.cfg.dialect;
         let mut stack: Vec<Frame> = Vec::new();
         let mut loops: Vec<(u32, usize)> = Vec::new();
         let mut cur = prog;
@@ -799,36 +676,36 @@ impl Machine<'_> {
                 match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
                     Some(popped_macro) => {
                         if popped_macro {
-                            m.locals.pop();
+                            m.vars.locals.pop();
                         }
                         continue;
                     }
                     None => break,
                 }
             }
-            m.blocks += 1;
+            m.out.blocks += 1;
             let (line, orig, text) = &cur.blocks[pc];
             let fail = |stack: &[Frame], col: usize, message: String| NcError {
                 file: cur.name.clone(),
                 line: *line,
-                col: expr::char_col(orig, col),
+                col: lex::char_col(orig, col),
                 message,
                 hint: None,
                 others: Vec::new(),
                 snippet: orig.clone(),
                 stack: callers(stack),
             };
-            if m.blocks > m.limits.max_blocks {
+            if m.out.blocks > m.cfg.limits.max_blocks {
                 return Err(fail(
                     &stack,
                     0,
                     format!(
                         "more than {} blocks executed: a loop that never ends?",
-                        m.limits.max_blocks
+                        m.cfg.limits.max_blocks
                     ),
                 ));
             }
-            let before = m.moves.len();
+            let before = m.out.moves.len();
             if let Some(st) = m.mill.as_mut() {
                 st.stack = callers(&stack);
             }
@@ -839,9 +716,9 @@ impl Machine<'_> {
             };
             // Columns are in the comment-stripped text; map back roughly to the line.
             let offset = || orig.to_ascii_uppercase().find(text.as_str()).unwrap_or(0);
-            if !m.pending.is_empty() {
+            if !m.out.pending.is_empty() {
                 let offset = offset();
-                for (col, message) in std::mem::take(&mut m.pending) {
+                for (col, message) in std::mem::take(&mut m.out.pending) {
                     let e = fail(&stack, col + offset, message);
                     let mut d = e.diagnostic();
                     d.severity = Severity::Warning;
@@ -859,18 +736,18 @@ impl Machine<'_> {
                 Ok(s) => s,
                 Err((col, msg)) => return Err(fail(&stack, col + offset(), msg)),
             };
-            let made = m.moves.len() + m.mill.as_ref().map_or(0, |st| st.path.len());
-            if m.too_many_moves || made > m.limits.max_moves {
+            let made = m.out.moves.len() + m.mill.as_ref().map_or(0, |st| st.path.len());
+            if m.out.too_many_moves || made > m.cfg.limits.max_moves {
                 return Err(fail(
                     &stack,
                     0,
                     format!(
                         "more than {} moves (the limit on moves a program may make): a loop that never ends?",
-                        m.limits.max_moves
+                        m.cfg.limits.max_moves
                     ),
                 ));
             }
-            for mv in &m.moves[before..] {
+            for mv in &m.out.moves[before..] {
                 if let Some(msg) = lead_problem(mv) {
                     return Err(fail(&stack, 0, msg));
                 }
@@ -882,7 +759,7 @@ impl Machine<'_> {
                 Step::Return => match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
                     Some(popped_macro) => {
                         if popped_macro {
-                            m.locals.pop();
+                            m.vars.locals.pop();
                         }
                     }
                     None => break,
@@ -906,7 +783,7 @@ impl Machine<'_> {
                     match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
                         Some(popped_macro) => {
                             if popped_macro {
-                                m.locals.pop();
+                                m.vars.locals.pop();
                             }
                             if let Some(k) = target {
                                 pc = k;
@@ -916,11 +793,11 @@ impl Machine<'_> {
                     }
                 }
                 Step::Call(name, times, args) => {
-                    if stack.len() + 1 > m.limits.max_depth {
+                    if stack.len() + 1 > m.cfg.limits.max_depth {
                         return Err(fail(
                             &stack,
                             0,
-                            format!("subprogram nesting deeper than {}", m.limits.max_depth),
+                            format!("subprogram nesting deeper than {}", m.cfg.limits.max_depth),
                         ));
                     }
                     let Some(p) = m.find_program(&name) else {
@@ -946,7 +823,8 @@ impl Machine<'_> {
                     if let Some(args) = args {
                         // A new level: all locals vacant but the arguments (set once, kept
                         // over the repetitions).
-                        m.locals
+                        m.vars
+                            .locals
                             .push(args.into_iter().filter(|a| !a.1.is_nan()).collect());
                     }
                     cur = p;
@@ -954,7 +832,7 @@ impl Machine<'_> {
                 }
             }
         }
-        Ok(std::mem::take(&mut m.moves))
+        Ok(std::mem::take(&mut m.out.moves))
     }
 }
 
@@ -1035,17 +913,6 @@ struct Words {
     vals: HashMap<String, (f64, usize)>,
     /// Letters whose value was written with a decimal point.
     points: Vec<String>,
-}
-
-/// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
-/// minimum cut and finishing allowance (mm).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct G76Setup {
-    m: u32,
-    r: u32,
-    a: f64,
-    dmin: f64,
-    d: f64,
 }
 
 /// What synchronises a thread move to the spindle.

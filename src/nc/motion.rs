@@ -3,7 +3,7 @@
 
 use super::codes::{self, Verdict};
 use super::expr::Fail;
-use super::{ArcGeometry, Dialect, Machine, Move, MoveKind, Program, Step, Sync, Words};
+use super::{ArcGeometry, Dialect, Interp, Move, MoveKind, Program, Step, Sync, Words};
 use crate::helix::{LeadLaw, Spindle};
 
 /// G codes with a decimal (LinuxCNC's G92.1, G59.1, ..) are kept in `Words::g` as this plus
@@ -57,14 +57,14 @@ pub(super) fn radius_centre(a: (f64, f64), b: (f64, f64), r: f64, cw: bool) -> (
     )
 }
 
-impl Machine<'_> {
+impl Interp<'_> {
     /// Modal state and motion of one block's words.
     pub(super) fn apply(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
-        let scale = if self.inch { 25.4 } else { 1.0 };
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
         let mut set_position = false;
         let mut home = false;
         let mut second = false;
-        let lcnc = self.dialect == Dialect::Linuxcnc;
+        let lcnc = self.cfg.dialect == Dialect::Linuxcnc;
         // LinuxCNC non-modal codes: G53 (this block in machine coordinates), G28/G30 (go
         // home, optionally through an intermediate point), G92 (offset), G10 (set offsets).
         let mut machine_coords = false;
@@ -76,7 +76,7 @@ impl Machine<'_> {
             match g {
                 53 if lcnc => machine_coords = true,
                 // FANUC/GSK G53: this block's X/Z in machine coordinates, at rapid.
-                53 if self.dialect == Dialect::Fanuc => {
+                53 if self.cfg.dialect == Dialect::Fanuc => {
                     machine_coords = true;
                     fanuc_g53 = true;
                 }
@@ -95,49 +95,49 @@ impl Machine<'_> {
                 // G92.1 clears the G92 offsets and their parameters, G92.2 clears the
                 // offsets and keeps the parameters, G92.3 applies the parameters again.
                 g if lcnc && g == DECIMAL_G + 921 => {
-                    self.g92_off = (0.0, 0.0);
+                    self.frames.g92_off = (0.0, 0.0);
                     self.lc.st.g92_params = (0.0, 0.0);
                     self.lc.st.g92_on = false;
                 }
                 g if lcnc && g == DECIMAL_G + 922 => {
-                    self.g92_off = (0.0, 0.0);
+                    self.frames.g92_off = (0.0, 0.0);
                     self.lc.st.g92_on = false;
                 }
                 g if lcnc && g == DECIMAL_G + 923 => {
-                    self.g92_off = self.lc.st.g92_params;
+                    self.frames.g92_off = self.lc.st.g92_params;
                     self.lc.st.g92_on = true;
                 }
                 g if lcnc && (DECIMAL_G + 591..=DECIMAL_G + 593).contains(&g) => {
-                    self.work = (g - DECIMAL_G - 591) as usize + 6;
+                    self.frames.work = (g - DECIMAL_G - 591) as usize + 6;
                 }
-                0..=3 | 32 | 33 | 34 | 35 => self.motion = g,
+                0..=3 | 32 | 33 | 34 | 35 => self.modal.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
-                92 if self.dialect == Dialect::Fanuc => self.motion = 92,
+                92 if self.cfg.dialect == Dialect::Fanuc => self.modal.motion = 92,
                 // FANUC/GSK system A: G90 outer/inner diameter and G94 end face cutting
                 // cycles (modal, like G92).
-                90 | 94 if self.dialect == Dialect::Fanuc => self.motion = g,
+                90 | 94 if self.cfg.dialect == Dialect::Fanuc => self.modal.motion = g,
                 // Absolute/incremental on Siemens and LinuxCNC; FANUC/GSK lathes (G-code
                 // system A) write U/W instead, and their G90 is a turning cycle.
-                90 if matches!(self.dialect, Dialect::Siemens802d | Dialect::Linuxcnc) => {
-                    self.incremental = false
+                90 if matches!(self.cfg.dialect, Dialect::Siemens802d | Dialect::Linuxcnc) => {
+                    self.modal.incremental = false
                 }
-                91 if matches!(self.dialect, Dialect::Siemens802d | Dialect::Linuxcnc) => {
-                    self.incremental = true
+                91 if matches!(self.cfg.dialect, Dialect::Siemens802d | Dialect::Linuxcnc) => {
+                    self.modal.incremental = true
                 }
-                20 => self.inch = true,
-                21 => self.inch = false,
-                70 if self.dialect == Dialect::Siemens802d => self.inch = true,
-                71 if self.dialect == Dialect::Siemens802d => self.inch = false,
-                7 if self.dialect == Dialect::Linuxcnc => self.diameter_mode = true,
-                8 if self.dialect == Dialect::Linuxcnc => self.diameter_mode = false,
+                20 => self.modal.inch = true,
+                21 => self.modal.inch = false,
+                70 if self.cfg.dialect == Dialect::Siemens802d => self.modal.inch = true,
+                71 if self.cfg.dialect == Dialect::Siemens802d => self.modal.inch = false,
+                7 if self.cfg.dialect == Dialect::Linuxcnc => self.modal.diameter_mode = true,
+                8 if self.cfg.dialect == Dialect::Linuxcnc => self.modal.diameter_mode = false,
                 // FANUC/GSK G50 with X/Z sets the coordinates of the current position.
-                50 if self.dialect == Dialect::Fanuc => set_position = true,
+                50 if self.cfg.dialect == Dialect::Fanuc => set_position = true,
                 // FANUC/GSK G28 (non-modal): rapid to the intermediate point, then to the
                 // reference point in the named axes.
-                28 if self.dialect == Dialect::Fanuc => home = true,
+                28 if self.cfg.dialect == Dialect::Fanuc => home = true,
                 // FANUC/GSK G30 (P2, the default): the same through the second reference
                 // point. P3/P4 (third and fourth) are machine data vpcut does not have.
-                30 if self.dialect == Dialect::Fanuc && !self.milling => {
+                30 if self.cfg.dialect == Dialect::Fanuc && !self.cfg.milling => {
                     if let Some(&(p, col)) = w.vals.get("P") {
                         if p != 2.0 {
                             return Err((
@@ -149,19 +149,19 @@ impl Machine<'_> {
                     home = true;
                     second = true;
                 }
-                54..=59 => self.work = (g - 54) as usize,
-                96 => self.css = true,
-                97 => self.css = false,
+                54..=59 => self.frames.work = (g - 54) as usize,
+                96 => self.modal.css = true,
+                97 => self.modal.css = false,
                 // Feed per minute / per revolution: G98/G99 on FANUC lathes (system A),
                 // G94/G95 on LinuxCNC and Siemens. Thread leads (F of G32/G34/G92/G76) are
                 // per revolution whichever is active.
-                98 if self.dialect == Dialect::Fanuc => self.per_rev = false,
-                99 if self.dialect == Dialect::Fanuc => self.per_rev = true,
-                94 if matches!(self.dialect, Dialect::Linuxcnc | Dialect::Siemens802d) => {
-                    self.per_rev = false
+                98 if self.cfg.dialect == Dialect::Fanuc => self.modal.per_rev = false,
+                99 if self.cfg.dialect == Dialect::Fanuc => self.modal.per_rev = true,
+                94 if matches!(self.cfg.dialect, Dialect::Linuxcnc | Dialect::Siemens802d) => {
+                    self.modal.per_rev = false
                 }
-                95 if matches!(self.dialect, Dialect::Linuxcnc | Dialect::Siemens802d) => {
-                    self.per_rev = true
+                95 if matches!(self.cfg.dialect, Dialect::Linuxcnc | Dialect::Siemens802d) => {
+                    self.modal.per_rev = true
                 }
                 other => match codes::g_code(self.real_dialect(), g_number(other)) {
                     // Nothing vpcut simulates changes (planes, dwell, feed and speed modes).
@@ -178,60 +178,60 @@ impl Machine<'_> {
         if let Some(&(t, _)) = w.vals.get("T") {
             let t = t.round() as u32;
             // A tool change: the next thread block starts a new chain.
-            self.chain_end = None;
-            self.tool = Some(if self.dialect == Dialect::Fanuc && t >= 100 {
+            self.thread.chain_end = None;
+            self.modal.tool = Some(if self.cfg.dialect == Dialect::Fanuc && t >= 100 {
                 t / 100
             } else {
                 t
             });
         }
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
-        let scale = if self.inch { 25.4 } else { scale };
+        let scale = if self.modal.inch { 25.4 } else { scale };
         if let Some(s) = val("S") {
-            self.speed = Some(s);
+            self.modal.speed = Some(s);
         }
         // F is modal: the feed of G01/G02/G03 (and the lead of FANUC's thread blocks, which
         // share its register). On Siemens G34/G35 it is the lead change instead.
         if let Some(f) = val("F") {
-            if !(self.dialect == Dialect::Siemens802d && matches!(self.motion, 34 | 35)) {
-                self.feed = Some(f);
+            if !(self.cfg.dialect == Dialect::Siemens802d && matches!(self.modal.motion, 34 | 35)) {
+                self.modal.feed = Some(f);
             }
         }
         let mut x = self.x;
         let mut z = self.z;
         let mut moved = false;
-        let xs = if self.diameter_mode { 1.0 } else { 2.0 };
+        let xs = if self.modal.diameter_mode { 1.0 } else { 2.0 };
         // Absolute X/Z are in the active work system (G54..G59): its zero lies at the
         // offset in the job's frame.
         let (ox, oz) = if machine_coords {
-            if self.incremental {
+            if self.modal.incremental {
                 return Err((
                     1,
                     "G53 needs absolute coordinates (G90): it cannot be used with G91".into(),
                 ));
             }
-            if !fanuc_g53 && !matches!(self.motion, 0 | 1) {
+            if !fanuc_g53 && !matches!(self.modal.motion, 0 | 1) {
                 return Err((
                     1,
-                    format!("G53 needs G0 or G1 active, not G{}", self.motion),
+                    format!("G53 needs G0 or G1 active, not G{}", self.modal.motion),
                 ));
             }
             (0.0, 0.0)
         } else {
-            let (ox, oz) = self.offsets[self.work];
-            (ox + self.g92_off.0, oz + self.g92_off.1)
+            let (ox, oz) = self.frames.offsets[self.frames.work];
+            (ox + self.frames.g92_off.0, oz + self.frames.g92_off.1)
         };
         if g10 {
             return self.lc_g10(w, xs, scale).map(|()| Step::Next);
         }
         if g92_set {
             // The current point reads X/Z from now on: the offset is what lies between.
-            let (wx, wz) = self.offsets[self.work];
+            let (wx, wz) = self.frames.offsets[self.frames.work];
             if let Some(v) = val("X") {
-                self.g92_off.0 = self.x - wx - v * xs * scale;
+                self.frames.g92_off.0 = self.x - wx - v * xs * scale;
             }
             if let Some(v) = val("Z") {
-                self.g92_off.1 = self.z - wz - v * scale;
+                self.frames.g92_off.1 = self.z - wz - v * scale;
             }
             if !w.vals.contains_key("X") && !w.vals.contains_key("Z") {
                 return Err((
@@ -239,12 +239,12 @@ impl Machine<'_> {
                     "G92 needs X or Z (the coordinates the current point gets)".into(),
                 ));
             }
-            self.lc.st.g92_params = self.g92_off;
+            self.lc.st.g92_params = self.frames.g92_off;
             self.lc.st.g92_on = true;
             return Ok(Step::Next);
         }
         if let Some(v) = val("X").map(|v| v * xs) {
-            x = if self.incremental {
+            x = if self.modal.incremental {
                 self.x + v * scale
             } else {
                 v * scale + ox
@@ -252,14 +252,14 @@ impl Machine<'_> {
             moved = true;
         }
         if let Some(v) = val("Z") {
-            z = if self.incremental {
+            z = if self.modal.incremental {
                 self.z + v * scale
             } else {
                 v * scale + oz
             };
             moved = true;
         }
-        if self.dialect == Dialect::Fanuc {
+        if self.cfg.dialect == Dialect::Fanuc {
             if let Some(v) = val("U") {
                 x = self.x + v * scale;
                 moved = true;
@@ -306,9 +306,9 @@ impl Machine<'_> {
         }
         if home {
             let reference = if second {
-                self.reference2
+                self.frames.reference2
             } else {
-                self.reference
+                self.frames.reference
             };
             let named = |a: &str, b: &str| w.vals.contains_key(a) || w.vals.contains_key(b);
             let end_point = (
@@ -329,22 +329,22 @@ impl Machine<'_> {
             self.z = z;
             return Ok(if end { Step::End } else { Step::Next });
         }
-        if moved && self.dialect == Dialect::Fanuc && self.motion == 92 {
+        if moved && self.cfg.dialect == Dialect::Fanuc && self.modal.motion == 92 {
             return self.g92(w, prog, pc, x, z, scale);
         }
-        if moved && self.dialect == Dialect::Fanuc && matches!(self.motion, 90 | 94) {
+        if moved && self.cfg.dialect == Dialect::Fanuc && matches!(self.modal.motion, 90 | 94) {
             self.need_feed(w)?;
             return self.cutting_cycle(w, prog, pc, x, z, scale);
         }
-        if moved && matches!(self.motion, 1..=3) {
+        if moved && matches!(self.modal.motion, 1..=3) {
             self.need_feed(w)?;
         }
-        if moved && (self.motion == 2 || self.motion == 3) {
+        if moved && (self.modal.motion == 2 || self.modal.motion == 3) {
             self.arc(w, prog, pc, (x, z), scale)?;
             return Ok(if end { Step::End } else { Step::Next });
         }
         if moved {
-            let (kind, lead, change, angle) = match (self.dialect, self.motion) {
+            let (kind, lead, change, angle) = match (self.cfg.dialect, self.modal.motion) {
                 (_, 0) => (MoveKind::Rapid, None, None, None),
                 (_, 1) => (MoveKind::Feed, None, None, None),
                 (Dialect::Linuxcnc, 33) => {
@@ -363,13 +363,14 @@ impl Machine<'_> {
                     };
                     (MoveKind::Thread, Some(lead), Some(0.0), Some(0.0))
                 }
-                (Dialect::Fanuc, 34) if self.gsk => {
+                (Dialect::Fanuc, 34) if self.cfg.gsk => {
                     return self.gsk_g34(w, prog, pc, x, z, scale);
                 }
                 (Dialect::Fanuc, 32) | (Dialect::Fanuc, 34) => {
-                    let f = val("F").ok_or((1, format!("G{} needs F (the lead)", self.motion)))?
+                    let f = val("F")
+                        .ok_or((1, format!("G{} needs F (the lead)", self.modal.motion)))?
                         * scale;
-                    let k = if self.motion == 34 {
+                    let k = if self.modal.motion == 34 {
                         val("K").unwrap_or(0.0) * scale
                     } else {
                         0.0
@@ -380,14 +381,14 @@ impl Machine<'_> {
                 (Dialect::Siemens802d, 33..=35) => {
                     let k = val("K")
                         .or(val("I"))
-                        .ok_or((1, format!("G{} needs K (the lead)", self.motion)))?
+                        .ok_or((1, format!("G{} needs K (the lead)", self.modal.motion)))?
                         * scale;
-                    let f = if self.motion == 33 {
+                    let f = if self.modal.motion == 33 {
                         0.0
                     } else {
                         val("F").unwrap_or(0.0).abs() * scale
                     };
-                    let f = if self.motion == 35 { -f } else { f };
+                    let f = if self.modal.motion == 35 { -f } else { f };
                     (
                         MoveKind::Thread,
                         Some(k),
@@ -423,13 +424,13 @@ impl Machine<'_> {
     /// or before any F, a control alarms (FANUC/GSK alarm 011 "feed zero", Siemens 10860
     /// "feedrate not programmed", LinuxCNC "cannot do G1 with zero feed rate").
     pub(super) fn need_feed(&self, w: &Words) -> Result<(), Fail> {
-        let g = self.motion;
+        let g = self.modal.motion;
         let alarm = match self.real_dialect() {
             Dialect::Fanuc | Dialect::Gsk980 => "alarm 011, feed zero",
             Dialect::Siemens802d => "alarm 10860, feedrate not programmed",
             Dialect::Linuxcnc => "\"cannot do G1 with zero feed rate\"",
         };
-        match self.feed {
+        match self.modal.feed {
             Some(f) if f > 0.0 => Ok(()),
             Some(f) => {
                 let col = w.vals.get("F").map_or(1, |v| v.1);
@@ -454,18 +455,22 @@ impl Machine<'_> {
             if matches!(mc, 3..=5 | 13 | 14) {
                 // A spindle start, stop or reversal: the next thread block waits for the
                 // one-rev signal again.
-                self.chain_end = None;
+                self.thread.chain_end = None;
             }
             match mc {
-                3 | 13 => self.spindle = Spindle::Cw,
-                4 | 14 => self.spindle = Spindle::Ccw,
+                3 | 13 => self.modal.spindle = Spindle::Cw,
+                4 | 14 => self.modal.spindle = Spindle::Ccw,
                 5 | 8 | 9 | 0 | 1 => {}
                 // Thread chamfering in G92/G76 on (M23) and off (M24), as on Mach4 lathes.
-                23 if self.dialect == Dialect::Fanuc && !self.milling => self.chamfer_on = true,
-                24 if self.dialect == Dialect::Fanuc && !self.milling => self.chamfer_on = false,
+                23 if self.cfg.dialect == Dialect::Fanuc && !self.cfg.milling => {
+                    self.thread.chamfer_on = true
+                }
+                24 if self.cfg.dialect == Dialect::Fanuc && !self.cfg.milling => {
+                    self.thread.chamfer_on = false
+                }
                 2 | 30 => *end = true,
-                17 if self.dialect == Dialect::Siemens802d => return Ok(Some(Step::Return)),
-                98 if self.dialect == Dialect::Fanuc => {
+                17 if self.cfg.dialect == Dialect::Siemens802d => return Ok(Some(Step::Return)),
+                98 if self.cfg.dialect == Dialect::Fanuc => {
                     // `M98 P<count><prog>` (the last four digits name O<prog>) or `P<prog> L<n>`.
                     let p = w
                         .vals
@@ -481,7 +486,7 @@ impl Machine<'_> {
                     }
                     return Ok(Some(Step::Call(format!("O{prog}"), times, None)));
                 }
-                99 if self.dialect == Dialect::Fanuc => {
+                99 if self.cfg.dialect == Dialect::Fanuc => {
                     if let Some(&(p, col)) = w.vals.get("P") {
                         if !(0.0..=99_999.0).contains(&p) || p.fract() != 0.0 {
                             return Err((col, format!("M99 P{p}: expected a sequence number")));
@@ -491,7 +496,8 @@ impl Machine<'_> {
                     return Ok(Some(Step::Return));
                 }
                 other => {
-                    match codes::m_verdict(self.real_dialect(), self.milling, f64::from(other)) {
+                    match codes::m_verdict(self.real_dialect(), self.cfg.milling, f64::from(other))
+                    {
                         Verdict::Run => {}
                         Verdict::Refused(msg) => return Err((1, msg)),
                         Verdict::Unknown(msg) => self.unknown(1, msg)?,
@@ -513,12 +519,12 @@ impl Machine<'_> {
         b: (f64, f64),
         sync: Option<Sync>,
     ) {
-        if self.moves.len() >= self.limits.max_moves {
-            // The run stops after this block (`Machine::run`); nothing more is kept.
-            self.too_many_moves = true;
+        if self.out.moves.len() >= self.cfg.limits.max_moves {
+            // The run stops after this block (`Interp::run`); nothing more is kept.
+            self.out.too_many_moves = true;
             return;
         }
-        self.moves.push(Move {
+        self.out.moves.push(Move {
             file: prog.name.clone(),
             line: prog.blocks[pc].0,
             kind,
@@ -530,12 +536,12 @@ impl Machine<'_> {
             lead_change: sync.map(|s| s.change),
             sync_angle_deg: sync.map(|s| s.angle),
             chained: false,
-            tool: self.tool,
-            spindle: self.spindle,
+            tool: self.modal.tool,
+            spindle: self.modal.spindle,
             arc: None,
         });
-        // Only a thread block (`Machine::thread_block`) leaves a chain open.
-        self.chain_end = None;
+        // Only a thread block (`Interp::thread_block`) leaves a chain open.
+        self.thread.chain_end = None;
     }
 
     /// G02/G03 in the XZ plane from the current point to `end` (diameter, z): centre from
@@ -551,9 +557,9 @@ impl Machine<'_> {
         end: (f64, f64),
         scale: f64,
     ) -> Result<(), Fail> {
-        let g = self.motion;
+        let g = self.modal.motion;
         let cw = g == 2;
-        let radius_word = if self.dialect == Dialect::Siemens802d {
+        let radius_word = if self.cfg.dialect == Dialect::Siemens802d {
             "CR"
         } else {
             "R"
@@ -605,7 +611,7 @@ impl Machine<'_> {
             ));
         };
         self.emit(prog, pc, MoveKind::Arc, (self.x, self.z), end, None);
-        if let Some(last) = self.moves.last_mut() {
+        if let Some(last) = self.out.moves.last_mut() {
             last.arc = Some(ArcGeometry {
                 x_centre_dia: 2.0 * centre.1,
                 z_centre: centre.0,
@@ -656,7 +662,7 @@ impl Machine<'_> {
             let chained = sync.after(len - chamfer).unwrap_or(sync);
             self.emit(prog, pc, MoveKind::Thread, split, out, Some(chained));
             // The pull-out continues the thread without a re-sync (already at speed).
-            if let Some(last) = self.moves.last_mut() {
+            if let Some(last) = self.out.moves.last_mut() {
                 last.chained = true;
             }
             out

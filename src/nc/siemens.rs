@@ -2,17 +2,18 @@
 //! GOTO, IF .. GOTOF, subprogram calls by name with P repeats, RET.
 
 use super::codes;
-use super::expr::{r_index, Cur, Fail};
-use super::{Machine, Program, Step, Words};
+use super::expr::{r_index, Fail};
+use super::lex::Cursor;
+use super::{Interp, Program, Step, Words};
 
-impl Machine<'_> {
+impl Interp<'_> {
     pub(super) fn siemens_block(
         &mut self,
         prog: &Program,
         pc: usize,
         text: &str,
     ) -> Result<Step, Fail> {
-        let mut c = Cur::new(text, self.dialect);
+        let mut c = Cursor::new(text, self.cfg.dialect);
         // Skip N and a label.
         // A block number (not the first letter of a name such as NEXT_PASS).
         c.ws();
@@ -53,7 +54,7 @@ impl Machine<'_> {
                         return c.err("expected `=` after an R parameter");
                     }
                     let v = self.expr(&mut c)?;
-                    self.r.insert(n, v);
+                    self.vars.r.insert(n, v);
                 }
                 "" => return Err((at + 1, format!("unexpected {}", c.here()))),
                 addr if codes::siemens_address(addr) => {

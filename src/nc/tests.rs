@@ -17,36 +17,6 @@ fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
     interpret(&src, dialect, &|_| None, Limits::default())
 }
 
-#[test]
-fn siemens_r_parameters_labels_and_g34() {
-    let moves = run(
-        "R1=2 R2=3\nIF R1<R2 GOTOF AA\nR3=99\nAA: R4=ABS(R1-R2)*2+TRUNC(2.7) ; comment\nG0 X=R4*10 Z=5\nG35 Z=-20 K=R2 F=0.1\nM30\n",
-        Dialect::Siemens802d,
-    )
-    .unwrap();
-    assert_eq!(moves.len(), 2);
-    assert_eq!(moves[0].x_dia, 40.0);
-    let t = &moves[1];
-    assert_eq!(
-        (t.kind, t.lead, t.lead_change),
-        (MoveKind::Thread, Some(3.0), Some(-0.1))
-    );
-    assert_eq!((t.x_start, t.z_start, t.z), (40.0, 5.0, -20.0));
-}
-
-#[test]
-fn fanuc_macro_b_loop_and_g32() {
-    let moves = run(
-        "#1=0\nWHILE[#1LT3]DO1\n#1=#1+1\nG0X[20-#1]Z2.\nG32Z-10.F1.5\nEND1\nM30\n",
-        Dialect::Fanuc,
-    )
-    .unwrap();
-    let threads: Vec<&Move> = threads(&moves);
-    assert_eq!(threads.len(), 3);
-    assert_eq!(threads[2].x_dia, 17.0);
-    assert_eq!(threads[0].lead, Some(1.5));
-}
-
 /// `controllers.md` 2.3's worked schedule: k = 1.30, dd = 0.45, dmin = 0.10, d = 0.05
 /// gives 0.450, 0.636, 0.779, 0.900, 1.006, 1.106, 1.206, 1.250, then m x 1.300, each
 /// pass shifted by (k - d_n) tan30 against the feed (flank infeed).
@@ -85,23 +55,6 @@ fn fanuc_g76_depth_schedule_and_flank_infeed() {
     assert!(e.message.contains("no decimal point"), "{e}");
 }
 
-#[test]
-fn fanuc_g92_is_modal() {
-    let moves = run(
-        "G0 X30 Z3\nG92 X19.2 Z-20 F1.5\nX18.6\nX18.38\nG0 X40\nM30\n",
-        Dialect::Fanuc,
-    )
-    .unwrap();
-    let t: Vec<&Move> = threads(&moves);
-    assert_eq!(t.len(), 3);
-    assert_eq!(
-        (t[2].x_dia, t[2].z_start, t[2].z, t[2].lead),
-        (18.38, 3.0, -20.0, Some(1.5))
-    );
-    // Each cycle returns to the start point.
-    assert_eq!((moves[4].x_dia, moves[4].z), (30.0, 3.0));
-}
-
 /// Seed 000's first program (GSK 980TDC, OCR-corrected: `00001` -> `O0001`,
 /// `M98 P25 0002` -> `M98 P250002`, `GOO` -> `G00`), its run-out words dropped: O0002 runs
 /// 25 times, each 0.2 mm deeper (U-10.2, then U10 out).
@@ -127,20 +80,6 @@ fn m98_repeats_an_o_program_of_the_same_file() {
     }
     let e = run("M98 P0003\nM30\n", Dialect::Fanuc).unwrap_err();
     assert!(e.message.contains("subprogram `O3` not found"), "{e}");
-}
-
-/// Seed 000's Macro A loop shape: `G65 H01/H02/H03/H81/H86/H80` on #100.. variables.
-#[test]
-fn percent_line_before_the_o_number_keeps_one_program() {
-    let moves = run(
-        "%\nO0004 (MAIN)\nG0 X20 Z2\nG32 Z-10 F1\nM30\n%\n",
-        Dialect::Fanuc,
-    )
-    .unwrap();
-    assert_eq!(
-        moves.iter().filter(|m| m.kind == MoveKind::Thread).count(),
-        1
-    );
 }
 
 #[test]
@@ -178,31 +117,6 @@ fn repeated_calls_nest_and_keep_their_loops() {
     let e = run(deep, Dialect::Fanuc).unwrap_err();
     assert!(e.message.contains("nesting deeper than 8"), "{e}");
     assert!(e.stack.len() == 8, "{:?}", e.stack);
-}
-
-/// G65 P calls: arguments land in #1.. of a new level, the caller's locals come back,
-/// and a vacant variable is 0 in arithmetic but not EQ 0; an address with a vacant
-/// variable is left out.
-#[test]
-fn g65_macro_call_locals_and_null() {
-    let text = "O0001\n#1=7\nG0 X20 Z2\nG65 P9010 A1.5 B3 Z-12\nG65 P9010 A2 Z-6\n\
-                G0 X#1\nM30\n\
-                O9010\nIF[#2EQ#0]THEN#2=4\nIF[#3EQ0]GOTO9\nG32 X[20-#2] Z#26 F#1 Q#33\nN9 M99\n";
-    let moves = run(text, Dialect::Fanuc).unwrap();
-    let t: Vec<&Move> = threads(&moves);
-    assert_eq!(t.len(), 2);
-    assert_eq!((t[0].x_dia, t[0].z, t[0].lead), (17.0, -12.0, Some(1.5)));
-    // B absent: #2 vacant, so EQ #0 holds and #2 becomes 4; #3 vacant is not EQ 0, so
-    // no jump to N9.
-    assert_eq!((t[1].x_dia, t[1].z, t[1].lead), (16.0, -6.0, Some(2.0)));
-    // Q#33 (vacant) was left out: sync angle 0.
-    assert_eq!(t[1].sync_angle_deg, Some(0.0));
-    // The caller's #1 = 7 is back after the calls.
-    assert_eq!(moves.last().unwrap().x_dia, 7.0);
-    let null = "#1=#0\n#2=#1+1\nIF[#1EQ0]GOTO5\nG0 X#2\nN5 M30\n";
-    let moves = run(null, Dialect::Fanuc).unwrap();
-    assert_eq!(moves.len(), 1, "vacant is not EQ 0, and #1 + 1 = 1");
-    assert_eq!(moves[0].x_dia, 1.0);
 }
 
 #[test]
@@ -452,7 +366,7 @@ fn numbers_read_as_str_parse_reads_them() {
     ];
     for s in cases {
         assert_eq!(
-            expr::ascii_number(s.as_bytes()),
+            lex::ascii_number(s.as_bytes()),
             s.parse::<f64>().ok(),
             "{s}"
         );
@@ -472,13 +386,13 @@ fn numbers_read_as_str_parse_reads_them() {
             s.insert(point, '.');
         }
         assert_eq!(
-            expr::ascii_number(s.as_bytes()),
+            lex::ascii_number(s.as_bytes()),
             s.parse::<f64>().ok(),
             "{s}"
         );
     }
-    assert_eq!(expr::ascii_number(b"1..5"), None);
-    assert_eq!(expr::ascii_number(b"."), None);
+    assert_eq!(lex::ascii_number(b"1..5"), None);
+    assert_eq!(lex::ascii_number(b"."), None);
 }
 
 /// FANUC's two-argument arc tangent `ATAN[y]/[x]` is atan2, not atan(y) divided by x.

@@ -19,6 +19,8 @@ mod invariance;
 mod linuxcnc;
 /// Thread milling: thread counts, sampling bound, job errors.
 mod milling;
+/// NC programs as data: `tests/data/nc/<dialect>/*.nc` against their reviewed `*.moves`.
+mod nc_data;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
 /// Output files all or nothing, symlinks, `-`, closed pipes, CI formats, `vpcut check`.

@@ -8,6 +8,19 @@
 //! and a linear axis (helical interpolation), G43/G49 tool length and G41/G42/G40 cutter
 //! radius compensation with D registers. Out come [`MillMove`]s: the path of the tool
 //! tip's centre in the job's frame.
+//!
+//! - this module: the public milling nouns ([`MillMove`], [`MillSettings`], planes, sides);
+//! - `blocks`: FANUC machining-centre blocks (XYZ, planes, helical arcs, G43/G49, G41/G42
+//!   recorded as programmed) into programmed moves;
+//! - `comp`: cutter radius compensation of the programmed moves (a pure pass).
+
+mod blocks;
+mod comp;
+#[cfg(test)]
+mod tests;
+
+pub(super) use blocks::MillState;
+pub(super) use comp::compensate;
 
 use crate::helix::Spindle;
 

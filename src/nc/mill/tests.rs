@@ -1,7 +1,7 @@
 //! Unit tests of the FANUC milling interpreter and of cutter radius compensation.
 
 use super::comp::{compensate, Comp, Programmed, Site};
-use super::*;
+use crate::nc::*;
 use std::f64::consts::{PI, TAU};
 
 /// G57's work zero at the job's origin, G54's at (100, 50, -10); H10 a length offset,
@@ -309,30 +309,6 @@ fn arcs_r_negative_full_circles_and_g18() {
     // G03 the other way round is the long way: 270 deg.
     let t = mill(&format!("{head}G18 G3 X0 Z5 I-5 F100\nM30\n")).unwrap();
     assert_near(t.mill[1].arc.unwrap().sweep, 1.5 * PI);
-}
-
-#[test]
-fn g90_g91_work_offsets_and_g95() {
-    // G54 zero at (100, 50, -10): absolute X1 Y2 Z3 is (101, 52, -7); G91 adds.
-    let t = mill(
-        "G90 G54 G0 X1 Y2\nG43 H10 Z3 S1000 M4 T7 M6\nG91 G1 X1 F100\nG95 G1 Y1 F0.1\nG90 G94 G1 X0 Y0 F200\nG57 G0 X0 Y0\nM5\nM30\n",
-    )
-    .unwrap();
-    let m = &t.mill;
-    assert_pt(m[0].end, [101.0, 52.0, -7.0]);
-    assert_eq!((m[0].tool, m[0].spindle), (Some(7), Some(Spindle::Ccw)));
-    assert_pt(m[1].end, [102.0, 52.0, -7.0]);
-    assert_eq!(m[1].feed, Some(100.0));
-    assert_pt(m[2].end, [102.0, 53.0, -7.0]);
-    assert_near(m[2].feed.unwrap(), 100.0);
-    assert_pt(m[3].end, [100.0, 50.0, -7.0]);
-    assert_eq!(m[3].feed, Some(200.0));
-    // G57 X0 Y0: the job's origin in X/Y; Z stays where it was.
-    assert_pt(m[4].end, [0.0, 0.0, -7.0]);
-    // G20: inches.
-    let t = mill("G20 G90 G57 G0 X1 Y0\nG43 H10 Z0\nG1 X2 F10\nM30\n").unwrap();
-    assert_pt(t.mill[1].end, [50.8, 0.0, 0.0]);
-    assert_near(t.mill[1].feed.unwrap(), 254.0);
 }
 
 #[test]

@@ -10,17 +10,17 @@
 //! Y and Z are unknown: a rapid from an unknown X or Y only sets its axes, one from an
 //! unknown Z comes down from `MillSettings::home_z`.
 
-use super::codes::{self, Verdict};
 use super::comp::{Comp, Programmed, Site};
-use super::expr::Fail;
-use super::mill::{CompSide, MillArc, MillKind, MillSettings, Plane};
-use super::motion::{radius_centre, ARC_TOLERANCE};
-use super::{Machine, Program, Step, Words};
+use super::{CompSide, MillArc, MillKind, MillSettings, Plane};
 use crate::helix::Spindle;
+use crate::nc::codes::{self, Verdict};
+use crate::nc::expr::Fail;
+use crate::nc::motion::{radius_centre, ARC_TOLERANCE};
+use crate::nc::{Interp, Program, Step, Words};
 use std::f64::consts::TAU;
 
 /// The modal state of a milling program.
-pub(super) struct MillState {
+pub(in crate::nc) struct MillState {
     settings: MillSettings,
     /// The programmed tool tip (job frame, before radius compensation); `None`: unknown.
     pos: [Option<f64>; 3],
@@ -45,13 +45,13 @@ pub(super) struct MillState {
     spindle: Option<Spindle>,
     tool: Option<u32>,
     /// The programmed moves so far.
-    pub(super) path: Vec<Programmed>,
+    pub(in crate::nc) path: Vec<Programmed>,
     /// The call stack of the block being run (for errors found after the run).
-    pub(super) stack: Vec<String>,
+    pub(in crate::nc) stack: Vec<String>,
 }
 
 impl MillState {
-    pub(super) fn new(settings: MillSettings) -> MillState {
+    pub(in crate::nc) fn new(settings: MillSettings) -> MillState {
         MillState {
             settings,
             pos: [None; 3],
@@ -83,9 +83,9 @@ struct OneShot {
     comp: Option<Option<CompSide>>,
 }
 
-impl Machine<'_> {
+impl Interp<'_> {
     /// One block of a milling program (its words read by `fanuc_block`).
-    pub(super) fn mill_apply(
+    pub(in crate::nc) fn mill_apply(
         &mut self,
         w: &Words,
         prog: &Program,
@@ -115,8 +115,8 @@ impl Machine<'_> {
                     }
                     st.plane = plane;
                 }
-                20 => self.inch = true,
-                21 => self.inch = false,
+                20 => self.modal.inch = true,
+                21 => self.modal.inch = false,
                 40 => once.comp = Some(None),
                 41 => once.comp = Some(Some(CompSide::Left)),
                 42 => once.comp = Some(Some(CompSide::Right)),
@@ -145,7 +145,7 @@ impl Machine<'_> {
         if w.m.contains(&4) {
             st.spindle = Some(Spindle::Ccw);
         }
-        let scale = if self.inch { 25.4 } else { 1.0 };
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
         let val = |k: &str| w.vals.get(k).copied();
         if let Some((t, _)) = val("T") {
             st.tool = Some(t.round().max(0.0) as u32);

@@ -20,7 +20,7 @@
 //! - cancel (the G00/G01 block with G40): from the previous block's end offset point
 //!   (perpendicular to its end direction) to the block's programmed end.
 
-use super::mill::{CompSide, MillArc, MillKind, MillMove, Plane};
+use super::{CompSide, MillArc, MillKind, MillMove, Plane};
 use crate::helix::Spindle;
 use std::f64::consts::{PI, TAU};
 
@@ -29,18 +29,18 @@ const TANGENT: f64 = 1e-6;
 
 /// Where a programmed move was written: for its errors.
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct Site {
-    pub(super) file: String,
-    pub(super) line: usize,
+pub(in crate::nc) struct Site {
+    pub(in crate::nc) file: String,
+    pub(in crate::nc) line: usize,
     /// The block's text.
-    pub(super) snippet: String,
+    pub(in crate::nc) snippet: String,
     /// Callers, innermost first.
-    pub(super) stack: Vec<String>,
+    pub(in crate::nc) stack: Vec<String>,
 }
 
 /// The compensation state of one programmed move.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Comp {
+pub(in crate::nc) enum Comp {
     /// No compensation.
     Off,
     /// The start-up block (G41/G42), with side and radius.
@@ -54,25 +54,25 @@ pub(super) enum Comp {
 /// One programmed milling move: the contour as written (job frame, after work offsets and
 /// tool length), before cutter radius compensation.
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct Programmed {
-    pub(super) site: Site,
-    pub(super) kind: MillKind,
-    pub(super) plane: Plane,
-    pub(super) start: [f64; 3],
-    pub(super) end: [f64; 3],
+pub(in crate::nc) struct Programmed {
+    pub(in crate::nc) site: Site,
+    pub(in crate::nc) kind: MillKind,
+    pub(in crate::nc) plane: Plane,
+    pub(in crate::nc) start: [f64; 3],
+    pub(in crate::nc) end: [f64; 3],
     /// The programmed circle of an arc.
-    pub(super) arc: Option<MillArc>,
-    pub(super) comp: Comp,
-    pub(super) feed: Option<f64>,
-    pub(super) spindle_rpm: Option<f64>,
-    pub(super) spindle: Option<Spindle>,
-    pub(super) tool: Option<u32>,
+    pub(in crate::nc) arc: Option<MillArc>,
+    pub(in crate::nc) comp: Comp,
+    pub(in crate::nc) feed: Option<f64>,
+    pub(in crate::nc) spindle_rpm: Option<f64>,
+    pub(in crate::nc) spindle: Option<Spindle>,
+    pub(in crate::nc) tool: Option<u32>,
 }
 
 impl Plane {
     /// Indices into `[x, y, z]` of the plane's (u, v) axes, right-handed about its normal,
     /// and of the normal: XY (x, y, z), ZX (z, x, y), YZ (y, z, x).
-    pub(super) fn axes(self) -> [usize; 3] {
+    pub(in crate::nc) fn axes(self) -> [usize; 3] {
         match self {
             Plane::Xy => [0, 1, 2],
             Plane::Zx => [2, 0, 1],
@@ -81,13 +81,13 @@ impl Plane {
     }
 
     /// A point's (u, v) coordinates in the plane.
-    pub(super) fn uv(self, p: [f64; 3]) -> V2 {
+    pub(in crate::nc) fn uv(self, p: [f64; 3]) -> V2 {
         let [u, v, _] = self.axes();
         [p[u], p[v]]
     }
 
     /// The point with (u, v) in the plane and `w` along its normal.
-    pub(super) fn point(self, uv: V2, w: f64) -> [f64; 3] {
+    pub(in crate::nc) fn point(self, uv: V2, w: f64) -> [f64; 3] {
         let [u, v, n] = self.axes();
         let mut p = [0.0; 3];
         p[u] = uv[0];
@@ -98,7 +98,7 @@ impl Plane {
 }
 
 /// A vector in the plane.
-pub(super) type V2 = [f64; 2];
+pub(in crate::nc) type V2 = [f64; 2];
 
 fn add(a: V2, b: V2) -> V2 {
     [a[0] + b[0], a[1] + b[1]]
@@ -318,7 +318,7 @@ fn next_in_plane(path: &[Programmed], i: usize) -> Option<usize> {
 
 /// The tool centre's path of the programmed moves `path`: cutter radius compensation
 /// applied. An error gives the index of the move it is about and what is wrong.
-pub(super) fn compensate(path: &[Programmed]) -> Result<Vec<MillMove>, (usize, String)> {
+pub(in crate::nc) fn compensate(path: &[Programmed]) -> Result<Vec<MillMove>, (usize, String)> {
     let mut out = Vec::with_capacity(path.len());
     // The tool centre in the plane at the end of the last compensated move.
     let mut at: Option<V2> = None;

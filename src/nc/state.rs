@@ -1,0 +1,233 @@
+//! The interpreter's state, grouped by what it is about: the run's fixed settings, the
+//! programs, the tool's position, modal state (motion, units, feed, spindle), coordinate
+//! frames, threading cycles' modal state, the FANUC/Siemens variable stores (LinuxCNC's
+//! live in `linuxcnc::Lcnc`), the output, and the milling state.
+
+use super::{linuxcnc, mill, Dialect, GcodeSystem, Limits, Move, Options, Program, Source};
+use crate::helix::Spindle;
+use std::collections::HashMap;
+
+/// Interpreter state, grouped by what it is about. (Named `Interp`: the crate's `machine`
+/// is the machine tool's settings.)
+pub(super) struct Interp<'l> {
+    /// What the run was started with; fixed for the run.
+    pub(super) cfg: Config,
+    /// Programs known by name and the loader that finds more beside the main file.
+    pub(super) progs: Programs<'l>,
+    /// Where the tool is: diameter (mm).
+    pub(super) x: f64,
+    /// Where the tool is: z (mm).
+    pub(super) z: f64,
+    /// Modal state of motion, units, feed and spindle.
+    pub(super) modal: Modal,
+    /// Work offsets, G92 offsets and reference points.
+    pub(super) frames: Frames,
+    /// Threading cycles' modal state and continuous threading.
+    pub(super) thread: ThreadState,
+    /// FANUC `#` variables and Siemens R parameters.
+    pub(super) vars: Vars,
+    /// What the run has made so far.
+    pub(super) out: Output,
+    /// LinuxCNC named parameters, call levels and O-word tables.
+    pub(super) lc: linuxcnc::Lcnc,
+    /// A FANUC milling program's codes, addresses and state (`Settings::mill`).
+    pub(super) mill: Option<mill::MillState>,
+}
+
+/// The run's fixed settings.
+pub(super) struct Config {
+    /// Syntax family (FANUC for GSK too).
+    pub(super) dialect: Dialect,
+    /// GSK 980TDC semantics for G34.
+    pub(super) gsk: bool,
+    /// FANUC lathe G-code system (codes are translated to system A when read).
+    pub(super) system: GcodeSystem,
+    /// Unknown words and codes are errors.
+    pub(super) strict: bool,
+    /// Skip blocks that start with `/`.
+    pub(super) block_skip: bool,
+    /// Limits on executed blocks, moves and nesting.
+    pub(super) limits: Limits,
+    /// A FANUC milling program (`Settings::mill`).
+    pub(super) milling: bool,
+}
+
+/// The programs of a run.
+pub(super) struct Programs<'l> {
+    /// Finds a file beside the main one by name.
+    pub(super) loader: &'l dyn Fn(&str) -> Option<Source>,
+    /// Programs by the names they are called by.
+    pub(super) by_name: HashMap<String, std::rc::Rc<Program>>,
+}
+
+/// Modal state: motion mode, units, X mode, feed, spindle and tool.
+pub(super) struct Modal {
+    /// Active motion G code (0, 1, 2, 3, 32, ...).
+    pub(super) motion: u32,
+    /// Incremental moves (G91 on LinuxCNC and G-code systems B/C).
+    pub(super) incremental: bool,
+    /// Inch units (G20).
+    pub(super) inch: bool,
+    /// X words are diameters (G7; always on FANUC/GSK/Siemens lathes), else radii (G8).
+    pub(super) diameter_mode: bool,
+    /// G99 feed per revolution (else G98 per minute).
+    pub(super) per_rev: bool,
+    /// The modal feed F (`None` before any F).
+    pub(super) feed: Option<f64>,
+    /// G96 constant surface speed (else G97 rpm).
+    pub(super) css: bool,
+    /// The last S value.
+    pub(super) speed: Option<f64>,
+    /// Active tool number.
+    pub(super) tool: Option<u32>,
+    /// Spindle direction.
+    pub(super) spindle: Spindle,
+}
+
+/// Coordinate frames: work offsets, G92 offsets, reference points.
+pub(super) struct Frames {
+    /// Work offsets G54..G59 (and LinuxCNC's G59.1..G59.3).
+    pub(super) offsets: [(f64, f64); 9],
+    /// The active work offset (0 = G54).
+    pub(super) work: usize,
+    /// LinuxCNC G92 offset (diameter, z; mm) added to the work offset; (0, 0) when none.
+    pub(super) g92_off: (f64, f64),
+    /// The G28 reference point (diameter, z): the job's, else the machine zero (0, 0).
+    pub(super) reference: (f64, f64),
+    /// FANUC's second reference point (G30 P2) and LinuxCNC's G30 home at the start.
+    pub(super) reference2: (f64, f64),
+}
+
+/// Threading cycles' modal state.
+pub(super) struct ThreadState {
+    /// G76 parameters set by its first block.
+    pub(super) g76: G76Setup,
+    /// Modal G92 target z, lead and taper R (radius, start minus end).
+    pub(super) g92: Option<(f64, f64, f64)>,
+    /// Thread chamfer length in leads (FANUC parameter 5130; G76 P rr sets it).
+    pub(super) chamfer: f64,
+    /// Thread chamfering switched on (M23) or off (M24).
+    pub(super) chamfer_on: bool,
+    /// Modal G90/G94 cutting cycle: (G code, target of the axis a repeat block leaves out,
+    /// taper R).
+    pub(super) cycle90: Option<(u32, f64, f64)>,
+    /// GSK modal thread run-out: J (short axis, signed, radius) and K (long axis, `None` =
+    /// as long as |J|), in mm.
+    pub(super) runout: (Option<f64>, Option<f64>),
+    /// Spindle angle (deg) where the last thread block's move ended, and its Z direction,
+    /// while the next thread block would continue it without a re-sync; `None` once
+    /// anything else moved.
+    pub(super) chain_end: Option<(f64, f64)>,
+}
+
+/// FANUC and Siemens variable stores (LinuxCNC's are in [`linuxcnc::Lcnc`]).
+pub(super) struct Vars {
+    /// FANUC common variables (#100.., #500..); a missing entry is null (vacant).
+    pub(super) common: HashMap<u32, f64>,
+    /// FANUC local variables #1..#33, one level per G65 macro call; missing = null.
+    pub(super) locals: Vec<HashMap<u32, f64>>,
+    /// Siemens R parameters.
+    pub(super) r: HashMap<u32, f64>,
+}
+
+/// What the run has made and counted.
+pub(super) struct Output {
+    /// The moves in execution order.
+    pub(super) moves: Vec<Move>,
+    /// A block tried to record more than `limits.max_moves` moves (the rest were dropped).
+    pub(super) too_many_moves: bool,
+    /// Blocks executed.
+    pub(super) blocks: u64,
+    /// Warnings of the block being run: (column, message).
+    pub(super) pending: Vec<(usize, String)>,
+}
+
+/// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
+/// minimum cut and finishing allowance (mm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct G76Setup {
+    pub(super) m: u32,
+    pub(super) r: u32,
+    pub(super) a: f64,
+    pub(super) dmin: f64,
+    pub(super) d: f64,
+}
+
+impl<'l> Interp<'l> {
+    /// The state at the start of a run of `dialect`'s syntax family (`gsk` for GSK 980TDC).
+    pub(super) fn new(
+        dialect: Dialect,
+        gsk: bool,
+        loader: &'l dyn Fn(&str) -> Option<Source>,
+        opts: &Options,
+    ) -> Interp<'l> {
+        Interp {
+            cfg: Config {
+                dialect,
+                gsk,
+                system: opts.settings.gcode_system,
+                strict: opts.strict,
+                block_skip: opts.settings.block_skip,
+                limits: opts.limits,
+                milling: opts.settings.mill.is_some(),
+            },
+            progs: Programs {
+                loader,
+                by_name: HashMap::new(),
+            },
+            x: 0.0,
+            z: 0.0,
+            modal: Modal {
+                motion: 0,
+                incremental: false,
+                inch: false,
+                diameter_mode: dialect != Dialect::Linuxcnc,
+                per_rev: true,
+                feed: None,
+                css: false,
+                speed: None,
+                tool: None,
+                spindle: Spindle::Cw,
+            },
+            frames: Frames {
+                offsets: {
+                    let mut o = [(0.0, 0.0); 9];
+                    o[..6].copy_from_slice(&opts.settings.work_offsets);
+                    o
+                },
+                work: 0,
+                g92_off: (0.0, 0.0),
+                reference: opts.settings.reference_point.unwrap_or((0.0, 0.0)),
+                reference2: opts.settings.second_reference_point.unwrap_or((0.0, 0.0)),
+            },
+            thread: ThreadState {
+                g76: G76Setup {
+                    m: 1,
+                    r: 0,
+                    a: 60.0,
+                    dmin: 0.0,
+                    d: 0.0,
+                },
+                g92: None,
+                chamfer: opts.settings.thread_chamfer,
+                chamfer_on: true,
+                cycle90: None,
+                runout: (None, None),
+                chain_end: None,
+            },
+            vars: Vars {
+                common: HashMap::new(),
+                locals: vec![HashMap::new()],
+                r: HashMap::new(),
+            },
+            out: Output {
+                moves: Vec::new(),
+                too_many_moves: false,
+                blocks: 0,
+                pending: Vec::new(),
+            },
+            lc: Default::default(),
+            mill: opts.settings.mill.clone().map(mill::MillState::new),
+        }
+    }
+}

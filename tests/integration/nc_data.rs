@@ -1,0 +1,251 @@
+//! NC programs as data: every `tests/data/nc/<dialect>/*.nc` runs through the public
+//! interpreter and its moves, warnings or error must equal the reviewed `*.moves` beside it.
+//!
+//! The `.moves` format (one item a line, numbers rounded to 6 decimals; see
+//! `tests/data/nc/README.md`): leading `#` lines are the file's header (where the expected
+//! values come from; kept when blessing), then lathe moves
+//! `L<line> <kind> X<x0> Z<z0> -> X<x1> Z<z1>` with `lead=`, `change=`, `sync=`, `chained`,
+//! `tool=`, `ccw` and an arc's `centre=X..,Z.. cw|ccw` where they apply; milling moves
+//! `L<line> <kind> (x,y,z) -> (x,y,z)` with `prog=`, `feed=`, `tool=`, `comp=`, an arc's
+//! `centre=`, `r=`, `sweep=`, `plane=`, `spindle=`; `warning L<line>:<col> <message>`; a failed run's
+//! `error L<line>:<col> <message>` and after it the other errors and warnings the static
+//! check found, one a line. `VPCUT_BLESS=1` rewrites the files (header kept): review
+//! the difference against the header's source before committing it.
+
+use crate::support::{blessing, root};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use vpcut::{
+    interpret_with, Dialect, MillMove, MillSettings, Move, MoveKind, NcOptions, Settings, Severity,
+    Source, Spindle, Toolpath,
+};
+
+/// The dialect folders and what they run as.
+const DIALECTS: [(&str, Dialect, bool); 5] = [
+    ("fanuc", Dialect::Fanuc, false),
+    ("gsk", Dialect::Gsk980, false),
+    ("siemens", Dialect::Siemens802d, false),
+    ("linuxcnc", Dialect::Linuxcnc, false),
+    ("fanuc-mill", Dialect::Fanuc, true),
+];
+
+/// The milling machine of `fanuc-mill`: G54's work zero at (100, 50, -10), G57's at the
+/// job's origin; H10 a length offset; D60 = 5 mm, D61 = 9 mm; the tool comes from z = 100.
+fn mill_settings() -> MillSettings {
+    let mut work_offsets = [[0.0; 3]; 6];
+    work_offsets[0] = [100.0, 50.0, -10.0];
+    MillSettings {
+        work_offsets,
+        radius_offsets: vec![(60, 5.0), (61, 9.0)],
+        length_offsets: vec![10],
+        home_z: 100.0,
+    }
+}
+
+/// A number rounded to 6 decimals, trailing zeros dropped (`-0` reads `0`).
+fn num(v: f64) -> String {
+    let s = format!("{:.6}", v);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
+}
+
+fn lathe_move(out: &mut String, m: &Move) {
+    let kind = match m.kind {
+        MoveKind::Rapid => "rapid",
+        MoveKind::Feed => "feed",
+        MoveKind::Thread => "thread",
+        MoveKind::Arc => "arc",
+    };
+    let _ = write!(
+        out,
+        "L{} {kind} X{} Z{} -> X{} Z{}",
+        m.line,
+        num(m.x_start),
+        num(m.z_start),
+        num(m.x_dia),
+        num(m.z)
+    );
+    if let Some(l) = m.lead {
+        let _ = write!(out, " lead={}", num(l));
+    }
+    if let Some(c) = m.lead_change {
+        let _ = write!(out, " change={}", num(c));
+    }
+    if let Some(a) = m.sync_angle_deg {
+        let _ = write!(out, " sync={}", num(a));
+    }
+    if m.chained {
+        out.push_str(" chained");
+    }
+    if let Some(a) = m.arc {
+        let _ = write!(
+            out,
+            " centre=X{},Z{} {}",
+            num(a.x_centre_dia),
+            num(a.z_centre),
+            if a.clockwise { "cw" } else { "ccw" }
+        );
+    }
+    if let Some(t) = m.tool {
+        let _ = write!(out, " tool={t}");
+    }
+    if m.spindle == Spindle::Ccw {
+        out.push_str(" ccw");
+    }
+    out.push('\n');
+}
+
+fn point(p: [f64; 3]) -> String {
+    format!("({},{},{})", num(p[0]), num(p[1]), num(p[2]))
+}
+
+fn mill_move(out: &mut String, m: &MillMove) {
+    let kind = format!("{:?}", m.kind).to_lowercase();
+    let _ = write!(
+        out,
+        "L{} {kind} {} -> {}",
+        m.line,
+        point(m.start),
+        point(m.end)
+    );
+    if m.programmed_end != m.end {
+        let _ = write!(out, " prog={}", point(m.programmed_end));
+    }
+    if let Some(a) = m.arc {
+        let _ = write!(
+            out,
+            " centre={} r={} sweep={} plane={:?}",
+            point(a.centre),
+            num(a.radius),
+            num(a.sweep),
+            a.plane
+        );
+    }
+    if let Some(f) = m.feed {
+        let _ = write!(out, " feed={}", num(f));
+    }
+    if let Some(t) = m.tool {
+        let _ = write!(out, " tool={t}");
+    }
+    match m.spindle {
+        Some(Spindle::Cw) => {}
+        Some(Spindle::Ccw) => out.push_str(" spindle=ccw"),
+        None => out.push_str(" spindle=off"),
+    }
+    if let Some((side, r)) = m.comp {
+        let _ = write!(out, " comp={:?}:{}", side, num(r));
+    }
+    out.push('\n');
+}
+
+/// The body of a `.moves` file for one run.
+fn render(result: &Result<Toolpath, Box<vpcut::NcError>>) -> String {
+    let mut out = String::new();
+    match result {
+        Ok(t) => {
+            for m in &t.moves {
+                lathe_move(&mut out, m);
+            }
+            for m in &t.mill {
+                mill_move(&mut out, m);
+            }
+            for w in &t.warnings {
+                let _ = writeln!(out, "warning L{}:{} {}", w.line, w.col, w.message);
+            }
+        }
+        Err(e) => {
+            let _ = writeln!(out, "error L{}:{} {}", e.line, e.col, e.message);
+            // The static check's other findings, in line order.
+            for d in &e.others {
+                let severity = match d.severity {
+                    Severity::Error => "error",
+                    Severity::Warning => "warning",
+                };
+                let _ = writeln!(out, "{severity} L{}:{} {}", d.line, d.col, d.message);
+            }
+        }
+    }
+    out
+}
+
+/// The `.nc` files of a folder, sorted.
+fn programs(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "nc"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[test]
+fn nc_programs_give_their_reviewed_moves() {
+    let base = root().join("tests/data/nc");
+    let mut failures = Vec::new();
+    let mut count = 0;
+    for (folder, dialect, mill) in DIALECTS {
+        let dir = base.join(folder);
+        for path in programs(&dir) {
+            count += 1;
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            let main = Source {
+                name: name.clone(),
+                text: std::fs::read_to_string(&path).unwrap(),
+            };
+            // Subprograms are the files beside the program (`O0100.nc`, `SUB.SPF`).
+            let loader = |n: &str| {
+                std::fs::read_to_string(dir.join(n))
+                    .ok()
+                    .map(|text| Source {
+                        name: n.to_string(),
+                        text,
+                    })
+            };
+            let opts = NcOptions {
+                settings: Settings {
+                    mill: mill.then(mill_settings),
+                    ..Settings::default()
+                },
+                ..NcOptions::default()
+            };
+            let result = interpret_with(&main, dialect, &loader, &opts).map_err(Box::new);
+            let got = render(&result);
+            let expect_path = path.with_extension("moves");
+            let old = std::fs::read_to_string(&expect_path).unwrap_or_default();
+            let header: String = old
+                .lines()
+                .take_while(|l| l.starts_with('#'))
+                .map(|l| format!("{l}\n"))
+                .collect();
+            let body: String = old
+                .lines()
+                .skip_while(|l| l.starts_with('#'))
+                .map(|l| format!("{l}\n"))
+                .collect();
+            if blessing() {
+                std::fs::write(&expect_path, format!("{header}{got}")).unwrap();
+                continue;
+            }
+            if header.is_empty() {
+                failures.push(format!(
+                    "{folder}/{name}: the .moves file has no header saying where its values come from"
+                ));
+            }
+            if body != got {
+                failures.push(format!(
+                    "{folder}/{name}: moves differ from {}\n--- expected\n{body}--- got\n{got}",
+                    expect_path.display()
+                ));
+            }
+        }
+    }
+    assert!(count >= 20, "only {count} NC data programs");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
