@@ -54,9 +54,6 @@ mod output;
 mod pipeline;
 mod report;
 
-// The transition's aliases: the interpreter still names the helix by its old path.
-use model::helix;
-
 pub use analysis::compare::{compare, Deviation, Extreme, TurnDeviation};
 pub use analysis::measure::{measure, MeasureConfig, TurnMeasure};
 pub use gen::{plan, post};

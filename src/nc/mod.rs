@@ -53,7 +53,7 @@ pub use program::decode_program;
 use program::{load_programs, Program};
 use state::Interp;
 
-use crate::helix::Spindle;
+use crate::model::helix::Spindle;
 use std::collections::HashMap;
 use std::fmt;
 

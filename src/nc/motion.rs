@@ -4,7 +4,7 @@
 use super::codes::{self, Verdict};
 use super::expr::Fail;
 use super::{ArcGeometry, Dialect, Interp, Move, MoveKind, Program, Step, Sync, Words};
-use crate::helix::{LeadLaw, Spindle};
+use crate::model::helix::{LeadLaw, Spindle};
 
 /// G codes with a decimal (LinuxCNC's G92.1, G59.1, ..) are kept in `Words::g` as this plus
 /// the code in tenths (G92.1: `DECIMAL_G + 921`).

@@ -4,7 +4,7 @@
 //! live in `linuxcnc::Lcnc`), the output, and the milling state.
 
 use super::{linuxcnc, mill, Dialect, GcodeSystem, Limits, Move, Options, Program, Source};
-use crate::helix::Spindle;
+use crate::model::helix::Spindle;
 use std::collections::HashMap;
 
 /// Interpreter state, grouped by what it is about. (Named `Interp`: the crate's `machine`

@@ -12,7 +12,7 @@
 
 use super::comp::{Comp, Programmed, Site};
 use super::{CompSide, MillArc, MillKind, MillSettings, Plane};
-use crate::helix::Spindle;
+use crate::model::helix::Spindle;
 use crate::nc::codes::{self, Verdict};
 use crate::nc::expr::Fail;
 use crate::nc::motion::{radius_centre, ARC_TOLERANCE};

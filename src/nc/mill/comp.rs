@@ -21,7 +21,7 @@
 //!   (perpendicular to its end direction) to the block's programmed end.
 
 use super::{CompSide, MillArc, MillKind, MillMove, Plane};
-use crate::helix::Spindle;
+use crate::model::helix::Spindle;
 use std::f64::consts::{PI, TAU};
 
 /// Below this change of direction (rad) a joint is tangent.

@@ -22,7 +22,7 @@ mod tests;
 pub(super) use blocks::MillState;
 pub(super) use comp::compensate;
 
-use crate::helix::Spindle;
+use crate::model::helix::Spindle;
 
 /// The plane of circular interpolation and of cutter radius compensation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
