@@ -7,7 +7,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::time::Duration;
 use vpcut::{
-    build_scene, simulate, to_glb, Job, Options, RenderOptions, Renderer, SceneOptions, View,
+    build_scene, simulate, to_glb, Job, RenderOptions, Renderer, SceneOptions, SimOptions, View,
 };
 
 fn scene(name: &str) -> Job {
@@ -20,7 +20,7 @@ fn scene(name: &str) -> Job {
 fn bench_mesh(c: &mut Criterion) {
     for name in ["seed002-equal-tooth", "seed004-tr100x12"] {
         let job = scene(name);
-        let out = simulate(&job, &Options::default()).unwrap();
+        let out = simulate(&job, &SimOptions::default()).unwrap();
         let mut g = c.benchmark_group(format!("mesh/{name}"));
         g.sample_size(10).measurement_time(Duration::from_secs(6));
         g.throughput(Throughput::Elements(out.stock.stored_dexels() as u64));
@@ -49,7 +49,7 @@ fn bench_render(c: &mut Criterion) {
     eprintln!("adapter: {}", r.adapter());
     for name in ["seed002-equal-tooth", "seed004-tr100x12"] {
         let job = scene(name);
-        let out = simulate(&job, &Options::default()).unwrap();
+        let out = simulate(&job, &SimOptions::default()).unwrap();
         let scene = build_scene(
             &job,
             &out,

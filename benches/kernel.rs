@@ -7,7 +7,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::time::Duration;
-use vpcut::{compare, plan_grid, simulate, simulate_report, sweep, Job, Options, Stock, Surface};
+use vpcut::{
+    compare, plan_grid, simulate, simulate_report, sweep, Job, SimOptions, Stock, Surface,
+};
 
 fn scene(name: &str) -> Job {
     let path = format!("{}/scenes/{name}/job.toml", env!("CARGO_MANIFEST_DIR"));
@@ -64,11 +66,11 @@ fn bench_simulate(c: &mut Criterion) {
     for name in ["seed002-equal-tooth", "seed002-equal-tooth-interpolated"] {
         let job = scene(name);
         g.bench_function(name, |b| {
-            b.iter(|| simulate(&job, &Options::default()).unwrap())
+            b.iter(|| simulate(&job, &SimOptions::default()).unwrap())
         });
         // The streaming pipeline (the CLI without --gltf/--png/--plots): the same report.
         g.bench_function(format!("{name}/stream"), |b| {
-            b.iter(|| simulate_report(&job, &Options::default()).unwrap())
+            b.iter(|| simulate_report(&job, &SimOptions::default()).unwrap())
         });
     }
     g.finish();
@@ -83,9 +85,9 @@ fn bench_long(c: &mut Criterion) {
     let mut g = c.benchmark_group("long/screw-1m");
     g.sample_size(10).measurement_time(Duration::from_secs(30));
     g.bench_function("stream", |b| {
-        b.iter(|| simulate_report(&job, &Options::default()).unwrap())
+        b.iter(|| simulate_report(&job, &SimOptions::default()).unwrap())
     });
-    let whole = Options {
+    let whole = SimOptions {
         max_dexels: Some(400_000_000),
     };
     g.bench_function("full-grid", |b| b.iter(|| simulate(&job, &whole).unwrap()));
@@ -117,7 +119,7 @@ fn bench_plan(c: &mut Criterion) {
     g.bench_function("plan-and-simulate", |b| {
         b.iter(|| {
             let job = Job::from_toml(&text, "job.toml").unwrap();
-            simulate(&job, &Options::default()).unwrap()
+            simulate(&job, &SimOptions::default()).unwrap()
         })
     });
     g.finish();
@@ -139,7 +141,7 @@ fn bench_mill(c: &mut Criterion) {
     g.sample_size(10).measurement_time(Duration::from_secs(15));
     let p = pool(2);
     g.bench_function("simulate-2-threads", |b| {
-        b.iter(|| p.install(|| simulate(&job, &Options::default()).unwrap()))
+        b.iter(|| p.install(|| simulate(&job, &SimOptions::default()).unwrap()))
     });
     g.bench_function("sweep-2-threads", |b| {
         b.iter(|| {

@@ -36,7 +36,7 @@
 //!     axial_spacing = 0.02
 //!     measure_generators = 2
 //! "#, "inline.toml").unwrap();
-//! let out = vpcut::simulate(&job, &vpcut::Options::default()).unwrap();
+//! let out = vpcut::simulate(&job, &vpcut::SimOptions::default()).unwrap();
 //! assert!(out.report.deviation.max_gouge_mm < 0.01);
 //! ```
 
@@ -80,7 +80,7 @@ pub use output::mesh::{build_scene, ideal_mesh, stock_mesh, tool_mesh, toolpath,
 pub use output::plot::{developed_view, section_profile, section_view, signed_deviation};
 pub use output::render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};
 pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
-pub use pipeline::{plan_grid, simulate, simulate_report, Options, Outcome, SimError};
+pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
     Finding, FindingCounts, FindingKind, InputFile, Painter, Report, SummaryStyle, Tone, TurnRow,
     Verdict, SCHEMA, VERSION,

@@ -657,7 +657,7 @@ fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     let progress = Progress::new(args.quiet);
     let out = progress
         .stage("simulating the program", || {
-            vpcut::simulate(&back, &vpcut::Options::default())
+            vpcut::simulate(&back, &vpcut::SimOptions::default())
         })
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
     if !args.quiet {
@@ -735,7 +735,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             term::err(&term::diagnostics(&format!("{w}\n")));
         }
     }
-    let opts = vpcut::Options {
+    let opts = vpcut::SimOptions {
         max_dexels: args.max_dexels,
     };
     // Only the model, the pictures and the plots need the whole grid: without them the
@@ -876,7 +876,7 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         Stream::Stdout
     };
     let progress = Progress::new(args.quiet);
-    let opts = vpcut::Options {
+    let opts = vpcut::SimOptions {
         max_dexels: args.max_dexels,
     };
     let (cases, read): (Vec<Case>, Vec<Vec<PathBuf>>) =
@@ -915,7 +915,7 @@ fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
 
 /// Read and simulate one job of `vpcut check`; whatever goes wrong is its outcome. Also
 /// the files it read.
-fn check_one(path: &Path, strict: bool, opts: &vpcut::Options) -> (Case, Vec<PathBuf>) {
+fn check_one(path: &Path, strict: bool, opts: &vpcut::SimOptions) -> (Case, Vec<PathBuf>) {
     let start = Instant::now();
     let inputs = Inputs::default();
     let run = || -> anyhow::Result<Checked> {

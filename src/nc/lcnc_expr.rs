@@ -229,7 +229,9 @@ impl Interp<'_> {
             "_LATHE_DIAMETER_MODE" => b(self.modal.diameter_mode),
             "_LATHE_RADIUS_MODE" => b(!self.modal.diameter_mode),
             "_SPINDLE_ON" => b(st.spindle_on),
-            "_SPINDLE_CW" => b(st.spindle_on && self.modal.spindle == crate::model::helix::Spindle::Cw),
+            "_SPINDLE_CW" => {
+                b(st.spindle_on && self.modal.spindle == crate::model::helix::Spindle::Cw)
+            }
             "_MIST" => b(st.mist),
             "_FLOOD" => b(st.flood),
             "_SPEED_OVERRIDE" => b(st.speed_override),

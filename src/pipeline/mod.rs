@@ -32,7 +32,7 @@ const MAX_PLACEMENTS: f64 = 5e9;
 
 /// Run-time options that are not part of the job.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Options {
+pub struct SimOptions {
     /// Overrides the job's dexel budget.
     pub max_dexels: Option<u64>,
 }
@@ -155,7 +155,7 @@ impl<'a> Operation<'a> {
 /// Simulate a job: cut, compare, measure, check, report. The whole grid is kept and
 /// returned (the model, the pictures and the plots need it); [`simulate_report`] streams
 /// the columns instead and returns the same report holding only a column per thread.
-pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
+pub fn simulate(job: &Job, opts: &SimOptions) -> Result<Outcome, SimError> {
     let run = run(job, opts, true)?;
     Ok(Outcome {
         report: run.report,
@@ -171,7 +171,7 @@ pub fn simulate(job: &Job, opts: &Options) -> Result<Outcome, SimError> {
 /// report is byte for byte the one [`simulate`] gives, for any thread count; the memory
 /// held does not grow with the number of angular cells, and the dexel budget applies to
 /// what is held.
-pub fn simulate_report(job: &Job, opts: &Options) -> Result<Report, SimError> {
+pub fn simulate_report(job: &Job, opts: &SimOptions) -> Result<Report, SimError> {
     run(job, opts, false).map(|r| r.report)
 }
 
@@ -185,7 +185,7 @@ struct Run {
 
 /// The run behind [`simulate`] (`keep`: the whole grid, returned) and
 /// [`simulate_report`] (streamed).
-fn run(job: &Job, opts: &Options, keep: bool) -> Result<Run, SimError> {
+fn run(job: &Job, opts: &SimOptions, keep: bool) -> Result<Run, SimError> {
     let t_start = Instant::now();
     let op = Operation::of(job);
     let (grid, requested) = plan_grid(job)?;

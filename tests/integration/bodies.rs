@@ -297,7 +297,7 @@ fn a_mesh_insert_cuts_as_the_parametric_one() {
         vpcut::Job::from_toml_with(&text, "job.toml", &load).unwrap_or_else(|e| panic!("{e}"));
     assert!(matches!(mesh_job.tools[0].edge, vpcut::Edge::Mesh { .. }));
     let a = run(&parametric);
-    let b = vpcut::simulate(&mesh_job, &vpcut::Options::default()).unwrap();
+    let b = vpcut::simulate(&mesh_job, &vpcut::SimOptions::default()).unwrap();
     // The edges alone: the same cut to float rounding, which may put a cell whose centre
     // lies on a flank on the other side (the mesh's planes are normalized): then the cell
     // beside it agrees.
@@ -430,7 +430,7 @@ fn a_faceted_round_nose_cuts_within_its_sagitta() {
         round_job.tools[0].edge,
         vpcut::Edge::RoundV { .. }
     ));
-    let round = vpcut::simulate(&round_job, &vpcut::Options::default()).unwrap();
+    let round = vpcut::simulate(&round_job, &vpcut::SimOptions::default()).unwrap();
     let (r, reach) = (0.3f64, 60f64.to_radians());
     let tan30 = 30f64.to_radians().tan();
     let mut worst_by_n = Vec::new();
@@ -453,7 +453,7 @@ fn a_faceted_round_nose_cuts_within_its_sagitta() {
             solid: std::sync::Arc::new(solid),
             body: false,
         };
-        let mesh = vpcut::simulate(&mesh_job, &vpcut::Options::default()).unwrap();
+        let mesh = vpcut::simulate(&mesh_job, &vpcut::SimOptions::default()).unwrap();
         let sagitta = r * (1.0 - (reach / n as f64).cos());
         let bound = sagitta / reach.cos();
         let (mut lo, mut hi) = (0f32, 0f32);

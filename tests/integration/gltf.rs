@@ -8,7 +8,7 @@ use crate::support::{job, root, run_scene, scene_job, scene_text, with, INTERNAL
 use std::collections::HashMap;
 use std::f64::consts::TAU;
 use vpcut::{
-    build_scene, from_glb, simulate, stock_mesh, to_glb, Legend, Mesh, Options, SceneOptions,
+    build_scene, from_glb, simulate, stock_mesh, to_glb, Legend, Mesh, SceneOptions, SimOptions,
     Stock, Surface,
 };
 
@@ -233,7 +233,7 @@ fn stock_mesh_is_closed_and_within_tolerance_of_the_dexels() {
         ("internal", internal),
     ];
     for (name, j) in cases {
-        let out = simulate(&j, &Options::default()).unwrap();
+        let out = simulate(&j, &SimOptions::default()).unwrap();
         let e = j.sim.tolerance;
         let legend = Legend {
             tolerance_mm: e,
@@ -306,7 +306,7 @@ fn full_export_has_every_dexel() {
         ],
     );
     let j = job(&text);
-    let out = simulate(&j, &Options::default()).unwrap();
+    let out = simulate(&j, &SimOptions::default()).unwrap();
     let scene = build_scene(
         &j,
         &out,
@@ -339,7 +339,7 @@ fn colours_follow_the_report() {
         &[("simulation", "angular_cells", "720")],
     );
     let j = job(&text);
-    let out = simulate(&j, &Options::default()).unwrap();
+    let out = simulate(&j, &SimOptions::default()).unwrap();
     let scene = build_scene(&j, &out, &SceneOptions::default());
     let d = &out.report.deviation;
     for (at, want) in [(&d.max_gouge_at, "blue"), (&d.max_leftover_at, "red")] {
@@ -383,7 +383,7 @@ fn colours_follow_the_report() {
 #[test]
 fn glb_round_trips() {
     let j = scene_job("seed002-equal-groove");
-    let out = simulate(&j, &Options::default()).unwrap();
+    let out = simulate(&j, &SimOptions::default()).unwrap();
     let scene = build_scene(
         &j,
         &out,
@@ -437,7 +437,7 @@ fn glb_bytes_do_not_depend_on_threads() {
             .build()
             .unwrap()
             .install(|| {
-                let out = simulate(&j, &Options::default()).unwrap();
+                let out = simulate(&j, &SimOptions::default()).unwrap();
                 to_glb(&build_scene(&j, &out, &SceneOptions::default())).unwrap()
             })
     };
@@ -490,7 +490,7 @@ fn the_ideal_sheet_is_the_closed_form_between_columns() {
             &[("simulation", "angular_cells", "720")],
         );
         let j = job(&text);
-        let out = simulate(&j, &Options::default()).unwrap();
+        let out = simulate(&j, &SimOptions::default()).unwrap();
         let opts = SceneOptions {
             ideal: true,
             ..SceneOptions::default()

@@ -1,7 +1,7 @@
 //! Same answer whatever the thread count; a left-hand thread is the mirror of a right-hand one.
 
 use crate::support::{job, report_json, scene_text, with};
-use vpcut::{simulate, Options};
+use vpcut::{simulate, SimOptions};
 
 fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
     rayon::ThreadPoolBuilder::new()
@@ -24,8 +24,8 @@ fn one_and_two_threads_give_identical_bytes() {
             ],
         );
         let j = job(&text);
-        let a = in_pool(1, || simulate(&j, &Options::default()).unwrap());
-        let b = in_pool(2, || simulate(&j, &Options::default()).unwrap());
+        let a = in_pool(1, || simulate(&j, &SimOptions::default()).unwrap());
+        let b = in_pool(2, || simulate(&j, &SimOptions::default()).unwrap());
         assert_eq!(report_json(&a).to_string(), report_json(&b).to_string());
         assert!(a
             .stock
@@ -79,8 +79,8 @@ fn shifted(hand: &str, spindle: &str, angle: f64) -> String {
 /// with M04: column `i` of one is column `-i` of the other, and the deviations agree.
 #[test]
 fn left_and_right_hands_mirror() {
-    let a = simulate(&job(&shifted("right", "cw", 30.0)), &Options::default()).unwrap();
-    let b = simulate(&job(&shifted("left", "ccw", -30.0)), &Options::default()).unwrap();
+    let a = simulate(&job(&shifted("right", "cw", 30.0)), &SimOptions::default()).unwrap();
+    let b = simulate(&job(&shifted("left", "ccw", -30.0)), &SimOptions::default()).unwrap();
     let g = a.stock.grid;
     let mut worst: f32 = 0.0;
     for i in 0..g.n_theta {

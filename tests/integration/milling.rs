@@ -2,7 +2,7 @@
 //! sampled four times finer (the stated bound), and milling-job errors that name the key.
 
 use crate::support::{report_json, root, scene_job};
-use vpcut::{simulate, sweep_mill, MillPath, Options, Stock, Surface};
+use vpcut::{simulate, sweep_mill, MillPath, SimOptions, Stock, Surface};
 
 fn small(scene: &str) -> vpcut::Job {
     let mut job = scene_job(scene);
@@ -19,7 +19,7 @@ fn milling_gives_identical_bytes_with_one_and_two_threads() {
             .num_threads(n)
             .build()
             .unwrap()
-            .install(|| simulate(&job, &Options::default()).unwrap())
+            .install(|| simulate(&job, &SimOptions::default()).unwrap())
     };
     let (a, b) = (run(1), run(2));
     assert_eq!(report_json(&a).to_string(), report_json(&b).to_string());

@@ -315,7 +315,7 @@ fn two_start_thread_needs_both_starts() {
     job.passes
         .retain(|p| (p.start_angle - first.passes[0].start_angle).abs() < 1e-9);
     assert_eq!(job.passes.len(), 4);
-    let half = vpcut::simulate(&job, &vpcut::Options::default()).unwrap();
+    let half = vpcut::simulate(&job, &vpcut::SimOptions::default()).unwrap();
     assert_eq!(half.report.verdict, vpcut::Verdict::Fail);
     // An uncut groove of start 1: its root is missing by the whole depth, reported at the
     // root with its radial size, (d - d3)/2 = 1.226869 P / 2 = 1.53359; on the flanks the

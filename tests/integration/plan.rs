@@ -6,7 +6,7 @@
 
 use crate::support::root;
 use vpcut::post::{self, Post};
-use vpcut::{simulate, Job, Options, Verdict};
+use vpcut::{simulate, Job, SimOptions, Verdict};
 
 const POSTS: [(Post, &str); 5] = [
     (Post::Fanuc, "fanuc"),
@@ -37,7 +37,7 @@ fn plans() -> Vec<(String, Job)> {
 
 /// Clean: the verdict passes and nothing is reported, not even a warning.
 fn assert_clean(what: &str, job: &Job) {
-    let out = simulate(job, &Options::default()).unwrap();
+    let out = simulate(job, &SimOptions::default()).unwrap();
     let r = &out.report;
     assert_eq!(r.verdict, Verdict::Pass, "{what}:\n{}", r.summary());
     assert!(r.findings.is_empty(), "{what}:\n{}", r.summary());

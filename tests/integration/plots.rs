@@ -4,7 +4,7 @@
 
 use crate::support::{job, scene_text, with};
 use image::RgbImage;
-use vpcut::{developed_view, section_profile, signed_deviation, simulate, Options};
+use vpcut::{developed_view, section_profile, signed_deviation, simulate, SimOptions};
 
 /// Gouge pixels are clearly blue, leftover clearly red, neutral grey (r = g within 10).
 fn kind(img: &RgbImage, x: u32, y: u32) -> &'static str {
@@ -33,7 +33,7 @@ fn developed_view_shows_the_reported_extremes() {
         ],
     );
     let j = job(&text);
-    let out = simulate(&j, &Options::default()).unwrap();
+    let out = simulate(&j, &SimOptions::default()).unwrap();
     let (w, h) = (720u32, 850u32);
     let img = developed_view(&out.stock, &j.thread, j.sim.tolerance, w, h);
     let grid = out.stock.grid;
@@ -80,7 +80,7 @@ fn developed_view_shows_the_reported_extremes() {
 #[test]
 fn an_exact_cut_is_all_neutral() {
     let j = job(&scene_text("equal-groove-single-pass"));
-    let out = simulate(&j, &Options::default()).unwrap();
+    let out = simulate(&j, &SimOptions::default()).unwrap();
     assert_eq!(out.report.verdict, vpcut::Verdict::Pass);
     let img = developed_view(&out.stock, &j.thread, j.sim.tolerance, 360, 400);
     let coloured = (0..360)

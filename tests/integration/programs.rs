@@ -2,7 +2,7 @@
 //! cut what the pass generators that transcribe the same method cut.
 
 use crate::support::{scene_job, with};
-use vpcut::{simulate, Options};
+use vpcut::{simulate, SimOptions};
 
 /// Seed 002's MYAAA.MPF/MYBBB.SPF through the Siemens interpreter give exactly the passes of
 /// the `seed002` generator (the same arithmetic written in Rust).
@@ -45,8 +45,8 @@ fn seed004_macro_b_program_cuts_what_its_generator_cuts() {
     let generator = small("seed004-tr100x12");
     assert_eq!(program.passes.len(), 198);
     assert_eq!(generator.passes.len(), 195);
-    let a = simulate(&program, &Options::default()).unwrap();
-    let b = simulate(&generator, &Options::default()).unwrap();
+    let a = simulate(&program, &SimOptions::default()).unwrap();
+    let b = simulate(&generator, &SimOptions::default()).unwrap();
     let worst = a
         .stock
         .outer
@@ -157,7 +157,7 @@ fn g92_chamfer_pass_continues_the_main_helix() {
     job.sim.angular_cells = 360;
     job.sim.axial_spacing = 0.02;
     job.sim.measure_generators = 2;
-    let out = simulate(&job, &Options::default()).unwrap();
+    let out = simulate(&job, &SimOptions::default()).unwrap();
     let st = &out.stock;
     let deepest = |z: f64| {
         let j = ((z - st.grid.z0) / st.grid.dz).round() as usize;
@@ -277,7 +277,7 @@ fn thread_chain_finding_in_the_report() {
     let report = |program: &'static str| {
         let load = |f: &str| (f == "P.NC").then(|| program.to_string());
         let job = vpcut::Job::from_toml_with(toml, "t.toml", &load).unwrap();
-        simulate(&job, &Options::default()).unwrap().report
+        simulate(&job, &SimOptions::default()).unwrap().report
     };
     let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG32 Z-20 F3\nM30\n");
     let chain: Vec<_> = r

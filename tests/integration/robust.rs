@@ -2,7 +2,7 @@
 //! either a job that simulates or a clean error.
 
 use crate::support::{scene_text, scenes};
-use vpcut::{simulate, Job, Options};
+use vpcut::{simulate, Job, SimOptions};
 
 const HOSTILE: [&str; 9] = [
     "0",
@@ -47,7 +47,7 @@ fn hostile_numbers_never_panic() {
                         job.sim.measure_spacing = job.sim.measure_spacing.max(0.01);
                         let _ = simulate(
                             &job,
-                            &Options {
+                            &SimOptions {
                                 max_dexels: Some(4_000_000),
                             },
                         );

@@ -3,7 +3,7 @@
 //! count; the dexel budget is on the memory a run holds, and says so.
 
 use crate::support::{report_json, scene_job, scenes, small};
-use vpcut::{simulate, simulate_report, Job, Options, SimError};
+use vpcut::{simulate, simulate_report, Job, SimError, SimOptions};
 
 fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
     rayon::ThreadPoolBuilder::new()
@@ -25,7 +25,7 @@ fn json(r: vpcut::Report) -> String {
 
 fn streamed(j: &Job, threads: usize) -> String {
     json(in_pool(threads, || {
-        simulate_report(j, &Options::default()).unwrap()
+        simulate_report(j, &SimOptions::default()).unwrap()
     }))
 }
 
@@ -38,7 +38,7 @@ fn streaming_and_full_grid_reports_are_identical() {
         j.sim.angular_cells = 72;
         j.sim.axial_spacing = j.sim.axial_spacing.max(0.05);
         j.sim.measure_generators = 2;
-        let full = report_json(&simulate(&j, &Options::default()).unwrap()).to_string();
+        let full = report_json(&simulate(&j, &SimOptions::default()).unwrap()).to_string();
         for threads in [1, 2] {
             assert_eq!(full, streamed(&j, threads), "{scene}, {threads} thread(s)");
         }
@@ -52,7 +52,7 @@ fn streaming_and_full_grid_reports_are_identical() {
 fn streaming_matches_at_full_resolution() {
     for scene in ["seed002-equal-tooth", "seed000-tool-rub"] {
         let j = scene_job(scene);
-        let full = report_json(&simulate(&j, &Options::default()).unwrap()).to_string();
+        let full = report_json(&simulate(&j, &SimOptions::default()).unwrap()).to_string();
         for threads in [1, 2] {
             assert_eq!(full, streamed(&j, threads), "{scene}, {threads} thread(s)");
         }
@@ -65,7 +65,7 @@ fn streaming_matches_at_full_resolution() {
 fn the_dexel_budget_error_states_the_memory_held() {
     let j = crate::support::job(&small("seed002-equal-tooth"));
     let (n_theta, n_z) = (72u64, 2000u64);
-    let opts = |n: u64| Options {
+    let opts = |n: u64| SimOptions {
         max_dexels: Some(n),
     };
     // The full grid: 72 x 2000 dexels, over a budget one less.

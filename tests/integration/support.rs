@@ -1,7 +1,7 @@
 //! Helpers shared by the integration tests.
 
 use std::path::{Path, PathBuf};
-use vpcut::{simulate, Job, Options, Outcome};
+use vpcut::{simulate, Job, Outcome, SimOptions};
 
 /// The repository root.
 pub(crate) fn root() -> PathBuf {
@@ -62,12 +62,12 @@ pub(crate) fn scene_job(name: &str) -> Job {
 
 /// Simulate a scene.
 pub(crate) fn run_scene(name: &str) -> Outcome {
-    simulate(&scene_job(name), &Options::default()).unwrap_or_else(|e| panic!("{e}"))
+    simulate(&scene_job(name), &SimOptions::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Simulate a job text.
 pub(crate) fn run(text: &str) -> Outcome {
-    simulate(&job(text), &Options::default()).unwrap_or_else(|e| panic!("{e}"))
+    simulate(&job(text), &SimOptions::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The report as JSON without the timing (the only part that changes between runs), the

@@ -6,7 +6,7 @@
 //! for a fraction of a turn, in any turn including the first and the last) must fail with
 //! a gouge of at least 0.8 times the shift on that turn, start and flank.
 
-use vpcut::{simulate, Job, Options, Pass, Spindle, Verdict};
+use vpcut::{simulate, Job, Pass, SimOptions, Spindle, Verdict};
 
 /// A small deterministic generator (splitmix64): the cases are the same on every run.
 struct Rng(u64);
@@ -296,7 +296,7 @@ fn run(c: &Case, with_defect: bool) -> vpcut::Report {
     if with_defect {
         job.passes.push(c.defect.clone());
     }
-    simulate(&job, &Options::default())
+    simulate(&job, &SimOptions::default())
         .unwrap_or_else(|e| panic!("seed {}: {e}", c.seed))
         .report
 }
@@ -633,7 +633,7 @@ fn exact_fit_tools_of_standard_forms_are_accepted() {
         );
         let job = vpcut::Job::from_toml(&text, "fit.toml")
             .unwrap_or_else(|e| panic!("{form} P{pitch}: {e}"));
-        let r = simulate(&job, &Options::default()).unwrap().report;
+        let r = simulate(&job, &SimOptions::default()).unwrap().report;
         assert!(
             r.deviation.max_gouge_mm < 1e-3,
             "{form} P{pitch}: {}",
@@ -659,7 +659,7 @@ fn a_thread_that_is_not_on_the_blank_never_passes() {
     // On the blank, but the simulated window holds none of it.
     let mut job = vpcut::Job::from_toml(&text(-10.0), "w.toml").unwrap();
     job.sim.z_range = Some((-59.0, -55.0));
-    let r = simulate(&job, &Options::default()).unwrap().report;
+    let r = simulate(&job, &SimOptions::default()).unwrap().report;
     assert_eq!(r.verdict, Verdict::Fail);
     assert_eq!(r.findings[0].kind, vpcut::FindingKind::NotCompared);
 }
