@@ -269,64 +269,11 @@ pub struct Diagnostic {
 }
 
 impl fmt::Display for Diagnostic {
-    /// Rendered as a compiler does: `file:line:col: error: message`, the source line, a
-    /// caret under the column, the hint and the call stack.
+    /// Rendered as a compiler does (`crate::diag`): `error: message`, `--> file:line:col`,
+    /// the source line with a caret under the column, the hint and the call stack.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let sev = match self.severity {
-            Severity::Error => "error",
-            Severity::Warning => "warning",
-        };
-        write!(
-            f,
-            "{}:{}:{}: {sev}: {}",
-            self.file,
-            self.line,
-            self.col.max(1),
-            self.message
-        )?;
-        let num = self.line.to_string();
-        let pad = " ".repeat(num.len());
-        let (snippet, col) = clip_line(self.snippet.trim_end(), self.col);
-        write!(f, "\n{pad} |\n{num} | {snippet}")?;
-        if col > 0 {
-            write!(f, "\n{pad} | {}^", " ".repeat(col - 1))?;
-        }
-        if let Some(h) = &self.hint {
-            write!(f, "\n{pad} = hint: {h}")?;
-        }
-        for s in &self.stack {
-            write!(f, "\n{pad} = called from {s}")?;
-        }
-        Ok(())
+        crate::diag::render(self, f)
     }
-}
-
-/// A source line as a message shows it: a long one (a hostile program's 100,000 brackets)
-/// cut to a window of about 100 characters around the 1-based character column `col` (0:
-/// no column), with `...` where it was cut; and the column in what is shown.
-pub(crate) fn clip_line(line: &str, col: usize) -> (String, usize) {
-    const WIDTH: usize = 100;
-    let n = line.chars().count();
-    if n <= WIDTH {
-        return (line.to_string(), col);
-    }
-    let at = col.saturating_sub(1).min(n);
-    let start = at.saturating_sub(WIDTH / 2).min(n - WIDTH);
-    let end = start + WIDTH;
-    let mut out = String::new();
-    if start > 0 {
-        out.push_str("...");
-    }
-    out.extend(line.chars().skip(start).take(WIDTH));
-    if end < n {
-        out.push_str("...");
-    }
-    let col = if col == 0 {
-        0
-    } else {
-        col - start + if start > 0 { 3 } else { 0 }
-    };
-    (out, col)
 }
 
 /// A program that cannot be run: the error that stopped it (its fields), and every other
@@ -399,7 +346,7 @@ impl fmt::Display for NcError {
         all.sort_by(|a, b| (&a.file, a.line, a.col).cmp(&(&b.file, b.line, b.col)));
         for (i, d) in all.iter().enumerate() {
             if i > 0 {
-                writeln!(f)?;
+                write!(f, "\n\n")?;
             }
             write!(f, "{d}")?;
         }
@@ -408,7 +355,7 @@ impl fmt::Display for NcError {
         if all.len() > 1 {
             write!(
                 f,
-                "\n{errors} error{}, {warnings} warning{}",
+                "\n\n{errors} error{}, {warnings} warning{}",
                 if errors == 1 { "" } else { "s" },
                 if warnings == 1 { "" } else { "s" }
             )?;
