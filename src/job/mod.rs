@@ -299,22 +299,36 @@ impl Job {
     }
 }
 
-/// An error of the program stage as a job error: the interpreter's errors and those about
-/// a move as the program's, the others at the job's keys.
+/// An error of the program stage as a job error: the interpreter's errors and those about a
+/// move as the program's (a move's about its block as a whole: column 0), the others at the
+/// job's keys.
 fn program_error(e: ProgramError, cx: &Ctx) -> JobError {
-    match e.into_nc() {
-        Ok(nc) => JobError::Program(Box::new(nc)),
-        Err(ProgramError::Unreadable(file)) => cx.err(
+    match e {
+        ProgramError::Nc(nc) => JobError::Program(nc),
+        ProgramError::Move {
+            file,
+            line,
+            message,
+        } => JobError::Program(Box::new(NcError {
+            file,
+            line,
+            col: 0,
+            message,
+            snippet: String::new(),
+            stack: Vec::new(),
+            hint: None,
+            others: Vec::new(),
+        })),
+        ProgramError::Unreadable(file) => cx.err(
             "program.file",
             format!("cannot read `{file}` (relative to the job file)"),
         ),
-        Err(ProgramError::Samples(n)) => cx.err(
+        ProgramError::Samples(n) => cx.err(
             "program",
             format!(
                 "the path needs {n} samples at the stated sampling bound, over the limit of {}: a shorter program or fewer moves",
                 crate::kernel::mill::MAX_SAMPLES
             ),
         ),
-        Err(e) => unreachable!("into_nc takes {e:?}"),
     }
 }

@@ -799,13 +799,13 @@ mod tests {
         }
         assert!((c.radius_at(20.0) - 4.0).abs() < 1e-12);
         assert_eq!(c.radius, 5.0);
-        assert!(Cutter::from_spec(&CutterSpec {
+        let e = Cutter::from_spec(&CutterSpec {
             tooth_depth: 1.3,
             ..comb(3)
         })
-        .unwrap_err()
-        .to_string()
-        .contains("overlap"));
+        .unwrap_err();
+        assert!(matches!(e, CutterError::TeethOverlap { .. }), "{e}");
+        assert!(e.to_string().contains("overlap"), "{e}");
     }
 
     /// A straight plunge of a disc cutter into a bar along z cuts the bar to the exact

@@ -50,31 +50,6 @@ pub(crate) enum ProgramError {
     Samples(usize),
 }
 
-impl ProgramError {
-    /// A move's error, as the interpreter's error about its block (column 0: the block as
-    /// a whole), or `None` for the errors that are about the job's keys.
-    pub(crate) fn into_nc(self) -> Result<NcError, ProgramError> {
-        match self {
-            ProgramError::Nc(e) => Ok(*e),
-            ProgramError::Move {
-                file,
-                line,
-                message,
-            } => Ok(NcError {
-                file,
-                line,
-                col: 0,
-                message,
-                snippet: String::new(),
-                stack: Vec::new(),
-                hint: None,
-                others: Vec::new(),
-            }),
-            other => Err(other),
-        }
-    }
-}
-
 /// Read `program` (and its subprograms) through `load` and interpret it.
 pub(crate) fn interpret(
     program: &Program,
