@@ -179,6 +179,9 @@ mod tests {
     fn whole_block_and_no_line() {
         let s = shown(&diag(3, 0, "G1 X5"));
         assert!(s.contains("--> P.NC:3:1\n  |\n3 | G1 X5\n  | ^^^^^"), "{s}");
+        // A move's error names its block without its text.
+        let s = shown(&diag(12, 0, ""));
+        assert!(s.contains("--> P.NC:12:1\n"), "{s}");
         let s = shown(&diag(0, 0, ""));
         assert!(
             s.starts_with("error: something is wrong\n = in P.NC\n"),
