@@ -4,9 +4,10 @@
 //! The pipeline, in reading order:
 //!
 //! 1. [`Job::from_toml`] reads a job (blank, thread, tools, passes or a pass generator,
-//!    machine, simulation settings) into mm and radians; [`Job::from_toml_with`] also runs
-//!    the job's NC program through [`interpret`] (Siemens 802D, FANUC, GSK 980TDC,
-//!    LinuxCNC) and turns its thread moves into passes.
+//!    machine, simulation settings) into mm and radians; [`Job::from_toml_with`] then runs
+//!    the program stage: the job's NC program through [`interpret`] (Siemens 802D, FANUC,
+//!    GSK 980TDC, LinuxCNC), its thread moves made into passes (or a mill's moves into
+//!    its path).
 //! 2. [`simulate`] builds the blank as a [`Stock`] of radial dexels, sweeps every pass
 //!    through it ([`sweep`]), compares the cut with the closed-form ideal thread
 //!    ([`compare`]), measures leads and widths along generators ([`measure`]), runs the
@@ -40,27 +41,31 @@
 //! assert!(out.report.deviation.max_gouge_mm < 0.01);
 //! ```
 
-// The stages, in the order a job flows through them (see ARCHITECTURE.md).
+// The stages, lowest first (each uses only those before it; `tests/integration/tidy.rs`
+// checks it): diag, model, kernel, nc, analysis, gen, toolpath, job, report, pipeline,
+// output. See ARCHITECTURE.md. (rustfmt lists them alphabetically.)
 mod analysis;
-mod kernel;
-mod model;
-// An `NcError` carries every diagnostic of a program (160 bytes); it is returned once per run,
-// never in a loop, so boxing it would only make the API clumsier.
+mod diag;
 mod gen;
 mod job;
+mod kernel;
+mod model;
+// An `NcError` carries every diagnostic of a program (160 bytes); it is returned once per
+// run, never in a loop, so boxing it would only make the API clumsier.
 #[allow(clippy::result_large_err)]
 mod nc;
 mod output;
 mod pipeline;
 mod report;
+mod toolpath;
 
 pub use analysis::compare::{compare, Deviation, Extreme, TurnDeviation};
 pub use analysis::measure::{measure, MeasureConfig, TurnMeasure};
 pub use gen::{plan, post};
 pub use job::{FormName, Job, JobError, MillJob, SimConfig, DEFAULT_MAX_DEXELS};
 pub use kernel::mill::{
-    mill_column, sweep_mill, Cutter, CutterSpec, MillPath, MillStats, Motion, MoveCut, PathMove,
-    SAMPLING_BOUND_MM as MILL_SAMPLING_BOUND_MM,
+    mill_column, sweep_mill, Cutter, CutterError, CutterSpec, MillPath, MillStats, Motion, MoveCut,
+    PathMove, SAMPLING_BOUND_MM as MILL_SAMPLING_BOUND_MM,
 };
 pub use kernel::sweep::{sweep, sweep_column, Column, SweepStats};
 pub use model::helix::{Hand, Helix, LeadLaw, Spindle};

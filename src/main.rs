@@ -451,11 +451,11 @@ fn main() -> ExitCode {
     }
 }
 
-/// An error on standard error: program diagnostics compiler-style (they say `error:`
-/// themselves), everything else as `error: ...` with its causes.
+/// An error on standard error: job and program diagnostics as they render themselves
+/// (they say `error:` themselves), everything else as `error: ...` with its causes.
 fn report_error(e: &anyhow::Error) {
-    match program_error(e) {
-        Some(nc) => term::err(&term::diagnostics(&format!("{nc}\n"))),
+    match diagnostic_text(e) {
+        Some(text) => term::err(&term::diagnostics(&format!("{text}\n"))),
         None => term::error(&format!("{e:#}")),
     }
 }
@@ -469,12 +469,17 @@ fn program_error(e: &anyhow::Error) -> Option<&vpcut::NcError> {
         })
 }
 
+/// A job or program error as its diagnostics render it (without colour).
+fn diagnostic_text(e: &anyhow::Error) -> Option<String> {
+    match program_error(e) {
+        Some(nc) => Some(nc.to_string()),
+        None => e.downcast_ref::<vpcut::JobError>().map(|j| j.to_string()),
+    }
+}
+
 /// An error as text, the way `report_error` prints it (without colour).
 fn error_text(e: &anyhow::Error) -> String {
-    match program_error(e) {
-        Some(nc) => nc.to_string(),
-        None => format!("error: {e:#}"),
-    }
+    diagnostic_text(e).unwrap_or_else(|| format!("error: {e:#}"))
 }
 
 /// Where an error is: the file, line and column it names, else the job file.

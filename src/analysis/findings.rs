@@ -3,8 +3,8 @@
 //! fails the job) and, where it has one, the [`Flank`] it is on; the report writes their
 //! snake-case names. [`rank`] sorts findings and gives the [`Verdict`].
 
+use crate::diag::Severity;
 use crate::model::thread::Flank;
-use crate::nc::Severity;
 use serde::{Serialize, Serializer};
 use std::fmt;
 

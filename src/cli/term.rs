@@ -97,24 +97,21 @@ pub(crate) fn error(message: &str) {
     err(&format!("{} {message}\n", paint(on, RED, "error:")));
 }
 
-/// Colour the `error:`/`warning:` words of compiler-style diagnostics (`file:line:col:
-/// error: ...`) for standard error.
+/// Colour the `error:`/`warning:` words that start the diagnostics of jobs and programs
+/// (`error: message`, then `--> file:line:col` and the source line) for standard error.
 pub(crate) fn diagnostics(text: &str) -> String {
     if !Stream::Stderr.colour() {
         return text.to_string();
     }
     text.lines()
         .map(|l| {
-            l.replacen(
-                ": error: ",
-                &format!(": {}: ", paint(true, RED, "error")),
-                1,
-            )
-            .replacen(
-                ": warning: ",
-                &format!(": {}: ", paint(true, YELLOW, "warning")),
-                1,
-            )
+            if let Some(rest) = l.strip_prefix("error:") {
+                format!("{}{rest}", paint(true, RED, "error:"))
+            } else if let Some(rest) = l.strip_prefix("warning:") {
+                format!("{}{rest}", paint(true, YELLOW, "warning:"))
+            } else {
+                l.to_string()
+            }
         })
         .collect::<Vec<_>>()
         .join("\n")

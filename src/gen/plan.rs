@@ -59,7 +59,7 @@ pub enum Infeed {
 
 /// The `[process]` limits of the planner.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Limits {
+pub(crate) struct PlanLimits {
     /// Largest depth per layer (mm, radial).
     pub max_depth: f64,
     /// Smallest depth per layer (mm, radial).
@@ -238,7 +238,7 @@ const MAX_PASSES: usize = 20_000;
 
 /// Plan the passes of `thread` with `tools[tool]` on `blank`, checked at `tolerance`.
 pub(crate) fn plan(
-    lim: &Limits,
+    lim: &PlanLimits,
     tool_idx: usize,
     thread: &ThreadSpec,
     tools: &[Tool],
@@ -516,7 +516,7 @@ pub(crate) fn plan(
     Ok(plan)
 }
 
-fn check_limits(lim: &Limits, thread: &ThreadSpec) -> Result<(), GenError> {
+fn check_limits(lim: &PlanLimits, thread: &ThreadSpec) -> Result<(), GenError> {
     if !(lim.max_depth.is_finite() && lim.max_depth > 0.0) {
         return fail("max_depth", "expected a positive depth per pass (mm)");
     }
@@ -551,7 +551,7 @@ fn check_limits(lim: &Limits, thread: &ThreadSpec) -> Result<(), GenError> {
 }
 
 /// Depths below the crest of every layer, in cutting order, with their role.
-fn schedule(lim: &Limits, depth: f64, max_layer: f64) -> Result<Vec<(f64, Role)>, GenError> {
+fn schedule(lim: &PlanLimits, depth: f64, max_layer: f64) -> Result<Vec<(f64, Role)>, GenError> {
     let rough = depth - lim.finish_allowance;
     let mut out: Vec<f64> = Vec::new();
     match lim.schedule {
@@ -691,8 +691,8 @@ pub fn line_check(passes: &[Pass], thread: &ThreadSpec, tool: &Tool) -> Check {
 mod tests {
     use super::*;
 
-    fn limits(schedule: Schedule, max: f64, min: f64) -> Limits {
-        Limits {
+    fn limits(schedule: Schedule, max: f64, min: f64) -> PlanLimits {
+        PlanLimits {
             max_depth: max,
             min_depth: min,
             schedule,
@@ -740,7 +740,7 @@ mod tests {
     /// The finish allowance is split by the finish passes; spring passes repeat the depth.
     #[test]
     fn finish_and_spring_passes() {
-        let lim = Limits {
+        let lim = PlanLimits {
             finish_passes: 2,
             spring_passes: 1,
             finish_allowance: 0.1,

@@ -103,7 +103,7 @@ fn chain(p: &Pass, plan: &Plan) -> Vec<Pass> {
     let mut out = Vec::with_capacity(ts.len());
     let mut z = p.z_start;
     // The spindle's angle past the index pulse; the part angle under the tool is minus
-    // that with M03, plus with M04 (`job::program_passes`).
+    // that with M03, plus with M04 (`toolpath::lathe_passes`).
     let sign = p.spindle.sign();
     let mut angle_deg = (-sign * p.start_angle).to_degrees();
     for w in ts.windows(2) {

@@ -8,7 +8,8 @@
 //! the span toml gives with every error: the deepest key or value of the document that
 //! holds it.
 
-use super::{line_col, source_line, JobError};
+use super::ctx::{line_col, source_line};
+use super::JobError;
 use serde::Deserialize;
 use std::ops::Range;
 use toml_edit::{ImDocument, Item, Value};
@@ -163,11 +164,8 @@ fn invalid(
 
 /// Every number of the job is finite and within its key's range ([`range_of`]): nothing
 /// downstream meets `nan`, `inf` or a length of 1e300 mm.
-pub(super) fn check_numbers(src: &str, file: &str) -> Result<(), JobError> {
-    let Ok(doc) = ImDocument::parse(src) else {
-        return Ok(());
-    };
-    for n in nodes(&doc) {
+pub(super) fn check_numbers(src: &str, file: &str, doc: &ImDocument<&str>) -> Result<(), JobError> {
+    for n in nodes(doc) {
         let v = match n.value {
             Some(Value::Float(f)) => *f.value(),
             Some(Value::Integer(i)) => *i.value() as f64,
@@ -210,11 +208,15 @@ fn shown(v: f64) -> String {
 }
 
 /// serde's error about a job text in the job file's words, with the key it is about.
-pub(super) fn schema_error(src: &str, file: &str, e: &toml::de::Error) -> JobError {
+pub(super) fn schema_error(
+    src: &str,
+    file: &str,
+    doc: Option<&ImDocument<&str>>,
+    e: &toml_edit::de::Error,
+) -> JobError {
     let span = e.span();
     let message = e.message().trim().to_string();
-    let doc = ImDocument::parse(src).ok();
-    let key = match (&doc, &span) {
+    let key = match (doc, &span) {
         (Some(doc), Some(r)) => key_at(doc, r.start),
         _ => None,
     };
@@ -256,7 +258,7 @@ pub(super) fn schema_error(src: &str, file: &str, e: &toml::de::Error) -> JobErr
 fn names_at(src: &str, span: Option<Range<usize>>) -> Option<String> {
     let span = span?;
     let text = format!("{}\"?\"{}", src.get(..span.start)?, src.get(span.end..)?);
-    let e = toml::from_str::<super::RawJob>(&text).err()?;
+    let e = toml_edit::de::from_str::<super::schema::RawJob>(&text).err()?;
     let (_, names) = e.message().split_once("expected ")?;
     names
         .starts_with("one of")

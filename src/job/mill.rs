@@ -1,9 +1,13 @@
 //! Milling jobs: `[machine] kind = "mill"`, thread mills (`kind = "thread-mill"`) and the
-//! program's milling moves turned into the kernel's path in the part's frame.
+//! machining centre's settings of the `[program]`. The program's moves become the kernel's
+//! path in the program stage ([`crate::toolpath`]).
 
-use super::{Ctx, JobError, RawJob, RawProgram, RawTool};
-use crate::kernel::mill::{Cutter, CutterSpec, MillPath, Motion, PathMove};
-use crate::nc::{MillKind, MillMove, MillSettings, Plane};
+use super::ctx::Ctx;
+use super::schema::{RawJob, RawProgram, RawTool, ToolKind};
+use super::JobError;
+use crate::kernel::mill::{Cutter, CutterSpec, MillPath};
+use crate::nc::{MillMove, MillSettings};
+use crate::toolpath::Program;
 use serde::Deserialize;
 
 /// Lathe (the part turns) or mill (the part stands, the cutter moves).
@@ -171,18 +175,25 @@ fn resolve_cutter(t: &RawTool, i: usize, cx: &Ctx) -> Result<Cutter, JobError> {
     };
     let span = spec.first_tooth + (teeth - 1) as f64 * pitch + hb_hi + spec.neck;
     spec.length = cx.positive(&key("length"), t.length.unwrap_or(span + 20.0))?;
-    Cutter::from_spec(&spec).map_err(|m| cx.err(&key("kind"), m))
+    Cutter::from_spec(&spec).map_err(|e| cx.err(&key("kind"), e))
 }
 
-/// Resolve a milling job's cutters and program into a [`MillJob`].
+/// A milling job's cutters and the program to run for its path (the program stage makes
+/// the [`MillJob`]).
+pub(super) struct MillParts {
+    pub(super) cutters: Vec<Cutter>,
+    pub(super) ids: Vec<u32>,
+    pub(super) axis: [f64; 2],
+    pub(super) program: Program,
+}
+
+/// Resolve a milling job's cutters and `[program]`.
 pub(super) fn resolve_mill(
     raw: &RawJob,
     blank_top: f64,
-    rpm: f64,
     cx: &Ctx,
-    load: &dyn Fn(&str) -> Option<String>,
     strict: bool,
-) -> Result<(MillJob, Vec<crate::nc::Diagnostic>), JobError> {
+) -> Result<MillParts, JobError> {
     if !raw.pass.is_empty() {
         return Err(cx.err(
             "pass",
@@ -200,7 +211,7 @@ pub(super) fn resolve_mill(
     let mut radius_offsets = Vec::new();
     let mut length_offsets = Vec::new();
     for (i, t) in raw.tool.iter().enumerate() {
-        if t.kind != super::ToolKind::ThreadMill {
+        if t.kind != ToolKind::ThreadMill {
             return Err(cx.err(
                 &format!("tool[{i}].kind"),
                 "a milling job's tools are thread mills (`kind = \"thread-mill\"`)",
@@ -246,7 +257,7 @@ pub(super) fn resolve_mill(
     let mut work_offsets = [[0.0; 3]; 6];
     for (name, off) in &pr.work_offsets {
         let key = format!("program.work_offsets.{name}");
-        let i = super::work_index(name)
+        let i = super::program::work_index(name)
             .ok_or_else(|| cx.err(&key, format!("expected one of G54..G59, got `{name}`")))?;
         work_offsets[i] = [
             cx.finite(&format!("{key}.x"), off.x)?,
@@ -290,62 +301,10 @@ pub(super) fn resolve_mill(
         }),
         ..crate::nc::Settings::default()
     };
-    let toolpath = super::run_program(pr, settings, cx, load, strict)?;
-    let fail = |m: &MillMove, message: String| super::move_error(&m.file, m.line, message);
-    let mut path = Vec::with_capacity(toolpath.mill.len());
-    let mut rpms = Vec::with_capacity(toolpath.mill.len());
-    for m in &toolpath.mill {
-        let cutter = match m.tool {
-            Some(id) => ids.iter().position(|&t| t == id),
-            None if cutters.len() == 1 => Some(0),
-            None => None,
-        }
-        .ok_or_else(|| {
-            fail(
-                m,
-                format!(
-                    "milling with tool {:?}, which the job's [[tool]] list does not define",
-                    m.tool
-                ),
-            )
-        })?;
-        let part = |p: [f64; 3]| [p[0] - axis[0], p[1] - axis[1], p[2]];
-        let motion =
-            match (m.kind, &m.arc) {
-                (MillKind::Arc, Some(a)) if a.plane == Plane::Xy => Motion::Arc {
-                    centre: [a.centre[0] - axis[0], a.centre[1] - axis[1]],
-                    sweep: a.sweep,
-                },
-                (MillKind::Arc, _) => return Err(fail(
-                    m,
-                    "arcs outside the G17 (XY) plane are not simulated yet: the thread axis is Z"
-                        .into(),
-                )),
-                _ => Motion::Line,
-            };
-        path.push(PathMove {
-            start: part(m.start),
-            end: part(m.end),
-            motion,
-            cutter,
-        });
-        rpms.push(m.spindle_rpm.unwrap_or(rpm));
-    }
-    let path = MillPath::new(path, &cutters).map_err(|e| {
-        cx.err(
-            "program",
-            format!("the path needs {} samples at the stated sampling bound, over the limit of {}: a shorter program or fewer moves", e.0, crate::kernel::mill::MAX_SAMPLES),
-        )
-    })?;
-    Ok((
-        MillJob {
-            cutters,
-            cutter_ids: ids,
-            moves: toolpath.mill,
-            axis,
-            path,
-            rpm: rpms,
-        },
-        toolpath.warnings,
-    ))
+    Ok(MillParts {
+        cutters,
+        ids,
+        axis,
+        program: super::program::program(pr, settings, cx, strict)?,
+    })
 }

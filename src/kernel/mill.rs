@@ -89,24 +89,77 @@ impl CutterSpec {
     }
 }
 
+/// A thread mill whose profile does not fit together ([`Cutter::from_spec`]).
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CutterError {
+    /// The teeth are deeper than the cutter's radius.
+    #[error("the teeth ({depth} mm deep) reach the axis of a {diameter} mm cutter")]
+    TeethReachAxis {
+        /// Tooth depth (mm).
+        depth: f64,
+        /// Diameter at the tooth tips (mm).
+        diameter: f64,
+    },
+    /// Neighbouring teeth overlap at the core.
+    #[error("teeth {width:.4} mm wide at the core overlap at a pitch of {pitch} mm: make them shallower or the tip flat narrower")]
+    TeethOverlap {
+        /// Width of a tooth at the core (mm).
+        width: f64,
+        /// Tooth pitch (mm).
+        pitch: f64,
+    },
+    /// The drill point runs into the first tooth.
+    #[error("the drill point ({length:.3} mm long) runs into the first tooth, which starts {first_base:.3} mm above the tip")]
+    DrillPointTooLong {
+        /// Length of the drill point (mm).
+        length: f64,
+        /// Height of the first tooth's lower base above the tip (mm).
+        first_base: f64,
+    },
+    /// The first tooth reaches below the cutter's tip.
+    #[error("the first tooth ({half_base:.3} mm from its centre to its lower base) does not fit above the tip at {first_tooth} mm")]
+    FirstToothLow {
+        /// Half the tooth's base, below its centre (mm).
+        half_base: f64,
+        /// Height of the first tooth's centre above the tip (mm).
+        first_tooth: f64,
+    },
+    /// The chamfer is no wider than the core.
+    #[error("the chamfer diameter {chamfer} is not larger than the core ({core:.3})")]
+    ChamferInsideCore {
+        /// Chamfer diameter (mm).
+        chamfer: f64,
+        /// Core diameter (mm).
+        core: f64,
+    },
+    /// The cutter ends below its teeth.
+    #[error("the cutter is {length} mm long but its teeth end {teeth_end:.3} mm above the tip")]
+    TooShort {
+        /// Length (mm).
+        length: f64,
+        /// Height of the teeth's end above the tip (mm).
+        teeth_end: f64,
+    },
+}
+
 impl Cutter {
-    /// Build the profile of a thread mill; the message says what does not fit.
-    pub fn from_spec(s: &CutterSpec) -> Result<Cutter, String> {
+    /// Build the profile of a thread mill; the error says what does not fit.
+    pub fn from_spec(s: &CutterSpec) -> Result<Cutter, CutterError> {
         let rt = 0.5 * s.diameter;
         let rc = rt - s.tooth_depth;
         if rc <= 0.0 {
-            return Err(format!(
-                "the teeth ({} mm deep) reach the axis of a {} mm cutter",
-                s.tooth_depth, s.diameter
-            ));
+            return Err(CutterError::TeethReachAxis {
+                depth: s.tooth_depth,
+                diameter: s.diameter,
+            });
         }
         let [hb_lo, hb_hi] = s.half_base();
         if s.teeth > 1 && hb_lo + hb_hi > s.pitch + 1e-9 {
-            return Err(format!(
-                "teeth {:.4} mm wide at the core overlap at a pitch of {} mm: make them shallower or the tip flat narrower",
-                hb_lo + hb_hi,
-                s.pitch
-            ));
+            return Err(CutterError::TeethOverlap {
+                width: hb_lo + hb_hi,
+                pitch: s.pitch,
+            });
         }
         let mut p: Vec<[f64; 2]> = vec![[0.0, 0.0]];
         let first_base = s.first_tooth - hb_lo;
@@ -115,19 +168,20 @@ impl Cutter {
                 let rd = 0.5 * dd;
                 let h = rd / (0.5 * point).tan();
                 if h > first_base + 1e-9 {
-                    return Err(format!(
-                        "the drill point ({h:.3} mm long) runs into the first tooth, which starts {first_base:.3} mm above the tip"
-                    ));
+                    return Err(CutterError::DrillPointTooLong {
+                        length: h,
+                        first_base,
+                    });
                 }
                 p.push([h, rd]);
                 p.push([first_base, rd]);
             }
             None => {
                 if first_base < -1e-9 {
-                    return Err(format!(
-                        "the first tooth ({:.3} mm from its centre to its lower base) does not fit above the tip at {} mm",
-                        hb_lo, s.first_tooth
-                    ));
+                    return Err(CutterError::FirstToothLow {
+                        half_base: hb_lo,
+                        first_tooth: s.first_tooth,
+                    });
                 }
             }
         }
@@ -146,10 +200,10 @@ impl Cutter {
         if let Some(dc) = s.chamfer {
             let rch = 0.5 * dc;
             if rch <= rc {
-                return Err(format!(
-                    "the chamfer diameter {dc} is not larger than the core ({:.3})",
-                    2.0 * rc
-                ));
+                return Err(CutterError::ChamferInsideCore {
+                    chamfer: dc,
+                    core: 2.0 * rc,
+                });
             }
             u += rch - rc;
             p.push([u, rch]);
@@ -157,10 +211,10 @@ impl Cutter {
         let rs = 0.5 * s.shank_diameter;
         p.push([u, rs]);
         if s.length <= u {
-            return Err(format!(
-                "the cutter is {} mm long but its teeth end {u:.3} mm above the tip",
-                s.length
-            ));
+            return Err(CutterError::TooShort {
+                length: s.length,
+                teeth_end: u,
+            });
         }
         p.push([s.length, rs]);
         p.push([s.length, 0.0]);
@@ -808,12 +862,13 @@ mod tests {
         }
         assert!((c.radius_at(20.0) - 4.0).abs() < 1e-12);
         assert_eq!(c.radius, 5.0);
-        assert!(Cutter::from_spec(&CutterSpec {
+        let e = Cutter::from_spec(&CutterSpec {
             tooth_depth: 1.3,
             ..comb(3)
         })
-        .unwrap_err()
-        .contains("overlap"));
+        .unwrap_err();
+        assert!(matches!(e, CutterError::TeethOverlap { .. }), "{e}");
+        assert!(e.to_string().contains("overlap"), "{e}");
     }
 
     /// A straight plunge of a disc cutter into a bar along z cuts the bar to the exact

@@ -53,6 +53,7 @@ pub use program::decode_program;
 use program::{load_programs, Program};
 use state::Interp;
 
+pub use crate::diag::{Diagnostic, Severity};
 use crate::model::helix::Spindle;
 use std::collections::HashMap;
 use std::fmt;
@@ -242,97 +243,6 @@ impl Default for Settings {
     }
 }
 
-/// How bad a diagnostic is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Severity {
-    /// The program cannot be run.
-    Error,
-    /// The program runs, but something was skipped or looks wrong.
-    Warning,
-}
-
-/// One problem found in a program, with where it is.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Diagnostic {
-    /// Error or warning.
-    pub severity: Severity,
-    /// File.
-    pub file: String,
-    /// 1-based line.
-    pub line: usize,
-    /// 1-based column (0 = the whole block).
-    pub col: usize,
-    /// What is wrong.
-    pub message: String,
-    /// What to do about it, when there is something to say.
-    pub hint: Option<String>,
-    /// The block's text.
-    pub snippet: String,
-    /// Callers, innermost first ("MYAAA.MPF:14").
-    pub stack: Vec<String>,
-}
-
-impl fmt::Display for Diagnostic {
-    /// Rendered as a compiler does: `file:line:col: error: message`, the source line, a
-    /// caret under the column, the hint and the call stack.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let sev = match self.severity {
-            Severity::Error => "error",
-            Severity::Warning => "warning",
-        };
-        write!(
-            f,
-            "{}:{}:{}: {sev}: {}",
-            self.file,
-            self.line,
-            self.col.max(1),
-            self.message
-        )?;
-        let num = self.line.to_string();
-        let pad = " ".repeat(num.len());
-        let (snippet, col) = clip_line(self.snippet.trim_end(), self.col);
-        write!(f, "\n{pad} |\n{num} | {snippet}")?;
-        if col > 0 {
-            write!(f, "\n{pad} | {}^", " ".repeat(col - 1))?;
-        }
-        if let Some(h) = &self.hint {
-            write!(f, "\n{pad} = hint: {h}")?;
-        }
-        for s in &self.stack {
-            write!(f, "\n{pad} = called from {s}")?;
-        }
-        Ok(())
-    }
-}
-
-/// A source line as a message shows it: a long one (a hostile program's 100,000 brackets)
-/// cut to a window of about 100 characters around the 1-based character column `col` (0:
-/// no column), with `...` where it was cut; and the column in what is shown.
-pub(crate) fn clip_line(line: &str, col: usize) -> (String, usize) {
-    const WIDTH: usize = 100;
-    let n = line.chars().count();
-    if n <= WIDTH {
-        return (line.to_string(), col);
-    }
-    let at = col.saturating_sub(1).min(n);
-    let start = at.saturating_sub(WIDTH / 2).min(n - WIDTH);
-    let end = start + WIDTH;
-    let mut out = String::new();
-    if start > 0 {
-        out.push_str("...");
-    }
-    out.extend(line.chars().skip(start).take(WIDTH));
-    if end < n {
-        out.push_str("...");
-    }
-    let col = if col == 0 {
-        0
-    } else {
-        col - start + if start > 0 { 3 } else { 0 }
-    };
-    (out, col)
-}
-
 /// A program that cannot be run: the error that stopped it (its fields), and every other
 /// diagnostic found before stopping (`others`: the static check reports all the problems
 /// of all programs at once; a run-time error comes alone, with the warnings before it).
@@ -403,7 +313,7 @@ impl fmt::Display for NcError {
         all.sort_by(|a, b| (&a.file, a.line, a.col).cmp(&(&b.file, b.line, b.col)));
         for (i, d) in all.iter().enumerate() {
             if i > 0 {
-                writeln!(f)?;
+                write!(f, "\n\n")?;
             }
             write!(f, "{d}")?;
         }
@@ -412,7 +322,7 @@ impl fmt::Display for NcError {
         if all.len() > 1 {
             write!(
                 f,
-                "\n{errors} error{}, {warnings} warning{}",
+                "\n\n{errors} error{}, {warnings} warning{}",
                 if errors == 1 { "" } else { "s" },
                 if warnings == 1 { "" } else { "s" }
             )?;

@@ -184,11 +184,16 @@ fn all_problems_are_reported_at_once_with_line_and_column() {
     assert!(all[1].message.contains("`1..5` is not a number"), "{e}");
     assert!(all[2].message.contains("no block N99"), "{e}");
     let shown = e.to_string();
-    assert!(shown.contains("T.NC:3:5: error:"), "{shown}");
-    assert!(
-        shown.contains("T.NC:4:19: warning: no block N99"),
-        "{shown}"
-    );
+    // Each diagnostic: `severity: message`, then `--> file:line:col`.
+    let lines: Vec<&str> = shown.lines().collect();
+    let at = |head: &str, place: &str| {
+        let place = format!("--> {place}");
+        lines
+            .windows(2)
+            .any(|w| w[0].starts_with(head) && w[1].trim_start() == place)
+    };
+    assert!(at("error: ", "T.NC:3:5"), "{shown}");
+    assert!(at("warning: no block N99", "T.NC:4:19"), "{shown}");
     assert!(shown.ends_with("3 errors, 1 warning"), "{shown}");
     // The caret stands under the column.
     assert!(shown.contains("3 | G1 X1..5\n  |     ^"), "{shown}");

@@ -7,12 +7,12 @@ use crate::analysis::compare::{Deviation, Extreme, TurnDeviation};
 use crate::analysis::findings::{rank, Finding, FindingKind};
 use crate::analysis::interference;
 use crate::analysis::measure::TurnMeasure;
+use crate::diag::Severity;
 use crate::job::Job;
 use crate::kernel::sweep::SweepStats;
 use crate::model::helix::{Hand, Spindle};
 use crate::model::stock::Grid;
 use crate::model::thread::{Flank, Side, WidthRule};
-use crate::nc::Severity;
 use crate::report::{self, r4, r6, Report, TurnRow, SCHEMA};
 use std::collections::BTreeMap;
 

@@ -5,7 +5,7 @@
 //! file is byte-identical between runs and thread counts; only `timing_s` changes.
 
 pub use crate::analysis::findings::{Finding, FindingCounts, FindingKind, Verdict};
-use crate::nc::Severity;
+use crate::diag::Severity;
 use serde::Serialize;
 use std::fmt::Write as _;
 

@@ -409,7 +409,10 @@ fn mesh_tool_errors_name_the_key() {
             .unwrap_err()
             .to_string();
         assert!(err.contains(says), "{tool}: {err}");
-        assert!(err.starts_with("job.toml:"), "{err}");
+        assert!(
+            crate::support::place(&err).starts_with("job.toml:"),
+            "{err}"
+        );
     }
 }
 

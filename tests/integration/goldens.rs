@@ -22,7 +22,7 @@ struct Check {
     path: String,
     value: Option<f64>,
     tol: Option<f64>,
-    equals: Option<toml::Value>,
+    equals: Option<Value>,
     max: Option<f64>,
     min: Option<f64>,
     /// The length of an array.
@@ -55,7 +55,8 @@ fn check_expectations(scene: &str, report: &Value) -> Vec<String> {
             "{scene}: no goldens/{scene}/expect.toml (hand-derived checks)"
         )];
     };
-    let exp: Expect = toml::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let exp: Expect =
+        toml_edit::de::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut bad = Vec::new();
     for c in &exp.check {
         let got = lookup(report, &c.path);
@@ -70,16 +71,11 @@ fn check_expectations(scene: &str, report: &Value) -> Vec<String> {
                 ))),
             },
             (Some(g), None, Some(e)) => {
-                let want = match e {
-                    toml::Value::String(s) => Value::String(s.clone()),
-                    toml::Value::Integer(i) => Value::from(*i),
-                    toml::Value::Boolean(b) => Value::Bool(*b),
-                    other => Value::String(format!("{other:?}")),
-                };
-                let want = if want == Value::String("null".into()) {
+                // TOML has no null: the string "null" stands for it.
+                let want = if *e == Value::String("null".into()) {
                     Value::Null
                 } else {
-                    want
+                    e.clone()
                 };
                 if *g != want {
                     bad.push(fail(format!("= {g}, expected {want}")));

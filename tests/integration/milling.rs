@@ -80,7 +80,7 @@ fn milling_job_errors_name_the_key() {
         let e = vpcut::Job::from_toml_with(&bad, "job.toml", &load)
             .unwrap_err()
             .to_string();
-        assert!(e.starts_with("job.toml"), "{e}");
+        assert!(crate::support::place(&e).starts_with("job.toml"), "{e}");
         assert!(e.contains(want), "{to}: {e}");
     }
     // A program error names the program's file and line: D61 is no radius offset of the job.

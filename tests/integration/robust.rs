@@ -54,7 +54,7 @@ fn hostile_numbers_never_panic() {
                     }
                     Err(e) => {
                         let msg = e.to_string();
-                        assert!(msg.starts_with("job.toml"), "{msg}");
+                        assert!(crate::support::place(&msg).starts_with("job.toml"), "{msg}");
                     }
                 });
                 assert!(result.is_ok(), "{scene}: line {} = {v} panicked", i + 1);

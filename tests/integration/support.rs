@@ -137,3 +137,25 @@ pub(crate) const INTERNAL_M20: &str = r#"
     axial_spacing = 0.01
     measure_generators = 4
 "#;
+
+/// Where a rendered job or program diagnostic points: the `file:line:col` of its first
+/// `--> ` line, or the file of its `= in FILE` note when it has no line ("" when neither).
+pub(crate) fn place(msg: &str) -> &str {
+    msg.lines()
+        .find_map(|l| {
+            let l = l.trim_start();
+            l.strip_prefix("--> ").or_else(|| l.strip_prefix("= in "))
+        })
+        .unwrap_or("")
+}
+
+/// Whether `text` holds a rendered diagnostic whose first line starts with `head`
+/// (`error: message`) and whose next line points at `at` (`file:line:col`, the file's
+/// name possibly after its folder).
+pub(crate) fn has_diagnostic(text: &str, head: &str, at: &str) -> bool {
+    let lines: Vec<&str> = text.lines().collect();
+    lines.windows(2).any(|w| {
+        let place = w[1].trim_start();
+        w[0].starts_with(head) && place.starts_with("--> ") && place.ends_with(at)
+    })
+}

@@ -1,0 +1,334 @@
+//! The job file: TOML schema, validation, and the resolved [`Job`].
+//!
+//! This is the input serialization boundary. [`Job::from_toml`] takes the file's text and
+//! its name (no IO here), checks every key, and returns either a [`Job`] in mm and radians
+//! or a [`JobError`] that names the file, the key, its line and column, and what was
+//! expected. Unknown keys are errors. The format is documented in `docs/job-format.md`.
+//!
+//! Loading a job is two steps:
+//!
+//! 1. parse: the text, read once into a TOML document (whose spans locate every key), is
+//!    deserialized into the raw schema (`schema`) and checked key by key (`parse`, with
+//!    `forms` for the thread, `tools`, `process` for `[[pass]]` and `[process]`, `mill`
+//!    for milling jobs and `program` for the `[program]` table), giving a [`Job`] whose
+//!    program has not run;
+//! 2. the program stage ([`crate::toolpath`]): the program, read through the caller's
+//!    loader, interpreted, and its moves made into passes (lathe) or the path (mill).
+//!
+//! Layout: `ctx` (locating keys, the errors' context), `keys` (serde's errors and every
+//! number's range), `schema`, `parse`, `forms`, `tools`, `process`, `program`, `mill`.
+
+use crate::model::pass::Pass;
+pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
+use crate::model::thread::ThreadSpec;
+use crate::model::tool::Tool;
+use crate::nc::{Diagnostic, NcError, Severity};
+use crate::toolpath::{self, ProgramError};
+
+mod ctx;
+mod forms;
+mod keys;
+mod mill;
+mod parse;
+mod process;
+mod program;
+mod schema;
+mod tools;
+
+use ctx::Ctx;
+pub use forms::FormName;
+pub use mill::MillJob;
+use parse::{Parsed, Pending};
+
+/// A job that could not be read. Shown as its [`JobError::diagnostic`] (the program's
+/// errors as all of theirs): the message, file, line and column, the source line with a
+/// caret (see [`Diagnostic`]).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum JobError {
+    /// The text is not valid TOML or does not fit the schema (unknown or missing key,
+    /// wrong type).
+    #[error("{}", self.diagnostic())]
+    Syntax {
+        /// File name as given.
+        file: String,
+        /// 1-based line (0 when unknown).
+        line: usize,
+        /// 1-based column.
+        col: usize,
+        /// What is wrong.
+        message: String,
+        /// The offending source line.
+        snippet: String,
+    },
+    /// The job's NC program could not be interpreted.
+    #[error("{0}")]
+    Program(Box<NcError>),
+    /// A key has a value that makes no sense (negative lead, tooth wider than the pitch...).
+    #[error("{}", self.diagnostic())]
+    Invalid {
+        /// File name as given.
+        file: String,
+        /// Dotted key path, e.g. `thread.pitch.first` or `tool[1].width`.
+        key: String,
+        /// 1-based line (0 when unknown).
+        line: usize,
+        /// 1-based column.
+        col: usize,
+        /// What was expected.
+        message: String,
+        /// The offending source line.
+        snippet: String,
+    },
+}
+
+impl JobError {
+    /// This error as a diagnostic (a program's: the error that stopped it); the key of an
+    /// invalid value leads its message (`` `blank.diameter`: expected ...``).
+    pub fn diagnostic(&self) -> Diagnostic {
+        let (file, line, col, message, snippet) = match self {
+            JobError::Program(nc) => return nc.diagnostic(),
+            JobError::Syntax {
+                file,
+                line,
+                col,
+                message,
+                snippet,
+            } => (file, line, col, message.clone(), snippet),
+            JobError::Invalid {
+                file,
+                key,
+                line,
+                col,
+                message,
+                snippet,
+            } => (file, line, col, format!("`{key}`: {message}"), snippet),
+        };
+        Diagnostic {
+            severity: Severity::Error,
+            file: file.clone(),
+            line: *line,
+            col: *col,
+            message,
+            hint: None,
+            snippet: snippet.clone(),
+            stack: Vec::new(),
+        }
+    }
+}
+
+/// Simulation settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimConfig {
+    /// Axial dexel spacing (mm).
+    pub axial_spacing: f64,
+    /// Number of angular columns.
+    pub angular_cells: usize,
+    /// Deviation tolerance (mm).
+    pub tolerance: f64,
+    /// Axial window of interest; the grid covers the blank clipped to it.
+    pub z_range: Option<(f64, f64)>,
+    /// Dexel budget (both surfaces).
+    pub max_dexels: u64,
+    /// Axial spacing of the measurement generators (mm).
+    pub measure_spacing: f64,
+    /// Number of measurement generators.
+    pub measure_generators: usize,
+}
+
+/// Default dexel budget: about 0.8 GB of f32 radii.
+pub const DEFAULT_MAX_DEXELS: u64 = 200_000_000;
+
+/// A resolved job.
+#[derive(Clone, Debug)]
+pub struct Job {
+    /// Name (from the file, or empty).
+    pub name: String,
+    /// The blank.
+    pub blank: Blank,
+    /// The form's name.
+    pub form: FormName,
+    /// The thread wanted.
+    pub thread: ThreadSpec,
+    /// Tools; passes refer to them by index.
+    pub tools: Vec<Tool>,
+    /// Threading passes, explicit ones first, then generated ones.
+    pub passes: Vec<Pass>,
+    /// Machine data.
+    pub machine: Machine,
+    /// Simulation settings.
+    pub sim: SimConfig,
+    /// Warnings from interpreting the `[program]` (skipped unknown words and codes).
+    pub program_warnings: Vec<Diagnostic>,
+    /// Joints of continuous thread chains in the program (see [`ChainLink`]).
+    pub chains: Vec<ChainLink>,
+    /// Where the passes that come from the `[program]` are in it: (pass index, file as the
+    /// job names the program, 1-based line of the thread block). Empty without a program.
+    pub pass_blocks: Vec<(usize, String, usize)>,
+    /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
+    /// `passes` are empty.
+    pub mill: Option<MillJob>,
+    /// The drawing's limits of the pitch diameter (a tolerance class such as ISO 965 6H):
+    /// checked on the measured simple pitch diameter of every turn (milling jobs).
+    pub pitch_diameter_limits: Option<(f64, f64)>,
+    /// The plan of `[process] kind = "plan"`, whose passes are [`Job::passes`].
+    pub plan: Option<crate::gen::plan::Plan>,
+}
+
+impl Job {
+    /// Parse and validate a job. `file` is only used in messages. A job with a `[program]`
+    /// needs [`Job::from_toml_with`].
+    pub fn from_toml(src: &str, file: &str) -> Result<Job, JobError> {
+        Job::from_toml_with(src, file, &|_| None)
+    }
+
+    /// Parse and validate a job whose `[program]` (and its subprograms) `load` returns by
+    /// name, relative to the job file: parse, then the program stage. The library itself
+    /// reads no files.
+    pub fn from_toml_with(
+        src: &str,
+        file: &str,
+        load: &dyn Fn(&str) -> Option<String>,
+    ) -> Result<Job, JobError> {
+        Job::from_toml_opts(src, file, load, false)
+    }
+
+    /// As [`Job::from_toml_with`]; `strict` makes unknown words and codes in the program
+    /// errors (as `[program] strict = true` does).
+    pub fn from_toml_opts(
+        src: &str,
+        file: &str,
+        load: &dyn Fn(&str) -> Option<String>,
+        strict: bool,
+    ) -> Result<Job, JobError> {
+        // Step 1: parse the text into a job whose program has not run.
+        let cx = Ctx::parse(src, file)?;
+        let Parsed { job, program } = parse::resolve(cx.raw()?, &cx, load, strict)?;
+        // Step 2: the program stage.
+        let job = match program {
+            Some(pending) => job.run_program(pending, load, &cx)?,
+            None => job,
+        };
+        if job.mill.is_none() && job.passes.is_empty() {
+            return Err(cx.err(
+                "pass",
+                "expected at least one [[pass]], a [process] or a [program] with threading moves",
+            ));
+        }
+        Ok(job)
+    }
+
+    /// The program stage on a parsed job: its program interpreted, and its moves made into
+    /// passes after the job's own (lathe) or into its path (mill).
+    fn run_program(
+        mut self,
+        pending: Pending,
+        load: &dyn Fn(&str) -> Option<String>,
+        cx: &Ctx,
+    ) -> Result<Job, JobError> {
+        let fail = |e: ProgramError| program_error(e, cx);
+        match pending {
+            Pending::Lathe(program) => {
+                let path = toolpath::interpret(&program, load).map_err(fail)?;
+                let lathe = toolpath::lathe_passes(&path.moves, &self.tools).map_err(fail)?;
+                let offset = self.passes.len();
+                self.chains.extend(lathe.links.into_iter().map(|mut l| {
+                    l.pass += offset;
+                    l
+                }));
+                self.pass_blocks.extend(
+                    lathe
+                        .blocks
+                        .into_iter()
+                        .enumerate()
+                        .map(|(i, (file, line))| (offset + i, file, line)),
+                );
+                self.passes.extend(lathe.passes);
+                self.program_warnings = path.warnings;
+            }
+            Pending::Mill(parts) => {
+                let path = toolpath::interpret(&parts.program, load).map_err(fail)?;
+                let setup = toolpath::MillSetup {
+                    cutters: &parts.cutters,
+                    ids: &parts.ids,
+                    axis: parts.axis,
+                    rpm: self.machine.spindle_rpm,
+                };
+                let (mill_path, rpm) = toolpath::mill_path(&path.mill, &setup).map_err(fail)?;
+                self.mill = Some(MillJob {
+                    cutters: parts.cutters,
+                    cutter_ids: parts.ids,
+                    moves: path.mill,
+                    axis: parts.axis,
+                    path: mill_path,
+                    rpm,
+                });
+                self.program_warnings = path.warnings;
+            }
+        }
+        Ok(self)
+    }
+
+    /// This job with its passes replaced by those of an NC program: `text`, read as
+    /// `file` in `dialect` (`fanuc`, `gsk980`, `siemens-802d`, `linuxcnc`), strictly (every
+    /// word must be understood). The round trip of `vpcut plan`.
+    pub fn with_program(&self, file: &str, text: &str, dialect: &str) -> Result<Job, JobError> {
+        let pr = schema::RawProgram {
+            file: file.to_string(),
+            dialect: dialect.to_string(),
+            strict: true,
+            thread_chamfer: 0.0,
+            work_offsets: Default::default(),
+            block_skip: true,
+            reference_point: None,
+            gcode_system: None,
+            second_reference_point: None,
+        };
+        let cx = Ctx::empty(file);
+        let program = program::lathe_program(&pr, &cx, true)?;
+        let load = |name: &str| (name == file).then(|| text.to_string());
+        let job = Job {
+            passes: Vec::new(),
+            chains: Vec::new(),
+            pass_blocks: Vec::new(),
+            program_warnings: Vec::new(),
+            plan: None,
+            ..self.clone()
+        };
+        job.run_program(Pending::Lathe(program), &load, &cx)
+    }
+}
+
+/// An error of the program stage as a job error: the interpreter's errors and those about a
+/// move as the program's (a move's about its block as a whole: column 0), the others at the
+/// job's keys.
+fn program_error(e: ProgramError, cx: &Ctx) -> JobError {
+    match e {
+        ProgramError::Nc(nc) => JobError::Program(nc),
+        ProgramError::Move {
+            file,
+            line,
+            message,
+        } => JobError::Program(Box::new(NcError {
+            file,
+            line,
+            col: 0,
+            message,
+            snippet: String::new(),
+            stack: Vec::new(),
+            hint: None,
+            others: Vec::new(),
+        })),
+        ProgramError::Unreadable(file) => cx.err(
+            "program.file",
+            format!("cannot read `{file}` (relative to the job file)"),
+        ),
+        ProgramError::Samples(n) => cx.err(
+            "program",
+            format!(
+                "the path needs {n} samples at the stated sampling bound, over the limit of {}: a shorter program or fewer moves",
+                crate::kernel::mill::MAX_SAMPLES
+            ),
+        ),
+    }
+}

@@ -1,0 +1,204 @@
+//! Step 1 of loading a job: the deserialized schema checked key by key into a [`Job`] in
+//! mm and radians, whose `[program]` has not run yet, and the program to run (step 2, the
+//! program stage, [`crate::toolpath`]).
+
+use super::ctx::Ctx;
+use super::forms::resolve_thread;
+use super::mill::{self, MillParts};
+use super::schema::{RawJob, SpindleName};
+use super::tools::{check_tool_keys, resolve_tool};
+use super::{process, program, Job, JobError, SimConfig, DEFAULT_MAX_DEXELS};
+use crate::model::helix::Spindle;
+use crate::model::setup::{Blank, Machine};
+use crate::toolpath::Program;
+
+/// A parsed job and the program still to run for its passes or path.
+pub(super) struct Parsed {
+    /// The job without its program's passes (a milling job without its path).
+    pub(super) job: Job,
+    /// The program, when the job has one.
+    pub(super) program: Option<Pending>,
+}
+
+/// A program to run in the program stage.
+pub(super) enum Pending {
+    /// A lathe program: its thread moves become passes.
+    Lathe(Program),
+    /// A milling program: its moves become the path of these cutters.
+    Mill(MillParts),
+}
+
+/// The checked job of `raw`, and its program to run.
+pub(super) fn resolve(
+    raw: RawJob,
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+    strict: bool,
+) -> Result<Parsed, JobError> {
+    let b = &raw.blank;
+    let blank = Blank {
+        diameter: cx.positive("blank.diameter", b.diameter)?,
+        bore: cx.non_negative("blank.bore", b.bore)?,
+        length: cx.positive("blank.length", b.length)?,
+        z_front: cx.finite("blank.z_front", b.z_front)?,
+    };
+    if blank.bore >= blank.diameter {
+        return Err(cx.err("blank.bore", "expected a bore smaller than the diameter"));
+    }
+    let machine = Machine {
+        spindle_rpm: cx.positive("machine.spindle_rpm", raw.machine.spindle_rpm)?,
+        max_feed: raw
+            .machine
+            .max_feed
+            .map(|v| cx.positive("machine.max_feed", v))
+            .transpose()?,
+        acceleration: raw
+            .machine
+            .acceleration
+            .map(|v| cx.positive("machine.acceleration", v))
+            .transpose()?,
+        spindle: match raw.machine.spindle {
+            SpindleName::Cw => Spindle::Cw,
+            SpindleName::Ccw => Spindle::Ccw,
+        },
+    };
+    let s = &raw.simulation;
+    let sim = SimConfig {
+        axial_spacing: cx.positive("simulation.axial_spacing", s.axial_spacing)?,
+        angular_cells: if s.angular_cells >= 4 {
+            s.angular_cells
+        } else {
+            return Err(cx.err("simulation.angular_cells", "expected at least 4 cells"));
+        },
+        tolerance: cx.positive("simulation.tolerance", s.tolerance)?,
+        z_range: match s.z_range {
+            None => None,
+            Some([a, b]) => {
+                cx.finite("simulation.z_range", a)?;
+                cx.finite("simulation.z_range", b)?;
+                if a >= b {
+                    return Err(cx.err(
+                        "simulation.z_range",
+                        "expected [z_min, z_max] with z_min < z_max",
+                    ));
+                }
+                Some((a, b))
+            }
+        },
+        max_dexels: s.max_dexels.unwrap_or(DEFAULT_MAX_DEXELS),
+        measure_spacing: cx.positive("simulation.measure_spacing", s.measure_spacing)?,
+        measure_generators: if (1..=3600).contains(&s.measure_generators) {
+            s.measure_generators
+        } else {
+            return Err(cx.err(
+                "simulation.measure_generators",
+                "expected 1 to 3600 generators",
+            ));
+        },
+    };
+    let (thread, form) = resolve_thread(&raw.thread, &blank, cx)?;
+    // The grid must resolve the thread (and a pitch far below the spacing would make the
+    // ideal profile of each column enormous).
+    let p_min = thread
+        .pitch_of_turn(1)
+        .min(thread.pitch_of_turn(thread.turns.ceil().max(1.0) as i64));
+    if sim.axial_spacing * 4.0 > p_min {
+        return Err(cx.err(
+            "simulation.axial_spacing",
+            format!(
+                "expected at most a quarter of the smallest pitch ({p_min:.4} mm), got {}",
+                sim.axial_spacing
+            ),
+        ));
+    }
+    for (i, t) in raw.tool.iter().enumerate() {
+        if raw.tool[..i].iter().any(|o| o.id == t.id) {
+            return Err(cx.err(
+                &format!("tool[{i}].id"),
+                format!("tool id {} is used twice", t.id),
+            ));
+        }
+        check_tool_keys(t, i, cx)?;
+    }
+    if raw.machine.kind == mill::MachineKind::Mill {
+        if raw.machine.spindle != SpindleName::Cw {
+            return Err(cx.err(
+                "machine.spindle",
+                "a mill's spindle direction comes from the program (M03/M04)",
+            ));
+        }
+        let parts = mill::resolve_mill(&raw, blank.z_front, cx, strict)?;
+        let pitch_diameter_limits = match raw.thread.pitch_diameter_limits {
+            Some([a, b]) => {
+                let key = "thread.pitch_diameter_limits";
+                if cx.positive(key, a)? >= cx.positive(key, b)? {
+                    return Err(cx.err(key, "expected [smallest, largest] pitch diameter (mm)"));
+                }
+                Some((a, b))
+            }
+            None => None,
+        };
+        let job = Job {
+            name: raw.name.unwrap_or_default(),
+            blank,
+            form,
+            thread,
+            tools: Vec::new(),
+            passes: Vec::new(),
+            machine,
+            sim,
+            program_warnings: Vec::new(),
+            chains: Vec::new(),
+            pass_blocks: Vec::new(),
+            mill: None,
+            pitch_diameter_limits,
+            plan: None,
+        };
+        return Ok(Parsed {
+            job,
+            program: Some(Pending::Mill(parts)),
+        });
+    }
+    if raw.thread.pitch_diameter_limits.is_some() {
+        return Err(cx.err(
+            "thread.pitch_diameter_limits",
+            "the pitch diameter is measured on milling jobs only, for now",
+        ));
+    }
+    if raw.machine.axis.is_some() || raw.machine.home_z.is_some() {
+        return Err(cx.err(
+            if raw.machine.axis.is_some() {
+                "machine.axis"
+            } else {
+                "machine.home_z"
+            },
+            "this key is for milling jobs ([machine] kind = \"mill\")",
+        ));
+    }
+    let mut tools = Vec::with_capacity(raw.tool.len());
+    for (i, t) in raw.tool.iter().enumerate() {
+        tools.push(resolve_tool(t, i, cx, load)?);
+    }
+    let (passes, plan) = process::job_passes(&raw, &thread, &tools, &blank, &machine, &sim, cx)?;
+    let program = match &raw.program {
+        Some(pr) => Some(Pending::Lathe(program::lathe_program(pr, cx, strict)?)),
+        None => None,
+    };
+    let job = Job {
+        name: raw.name.unwrap_or_default(),
+        blank,
+        form,
+        thread,
+        tools,
+        passes,
+        machine,
+        sim,
+        program_warnings: Vec::new(),
+        chains: Vec::new(),
+        pass_blocks: Vec::new(),
+        mill: None,
+        pitch_diameter_limits: None,
+        plan,
+    };
+    Ok(Parsed { job, program })
+}

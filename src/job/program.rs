@@ -1,0 +1,98 @@
+//! The `[program]` table: the program file, its dialect and the machine's settings that the
+//! program cannot say (thread chamfer, work offsets, reference points, G-code system),
+//! checked and made into the program stage's [`Program`]. The program itself runs in the
+//! program stage ([`crate::toolpath`]), after parsing.
+
+use super::ctx::Ctx;
+use super::schema::RawProgram;
+use super::JobError;
+use crate::nc::{Dialect, GcodeSystem, Settings};
+use crate::toolpath::Program;
+
+/// A lathe job's `[program]`.
+pub(super) fn lathe_program(pr: &RawProgram, cx: &Ctx, strict: bool) -> Result<Program, JobError> {
+    let mut settings = Settings {
+        thread_chamfer: cx.non_negative("program.thread_chamfer", pr.thread_chamfer)?,
+        block_skip: pr.block_skip,
+        ..Settings::default()
+    };
+    if settings.thread_chamfer > 9.9 {
+        return Err(cx.err(
+            "program.thread_chamfer",
+            format!(
+                "expected at most 9.9 leads (FANUC's 99 x 0.1 L), got {}",
+                settings.thread_chamfer
+            ),
+        ));
+    }
+    if let Some(g) = &pr.gcode_system {
+        settings.gcode_system = GcodeSystem::from_name(g).ok_or_else(|| {
+            cx.err(
+                "program.gcode_system",
+                format!("expected \"A\", \"B\" or \"C\" (FANUC lathe G-code system), got `{g}`"),
+            )
+        })?;
+    }
+    if let Some(p) = &pr.second_reference_point {
+        settings.second_reference_point = Some((
+            cx.finite("program.second_reference_point.x", p.x)?,
+            cx.finite("program.second_reference_point.z", p.z)?,
+        ));
+    }
+    if let Some(p) = &pr.reference_point {
+        settings.reference_point = Some((
+            cx.finite("program.reference_point.x", p.x)?,
+            cx.finite("program.reference_point.z", p.z)?,
+        ));
+    }
+    for (name, off) in &pr.work_offsets {
+        let key = format!("program.work_offsets.{name}");
+        let i = work_index(name)
+            .ok_or_else(|| cx.err(&key, format!("expected one of G54..G59, got `{name}`")))?;
+        if off.y.is_some() {
+            return Err(cx.err(
+                &format!("{key}.y"),
+                "a lathe's work offsets have x (a diameter) and z; y is for milling jobs",
+            ));
+        }
+        settings.work_offsets[i] = (
+            cx.finite(&format!("{key}.x"), off.x)?,
+            cx.finite(&format!("{key}.z"), off.z)?,
+        );
+    }
+    program(pr, settings, cx, strict)
+}
+
+/// The program of `pr` with `settings`: its dialect checked.
+pub(super) fn program(
+    pr: &RawProgram,
+    settings: Settings,
+    cx: &Ctx,
+    strict: bool,
+) -> Result<Program, JobError> {
+    let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
+        cx.err(
+            "program.dialect",
+            format!(
+                "expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`, got `{}`",
+                pr.dialect
+            ),
+        )
+    })?;
+    Ok(Program {
+        file: pr.file.clone(),
+        dialect,
+        options: crate::nc::Options {
+            strict: strict || pr.strict,
+            settings,
+            ..crate::nc::Options::default()
+        },
+    })
+}
+
+/// G54..G59 as an index.
+pub(super) fn work_index(name: &str) -> Option<usize> {
+    ["G54", "G55", "G56", "G57", "G58", "G59"]
+        .iter()
+        .position(|g| *g == name)
+}

@@ -1,0 +1,361 @@
+//! `[[tool]]` tables into [`Tool`]s: the edge of each kind of tool, the keys each kind
+//! takes, mesh tools (OBJ, read through the loader) and the insert body behind the edge.
+
+use super::ctx::Ctx;
+use super::schema::{RawTool, RefName, ToolKind};
+use super::JobError;
+use crate::model::solid::Solid;
+use crate::model::tool::{Body, Edge, Reference, Tool};
+
+pub(super) fn resolve_tool(
+    t: &RawTool,
+    i: usize,
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+) -> Result<Tool, JobError> {
+    let key = |k: &str| format!("tool[{i}].{k}");
+    let reference = match t.reference.unwrap_or_default() {
+        RefName::Center => Reference::Center,
+        RefName::Left => Reference::Left,
+        RefName::Right => Reference::Right,
+        RefName::Tip => Reference::Tip,
+    };
+    let edge = match t.kind {
+        ToolKind::Grooving => Edge::Trapezoid {
+            tip: cx.positive(
+                &key("width"),
+                t.width
+                    .ok_or_else(|| cx.err(&key("kind"), "a grooving tool needs `width` (mm)"))?,
+            )?,
+            left_angle: 0.0,
+            right_angle: 0.0,
+        },
+        ToolKind::Threading => {
+            let angle = t.angle.ok_or_else(|| {
+                cx.err(
+                    &key("kind"),
+                    "a threading tool needs `angle` (included, degrees)",
+                )
+            })?;
+            let half = cx.angle(&key("angle"), angle, 1.0, 160.0)? / 2.0;
+            match (t.tip_flat, t.nose_radius) {
+                (Some(_), Some(_)) => {
+                    return Err(cx.err(
+                        &key("nose_radius"),
+                        "give `tip_flat` or `nose_radius`, not both",
+                    ))
+                }
+                (None, Some(r)) => Edge::RoundV {
+                    radius: cx.positive(&key("nose_radius"), r)?,
+                    half_angle: half,
+                },
+                (flat, None) => Edge::Trapezoid {
+                    tip: cx.non_negative(&key("tip_flat"), flat.unwrap_or(0.0))?,
+                    left_angle: half,
+                    right_angle: half,
+                },
+            }
+        }
+        ToolKind::Trapezoidal => {
+            let tip = cx.positive(
+                &key("tip_width"),
+                t.tip_width.ok_or_else(|| {
+                    cx.err(&key("kind"), "a trapezoidal tool needs `tip_width` (mm)")
+                })?,
+            )?;
+            let (l, r) =
+                match (t.flank_angles, t.flank_angle) {
+                    (Some([l, r]), None) => (l, r),
+                    (None, Some(a)) => (a / 2.0, a / 2.0),
+                    (None, None) => (15.0, 15.0),
+                    (Some(_), Some(_)) => return Err(cx.err(
+                        &key("flank_angle"),
+                        "give `flank_angle` (included) or `flank_angles` ([left, right]), not both",
+                    )),
+                };
+            Edge::Trapezoid {
+                tip,
+                left_angle: cx.angle(&key("flank_angles"), l, 0.0, 80.0)?,
+                right_angle: cx.angle(&key("flank_angles"), r, 0.0, 80.0)?,
+            }
+        }
+        ToolKind::Mesh => resolve_mesh(t, &key, cx, load)?,
+        ToolKind::ThreadMill => {
+            return Err(cx.err(
+                &key("kind"),
+                "a thread mill needs a milling job: set [machine] kind = \"mill\"",
+            ))
+        }
+    };
+    if t.kind == ToolKind::Mesh {
+        return Ok(Tool {
+            id: t.id,
+            edge,
+            reference,
+            body: None,
+            length: None,
+        });
+    }
+    let body = resolve_body(t, &edge, &key, cx)?;
+    let length = t
+        .length
+        .map(|l| cx.positive(&key("length"), l))
+        .transpose()?;
+    Ok(Tool {
+        id: t.id,
+        edge,
+        reference,
+        body,
+        length,
+    })
+}
+
+/// Every optional `[[tool]]` key and the kinds of tool it applies to: a key set on a tool
+/// of another kind is an error that says so.
+pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), JobError> {
+    use ToolKind::{Grooving, Mesh, ThreadMill, Threading, Trapezoidal};
+    const INSERTS: &[ToolKind] = &[Grooving, Threading, Trapezoidal];
+    const MILL: &[ToolKind] = &[ThreadMill];
+    let keys: [(&str, bool, &[ToolKind]); 34] = [
+        ("width", t.width.is_some(), &[Grooving]),
+        ("angle", t.angle.is_some(), &[Threading, ThreadMill]),
+        ("tip_flat", t.tip_flat.is_some(), &[Threading, ThreadMill]),
+        ("nose_radius", t.nose_radius.is_some(), &[Threading]),
+        ("tip_width", t.tip_width.is_some(), &[Trapezoidal]),
+        ("flank_angle", t.flank_angle.is_some(), &[Trapezoidal]),
+        (
+            "flank_angles",
+            t.flank_angles.is_some(),
+            &[Trapezoidal, ThreadMill],
+        ),
+        ("reference", t.reference.is_some(), INSERTS),
+        (
+            "length",
+            t.length.is_some(),
+            &[Grooving, Threading, Trapezoidal, ThreadMill],
+        ),
+        ("thickness", t.thickness.is_some(), INSERTS),
+        (
+            "side_clearance_left",
+            t.side_clearance_left.is_some(),
+            INSERTS,
+        ),
+        (
+            "side_clearance_right",
+            t.side_clearance_right.is_some(),
+            INSERTS,
+        ),
+        ("front_clearance", t.front_clearance.is_some(), INSERTS),
+        ("inclination", t.inclination.is_some(), INSERTS),
+        ("file", t.file.is_some(), &[Mesh]),
+        ("mesh_origin", t.mesh_origin.is_some(), &[Mesh]),
+        ("mesh_axes", t.mesh_axes.is_some(), &[Mesh]),
+        ("mesh_units", t.mesh_units.is_some(), &[Mesh]),
+        ("mesh_body", t.mesh_body.is_some(), &[Mesh]),
+        ("cutter", t.cutter.is_some(), MILL),
+        ("diameter", t.diameter.is_some(), MILL),
+        ("pitch", t.pitch.is_some(), MILL),
+        ("teeth", t.teeth.is_some(), MILL),
+        ("tooth_depth", t.tooth_depth.is_some(), MILL),
+        ("first_tooth", t.first_tooth.is_some(), MILL),
+        ("shank_diameter", t.shank_diameter.is_some(), MILL),
+        ("neck", t.neck.is_some(), MILL),
+        ("flutes", t.flutes.is_some(), MILL),
+        ("drill_diameter", t.drill_diameter.is_some(), MILL),
+        ("point_angle", t.point_angle.is_some(), MILL),
+        ("chamfer_diameter", t.chamfer_diameter.is_some(), MILL),
+        ("h", t.h.is_some(), MILL),
+        ("d", t.d.is_some(), MILL),
+        ("d_value", t.d_value.is_some(), MILL),
+    ];
+    if let Some((k, _, kinds)) = keys
+        .iter()
+        .find(|(_, set, kinds)| *set && !kinds.contains(&t.kind))
+    {
+        let why = if t.kind == Mesh {
+            "this key does not apply to a mesh tool: the mesh gives its shape and body, `mesh_origin` its reference point"
+        } else if *kinds == [Mesh] {
+            "this key applies to `kind = \"mesh\"` tools only"
+        } else if *kinds == MILL {
+            "this key applies to `kind = \"thread-mill\"` tools only"
+        } else {
+            "this key does not apply to this kind of tool"
+        };
+        return Err(cx.err(&format!("tool[{i}].{k}"), why));
+    }
+    Ok(())
+}
+
+/// A mesh tool: the OBJ `file` (read through `load`, relative to the job file), placed by
+/// `mesh_origin` (the reference point: on the tip, in the rake face; OBJ units) and
+/// `mesh_axes` (the OBJ axes along the part's axis, the height above the tip away from the
+/// material, and the depth behind the rake face), in `mesh_units`.
+fn resolve_mesh(
+    t: &RawTool,
+    key: &dyn Fn(&str) -> String,
+    cx: &Ctx,
+    load: &dyn Fn(&str) -> Option<String>,
+) -> Result<Edge, JobError> {
+    let file = t.file.as_deref().ok_or_else(|| {
+        cx.err(
+            &key("kind"),
+            "a mesh tool needs `file` (an OBJ file, relative to the job file)",
+        )
+    })?;
+    let text = load(file).ok_or_else(|| {
+        cx.err(
+            &key("file"),
+            format!("cannot read `{file}` (relative to the job file)"),
+        )
+    })?;
+    let scale = match t.mesh_units.as_deref().unwrap_or("mm") {
+        "mm" => 1.0,
+        "inch" => 25.4,
+        "m" => 1000.0,
+        other => {
+            return Err(cx.err(
+                &key("mesh_units"),
+                format!("expected \"mm\", \"inch\" or \"m\", got \"{other}\""),
+            ))
+        }
+    };
+    let origin = t.mesh_origin.unwrap_or([0.0; 3]);
+    for v in origin {
+        cx.finite(&key("mesh_origin"), v)?;
+    }
+    let names = t
+        .mesh_axes
+        .clone()
+        .unwrap_or_else(|| ["+x".into(), "+y".into(), "+z".into()]);
+    // (OBJ axis, sign) for the part's axis, the height and the depth.
+    let mut axes = [(0usize, 1.0f64); 3];
+    for (k, name) in names.iter().enumerate() {
+        let (sign, axis) = match name.as_str() {
+            "+x" | "x" => (1.0, 0),
+            "-x" => (-1.0, 0),
+            "+y" | "y" => (1.0, 1),
+            "-y" => (-1.0, 1),
+            "+z" | "z" => (1.0, 2),
+            "-z" => (-1.0, 2),
+            other => {
+                return Err(cx.err(
+                    &key("mesh_axes"),
+                    format!("expected three of \"+x\", \"-x\", \"+y\", \"-y\", \"+z\", \"-z\" (the part's axis, the height above the tip, the depth behind the rake face), got \"{other}\""),
+                ))
+            }
+        };
+        axes[k] = (axis, sign);
+    }
+    if axes[0].0 == axes[1].0 || axes[0].0 == axes[2].0 || axes[1].0 == axes[2].0 {
+        return Err(cx.err(
+            &key("mesh_axes"),
+            "expected each OBJ axis once (the part's axis, the height, the depth)",
+        ));
+    }
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &opts, |_| {
+        Err(tobj::LoadError::GenericFailure)
+    })
+    .map_err(|e| {
+        cx.err(
+            &key("file"),
+            format!("{file}: not a readable OBJ mesh: {e}"),
+        )
+    })?;
+    let mut vertices: Vec<[f64; 3]> = Vec::new();
+    let mut triangles: Vec<[usize; 3]> = Vec::new();
+    for m in &models {
+        let base = vertices.len();
+        for p in m.mesh.positions.chunks_exact(3) {
+            let tool = axes.map(|(axis, sign)| sign * (p[axis] - origin[axis]) * scale);
+            // [V, H, Y] -> the solid's [H, Y, V].
+            vertices.push([tool[1], tool[2], tool[0]]);
+        }
+        for t in m.mesh.indices.chunks_exact(3) {
+            triangles.push([
+                base + t[0] as usize,
+                base + t[1] as usize,
+                base + t[2] as usize,
+            ]);
+        }
+    }
+    if vertices.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(cx.err(
+            &key("file"),
+            format!("{file}: a vertex is not a finite number"),
+        ));
+    }
+    let solid = Solid::from_mesh(&vertices, &triangles)
+        .map_err(|e| cx.err(&key("file"), format!("{file}: {e}")))?;
+    Ok(Edge::Mesh {
+        solid: std::sync::Arc::new(solid),
+        body: t.mesh_body.unwrap_or(true),
+    })
+}
+
+/// The insert behind the edge: present with `thickness`, which then needs both side
+/// clearances (no default: a clearance is what the check is about).
+fn resolve_body(
+    t: &RawTool,
+    edge: &Edge,
+    key: &dyn Fn(&str) -> String,
+    cx: &Ctx,
+) -> Result<Option<Body>, JobError> {
+    let Some(thickness) = t.thickness else {
+        let stray = [
+            ("side_clearance_left", t.side_clearance_left.is_some()),
+            ("side_clearance_right", t.side_clearance_right.is_some()),
+            ("front_clearance", t.front_clearance.is_some()),
+            ("inclination", t.inclination.is_some()),
+        ];
+        if let Some((k, _)) = stray.iter().find(|(_, set)| *set) {
+            return Err(cx.err(
+                &key(k),
+                "a tool body needs `thickness` (mm behind the rake face) too",
+            ));
+        }
+        return Ok(None);
+    };
+    if matches!(edge, Edge::RoundV { .. }) {
+        return Err(cx.err(
+            &key("thickness"),
+            "a tool body is modelled for flat-tipped edges only (grooving, trapezoidal, threading with `tip_flat`)",
+        ));
+    }
+    let thickness = cx.positive(&key("thickness"), thickness)?;
+    if thickness > 50.0 {
+        return Err(cx.err(
+            &key("thickness"),
+            format!("expected at most 50 mm, got {thickness}"),
+        ));
+    }
+    let side = |k: &str, v: Option<f64>| -> Result<f64, JobError> {
+        let v = v.ok_or_else(|| {
+            cx.err(
+                &key("thickness"),
+                format!("a tool body needs `{k}` (degrees; negative when ground to stand out)"),
+            )
+        })?;
+        cx.angle(&key(k), v, -30.0, 45.0)
+    };
+    Ok(Some(Body {
+        thickness,
+        clearance_left: side("side_clearance_left", t.side_clearance_left)?,
+        clearance_right: side("side_clearance_right", t.side_clearance_right)?,
+        clearance_front: cx.angle(
+            &key("front_clearance"),
+            t.front_clearance.unwrap_or(0.0),
+            0.0,
+            45.0,
+        )?,
+        inclination: cx.angle(
+            &key("inclination"),
+            t.inclination.unwrap_or(0.0),
+            -30.0,
+            30.0,
+        )?,
+    }))
+}

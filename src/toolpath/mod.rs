@@ -1,0 +1,154 @@
+//! The program stage: step 2 of loading a job, after the job file is parsed
+//! (`crate::job`). It interprets the job's NC program ([`crate::nc`]) and turns the
+//! interpreted moves into what the kernels cut:
+//!
+//! - on a lathe, every thread move into a [`Pass`], with the [`ChainLink`]s of continuous
+//!   thread chains and the block each pass comes from ([`lathe_passes`]);
+//! - on a mill, the milling moves into the kernel's [`MillPath`] in the part's frame
+//!   (`mill::mill_path`).
+//!
+//! It knows the job only through what it is given (the program to run, the tools or
+//! cutters, the machine's axis and speed) and does no IO: the program's text and its
+//! subprograms come from the caller's loader.
+
+use crate::model::pass::Pass;
+use crate::model::setup::ChainLink;
+use crate::model::tool::Tool;
+use crate::nc::{self, Dialect, MoveKind, NcError, Source, Toolpath};
+
+mod mill;
+pub(crate) use mill::{mill_path, MillSetup};
+
+/// A program to run: the file the job names, its dialect and the interpreter's options.
+#[derive(Clone, Debug)]
+pub(crate) struct Program {
+    /// The file, as the job names it (the loader's name for it).
+    pub(crate) file: String,
+    /// The control's dialect.
+    pub(crate) dialect: Dialect,
+    /// Strictness, limits and the machine's settings.
+    pub(crate) options: nc::Options,
+}
+
+/// Why a program gives no passes or path.
+#[derive(Debug)]
+pub(crate) enum ProgramError {
+    /// The loader has no text for the program file.
+    Unreadable(String),
+    /// The interpreter stopped.
+    Nc(Box<NcError>),
+    /// A move that cannot be cut; it names its block as a whole.
+    Move {
+        /// The program file.
+        file: String,
+        /// 1-based line of the block.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A milling path that needs more samples than the kernel takes.
+    Samples(usize),
+}
+
+/// Read `program` (and its subprograms) through `load` and interpret it.
+pub(crate) fn interpret(
+    program: &Program,
+    load: &dyn Fn(&str) -> Option<String>,
+) -> Result<Toolpath, ProgramError> {
+    let text = load(&program.file).ok_or_else(|| ProgramError::Unreadable(program.file.clone()))?;
+    let main = Source {
+        name: program.file.clone(),
+        text,
+    };
+    let loader = |name: &str| {
+        load(name).map(|text| Source {
+            name: name.to_string(),
+            text,
+        })
+    };
+    nc::interpret_with(&main, program.dialect, &loader, &program.options)
+        .map_err(|e| ProgramError::Nc(Box::new(e)))
+}
+
+/// What a lathe program gives: its passes, the joints of its thread chains (pass indices
+/// counted from the program's first pass) and each pass's thread block.
+#[derive(Debug, Default)]
+pub(crate) struct LathePasses {
+    /// The passes, in program order.
+    pub(crate) passes: Vec<Pass>,
+    /// The joints of continuous thread chains.
+    pub(crate) links: Vec<ChainLink>,
+    /// Each pass's thread block: file and 1-based line.
+    pub(crate) blocks: Vec<(String, usize)>,
+}
+
+/// Turn a lathe program's thread moves into passes of `tools` (by the move's T number, or
+/// the only tool). A chained move's sync angle already continues the previous move's phase
+/// (`nc::chain`), so every pass is built the same way.
+pub(crate) fn lathe_passes(
+    moves: &[nc::Move],
+    tools: &[Tool],
+) -> Result<LathePasses, ProgramError> {
+    let fail = |m: &nc::Move, message: String| ProgramError::Move {
+        file: m.file.clone(),
+        line: m.line,
+        message,
+    };
+    let mut out = LathePasses::default();
+    // A thread move that goes nowhere (a repeated block) cuts nothing.
+    let goes = |m: &&nc::Move| m.z != m.z_start || m.x_dia != m.x_start;
+    for m in moves
+        .iter()
+        .filter(|m| m.kind == MoveKind::Thread)
+        .filter(goes)
+    {
+        let tool = match m.tool {
+            Some(id) => tools.iter().position(|t| t.id == id),
+            None if tools.len() == 1 => Some(0),
+            None => None,
+        }
+        .ok_or_else(|| {
+            fail(
+                m,
+                format!(
+                    "threading with tool {:?}, which the job's [[tool]] list does not define",
+                    m.tool
+                ),
+            )
+        })?;
+        let angle = m.sync_angle_deg.unwrap_or(0.0).to_radians();
+        let pass = Pass {
+            tool,
+            x_start: m.x_start,
+            x_end: m.x_dia,
+            z_start: m.z_start,
+            z_end: m.z,
+            lead: m.lead.unwrap_or(0.0),
+            lead_change: m.lead_change.unwrap_or(0.0),
+            // The thread starts `angle` past the index pulse; the part turns under the
+            // tool, so the part angle under it is -angle with M03 and +angle with M04.
+            start_angle: -m.spindle.sign() * angle,
+            spindle: m.spindle,
+        };
+        if pass.lead <= 0.0 || pass.z_start == pass.z_end || pass.revolutions().is_none() {
+            return Err(fail(m, format!("threading move to z = {}: the lead is not positive all the way (a real control alarms)", m.z)));
+        }
+        if m.chained {
+            if let Some(prev) = out.passes.last() {
+                out.links.push(ChainLink {
+                    pass: out.passes.len(),
+                    file: m.file.clone(),
+                    line: m.line,
+                    z: pass.z_start,
+                    lead_before: prev.end_lead().unwrap_or(prev.lead),
+                    change_before: prev.lead_change,
+                    lead_after: pass.lead,
+                    change_after: pass.lead_change,
+                });
+            }
+        }
+        out.blocks.push((m.file.clone(), m.line));
+        out.passes.push(pass);
+    }
+    Ok(out)
+}
