@@ -16,6 +16,8 @@
 //! reference point is on the tip). Its edge profile is its section at
 //! `Y = 0`: `h(V)`, the largest of the lower bounds of the faces there.
 
+use glam::DVec3;
+
 /// One face: `h H + y Y + v V >= d` inside, `(h, y, v)` a unit vector.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Face {
@@ -109,12 +111,12 @@ impl Solid {
             return Err(SolidError::Invalid);
         }
         // Merge vertices closer than a micrometre (exporters repeat them per face).
-        let mut merged: Vec<[f64; 3]> = Vec::new();
+        let mut merged: Vec<DVec3> = Vec::new();
         let mut map = Vec::with_capacity(vertices.len());
-        for p in vertices {
-            let found = merged.iter().position(|q| dist(p, q) < 1e-3);
+        for p in vertices.iter().map(|&p| DVec3::from_array(p)) {
+            let found = merged.iter().position(|q| p.distance(*q) < 1e-3);
             map.push(found.unwrap_or_else(|| {
-                merged.push(*p);
+                merged.push(p);
                 merged.len() - 1
             }));
         }
@@ -136,27 +138,24 @@ impl Solid {
         if let Some((&(a, b), &n)) = edges.iter().find(|(_, &n)| n != 2) {
             return Err(SolidError::Open(a, b, n));
         }
-        let centre = merged
-            .iter()
-            .fold([0.0; 3], |c, p| [c[0] + p[0], c[1] + p[1], c[2] + p[2]])
-            .map(|x| x / merged.len() as f64);
+        let centre = merged.iter().fold(DVec3::ZERO, |c, p| c + *p) / merged.len() as f64;
         let mut faces: Vec<Face> = Vec::new();
         for (ti, t) in tris.iter().enumerate() {
             let (a, b, c) = (merged[t[0]], merged[t[1]], merged[t[2]]);
-            let n = cross(sub(&b, &a), sub(&c, &a));
-            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            let n = (b - a).cross(c - a);
+            let len = n.length();
             if len < 1e-12 {
                 continue;
             }
-            let mut n = n.map(|x| x / len);
-            let mut d = dot(&n, &a);
+            let mut n = n / len;
+            let mut d = n.dot(a);
             // Inward: the centre of the vertices is inside a convex solid.
-            if dot(&n, &centre) < d {
-                n = n.map(|x| -x);
+            if n.dot(centre) < d {
+                n = -n;
                 d = -d;
             }
             for (vi, p) in merged.iter().enumerate() {
-                let by = d - dot(&n, p);
+                let by = d - n.dot(*p);
                 if by > EPS.max(1e-9 * d.abs()) {
                     return Err(SolidError::NotConvex {
                         vertex: vi,
@@ -206,7 +205,7 @@ impl Solid {
         let depth = merged.iter().map(|p| p[1]).fold(0.0, f64::max);
         // The section at Y = 0: the rake face's vertices span it (a convex solid's section
         // by a supporting plane is the face on it).
-        let rake: Vec<&[f64; 3]> = merged.iter().filter(|p| p[1].abs() <= EPS).collect();
+        let rake: Vec<&DVec3> = merged.iter().filter(|p| p[1].abs() <= EPS).collect();
         let v_range = rake
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
@@ -218,7 +217,7 @@ impl Solid {
         }
         Ok(Solid {
             faces,
-            vertices: merged,
+            vertices: merged.iter().map(|p| p.to_array()).collect(),
             triangles: tris,
             depth,
             v_range,
@@ -270,27 +269,6 @@ impl Solid {
         let (a, b) = self.span(1e-9);
         (b - a).max(0.0)
     }
-}
-
-fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    let d = sub(a, b);
-    dot(&d, &d).sqrt()
 }
 
 /// A prism's closed triangle mesh: the polygon `bottom` (`[H, V]`, counter-clockwise or
