@@ -437,7 +437,7 @@ fn arc_circle(
             ),
         ));
     };
-    let angle = |p: [f64; 2]| (p[1] - centre[1]).atan2(p[0] - centre[0]);
+    let angle = |p: glam::DVec2| (p[1] - centre[1]).atan2(p[0] - centre[0]);
     let ccw_sweep = if full {
         TAU
     } else {
@@ -456,7 +456,7 @@ fn arc_circle(
         ccw_sweep - TAU
     };
     Ok(MillArc {
-        centre: plane.point(centre, a[plane.axes()[2]]),
+        centre: plane.point(centre.into(), a[plane.axes()[2]]),
         radius: (pa[0] - centre[0]).hypot(pa[1] - centre[1]),
         sweep,
         plane,

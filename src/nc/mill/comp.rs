@@ -22,6 +22,7 @@
 
 use super::{CompSide, MillArc, MillKind, MillMove, Plane};
 use crate::model::helix::Spindle;
+use glam::DVec2;
 use std::f64::consts::{PI, TAU};
 
 /// Below this change of direction (rad) a joint is tangent.
@@ -83,7 +84,7 @@ impl Plane {
     /// A point's (u, v) coordinates in the plane.
     pub(in crate::nc) fn uv(self, p: [f64; 3]) -> V2 {
         let [u, v, _] = self.axes();
-        [p[u], p[v]]
+        DVec2::new(p[u], p[v])
     }
 
     /// The point with (u, v) in the plane and `w` along its normal.
@@ -98,32 +99,11 @@ impl Plane {
 }
 
 /// A vector in the plane.
-pub(in crate::nc) type V2 = [f64; 2];
+pub(in crate::nc) type V2 = DVec2;
 
-fn add(a: V2, b: V2) -> V2 {
-    [a[0] + b[0], a[1] + b[1]]
-}
-fn sub(a: V2, b: V2) -> V2 {
-    [a[0] - b[0], a[1] - b[1]]
-}
-fn mul(a: V2, k: f64) -> V2 {
-    [a[0] * k, a[1] * k]
-}
-fn dot(a: V2, b: V2) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-fn cross(a: V2, b: V2) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
+/// Length of a plane vector (`hypot`, as the controls' arithmetic was checked with).
 fn len(a: V2) -> f64 {
-    a[0].hypot(a[1])
-}
-/// `a` turned 90 deg counter-clockwise: the left of a direction.
-fn left(a: V2) -> V2 {
-    [-a[1], a[0]]
-}
-fn angle(a: V2) -> f64 {
-    a[1].atan2(a[0])
+    a.x.hypot(a.y)
 }
 /// An angle in (-pi, pi].
 fn wrap(a: f64) -> f64 {
@@ -148,7 +128,7 @@ impl Elem {
     fn of(p: &Programmed) -> Elem {
         let circle = p.arc.map(|c| {
             let centre = p.plane.uv(c.centre);
-            (centre, len(sub(p.plane.uv(p.start), centre)), c.sweep > 0.0)
+            (centre, len(p.plane.uv(p.start) - centre), c.sweep > 0.0)
         });
         Elem {
             a: p.plane.uv(p.start),
@@ -161,23 +141,23 @@ impl Elem {
     fn tangent(&self, at: V2) -> V2 {
         match self.circle {
             Some((c, r, ccw)) => {
-                let t = mul(left(sub(at, c)), 1.0 / r);
+                let t = (at - c).perp() * (1.0 / r);
                 if ccw {
                     t
                 } else {
-                    mul(t, -1.0)
+                    t * -1.0
                 }
             }
             None => {
-                let d = sub(self.b, self.a);
-                mul(d, 1.0 / len(d))
+                let d = self.b - self.a;
+                d * (1.0 / len(d))
             }
         }
     }
 
     /// Whether the element moves in the plane.
     fn moves(&self) -> bool {
-        self.circle.is_some() || len(sub(self.b, self.a)) > 1e-12
+        self.circle.is_some() || len(self.b - self.a) > 1e-12
     }
 
     /// The offset path at `s * r` to the left (s = +1 G41, -1 G42): a line (point, unit
@@ -191,7 +171,7 @@ impl Elem {
             }
             None => {
                 let t = self.tangent(self.a);
-                Offset::Line(add(self.a, mul(left(t), s * r)), t)
+                Offset::Line(self.a + (t.perp() * (s * r)), t)
             }
         }
     }
@@ -207,34 +187,34 @@ enum Offset {
 fn intersections(p: Offset, q: Offset) -> Vec<V2> {
     match (p, q) {
         (Offset::Line(a, d), Offset::Line(b, e)) => {
-            let den = cross(d, e);
+            let den = d.perp_dot(e);
             if den.abs() < 1e-15 {
                 return Vec::new();
             }
-            vec![add(a, mul(d, cross(sub(b, a), e) / den))]
+            vec![(a + (d * ((b - a).perp_dot(e) / den)))]
         }
         (Offset::Line(a, d), Offset::Circle(c, r)) | (Offset::Circle(c, r), Offset::Line(a, d)) => {
             // |a + t d - c|^2 = r^2 with |d| = 1.
-            let f = sub(a, c);
-            let bh = dot(f, d);
-            let disc = bh * bh - (dot(f, f) - r * r);
+            let f = a - c;
+            let bh = f.dot(d);
+            let disc = bh * bh - (f.dot(f) - r * r);
             if disc < -1e-12 {
                 return Vec::new();
             }
             let q = disc.max(0.0).sqrt();
-            vec![add(a, mul(d, -bh - q)), add(a, mul(d, -bh + q))]
+            vec![(a + (d * (-bh - q))), (a + (d * (-bh + q)))]
         }
         (Offset::Circle(c1, r1), Offset::Circle(c2, r2)) => {
-            let dv = sub(c2, c1);
+            let dv = c2 - c1;
             let d = len(dv);
             if d < 1e-15 || d > r1 + r2 + 1e-12 || d < (r1 - r2).abs() - 1e-12 {
                 return Vec::new();
             }
             let along = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
             let h = (r1 * r1 - along * along).max(0.0).sqrt();
-            let e = mul(dv, 1.0 / d);
-            let m = add(c1, mul(e, along));
-            vec![add(m, mul(left(e), h)), sub(m, mul(left(e), h))]
+            let e = dv * (1.0 / d);
+            let m = c1 + (e * along);
+            vec![(m + (e.perp() * h)), (m - (e.perp() * h))]
         }
     }
 }
@@ -266,14 +246,14 @@ fn corner(a: &Elem, b: &Elem, side: CompSide, r: f64, a_line: usize) -> Result<V
     let s = sign(side);
     let p = a.b;
     let (ta, tb) = (a.tangent(p), b.tangent(p));
-    let turn = cross(ta, tb).atan2(dot(ta, tb));
-    let end_a = add(p, mul(left(ta), s * r));
+    let turn = ta.perp_dot(tb).atan2(ta.dot(tb));
+    let end_a = p + (ta.perp() * (s * r));
     if turn.abs() < TANGENT {
         return Ok(end_a);
     }
-    let start_b = add(p, mul(left(tb), s * r));
+    let start_b = p + (tb.perp() * (s * r));
     let inner = s * turn > 0.0;
-    if !inner && dot(ta, tb) < -1e-12 {
+    if !inner && ta.dot(tb) < -1e-12 {
         return Err(format!(
             "{} outer corner of less than 90 deg inside between the {} of line {a_line} and this {}, turning {:.3} deg: vpcut does not model that corner yet (FANUC inserts extra segments there)",
             side_name(side),
@@ -283,10 +263,10 @@ fn corner(a: &Elem, b: &Elem, side: CompSide, r: f64, a_line: usize) -> Result<V
         ));
     }
     // The intersection nearest the offset points at the joint.
-    let near = mul(add(end_a, start_b), 0.5);
+    let near = (end_a + start_b) * 0.5;
     intersections(a.offset(s, r), b.offset(s, r))
         .into_iter()
-        .min_by(|x, y| len(sub(*x, near)).total_cmp(&len(sub(*y, near))))
+        .min_by(|x, y| len((*x) - near).total_cmp(&len((*y) - near)))
         .ok_or_else(|| {
             format!(
                 "{} with radius {r}: the offset paths of the {} of line {a_line} and of this {} do not meet at their corner (FANUC interference alarm)",
@@ -354,7 +334,7 @@ pub(in crate::nc) fn compensate(path: &[Programmed]) -> Result<Vec<MillMove>, (u
                     Some(k) => Elem::of(&path[k]).tangent(e.b),
                     None => e.tangent(e.b),
                 };
-                add(e.b, mul(left(dir), s * r))
+                e.b + (dir.perp() * (s * r))
             }
             Comp::Cancel(..) => {
                 if p.arc.is_some() {
@@ -367,7 +347,7 @@ pub(in crate::nc) fn compensate(path: &[Programmed]) -> Result<Vec<MillMove>, (u
                 Some((k, q)) if matches!(q.comp, Comp::On(..)) => {
                     corner(&e, &Elem::of(q), side, r, p.site.line).map_err(|m| (k, m))?
                 }
-                _ => add(e.b, mul(left(e.tangent(e.b)), s * r)),
+                _ => e.b + (e.tangent(e.b).perp() * (s * r)),
             },
         };
         let (u0, u1) = (p.start[p.plane.axes()[2]], p.end[p.plane.axes()[2]]);
@@ -382,8 +362,8 @@ pub(in crate::nc) fn compensate(path: &[Programmed]) -> Result<Vec<MillMove>, (u
                         side_name(side)
                     )));
                 }
-                let sweep = arc.sweep + wrap(angle(sub(end, c)) - angle(sub(e.b, c)))
-                    - wrap(angle(sub(start, c)) - angle(sub(e.a, c)));
+                let sweep = arc.sweep + wrap((end - c).to_angle() - (e.b - c).to_angle())
+                    - wrap((start - c).to_angle() - (e.a - c).to_angle());
                 if sweep * arc.sweep <= 0.0 {
                     return Err((i, format!(
                         "{}: with the tool radius {r} the tool centre would run this arc backwards (FANUC interference alarm)",
@@ -398,7 +378,7 @@ pub(in crate::nc) fn compensate(path: &[Programmed]) -> Result<Vec<MillMove>, (u
                 })
             }
             _ => {
-                if matches!(p.comp, Comp::On(..)) && dot(sub(end, start), sub(e.b, e.a)) < 0.0 {
+                if matches!(p.comp, Comp::On(..)) && (end - start).dot(e.b - e.a) < 0.0 {
                     return Err((i, format!(
                         "{}: with the tool radius {r} the tool centre would run this line backwards (FANUC interference alarm)",
                         side_name(side)
