@@ -13,10 +13,10 @@
 //!
 //! One *dexel update* is one dexel tested against one tool placement; the kernel counts them.
 
-use crate::kernel::body::{self, fmax, fmin, Ray, Sections, Tables};
+use crate::kernel::body::{self, fmin, Ray, Sections, Tables};
 use crate::model::pass::Pass;
 use crate::model::stock::{first_cell, Grid, Stock, Surface};
-use crate::model::tool::{Kernel, Tool};
+use crate::model::tool::{round_v_height, trapezoid_height, Kernel, Tool};
 use rayon::prelude::*;
 
 /// What a sweep did.
@@ -342,8 +342,7 @@ fn apply(
             let (vl, vr) = (vl as f32, vr as f32);
             for (k, c) in seg.iter_mut().enumerate() {
                 let v = v0 + (k as i32) as f32 * dz;
-                let h = fmax(fmax((vl - v) * cl, (v - vr) * cr), 0.0);
-                *c = fmin(*c, base + h);
+                *c = fmin(*c, base + trapezoid_height(v, vl, vr, cl, cr));
             }
         }
         Kernel::RoundV {
@@ -355,11 +354,7 @@ fn apply(
             let (r, vt, ht, cot) = (radius as f32, vt as f32, ht as f32, cot as f32);
             for (k, c) in seg.iter_mut().enumerate() {
                 let v = v0 + (k as i32) as f32 * dz;
-                let a = v.abs();
-                let inner = r - fmax(r * r - a * a, 0.0).sqrt();
-                let outer = ht + (a - vt) * cot;
-                let h = if a <= vt { inner } else { outer };
-                *c = fmin(*c, base + h);
+                *c = fmin(*c, base + round_v_height(v, r, vt, ht, cot));
             }
         }
     }

@@ -222,40 +222,98 @@ pub(crate) fn cot(a: f64) -> f64 {
     }
 }
 
+/// The float types the edge profiles are evaluated in: `f64` for geometry, `f32` in the
+/// sweep's vectorised loops. [`trapezoid_height`] and [`round_v_height`] are the one
+/// formula of each profile for both.
+pub(crate) trait Real:
+    Copy
+    + PartialOrd
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+{
+    /// Zero.
+    const ZERO: Self;
+    /// The square root.
+    fn root(self) -> Self;
+    /// The absolute value.
+    fn magnitude(self) -> Self;
+}
+
+impl Real for f64 {
+    const ZERO: f64 = 0.0;
+    #[inline(always)]
+    fn root(self) -> f64 {
+        self.sqrt()
+    }
+    #[inline(always)]
+    fn magnitude(self) -> f64 {
+        self.abs()
+    }
+}
+
+impl Real for f32 {
+    const ZERO: f32 = 0.0;
+    #[inline(always)]
+    fn root(self) -> f32 {
+        self.sqrt()
+    }
+    #[inline(always)]
+    fn magnitude(self) -> f32 {
+        self.abs()
+    }
+}
+
+/// The larger of two values (`a` unless `b` is larger; branch-free where it matters).
+#[inline(always)]
+pub(crate) fn larger<R: Real>(a: R, b: R) -> R {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// A trapezoid's height above its tip at `v`: zero on the flat `[vl, vr]`, rising with the
+/// flanks' cotangents `cl` and `cr` outside it (a vertical flank, cotangent 0 here, only
+/// bounds the span, which the caller clips).
+#[inline(always)]
+pub(crate) fn trapezoid_height<R: Real>(v: R, vl: R, vr: R, cl: R, cr: R) -> R {
+    larger(larger((vl - v) * cl, (v - vr) * cr), R::ZERO)
+}
+
+/// A round-nose V's height above its tip at `v`: the nose circle of `radius` out to `vt`
+/// (where the flanks touch it, at height `ht`), then the flanks with cotangent `cot`.
+#[inline(always)]
+pub(crate) fn round_v_height<R: Real>(v: R, radius: R, vt: R, ht: R, cot: R) -> R {
+    let a = v.magnitude();
+    let inner = radius - larger(radius * radius - a * a, R::ZERO).root();
+    let outer = ht + (a - vt) * cot;
+    if a <= vt {
+        inner
+    } else {
+        outer
+    }
+}
+
 impl Kernel {
     pub(crate) fn height(&self, v: f64) -> f64 {
         match *self {
             Kernel::Mesh(ref solid) => solid.height(v),
             Kernel::Trapezoid { vl, vr, cl, cr } => {
-                if v < vl {
-                    if cl.is_infinite() {
-                        f64::INFINITY
-                    } else {
-                        (vl - v) * cl
-                    }
-                } else if v > vr {
-                    if cr.is_infinite() {
-                        f64::INFINITY
-                    } else {
-                        (v - vr) * cr
-                    }
-                } else {
-                    0.0
+                // Beyond a vertical flank the edge never reaches down.
+                if (v < vl && cl.is_infinite()) || (v > vr && cr.is_infinite()) {
+                    return f64::INFINITY;
                 }
+                let finite = |c: f64| if c.is_finite() { c } else { 0.0 };
+                trapezoid_height(v, vl, vr, finite(cl), finite(cr))
             }
             Kernel::RoundV {
                 radius,
                 vt,
                 ht,
                 cot,
-            } => {
-                let a = v.abs();
-                if a <= vt {
-                    radius - (radius * radius - a * a).sqrt()
-                } else {
-                    ht + (a - vt) * cot
-                }
-            }
+            } => round_v_height(v, radius, vt, ht, cot),
         }
     }
 
