@@ -196,7 +196,7 @@ fn summary(r: &Report) -> String {
     };
     fact("job", r.job.clone());
     for i in &r.inputs {
-        fact(i.role, i.path.clone());
+        fact(&format!("{} file", i.role), i.path.clone());
     }
     fact(
         "thread",

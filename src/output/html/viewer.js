@@ -61,7 +61,7 @@
       "  if (clip == 1 && dot(plane.xyz, vpos) > plane.w) discard;\n" +
       "  vec3 n = normalize(cross(dFdx(vpos), dFdy(vpos)));\n" +
       "  vec3 v = normalize(eye - vpos);\n" +
-      "  float l = 0.3 + 0.7 * abs(dot(n, v));\n" +
+      "  float l = min(1.15, 0.45 + 0.8 * abs(dot(n, v)));\n" +
       "  vec3 c = vcol;\n" +
       "  if (sheet == 0 && !gl_FrontFacing) c = vec3(0.42, 0.40, 0.38);\n" +
       "  o = vec4(c * l, alpha);\n" +
