@@ -369,7 +369,7 @@ fn row(s: &mut String, k: usize, f: &Finding, place: &FindingPlace) {
         (_, Some(file)) => format!("{}:{}", esc(file), f.line.unwrap_or(0)),
         _ => String::new(),
     };
-    let _ = write!(s, "<td>{block}</td><td>{}</td></tr>\n", esc(&f.message));
+    let _ = writeln!(s, "<td>{block}</td><td>{}</td></tr>", esc(&f.message));
 }
 
 /// Pictures as figures with `data:` PNGs.
