@@ -75,14 +75,14 @@ impl Html {
             }
         }
         let places = progress.stage("finding the passes that made the findings", || {
-            let passes = vpcut::finding_passes(job, &outcome.stock, &report.findings);
+            let passes = vpcut::finding_passes(job, outcome, &report.findings);
             report
                 .findings
                 .iter()
                 .zip(passes)
                 .map(|(f, pass)| vpcut::FindingPlace {
                     pass,
-                    point: vpcut::finding_point(&outcome.stock, job, f),
+                    point: vpcut::finding_point(outcome, job, f),
                 })
                 .collect::<Vec<_>>()
         });

@@ -8,7 +8,7 @@ use crate::support::{root, run_scene, scene_job};
 use std::process::Command;
 use vpcut::{
     build_scene, finding_passes, finding_point, sweep_column, to_html, Column, FindingKind,
-    FindingPlace, HtmlPage, HtmlPicture, Outcome, SceneOptions, Surface,
+    FindingPlace, Flank, HtmlPage, HtmlPicture, Outcome, SceneOptions, Surface,
 };
 
 /// The page of a simulated scene, with a stand-in picture.
@@ -23,7 +23,7 @@ fn page(name: &str) -> (Outcome, Vec<FindingPlace>, String) {
             ideal: true,
         },
     );
-    let passes = finding_passes(&job, &out.stock, &out.report.findings);
+    let passes = finding_passes(&job, &out, &out.report.findings);
     let places: Vec<FindingPlace> = out
         .report
         .findings
@@ -31,7 +31,7 @@ fn page(name: &str) -> (Outcome, Vec<FindingPlace>, String) {
         .zip(passes)
         .map(|(f, pass)| FindingPlace {
             pass,
-            point: finding_point(&out.stock, &job, f),
+            point: finding_point(&out, &job, f),
         })
         .collect();
     let pic = HtmlPicture {
@@ -139,7 +139,7 @@ fn the_pass_of_a_finding_is_the_one_that_cut_it() {
             continue;
         }
         let out = run_scene(name);
-        let passes = finding_passes(&job, &out.stock, &out.report.findings);
+        let passes = finding_passes(&job, &out, &out.report.findings);
         let g = out.stock.grid;
         let mut checked = 0;
         for (f, p) in out.report.findings.iter().zip(&passes) {
@@ -147,8 +147,18 @@ fn the_pass_of_a_finding_is_the_one_that_cut_it() {
                 assert!(p.is_none());
                 continue;
             }
-            let (angle, z) = (f.angle_deg.unwrap(), f.z_mm.unwrap());
-            let t = (angle.to_radians() - g.theta0).rem_euclid(std::f64::consts::TAU);
+            // The exact place of the extreme the finding reports.
+            let td = &out.deviation.turns[&(f.start.unwrap(), f.turn.unwrap())];
+            let k = Flank::ALL.iter().position(|&x| Some(x) == f.flank).unwrap();
+            let e = match f.kind {
+                FindingKind::Gouge => td.gouge[k],
+                _ => td.leftover[k],
+            }
+            .unwrap();
+            let d = (e.theta.to_degrees() - f.angle_deg.unwrap()).rem_euclid(360.0);
+            assert!(d.min(360.0 - d) < 0.051, "{}: {d} deg off", f.message);
+            let z = e.z;
+            let t = (e.theta - g.theta0).rem_euclid(std::f64::consts::TAU);
             let i = (t / g.dtheta()).round() as usize % g.n_theta;
             let j = ((z - g.z0) / g.dz).round() as usize;
             let fin = out.stock.outer[i * g.n_z + j];
@@ -200,7 +210,7 @@ fn program_findings_name_the_nc_block() {
     let job = scene_job(name);
     assert!(!job.pass_blocks.is_empty());
     let out = run_scene(name);
-    let passes = finding_passes(&job, &out.stock, &out.report.findings);
+    let passes = finding_passes(&job, &out, &out.report.findings);
     let blocks: Vec<_> = passes
         .iter()
         .flatten()

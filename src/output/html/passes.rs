@@ -4,13 +4,16 @@
 //! tool bodies, whose grid sweep is tabulated, the pass that cut it deepest). For a
 //! job with an NC program the pass's thread block (file and line) comes with it.
 //!
-//! Also where each located finding is on the cut surface (the point the 3D view flies to).
+//! The dexel is the exact place of the turn and flank's extreme the finding reports (the
+//! report rounds the angle to 0.1 deg). Also where each located finding is on the cut
+//! surface (the point the 3D view flies to).
 
 use crate::analysis::findings::FindingKind;
 use crate::job::Job;
 use crate::kernel::sweep::{sweep_column, Column};
 use crate::model::stock::{Stock, Surface};
-use crate::model::thread::Side;
+use crate::model::thread::{Flank, Side};
+use crate::pipeline::Outcome;
 use crate::report::Finding;
 use std::f64::consts::TAU;
 
@@ -36,13 +39,30 @@ fn thread_surface(job: &Job) -> Surface {
     }
 }
 
-/// The dexel (column, cell) nearest to an angle (deg) and an axial position (mm).
-fn dexel(stock: &Stock, angle_deg: f64, z: f64) -> Option<(usize, usize)> {
+/// Where a finding is: the angle (rad) and axial position (mm). A gouge or leftover's are
+/// the exact ones of its turn and flank's extreme (the report rounds them); the others',
+/// the report's.
+fn place(out: &Outcome, f: &Finding) -> Option<(f64, f64)> {
+    let exact = || {
+        let t = out.deviation.turns.get(&(f.start?, f.turn?))?;
+        let k = Flank::ALL.iter().position(|&x| Some(x) == f.flank)?;
+        let e = match f.kind {
+            FindingKind::Gouge => t.gouge[k],
+            FindingKind::Leftover => t.leftover[k],
+            _ => None,
+        }?;
+        Some((e.theta, e.z))
+    };
+    exact().or_else(|| Some((f.angle_deg?.to_radians(), f.z_mm?)))
+}
+
+/// The dexel (column, cell) nearest to an angle (rad) and an axial position (mm).
+fn dexel(stock: &Stock, theta: f64, z: f64) -> Option<(usize, usize)> {
     let g = &stock.grid;
-    if g.n_theta == 0 || g.n_z == 0 || !angle_deg.is_finite() || !z.is_finite() {
+    if g.n_theta == 0 || g.n_z == 0 || !theta.is_finite() || !z.is_finite() {
         return None;
     }
-    let turns = (angle_deg.to_radians() - g.theta0) / TAU;
+    let turns = (theta - g.theta0) / TAU;
     let i = ((turns - turns.floor()) * g.n_theta as f64).round() as usize % g.n_theta;
     let j = ((z - g.z0) / g.dz).round();
     if j < 0.0 || j >= g.n_z as f64 {
@@ -53,10 +73,11 @@ fn dexel(stock: &Stock, angle_deg: f64, z: f64) -> Option<(usize, usize)> {
 
 /// Where a finding with an angle and an axial position is on the cut surface (mm, part
 /// frame), if the stock has that dexel.
-pub fn finding_point(stock: &Stock, job: &Job, f: &Finding) -> Option<[f32; 3]> {
-    let (angle, z) = (f.angle_deg?, f.z_mm?);
+pub fn finding_point(out: &Outcome, job: &Job, f: &Finding) -> Option<[f32; 3]> {
+    let stock = &out.stock;
+    let (theta, z) = place(out, f)?;
     let s = thread_surface(job);
-    let (i, j) = dexel(stock, angle, z)?;
+    let (i, j) = dexel(stock, theta, z)?;
     let r = stock.radius(s, i, j)?;
     let t = stock.grid.theta(i);
     Some([(r * t.cos()) as f32, (r * t.sin()) as f32, z as f32])
@@ -65,23 +86,24 @@ pub fn finding_point(stock: &Stock, job: &Job, f: &Finding) -> Option<[f32; 3]> 
 /// For every finding of `findings` (in order): the pass that cut its dexel, for gouge and
 /// leftover findings on a turning job's stock; `None` for the others, for milling jobs and
 /// where no pass cut the dexel at all.
-pub fn finding_passes(job: &Job, stock: &Stock, findings: &[Finding]) -> Vec<Option<FindingPass>> {
+pub fn finding_passes(job: &Job, out: &Outcome, findings: &[Finding]) -> Vec<Option<FindingPass>> {
     findings
         .iter()
         .map(|f| match f.kind {
             FindingKind::Gouge | FindingKind::Leftover if job.mill.is_none() => {
-                pass_of(job, stock, f.angle_deg?, f.z_mm?)
+                let (theta, z) = place(out, f)?;
+                pass_of(job, &out.stock, theta, z)
             }
             _ => None,
         })
         .collect()
 }
 
-/// The first pass whose own cut reaches the final value of the dexel at `angle_deg`, `z`
+/// The first pass whose own cut reaches the final value of the dexel at `theta`, `z`
 /// (else the one that cut it deepest).
-fn pass_of(job: &Job, stock: &Stock, angle_deg: f64, z: f64) -> Option<FindingPass> {
+fn pass_of(job: &Job, stock: &Stock, theta: f64, z: f64) -> Option<FindingPass> {
     let s = thread_surface(job);
-    let (i, j) = dexel(stock, angle_deg, z)?;
+    let (i, j) = dexel(stock, theta, z)?;
     let g = &stock.grid;
     let fin = f64::from(*stock.surface(s)?.get(i * g.n_z + j)?);
     if fin >= 0.0 {
