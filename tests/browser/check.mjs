@@ -8,7 +8,8 @@
 //     the page, and the report.json the same run wrote);
 //   - a click on a heading sorts the findings.
 // Usage: node check.mjs CHROMIUM page.html report.json [page.html report.json ...]
-// Writes each page's screenshot beside it as PAGE.png.
+// Writes each page's screenshot beside it as PAGE.png, and the 3D view after the click on
+// a finding as PAGE.finding.png.
 import { spawn } from "node:child_process";
 import { readFileSync, writeFileSync } from "node:fs";
 import { resolve } from "node:path";
@@ -151,6 +152,32 @@ async function checkPage(page, reportPath) {
   check(px.all > 0.08, `the part covers the view (${(100 * px.all).toFixed(1)} % of the pixels)`);
   check(px.mid > 0.5, `the part fills the middle of the view (${(100 * px.mid).toFixed(1)} %)`);
   check(px.colours > 8, `the part is shaded and coloured (${px.colours} colours)`);
+  // The toggles change the picture: the section plane, the ideal, the toolpath.
+  const signature = `(() => {
+    window.vpcutViewer.draw();
+    const c = document.getElementById("view3d");
+    const t = document.createElement("canvas");
+    t.width = c.width; t.height = c.height;
+    const g = t.getContext("2d");
+    g.drawImage(c, 0, 0);
+    const d = g.getImageData(0, 0, t.width, t.height).data;
+    let h = 0;
+    for (let i = 0; i < d.length; i += 4) h = (h * 31 + d[i] + 7 * d[i + 1] + 13 * d[i + 2]) >>> 0;
+    return h;
+  })()`;
+  const toggle = (id) => evaluate(`(() => { const b = document.getElementById('${id}'); if (b.disabled) return false; b.click(); return true; })()`);
+  const base = await evaluate(signature);
+  for (const id of ["show-section", "show-ideal", "show-toolpath"]) {
+    if (!(await toggle(id))) {
+      console.log(`  --   ${id} is disabled (nothing to show)`);
+      continue;
+    }
+    const changed = (await evaluate(signature)) !== base;
+    await toggle(id);
+    const back = (await evaluate(signature)) === base;
+    check(changed && back, `${id} changes the picture and back`);
+  }
+
   const shot = await s("Page.captureScreenshot", { format: "png", captureBeyondViewport: false });
   writeFileSync(page + ".png", Buffer.from(shot.data, "base64"));
 
@@ -211,6 +238,9 @@ async function checkPage(page, reportPath) {
     check(moved > 1e-3 * before.dist, `clicking a finding moves the camera (eye moved ${moved.toFixed(3)} mm)`);
     check(onIt < 1e-3, `the camera looks at the finding (${onIt.toExponential(2)} mm off)`);
     check(after.dist < before.dist, `and closes in (distance ${before.dist.toFixed(1)} -> ${after.dist.toFixed(1)} mm)`);
+    const box = await evaluate(`(() => { const c = document.getElementById('view3d'); c.scrollIntoView({block: 'center'}); const b = c.getBoundingClientRect(); return {x: b.left + window.scrollX, y: b.top + window.scrollY, width: b.width, height: b.height, scale: 1}; })()`);
+    const close = await s("Page.captureScreenshot", { format: "png", clip: box });
+    writeFileSync(page + ".finding.png", Buffer.from(close.data, "base64"));
   } else {
     check(report.findings.every((f) => f.angle_deg === null || f.z_mm === null), "no finding has a place to fly to");
   }
