@@ -828,13 +828,19 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let mut plots = None;
     if plot_slots.is_some() || html.is_some() {
         let tol = job.sim.tolerance;
+        // The page alone shows them at most 720 pixels wide: smaller ones cost less.
+        let (dw, dh, sw, sh) = if plot_slots.is_some() {
+            (1440, 900, 1600, 600)
+        } else {
+            (1024, 640, 1200, 450)
+        };
         let (dev, sec) = progress.stage("drawing the plots", || {
             let dev = vpcut::developed_view(
                 &grids.as_ref().expect("the grid was kept").stock,
                 &job.thread,
                 tol,
-                1440,
-                900,
+                dw,
+                dh,
             );
             let angle = args.section_angle.unwrap_or(0.0).to_radians();
             let sec = vpcut::section_view(
@@ -842,8 +848,8 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
                 &job.thread,
                 angle,
                 tol,
-                1600,
-                600,
+                sw,
+                sh,
             );
             (png(&dev), png(&sec))
         });

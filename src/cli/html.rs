@@ -7,8 +7,9 @@ use crate::cli::output::{Allow, Outputs, Slot};
 use crate::cli::term::Progress;
 use std::path::Path;
 
-/// The renders' size on the page (a width in multiples of 64, as the renderer wants).
-const RENDER_SIZE: (u32, u32) = (960, 720);
+/// The renders' size on the page (a width in multiples of 64, as the renderer wants; the
+/// page shows them 720 pixels wide).
+const RENDER_SIZE: (u32, u32) = (768, 576);
 
 /// An HTML report to write.
 pub(crate) struct Html {

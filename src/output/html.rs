@@ -355,7 +355,11 @@ fn row(s: &mut String, k: usize, f: &Finding, place: &FindingPlace) {
     let _ = write!(s, "<td>{}</td>", f.unit.unwrap_or(""));
     // The pass: the report's own (machine checks), else the one that cut the dexel.
     let pass = f.pass.or(place.pass.as_ref().map(|p| p.pass));
-    cell(s, pass.map(|p| p as f64), false);
+    if pass.is_none() && f.kind == FindingKind::Leftover && place.point.is_some() {
+        s.push_str("<td data-v=\"\" title=\"no pass cut this dexel\">blank</td>");
+    } else {
+        cell(s, pass.map(|p| p as f64), false);
+    }
     let block = match (&place.pass, &f.file) {
         (
             Some(FindingPass {
