@@ -81,6 +81,9 @@ pub use nc::{
     MoveKind, NcError, Options as NcOptions, Plane, Settings, Severity, Source, Toolpath,
 };
 pub use output::glb::{from_glb, to_glb, GlbError};
+pub use output::html::{
+    finding_passes, finding_point, to_html, FindingPass, FindingPlace, HtmlPage, HtmlPicture,
+};
 pub use output::mesh::{build_scene, ideal_mesh, stock_mesh, tool_mesh, toolpath, SceneOptions};
 pub use output::plot::{developed_view, section_profile, section_view, signed_deviation};
 pub use output::render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};

@@ -1,5 +1,5 @@
 //! The `vpcut` command line: `vpcut simulate job.toml [--report report.json] [--check]
-//! [--gltf out.glb] [--png out.png]`, `vpcut render model.glb --png view.png`,
+//! [--gltf out.glb] [--png out.png] [--html report.html]`, `vpcut render model.glb --png view.png`,
 //! `vpcut toolpath program --dialect D`, `vpcut plan job.toml --dialect D`.
 //!
 //! Every option and output path is checked before any work starts; outputs are written to
@@ -16,6 +16,7 @@ mod cli;
 use anyhow::Context as _;
 use clap::{Parser, Subcommand};
 use cli::ci::{self, Case, Checked, Failed, Place};
+use cli::html::Html;
 use cli::inputs::{self, Inputs};
 use cli::output::{Allow, Outputs, Slot};
 use cli::term::{self, Progress, Stream};
@@ -360,6 +361,12 @@ struct SimulateArgs {
     /// Export every dexel as a vertex (no simplification; large files).
     #[arg(long, requires = "gltf")]
     gltf_full: bool,
+    /// Write a self-contained HTML report here: the verdict, the job, the per-turn table,
+    /// the findings with the pass (and NC block) that made them, the plots, the renders
+    /// where there is a GPU adapter, and an interactive 3D view of the cut part (WebGL2).
+    /// `-`: standard output.
+    #[arg(long, value_name = "FILE")]
+    html: Option<PathBuf>,
     #[command(flatten)]
     picture: PictureArgs,
     #[command(flatten)]
@@ -721,6 +728,10 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     };
     let ci_slots = args.ci.slots(&mut outs)?;
     let pictures = args.picture.prepare(&mut outs, &progress)?;
+    let html = match &args.html {
+        Some(p) => Some(Html::prepare(p, &mut outs, &progress, pictures.is_some())?),
+        None => None,
+    };
     set_threads(args.threads)?;
     let inputs = Inputs::default();
     let (job, job_text) = progress.stage("reading the job", || {
@@ -745,7 +756,8 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     };
     // Only the model, the pictures and the plots need the whole grid: without them the
     // columns are streamed (the same report, memory that does not grow with the part).
-    let needs_grid = gltf_slot.is_some() || pictures.is_some() || plot_slots.is_some();
+    let needs_grid =
+        gltf_slot.is_some() || pictures.is_some() || plot_slots.is_some() || html.is_some();
     let (mut report, mut grids) = progress
         .stage("simulating: sweep, compare, measure", || {
             if needs_grid {
@@ -769,7 +781,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     };
     // Pictures use the default mesh and the ideal (drawn on section planes); the model
     // shares that mesh unless it asks for another tolerance.
-    let picture_scene = pictures.as_ref().map(|_| {
+    let picture_scene = (pictures.is_some() || html.is_some()).then(|| {
         progress.stage("meshing the part", || {
             vpcut::build_scene(
                 &job,
@@ -818,15 +830,22 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let (Some(p), Some(scene)) = (&pictures, &picture_scene) {
         p.draw(scene, &mut outs, &progress)?;
     }
-    if let Some((developed, section)) = plot_slots {
+    let mut plots = None;
+    if plot_slots.is_some() || html.is_some() {
         let tol = job.sim.tolerance;
+        // The page alone shows them at most 720 pixels wide: smaller ones cost less.
+        let (dw, dh, sw, sh) = if plot_slots.is_some() {
+            (1440, 900, 1600, 600)
+        } else {
+            (1024, 640, 1200, 450)
+        };
         let (dev, sec) = progress.stage("drawing the plots", || {
             let dev = vpcut::developed_view(
                 &grids.as_ref().expect("the grid was kept").stock,
                 &job.thread,
                 tol,
-                1440,
-                900,
+                dw,
+                dh,
             );
             let angle = args.section_angle.unwrap_or(0.0).to_radians();
             let sec = vpcut::section_view(
@@ -834,13 +853,20 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
                 &job.thread,
                 angle,
                 tol,
-                1600,
-                600,
+                sw,
+                sh,
             );
             (png(&dev), png(&sec))
         });
-        outs.put(developed, &dev?)?;
-        outs.put(section, &sec?)?;
+        plots = Some([dev?, sec?]);
+    }
+    if let (Some((developed, section)), Some([dev, sec])) = (plot_slots, &plots) {
+        outs.put(developed, dev)?;
+        outs.put(section, sec)?;
+    }
+    if let (Some(h), Some(o), Some(scene), Some(plots)) = (&html, &grids, &picture_scene, plots) {
+        let renderer = pictures.as_ref().map(|p| &p.renderer);
+        h.write(&job, o, scene, plots, renderer, &mut outs, &progress)?;
     }
     if ci_slots.0.is_some() || ci_slots.1.is_some() {
         let case = Case {

@@ -1,8 +1,9 @@
 //! What a simulation is shown as: the 3D scene ([`scene`], built by [`mesh`]), its binary
 //! glTF ([`glb`]), the GPU renders ([`render`]) and the pictures that need no GPU
-//! ([`plot`]).
+//! ([`plot`]), and the self-contained HTML report with its WebGL view ([`html`]).
 
 pub(crate) mod glb;
+pub(crate) mod html;
 pub(crate) mod mesh;
 pub(crate) mod plot;
 pub(crate) mod render;

@@ -13,6 +13,8 @@ mod gltf;
 mod goldens;
 /// Hostile input, class by class: clean errors naming the place, never a panic or a hang.
 mod hostile;
+/// The HTML report: self-contained, the report's rows, the passes of the findings.
+mod html;
 /// Same answer whatever the thread count; left and right hands mirror each other.
 mod invariance;
 /// LinuxCNC conformance against rs274 reference output.

@@ -1,0 +1,124 @@
+//! `simulate --html`: the self-contained HTML report. Its output is reserved with the others
+//! before any work; the renderer is started then too, and where there is no GPU adapter the
+//! page goes without renders and says why. The page itself is the library's
+//! (`vpcut::to_html`); this module gathers what it shows.
+
+use crate::cli::output::{Allow, Outputs, Slot};
+use crate::cli::term::Progress;
+use std::path::Path;
+
+/// The renders' size on the page (a width in multiples of 64, as the renderer wants; the
+/// page shows them 720 pixels wide).
+const RENDER_SIZE: (u32, u32) = (768, 576);
+
+/// An HTML report to write.
+pub(crate) struct Html {
+    slot: Slot,
+    /// Its own renderer, when the run starts none for `--png`/`--renders`.
+    renderer: Option<vpcut::Renderer>,
+    /// Why there are no renders.
+    note: Option<String>,
+}
+
+impl Html {
+    /// Reserve the output and, unless the run has a renderer already, start one (no adapter
+    /// is no error: the page says so).
+    pub(crate) fn prepare(
+        path: &Path,
+        outs: &mut Outputs,
+        progress: &Progress,
+        has_renderer: bool,
+    ) -> anyhow::Result<Html> {
+        let slot = outs.file(path, "--html", Allow::FileOrStdout)?;
+        let (renderer, note) = if has_renderer {
+            (None, None)
+        } else {
+            match progress.stage("starting the renderer", || vpcut::Renderer::new(4)) {
+                Ok(r) => match r.check(&options(vpcut::View::Iso)) {
+                    Ok(()) => (Some(r), None),
+                    Err(e) => (None, Some(format!("No renders: {e}."))),
+                },
+                Err(e) => (None, Some(format!("No renders: {e}."))),
+            }
+        };
+        Ok(Html {
+            slot,
+            renderer,
+            note,
+        })
+    }
+
+    /// Render, attribute the findings and write the page into its slot. `plots` are the
+    /// developed view's and the section's PNGs; `renderer` the run's own, if it has one.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn write(
+        &self,
+        job: &vpcut::Job,
+        outcome: &vpcut::Outcome,
+        scene: &vpcut::Scene,
+        plots: [Vec<u8>; 2],
+        renderer: Option<&vpcut::Renderer>,
+        outs: &mut Outputs,
+        progress: &Progress,
+    ) -> anyhow::Result<()> {
+        let report = &outcome.report;
+        let mut renders = Vec::new();
+        if let Some(r) = self.renderer.as_ref().or(renderer) {
+            for view in vpcut::View::ALL {
+                let png = progress.stage(
+                    &format!("rendering the {} view for the page", view.name()),
+                    || r.png(scene, &options(view)),
+                )?;
+                renders.push(vpcut::HtmlPicture {
+                    caption: format!("{} view (GPU render)", view.name()),
+                    png,
+                });
+            }
+        }
+        let places = progress.stage("finding the passes that made the findings", || {
+            let passes = vpcut::finding_passes(job, outcome, &report.findings);
+            report
+                .findings
+                .iter()
+                .zip(passes)
+                .map(|(f, pass)| vpcut::FindingPlace {
+                    pass,
+                    point: vpcut::finding_point(outcome, job, f),
+                })
+                .collect::<Vec<_>>()
+        });
+        let [developed, section] = plots;
+        let plots = [
+            vpcut::HtmlPicture {
+                caption: "developed view: the deviation over angle x z".into(),
+                png: developed,
+            },
+            vpcut::HtmlPicture {
+                caption: "axial section: machined and ideal profile".into(),
+                png: section,
+            },
+        ];
+        let text = progress.stage("writing the HTML report", || {
+            vpcut::to_html(&vpcut::HtmlPage {
+                report,
+                scene,
+                places: &places,
+                plots: &plots,
+                renders: &renders,
+                note: self.note.as_deref(),
+            })
+        });
+        outs.put(self.slot, text.as_bytes())
+    }
+}
+
+/// The options of a render on the page.
+fn options(view: vpcut::View) -> vpcut::RenderOptions {
+    vpcut::RenderOptions {
+        view,
+        width: RENDER_SIZE.0,
+        height: RENDER_SIZE.1,
+        edges: false,
+        toolpath: true,
+    }
+}
