@@ -710,6 +710,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             Some((
                 outs.file(&dir.join("developed.png"), "--plots", Allow::File)?,
                 outs.file(&dir.join("section.png"), "--plots", Allow::File)?,
+                outs.file(&dir.join("trace.png"), "--plots", Allow::File)?,
             ))
         }
         None => None,
@@ -813,29 +814,30 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let (Some(p), Some(scene)) = (&pictures, &picture_scene) {
         p.draw(scene, &mut outs, &progress)?;
     }
-    if let Some((developed, section)) = plot_slots {
+    if let Some((developed, section, trace)) = plot_slots {
         let tol = job.sim.tolerance;
-        let (dev, sec) = progress.stage("drawing the plots", || {
-            let dev = vpcut::developed_view(
-                &grids.as_ref().expect("the grid was kept").stock,
-                &job.thread,
-                tol,
-                1440,
-                900,
-            );
-            let angle = args.section_angle.unwrap_or(0.0).to_radians();
-            let sec = vpcut::section_view(
-                &grids.as_ref().expect("the grid was kept").stock,
-                &job.thread,
-                angle,
-                tol,
-                1600,
-                600,
-            );
-            (png(&dev), png(&sec))
+        let stock = &grids.as_ref().expect("the grid was kept").stock;
+        let name = args
+            .job
+            .parent()
+            .and_then(|p| p.file_name())
+            .or(args.job.file_stem())
+            .map_or_else(|| "job".into(), |n| n.to_string_lossy().into_owned());
+        let verdict = match report.verdict {
+            vpcut::Verdict::Pass => "PASS",
+            vpcut::Verdict::Fail => "FAIL",
+        };
+        let title = format!("{name}: {verdict}");
+        let angle = args.section_angle.unwrap_or(0.0).to_radians();
+        let (dev, sec, tr) = progress.stage("drawing the plots", || {
+            let dev = vpcut::developed_view(stock, &job.thread, tol, 1600, 900, &title);
+            let sec = vpcut::section_view(stock, &job.thread, angle, tol, 1600, 600, &title);
+            let tr = vpcut::trace_view(stock, &job.thread, angle, tol, 1600, 500, &title);
+            (png(&dev), png(&sec), png(&tr))
         });
         outs.put(developed, &dev?)?;
         outs.put(section, &sec?)?;
+        outs.put(trace, &tr?)?;
     }
     if ci_slots.0.is_some() || ci_slots.1.is_some() {
         let case = Case {
