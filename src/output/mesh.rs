@@ -127,6 +127,8 @@ fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Optio
         kind: kind.to_string(),
         value_mm: r6(e.value),
         point: point(r, e.theta, e.z),
+        turn: e.turn,
+        flank: e.flank.name().to_string(),
     })
 }
 

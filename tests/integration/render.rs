@@ -129,13 +129,12 @@ fn plain_scene(stock: Mesh) -> Scene {
     }
 }
 
-/// Pixels of the part: the free area (left of the legend, between title and key) that is
-/// not background.
+/// Pixels of the part: the picture below the legend's strip that is not background.
 fn part_box(img: &RgbImage) -> (u32, u32, u32, u32) {
     let (w, h) = img.dimensions();
     let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
-    for y in 40..h - 24 {
-        for x in 0..w - 160 {
+    for y in 60..h {
+        for x in 0..w {
             let p = img.get_pixel(x, y).0;
             let differs = p.iter().zip(BACKGROUND).any(|(a, b)| a.abs_diff(b) > 8);
             if differs {
@@ -178,8 +177,8 @@ fn bar_silhouette_has_the_bars_proportions() {
         (h - want).abs() <= 2.0,
         "silhouette {w} x {h} px, height should be {want:.1} px"
     );
-    // It fills the free width (640 px less the legend's 160) within the 8 % margin.
-    assert!((w - 480.0 / 1.08).abs() <= 2.0, "width {w} px");
+    // It fills the width (the legend is in a strip above it) within the 8 % margin.
+    assert!((w - 640.0 / 1.08).abs() <= 2.0, "width {w} px");
 }
 
 /// The section of a tube: on the middle column two cut faces, each `(R - r)` thick in the
@@ -439,7 +438,7 @@ fn toolpath_and_edges_are_drawn_as_asked() {
     };
     let with = draw(View::Front, true, false);
     let without = draw(View::Front, false, false);
-    // The key's swatch is 16x3 feed pixels; the lines are many more.
+    // The key's swatch is a few feed pixels; the lines are many more.
     assert!(count(&with, FEED) > 1000, "{}", count(&with, FEED));
     assert_eq!(count(&without, FEED), 0);
     assert_eq!(count(&draw(View::Section, true, false), FEED), 0);

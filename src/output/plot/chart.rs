@@ -164,8 +164,15 @@ pub(crate) fn picture<F>(w: u32, h: u32, draw: F) -> image::RgbImage
 where
     F: FnOnce(&Area) -> Res<()>,
 {
+    picture_on(vec![255u8; w as usize * h as usize * 3], w, h, draw)
+}
+
+/// `draw` over the `w` x `h` RGB pixels `buf` (an error leaves what was drawn).
+pub(crate) fn picture_on<F>(mut buf: Vec<u8>, w: u32, h: u32, draw: F) -> image::RgbImage
+where
+    F: FnOnce(&Area) -> Res<()>,
+{
     font_once();
-    let mut buf = vec![255u8; w as usize * h as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         let _ = draw(&root);
