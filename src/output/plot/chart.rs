@@ -184,5 +184,11 @@ where
 /// A number of millimetres with as many decimals as `step` needs.
 pub(crate) fn mm(v: f64, step: f64) -> String {
     let dec = (-(step.abs().max(1e-9)).log10().floor()).clamp(0.0, 6.0) as usize;
+    // No "-0.00": what rounds to zero is zero.
+    let v = if v.abs() < 0.5 * 10f64.powi(-(dec as i32)) {
+        0.0
+    } else {
+        v
+    };
     format!("{v:.dec$}")
 }
