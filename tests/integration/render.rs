@@ -181,6 +181,61 @@ fn bar_silhouette_has_the_bars_proportions() {
     assert!((w - 640.0 / 1.08).abs() <= 2.0, "width {w} px");
 }
 
+/// The legend has its own strip above the part: white, as high as its text, which follows
+/// the picture's size (twice the picture, twice the strip, above the text's 11 px floor),
+/// and the part is drawn below it, never under it.
+#[test]
+fn legend_strip_scales_and_leaves_the_part_free() {
+    let Some(r) = renderer() else { return };
+    let scene = plain_scene(tube(12.5, 0.0, 80.0, 720));
+    let strip = |w: u32, h: u32| {
+        let img = r
+            .render(
+                &scene,
+                &RenderOptions {
+                    width: w,
+                    height: h,
+                    ..opts(View::Front)
+                },
+            )
+            .unwrap();
+        // Down the right edge: the strip's white rows, then the background of the part's
+        // picture.
+        let x = w - 2;
+        let first = (0..h)
+            .find(|&y| {
+                let p = img.get_pixel(x, y).0;
+                p.iter().zip(BACKGROUND).all(|(a, b)| a.abs_diff(b) <= 2)
+            })
+            .unwrap();
+        assert!(
+            (0..first - 1).all(|y| img.get_pixel(x, y).0 == [255, 255, 255]),
+            "{w}x{h}: the strip is not white"
+        );
+        // The part is framed below the strip: the rows under the strip are background
+        // all across (the part's margin), and the part is drawn further down.
+        let background = |y: u32| {
+            (0..w).all(|x| {
+                let p = img.get_pixel(x, y).0;
+                p.iter().zip(BACKGROUND).all(|(a, b)| a.abs_diff(b) <= 8)
+            })
+        };
+        assert!(
+            (first..first + 3).all(background),
+            "{w}x{h}: the part touches the strip"
+        );
+        assert!(!(first..h).all(background), "{w}x{h}: no part drawn");
+        first
+    };
+    // Text 11 px at least: 640x480 is at the floor; above it the strip is proportional.
+    assert!(strip(640, 480) >= 40);
+    let (small, big) = (strip(1024, 768), strip(2048, 1536));
+    assert!(
+        (big as f64 / small as f64 - 2.0).abs() < 0.1,
+        "strip {small} px at 1024x768, {big} px at 2048x1536"
+    );
+}
+
 /// The section of a tube: on the middle column two cut faces, each `(R - r)` thick in the
 /// bar's own pixel scale (`L` px / length), and the bore between them open (the inside of
 /// the far half, shaded, not the cap colour): the stencil caps exactly the material.
