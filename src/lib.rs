@@ -85,7 +85,10 @@ pub use output::html::{
     finding_passes, finding_point, to_html, FindingPass, FindingPlace, HtmlPage, HtmlPicture,
 };
 pub use output::mesh::{build_scene, ideal_mesh, stock_mesh, tool_mesh, toolpath, SceneOptions};
-pub use output::plot::{developed_view, section_profile, section_view, signed_deviation};
+pub use output::plot::chart::band_colour;
+pub use output::plot::developed::{developed_plot, developed_view, DevelopedPlot};
+pub use output::plot::section::{section_view, trace_view};
+pub use output::plot::{section_profile, signed_deviation};
 pub use output::render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};
 pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};

@@ -722,6 +722,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             Some((
                 outs.file(&dir.join("developed.png"), "--plots", Allow::File)?,
                 outs.file(&dir.join("section.png"), "--plots", Allow::File)?,
+                outs.file(&dir.join("trace.png"), "--plots", Allow::File)?,
             ))
         }
         None => None,
@@ -833,36 +834,37 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let mut plots = None;
     if plot_slots.is_some() || html.is_some() {
         let tol = job.sim.tolerance;
-        // The page alone shows them at most 720 pixels wide: smaller ones cost less.
-        let (dw, dh, sw, sh) = if plot_slots.is_some() {
-            (1440, 900, 1600, 600)
-        } else {
-            (1024, 640, 1200, 450)
+        let stock = &grids.as_ref().expect("the grid was kept").stock;
+        let name = args
+            .job
+            .parent()
+            .and_then(|p| p.file_name())
+            .or(args.job.file_stem())
+            .map_or_else(|| "job".into(), |n| n.to_string_lossy().into_owned());
+        let verdict = match report.verdict {
+            vpcut::Verdict::Pass => "PASS",
+            vpcut::Verdict::Fail => "FAIL",
         };
-        let (dev, sec) = progress.stage("drawing the plots", || {
-            let dev = vpcut::developed_view(
-                &grids.as_ref().expect("the grid was kept").stock,
-                &job.thread,
-                tol,
-                dw,
-                dh,
-            );
-            let angle = args.section_angle.unwrap_or(0.0).to_radians();
-            let sec = vpcut::section_view(
-                &grids.as_ref().expect("the grid was kept").stock,
-                &job.thread,
-                angle,
-                tol,
-                sw,
-                sh,
-            );
-            (png(&dev), png(&sec))
+        let title = format!("{name}: {verdict}");
+        let angle = args.section_angle.unwrap_or(0.0).to_radians();
+        // The page alone shows them at most 720 pixels wide: smaller ones cost less.
+        let (dw, dh, sw, sh, tw, th) = if plot_slots.is_some() {
+            (1600, 900, 1600, 600, 1600, 500)
+        } else {
+            (1024, 576, 1200, 450, 1200, 375)
+        };
+        let (dev, sec, tr) = progress.stage("drawing the plots", || {
+            let dev = vpcut::developed_view(stock, &job.thread, tol, dw, dh, &title);
+            let sec = vpcut::section_view(stock, &job.thread, angle, tol, sw, sh, &title);
+            let tr = vpcut::trace_view(stock, &job.thread, angle, tol, tw, th, &title);
+            (png(&dev), png(&sec), png(&tr))
         });
-        plots = Some([dev?, sec?]);
+        plots = Some([dev?, sec?, tr?]);
     }
-    if let (Some((developed, section)), Some([dev, sec])) = (plot_slots, &plots) {
+    if let (Some((developed, section, trace)), Some([dev, sec, tr])) = (plot_slots, &plots) {
         outs.put(developed, dev)?;
         outs.put(section, sec)?;
+        outs.put(trace, tr)?;
     }
     if let (Some(h), Some(o), Some(scene), Some(plots)) = (&html, &grids, &picture_scene, plots) {
         let renderer = pictures.as_ref().map(|p| &p.renderer);

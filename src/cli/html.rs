@@ -56,7 +56,7 @@ impl Html {
         job: &vpcut::Job,
         outcome: &vpcut::Outcome,
         scene: &vpcut::Scene,
-        plots: [Vec<u8>; 2],
+        plots: [Vec<u8>; 3],
         renderer: Option<&vpcut::Renderer>,
         outs: &mut Outputs,
         progress: &Progress,
@@ -87,15 +87,20 @@ impl Html {
                 })
                 .collect::<Vec<_>>()
         });
-        let [developed, section] = plots;
+        let [developed, section, trace] = plots;
         let plots = [
             vpcut::HtmlPicture {
-                caption: "developed view: the deviation over angle x z".into(),
+                caption: "developed view: the deviation over angle x z, in bands of the tolerance"
+                    .into(),
                 png: developed,
             },
             vpcut::HtmlPicture {
                 caption: "axial section: machined and ideal profile".into(),
                 png: section,
+            },
+            vpcut::HtmlPicture {
+                caption: "deviation along z on four generators, with the tolerance".into(),
+                png: trace,
             },
         ];
         let text = progress.stage("writing the HTML report", || {

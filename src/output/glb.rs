@@ -327,10 +327,11 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, GlbError> {
             "legend": {
                 "tolerance_mm": scene.legend.tolerance_mm,
                 "scale_mm": scene.legend.scale_mm,
-                "colours": "gouge blue, within tolerance grey, leftover red, not compared dark grey, cut by a tool body past its edge purple",
+                "colours": "gouge blue, within tolerance grey, leftover red, not compared dark grey, cut by a tool body past its edge purple, the ideal teal",
             },
             "focus": scene.focus.as_ref().map(|f| serde_json::json!({
                 "kind": f.kind, "value_mm": f.value_mm, "point_mm": f.point,
+                "turn": f.turn, "flank": f.flank,
             })),
             "report": serde_json::from_str::<serde_json::Value>(&scene.summary)
                 .unwrap_or(serde_json::Value::Null),
@@ -404,6 +405,8 @@ pub fn from_glb(bytes: &[u8]) -> Result<Scene, GlbError> {
                     c(1).ok_or_else(|| missing("focus point"))?,
                     c(2).ok_or_else(|| missing("focus point"))?,
                 ],
+                turn: f["turn"].as_i64().unwrap_or(0),
+                flank: f["flank"].as_str().unwrap_or("").to_string(),
             })
         }
     };

@@ -44,8 +44,8 @@ use glam::DVec2;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
-/// Colour of the ideal surface (sRGB).
-pub(crate) const IDEAL_COLOUR: [u8; 3] = [60, 110, 230];
+/// Colour of the ideal surface (sRGB): the one colour of the ideal (plots, renders, .glb).
+pub(crate) use crate::output::plot::IDEAL_COLOUR;
 /// Colour of the tool (sRGB).
 pub(crate) const TOOL_COLOUR: [u8; 3] = [150, 155, 165];
 
@@ -127,6 +127,8 @@ fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Optio
         kind: kind.to_string(),
         value_mm: r6(e.value),
         point: point(r, e.theta, e.z),
+        turn: e.turn,
+        flank: e.flank.name().to_string(),
     })
 }
 

@@ -73,6 +73,10 @@ pub struct Focus {
     pub value_mm: f64,
     /// Where it is on the cut surface (mm, part frame).
     pub point: [f32; 3],
+    /// Its turn (1-based, as the report's location; 0 before the first feature).
+    pub turn: i64,
+    /// Its flank as the report names it (`left`, `right`, `root`, `crest`), or empty.
+    pub flank: String,
 }
 
 /// A simulated job as a 3D scene.

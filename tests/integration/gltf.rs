@@ -379,7 +379,8 @@ fn colours_follow_the_report() {
 }
 
 /// Write and read back: the same meshes (positions to f32 rounding of mm -> m -> mm),
-/// colours exactly, the toolpath, legend, focus and summary.
+/// colours exactly, the toolpath, legend, focus (the report's worst turn and flank) and
+/// summary; the ideal in its one colour.
 #[test]
 fn glb_round_trips() {
     let j = scene_job("seed002-equal-groove");
@@ -413,9 +414,32 @@ fn glb_round_trips() {
         assert_eq!(a.points.len(), b.points.len());
     }
     assert_eq!(scene.legend, back.legend);
+    let focus = scene.focus.as_ref().unwrap();
+    let b = back.focus.as_ref().unwrap();
     assert_eq!(
-        scene.focus.as_ref().map(|f| &f.kind),
-        back.focus.as_ref().map(|f| &f.kind)
+        (&focus.kind, focus.turn, &focus.flank),
+        (&b.kind, b.turn, &b.flank)
+    );
+    // The focus (the close-up's label) is the report's worst place: its turn and flank.
+    let d = &out.report.deviation;
+    let worst = if focus.kind == "gouge" {
+        d.max_gouge_at.as_ref()
+    } else {
+        d.max_leftover_at.as_ref()
+    }
+    .unwrap();
+    assert_eq!(
+        (focus.turn, focus.flank.as_str()),
+        (worst.turn, worst.flank)
+    );
+    // The ideal has one colour, teal: neither gouge blue nor leftover red.
+    let ideal = scene.ideal.as_ref().unwrap();
+    assert!(ideal.colors.iter().all(|c| *c == ideal.colors[0]));
+    let [r, g, b] = ideal.colors[0].map(i32::from);
+    assert!(
+        g > r + 80 && g > b - 20 && b > r + 80,
+        "{:?}",
+        ideal.colors[0]
     );
     let summary: serde_json::Value = serde_json::from_str(&back.summary).unwrap();
     assert_eq!(summary["verdict"], "fail");

@@ -1,12 +1,16 @@
-//! The pictures that need no GPU (developed view, axial section) against the report and the
-//! exact single pass: colours where the report says the worst gouge and leftover are,
-//! nothing coloured on an exact cut, the same bytes with 1 and 2 threads, and the CLI files.
+//! The pictures that need no GPU (developed view, axial section, deviation trace) against the
+//! report and the exact single pass: the tolerance band of the report's worst gouge and
+//! leftover where the report says they are, nothing coloured on an exact cut, the field
+//! cropped to the compared span, the same bytes with 1 and 2 threads, and the CLI files.
 
 use crate::support::{job, scene_text, with};
 use image::RgbImage;
-use vpcut::{developed_view, section_profile, signed_deviation, simulate, SimOptions};
+use vpcut::{
+    band_colour, developed_plot, section_profile, signed_deviation, simulate, trace_view,
+    SimOptions,
+};
 
-/// Gouge pixels are clearly blue, leftover clearly red, neutral grey (r = g within 10).
+/// Gouge pixels are clearly blue, leftover clearly red or orange, neutral grey.
 fn kind(img: &RgbImage, x: u32, y: u32) -> &'static str {
     let p = img.get_pixel(x, y).0;
     let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
@@ -19,8 +23,9 @@ fn kind(img: &RgbImage, x: u32, y: u32) -> &'static str {
     }
 }
 
-/// Seed 002's misplaced grooves: the pixel under the report's worst gouge is blue and the
-/// one under its worst leftover is red. The report finds them with `compare` over every
+/// Seed 002's misplaced grooves: the pixel under the report's worst gouge is in the gouge
+/// band of that value against the tolerance, and the one under its worst leftover in the
+/// leftover band of its value; the field spans the report's compared z. The report finds them with `compare` over every
 /// dexel; the picture computes its own deviations per pixel block: two computations that
 /// must agree on where the worst is.
 #[test]
@@ -34,34 +39,43 @@ fn developed_view_shows_the_reported_extremes() {
     );
     let j = job(&text);
     let out = simulate(&j, &SimOptions::default()).unwrap();
-    let (w, h) = (720u32, 850u32);
-    let img = developed_view(&out.stock, &j.thread, j.sim.tolerance, w, h);
-    let grid = out.stock.grid;
-    let (z_top, z_bot) = (
-        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
-        grid.z(0) - 0.5 * grid.dz,
-    );
+    let tol = j.sim.tolerance;
+    let plot = developed_plot(&out.stock, &j.thread, tol, 1000, 900, "seed002");
+    let img = &plot.image;
+    let [x0, y0, x1, y1] = plot.field;
+    let (z_bot, z_top) = plot.z;
     let pixel = |angle_deg: f64, z: f64| {
-        let x = ((angle_deg / 360.0 * w as f64).floor() as u32).min(w - 1);
-        let y = (((z_top - z) / (z_top - z_bot) * h as f64).floor() as u32).min(h - 1);
+        let w = (x1 - x0) as f64;
+        let h = (y1 - y0) as f64;
+        let x = x0 + ((angle_deg / 360.0 * w).floor() as u32).min(x1 - x0 - 1);
+        let y = y0 + (((z_top - z) / (z_top - z_bot) * h).floor() as u32).min(y1 - y0 - 1);
         (x, y)
     };
+    let [za, zb] = out.report.deviation.compared_z_mm.unwrap();
+    let cell = out.stock.grid.dz;
+    assert!(
+        (za - z_bot).abs() <= cell && (zb - z_top).abs() <= cell,
+        "{:?} vs {za} {zb}",
+        plot.z
+    );
     let d = &out.report.deviation;
     assert!(d.max_gouge_mm > 1.0 && d.max_leftover_mm > 1.0, "{d:?}");
     let g = d.max_gouge_at.as_ref().unwrap();
     let (x, y) = pixel(g.angle_deg, g.z_mm);
     assert_eq!(
-        kind(&img, x, y),
-        "gouge",
+        img.get_pixel(x, y).0,
+        band_colour(Some(-d.max_gouge_mm), tol),
         "worst gouge at {g:?} -> pixel {x},{y}"
     );
+    assert_eq!(kind(img, x, y), "gouge");
     let l = d.max_leftover_at.as_ref().unwrap();
     let (x, y) = pixel(l.angle_deg, l.z_mm);
     assert_eq!(
-        kind(&img, x, y),
-        "leftover",
+        img.get_pixel(x, y).0,
+        band_colour(Some(d.max_leftover_mm), tol),
         "worst leftover at {l:?} -> pixel {x},{y}"
     );
+    assert_eq!(kind(img, x, y), "leftover");
     // Same bytes with 1 and 2 threads.
     let pool = |n| {
         rayon::ThreadPoolBuilder::new()
@@ -69,8 +83,11 @@ fn developed_view_shows_the_reported_extremes() {
             .build()
             .unwrap()
     };
-    let a = pool(1).install(|| developed_view(&out.stock, &j.thread, j.sim.tolerance, 300, 200));
-    let b = pool(2).install(|| developed_view(&out.stock, &j.thread, j.sim.tolerance, 300, 200));
+    let draw = || developed_plot(&out.stock, &j.thread, tol, 500, 300, "t").image;
+    let (a, b) = (pool(1).install(draw), pool(2).install(draw));
+    assert_eq!(a.as_raw(), b.as_raw());
+    let draw = || trace_view(&out.stock, &j.thread, 0.3, tol, 500, 300, "t");
+    let (a, b) = (pool(1).install(draw), pool(2).install(draw));
     assert_eq!(a.as_raw(), b.as_raw());
 }
 
@@ -82,10 +99,12 @@ fn an_exact_cut_is_all_neutral() {
     let j = job(&scene_text("equal-groove-single-pass"));
     let out = simulate(&j, &SimOptions::default()).unwrap();
     assert_eq!(out.report.verdict, vpcut::Verdict::Pass);
-    let img = developed_view(&out.stock, &j.thread, j.sim.tolerance, 360, 400);
-    let coloured = (0..360)
-        .flat_map(|x| (0..400).map(move |y| (x, y)))
-        .filter(|&(x, y)| kind(&img, x, y) != "other")
+    let plot = developed_plot(&out.stock, &j.thread, j.sim.tolerance, 600, 400, "exact");
+    let [x0, y0, x1, y1] = plot.field;
+    assert!(x1 - x0 > 300 && y1 - y0 > 200, "{:?}", plot.field);
+    let coloured = (x0..x1)
+        .flat_map(|x| (y0..y1).map(move |y| (x, y)))
+        .filter(|&(x, y)| kind(&plot.image, x, y) != "other")
         .count();
     assert_eq!(coloured, 0);
     let prof = section_profile(&out.stock, &j.thread, 0.0);
@@ -105,7 +124,7 @@ fn an_exact_cut_is_all_neutral() {
     assert!(compared > 100, "{compared}");
 }
 
-/// `--plots DIR` writes both PNGs with the documented sizes; an unwritable folder is exit 2.
+/// `--plots DIR` writes the three PNGs with the documented sizes; an unwritable folder is exit 2.
 #[test]
 fn cli_writes_the_plots() {
     let dir = std::env::temp_dir().join(format!("vpcut-plots-{}", std::process::id()));
@@ -128,8 +147,10 @@ fn cli_writes_the_plots() {
     );
     let dev = image::open(dir.join("developed.png")).unwrap();
     let sec = image::open(dir.join("section.png")).unwrap();
-    assert_eq!((dev.width(), dev.height()), (1440 + 170, 900));
+    let tr = image::open(dir.join("trace.png")).unwrap();
+    assert_eq!((dev.width(), dev.height()), (1600, 900));
     assert_eq!((sec.width(), sec.height()), (1600, 600));
+    assert_eq!((tr.width(), tr.height()), (1600, 500));
     let _ = std::fs::remove_dir_all(&dir);
     let out = run(std::path::Path::new("/proc/vpcut-no-such-place"));
     assert_eq!(out.status.code(), Some(2));

@@ -129,13 +129,12 @@ fn plain_scene(stock: Mesh) -> Scene {
     }
 }
 
-/// Pixels of the part: the free area (left of the legend, between title and key) that is
-/// not background.
+/// Pixels of the part: the picture below the legend's strip that is not background.
 fn part_box(img: &RgbImage) -> (u32, u32, u32, u32) {
     let (w, h) = img.dimensions();
     let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
-    for y in 40..h - 24 {
-        for x in 0..w - 160 {
+    for y in 60..h {
+        for x in 0..w {
             let p = img.get_pixel(x, y).0;
             let differs = p.iter().zip(BACKGROUND).any(|(a, b)| a.abs_diff(b) > 8);
             if differs {
@@ -178,8 +177,63 @@ fn bar_silhouette_has_the_bars_proportions() {
         (h - want).abs() <= 2.0,
         "silhouette {w} x {h} px, height should be {want:.1} px"
     );
-    // It fills the free width (640 px less the legend's 160) within the 8 % margin.
-    assert!((w - 480.0 / 1.08).abs() <= 2.0, "width {w} px");
+    // It fills the width (the legend is in a strip above it) within the 8 % margin.
+    assert!((w - 640.0 / 1.08).abs() <= 2.0, "width {w} px");
+}
+
+/// The legend has its own strip above the part: white, as high as its text, which follows
+/// the picture's size (twice the picture, twice the strip, above the text's 11 px floor),
+/// and the part is drawn below it, never under it.
+#[test]
+fn legend_strip_scales_and_leaves_the_part_free() {
+    let Some(r) = renderer() else { return };
+    let scene = plain_scene(tube(12.5, 0.0, 80.0, 720));
+    let strip = |w: u32, h: u32| {
+        let img = r
+            .render(
+                &scene,
+                &RenderOptions {
+                    width: w,
+                    height: h,
+                    ..opts(View::Front)
+                },
+            )
+            .unwrap();
+        // Down the right edge: the strip's white rows, then the background of the part's
+        // picture.
+        let x = w - 2;
+        let first = (0..h)
+            .find(|&y| {
+                let p = img.get_pixel(x, y).0;
+                p.iter().zip(BACKGROUND).all(|(a, b)| a.abs_diff(b) <= 2)
+            })
+            .unwrap();
+        assert!(
+            (0..first - 1).all(|y| img.get_pixel(x, y).0 == [255, 255, 255]),
+            "{w}x{h}: the strip is not white"
+        );
+        // The part is framed below the strip: the rows under the strip are background
+        // all across (the part's margin), and the part is drawn further down.
+        let background = |y: u32| {
+            (0..w).all(|x| {
+                let p = img.get_pixel(x, y).0;
+                p.iter().zip(BACKGROUND).all(|(a, b)| a.abs_diff(b) <= 8)
+            })
+        };
+        assert!(
+            (first..first + 3).all(background),
+            "{w}x{h}: the part touches the strip"
+        );
+        assert!(!(first..h).all(background), "{w}x{h}: no part drawn");
+        first
+    };
+    // Text 11 px at least: 640x480 is at the floor; above it the strip is proportional.
+    assert!(strip(640, 480) >= 40);
+    let (small, big) = (strip(1024, 768), strip(2048, 1536));
+    assert!(
+        (big as f64 / small as f64 - 2.0).abs() < 0.1,
+        "strip {small} px at 1024x768, {big} px at 2048x1536"
+    );
 }
 
 /// The section of a tube: on the middle column two cut faces, each `(R - r)` thick in the
@@ -439,7 +493,7 @@ fn toolpath_and_edges_are_drawn_as_asked() {
     };
     let with = draw(View::Front, true, false);
     let without = draw(View::Front, false, false);
-    // The key's swatch is 16x3 feed pixels; the lines are many more.
+    // The key's swatch is a few feed pixels; the lines are many more.
     assert!(count(&with, FEED) > 1000, "{}", count(&with, FEED));
     assert_eq!(count(&without, FEED), 0);
     assert_eq!(count(&draw(View::Section, true, false), FEED), 0);

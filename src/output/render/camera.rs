@@ -142,8 +142,6 @@ pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Came
         d_lo = d_lo.min(p.dot(back));
         d_hi = d_hi.max(p.dot(back));
     }
-    // Pixels kept free for the legend (right), the title (top) and the key (bottom).
-    let (legend_px, top_px, bottom_px) = (160.0, 40.0, 24.0);
     let (w_px, h_px) = (width as f64, height as f64);
     // (left, right, bottom, top) of the picture around the eye, in mm.
     let (centre, window) = match view {
@@ -159,12 +157,10 @@ pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Came
             )
         }
         _ => {
-            // The part fills the free area with a margin, centred in it.
+            // The part fills the picture with a margin, centred in it (the legend has its
+            // own strip above the picture the camera sees).
             let margin = 1.08;
-            let (free_w, free_h) = (
-                (w_px - legend_px).max(1.0),
-                (h_px - top_px - bottom_px).max(1.0),
-            );
+            let (free_w, free_h) = (w_px.max(1.0), h_px.max(1.0));
             let mm_per_px = ((hi.x - lo.x) / free_w)
                 .max((hi.y - lo.y) / free_h)
                 .max(1e-6)
@@ -172,12 +168,7 @@ pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Came
             let (hw, hh) = (0.5 * free_w * mm_per_px, 0.5 * free_h * mm_per_px);
             (
                 (0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)),
-                (
-                    -hw,
-                    -hw + w_px * mm_per_px,
-                    -hh - bottom_px * mm_per_px,
-                    hh + top_px * mm_per_px,
-                ),
+                (-hw, hw, -hh, hh),
             )
         }
     };
@@ -279,8 +270,8 @@ mod tests {
         }
     }
 
-    /// Whole-part views show every vertex inside the free area (left of the 160-pixel
-    /// legend, between the title and the key), in front of the camera; the front view puts
+    /// Whole-part views show every vertex inside the picture (the legend has its own strip
+    /// outside it), in front of the camera; the front view puts
     /// the axis left to right with `x` up.
     #[test]
     fn whole_part_views_frame_the_part() {
@@ -290,8 +281,8 @@ mod tests {
             for p in &s.stock.positions {
                 let q = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
                 let (x, y) = c.pixel(q);
-                assert!((0.0..=480.0).contains(&x), "{view:?}: x {x}");
-                assert!((40.0..=456.0).contains(&y), "{view:?}: y {y}");
+                assert!((0.0..=640.0).contains(&x), "{view:?}: x {x}");
+                assert!((0.0..=480.0).contains(&y), "{view:?}: y {y}");
                 let d = (c.view_proj * q.extend(1.0)).z;
                 assert!((0.0..=1.0).contains(&d), "{view:?}: depth {d}");
             }
@@ -302,8 +293,8 @@ mod tests {
         assert!(xb > xa && (ya - yb).abs() < 1e-9);
         let (_, y_up) = c.pixel(DVec3::new(20.0, 0.0, -60.0));
         assert!(y_up < ya);
-        // 120 mm over the free 480 pixels with the 8 % margin.
-        assert!((c.mm_per_px - 1.08 * 120.0 / 480.0).abs() < 1e-12);
+        // 120 mm over the 640 pixels with the 8 % margin.
+        assert!((c.mm_per_px - 1.08 * 120.0 / 640.0).abs() < 1e-12);
     }
 
     /// The close-up centres the worst finding, and its section plane contains the axis and
@@ -317,6 +308,8 @@ mod tests {
             kind: "gouge".into(),
             value_mm: 0.3,
             point: [p.x as f32, p.y as f32, p.z as f32],
+            turn: 3,
+            flank: "left".into(),
         });
         let c = camera(&s, View::Closeup, 640, 480);
         let (x, y) = c.pixel(p);

@@ -1,13 +1,13 @@
 //! Headless pictures of a [`Scene`] with wgpu: the cut part flat-shaded in its deviation
 //! colours, the toolpath, optional feature edges, the ideal profile on section planes, and a
-//! legend (colour bar with mm values, the job, the verdict, the view).
+//! legend (colour bar with mm values, the job, the verdict, the view) in a strip above the
+//! part whose height and text follow the picture's size, so it never covers the part.
 //!
 //! No window and no surface: an offscreen target is drawn and read back, so the same code runs
 //! on a GPU or on Mesa's software Vulkan (lavapipe) in CI. The 3D part is drawn by the GPU
 //! (`gpu`, `shaders/scene.wgsl`); cameras are plain arithmetic (`camera`); captions, the
-//! colour bar and the close-up marker are drawn on the read-back image with the same font
-//! and colour bar as the pictures that need no GPU ([`crate::output::plot`]), so every picture vpcut
-//! makes uses one legend.
+//! colour bar and the close-up marker are drawn with plotters in the same embedded font as
+//! the pictures that need no GPU ([`crate::output::plot`]).
 //!
 //! Deterministic: the geometry sent to the GPU does not depend on the thread count, and a
 //! picture of the same scene on the same adapter has the same bytes. The PNG's text chunks
@@ -18,12 +18,15 @@ mod gpu;
 
 pub use camera::View;
 
-use crate::output::plot::{colour_bar, text, BODY_RUB};
+use crate::output::plot::chart::Area;
+use crate::output::plot::chart::{legend_row, picture_on, rgb, text_px, Res, Swatch};
+use crate::output::plot::{colour, BODY_RUB, IDEAL_COLOUR};
 use crate::output::scene::{Mesh, PathKind, Scene};
 use camera::Camera;
 use glam::DVec3;
 use gpu::{Frame, Gpu, Uniforms, Vertex};
-use image::{Rgb, RgbImage};
+use image::RgbImage;
+use plotters::prelude::*;
 use std::collections::HashMap;
 
 /// The shader source (WGSL), validated by naga in the tests.
@@ -38,7 +41,7 @@ const FEED: [u8; 3] = [240, 120, 0];
 const RAPID: [u8; 3] = [90, 90, 90];
 /// Feature edges and the ideal profile on a section plane (sRGB).
 const EDGE: [u8; 3] = [35, 35, 35];
-const IDEAL: [u8; 3] = [0, 150, 60];
+const IDEAL: [u8; 3] = IDEAL_COLOUR;
 /// Edges between faces that meet at more than this angle are drawn with `edges`.
 const FEATURE_ANGLE_DEG: f64 = 35.0;
 
@@ -164,7 +167,10 @@ impl Renderer {
     /// Draw `scene` as `opts` say.
     pub fn render(&self, scene: &Scene, opts: &RenderOptions) -> Result<RgbImage, RenderError> {
         self.check(opts)?;
-        let cam = camera::camera(scene, opts.view, opts.width, opts.height);
+        // The legend's strip above the part; the GPU draws the rest.
+        let strip = strip_height(opts.width, opts.height);
+        let gpu_h = opts.height - strip;
+        let cam = camera::camera(scene, opts.view, opts.width, gpu_h);
         let stock = vertices(&scene.stock);
         let tool = vertices(&scene.tool);
         let mut lines = Vec::new();
@@ -203,7 +209,7 @@ impl Renderer {
         }
         let uniforms = uniforms(&cam);
         let frame = Frame {
-            size: (opts.width, opts.height),
+            size: (opts.width, gpu_h),
             background: BACKGROUND,
             uniforms,
             meshes: vec![(&stock, &scene.stock.indices), (&tool, &scene.tool.indices)],
@@ -214,18 +220,19 @@ impl Renderer {
         };
         let rgba = self.gpu.draw(&frame)?;
         let n = 3 * opts.width as usize * opts.height as usize;
+        let top = 3 * opts.width as usize * strip as usize;
         let mut rgb = Vec::new();
         rgb.try_reserve_exact(n).map_err(|_| out_of_memory(n))?;
+        rgb.resize(top, 255);
         rgb.extend(
             rgba.chunks_exact(4)
-                .take(n / 3)
+                .take((n - top) / 3)
                 .flat_map(|p| [p[0], p[1], p[2]]),
         );
         drop(rgba);
-        let mut img =
-            RgbImage::from_raw(opts.width, opts.height, rgb).expect("a whole picture was read");
-        overlay(&mut img, scene, opts, &cam);
-        Ok(img)
+        Ok(picture_on(rgb, opts.width, opts.height, |root| {
+            overlay(root, scene, opts, &cam, strip)
+        }))
     }
 
     /// Draw `scene` and encode it as PNG, with the adapter, the view and vpcut's version in
@@ -362,110 +369,155 @@ pub(crate) fn plane_section(m: &Mesh, n: DVec3) -> Vec<[DVec3; 2]> {
     out
 }
 
-/// Captions, the colour bar and the close-up marker, drawn on the read-back picture.
-fn overlay(img: &mut RgbImage, scene: &Scene, opts: &RenderOptions, cam: &Camera) {
+/// The legend strip's height for a `w` x `h` picture: three rows of its text size.
+fn strip_height(w: u32, h: u32) -> u32 {
+    ((legend_px(w, h) * 4.6).round() as u32).min(h / 3)
+}
+
+/// The renders' text size: the plots' rule, a little smaller.
+fn legend_px(w: u32, h: u32) -> f64 {
+    text_px(w, h) * 0.9
+}
+
+/// Captions, the colour bar and the key in the strip above the part (`strip` rows), and
+/// the close-up's marker with its turn, flank, z and value on the part.
+fn overlay(root: &Area, scene: &Scene, opts: &RenderOptions, cam: &Camera, strip: u32) -> Res<()> {
     let summary: serde_json::Value = serde_json::from_str(&scene.summary).unwrap_or_default();
     let job = summary["job"].as_str().unwrap_or("");
-    let verdict = summary["verdict"].as_str().unwrap_or("");
-    let (w, h) = (img.width(), img.height());
-    let panel = |img: &mut RgbImage, x0: u32, y0: u32, x1: u32, y1: u32| {
-        for y in y0..y1.min(h) {
-            for x in x0..x1.min(w) {
-                img.put_pixel(x, y, Rgb([255, 255, 255]));
-            }
-        }
-    };
-    // Title, top left.
-    let caption = match cam.section_angle {
+    let verdict = summary["verdict"].as_str().unwrap_or("").to_uppercase();
+    let (w, h) = (opts.width as i32, opts.height as i32);
+    let px = legend_px(opts.width, opts.height);
+    let font = |k: f64| ("sans-serif", px * k).into_font().color(&BLACK);
+    root.draw(&PathElement::new(
+        vec![(0, strip as i32 - 1), (w, strip as i32 - 1)],
+        RGBColor(180, 180, 180),
+    ))?;
+    // Row 1: the job, the verdict, the view.
+    let mut caption = match cam.section_angle {
         Some(theta) => format!(
-            "{}: section at {:.1} (top) and {:.1} deg",
+            "{}: section at {:.1}\u{b0} (top) and {:.1}\u{b0}",
             opts.view.name(),
             theta.to_degrees().rem_euclid(360.0),
             (theta.to_degrees() + 180.0).rem_euclid(360.0)
         ),
         None => opts.view.name().to_string(),
     };
-    let title = format!("{job}  {verdict}");
-    let tw = 8 * title.len().max(caption.len()) as u32 + 12;
-    panel(img, 0, 0, tw, 36);
-    text(img, 6, 6, &title);
-    text(img, 6, 22, &caption);
-    // Colour bar, top right.
-    let (bw, bh) = (150u32, 160u32);
-    let bx = w - bw;
-    panel(img, bx - 6, 0, w, bh + 64);
-    text(img, bx, 6, "LEFTOVER");
-    colour_bar(
-        img,
-        bx,
-        22,
-        bh,
-        scene.legend.tolerance_mm,
-        scene.legend.scale_mm,
-    );
-    text(img, bx + 50, bh + 30, "GOUGE");
-    // Bottom left: what the lines are.
+    if opts.view == View::Closeup {
+        caption += &format!(", {:.2} mm wide", cam.mm_per_px * w as f64);
+    }
+    let pad = (px * 0.6) as i32;
+    root.draw(&Text::new(
+        format!("{job}  {verdict}  \u{2014}  {caption}"),
+        (pad, (px * 0.4) as i32),
+        font(1.1),
+    ))?;
+    // Row 2: the colour bar (gouge left, leftover right), row 3 its values.
+    let (tol, scale) = (scene.legend.tolerance_mm, scene.legend.scale_mm.max(1e-9));
+    let y_bar = (px * 1.9) as i32;
+    let bar_h = (px * 0.9) as i32;
+    let gw = root
+        .estimate_text_size("gouge", &font(0.9))
+        .map_or(0, |s| s.0 as i32);
+    let bx0 = pad + gw + (px * 0.4) as i32;
+    let bw = ((w as f64 * 0.35).min(px * 24.0)) as i32;
+    root.draw(&Text::new("gouge", (pad, y_bar), font(0.9)))?;
+    for x in 0..bw {
+        let d = scale * (2.0 * (x as f64 + 0.5) / bw as f64 - 1.0);
+        root.draw(&Rectangle::new(
+            [(bx0 + x, y_bar), (bx0 + x + 1, y_bar + bar_h)],
+            rgb(colour(Some(d), tol, scale)).filled(),
+        ))?;
+    }
+    root.draw(&Text::new(
+        "leftover",
+        (bx0 + bw + (px * 0.4) as i32, y_bar),
+        font(0.9),
+    ))?;
+    let mut last = i32::MIN;
+    let x_of = |v: f64| bx0 + ((v / scale + 1.0) * 0.5 * bw as f64).round() as i32;
+    for v in [-scale, -tol, tol, scale] {
+        let x = x_of(v);
+        let label = format!("{v:+.3}");
+        let lw = root
+            .estimate_text_size(&label, &font(0.8))
+            .map_or(0, |s| s.0 as i32);
+        let lx = (x - lw / 2).max(0);
+        root.draw(&PathElement::new(
+            vec![(x, y_bar + bar_h), (x, y_bar + bar_h + (px * 0.3) as i32)],
+            BLACK,
+        ))?;
+        if lx > last {
+            root.draw(&Text::new(
+                label,
+                (lx, y_bar + bar_h + (px * 0.35) as i32),
+                font(0.8),
+            ))?;
+            last = lx + lw + (px * 0.3) as i32;
+        }
+    }
+    let x_mm = x_of(scale) + (px * 0.5) as i32;
+    if x_mm > last {
+        root.draw(&Text::new(
+            "mm",
+            (x_mm, y_bar + bar_h + (px * 0.35) as i32),
+            font(0.8),
+        ))?;
+    }
+    // Row 2, right of the bar: what the lines and the other colours are.
     let mut key = match (cam.plane.is_some(), scene.ideal.is_some()) {
         (false, _) if !opts.toolpath => vec![],
-        (false, _) => vec![("FEED", FEED), ("RAPID", RAPID)],
-        (true, true) => vec![("CUT FACE", CAP), ("IDEAL PROFILE", IDEAL)],
-        (true, false) => vec![("CUT FACE", CAP)],
+        (false, _) => vec![(Swatch::Line(FEED), "feed"), (Swatch::Line(RAPID), "rapid")],
+        (true, true) => vec![
+            (Swatch::Fill(CAP), "cut face"),
+            (Swatch::Line(IDEAL), "ideal profile"),
+        ],
+        (true, false) => vec![(Swatch::Fill(CAP), "cut face")],
     };
     if scene.stock.colors.contains(&BODY_RUB) {
-        key.push(("BODY RUB", BODY_RUB));
+        key.push((Swatch::Fill(BODY_RUB), "body rub"));
     }
-    let ky = h - 18;
-    if !key.is_empty() {
-        let width: u32 = key.iter().map(|(n, _)| 34 + 8 * n.len() as u32).sum();
-        panel(img, 0, ky - 6, width + 6, h);
-    }
-    let mut x = 6;
-    for (name, c) in key {
-        for dx in 0..16 {
-            for dy in 0..3 {
-                img.put_pixel(x + dx, ky + 4 + dy, Rgb(c));
-            }
-        }
-        text(img, x + 20, ky, name);
-        x += 20 + 8 * name.len() as u32 + 14;
-    }
-    // The close-up marks the worst finding.
+    let key: Vec<(Swatch, String)> = key.into_iter().map(|(s, n)| (s, n.into())).collect();
+    let lw = root
+        .estimate_text_size("leftover", &font(0.9))
+        .map_or(0, |s| s.0 as i32);
+    legend_row(
+        root,
+        bx0 + bw + lw + (px * 1.6) as i32,
+        y_bar,
+        px * 0.9,
+        &key,
+    )?;
+    // The close-up marks the worst finding: turn, flank, z, value.
     if opts.view == View::Closeup {
         if let Some(f) = &scene.focus {
             let p = DVec3::new(f.point[0] as f64, f.point[1] as f64, f.point[2] as f64);
-            let (px, py) = cam.pixel(p);
-            ring(img, px, py, 14.0);
-            let label = format!("worst {} {:.4} mm", f.kind, f.value_mm);
-            let lx = (px as i64 + 20).clamp(0, (w as i64 - 8 * label.len() as i64).max(0)) as u32;
-            let ly = (py as i64 - 24).clamp(40, h as i64 - 40) as u32;
-            panel(
-                img,
-                lx.saturating_sub(2),
-                ly - 2,
-                lx + 8 * label.len() as u32 + 2,
-                ly + 13,
+            let (fx, fy) = cam.pixel(p);
+            let (cx, cy) = (fx.round() as i32, fy.round() as i32 + strip as i32);
+            let r = (px * 1.3) as i32;
+            root.draw(&Circle::new((cx, cy), r + 1, WHITE.stroke_width(1)))?;
+            root.draw(&Circle::new((cx, cy), r, BLACK.stroke_width(2)))?;
+            let flank = if f.flank.is_empty() {
+                String::new()
+            } else {
+                format!(" {} flank", f.flank)
+            };
+            let label = format!(
+                "worst {}: turn {}{flank}, z {:.2} mm, {:.3} mm",
+                f.kind, f.turn, f.point[2], f.value_mm
             );
-            text(img, lx, ly, &label);
-        }
-        let scale = format!("{:.2} mm wide", cam.mm_per_px * w as f64);
-        let sx = w.saturating_sub(8 * scale.len() as u32 + 8);
-        panel(img, sx.saturating_sub(4), h - 24, w, h);
-        text(img, sx, h - 18, &scale);
-    }
-}
-
-/// A 2-pixel ring of radius `r` around `(cx, cy)`.
-fn ring(img: &mut RgbImage, cx: f64, cy: f64, r: f64) {
-    let (w, h) = (img.width() as i64, img.height() as i64);
-    let k = (r + 3.0).ceil() as i64;
-    for y in cy as i64 - k..=cy as i64 + k {
-        for x in cx as i64 - k..=cx as i64 + k {
-            let d = ((x as f64 + 0.5 - cx).powi(2) + (y as f64 + 0.5 - cy).powi(2)).sqrt();
-            if (d - r).abs() <= 1.0 && x >= 0 && y >= 0 && x < w && y < h {
-                img.put_pixel(x as u32, y as u32, Rgb([0, 0, 0]));
-            }
+            let (tw, th) = root
+                .estimate_text_size(&label, &font(1.0))
+                .map_or((0, 0), |s| (s.0 as i32, s.1 as i32));
+            let lx = (cx + r + (px * 0.5) as i32).clamp(0, (w - tw - 4).max(0));
+            let ly = (cy - r - th - 4).clamp(strip as i32 + 2, (h - th - 6).max(0));
+            root.draw(&Rectangle::new(
+                [(lx - 3, ly - 2), (lx + tw + 3, ly + th + 3)],
+                WHITE.mix(0.85).filled(),
+            ))?;
+            root.draw(&Text::new(label, (lx, ly), font(1.0)))?;
         }
     }
+    Ok(())
 }
 
 #[cfg(test)]
