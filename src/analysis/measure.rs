@@ -110,7 +110,7 @@ pub struct TurnMeasure {
     pub split: bool,
     /// Smallest and largest measured height above the root between the turn's features.
     pub cut_heights: Option<(f64, f64)>,
-    /// Measured simple pitch diameter of the turn's first groove (see [`pitch_level`]),
+    /// Measured simple pitch diameter of the turn's first groove (see `pitch_level`),
     /// when [`MeasureConfig::pitch_diameter`] asks for it.
     pub pitch_diameter: Option<f64>,
     /// The ideal's, measured the same way.

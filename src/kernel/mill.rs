@@ -473,7 +473,7 @@ pub struct MillStats {
     pub dexel_updates: u64,
 }
 
-/// Cut `surface` of the stock along the path: every column by [`GridMill::column`] on
+/// Cut `surface` of the stock along the path: every column by `GridMill::column` on
 /// rayon, the per-move figures merged in column order.
 pub fn sweep_mill(
     stock: &mut Stock,

@@ -507,7 +507,7 @@ impl ColumnIdeal {
 
     /// Fill `out[k]` with the ideal height of cell `j0 + k` of a column whose cell `j` lies
     /// at `z0 + j*dz`, walking the polyline once. A wall is placed on the cells by the
-    /// stock's tie rule ([`crate::model::stock::first_cell`], computed from `z0` as the sweep
+    /// stock's tie rule (`stock::first_cell`, computed from `z0` as the sweep
     /// does): a cell on a vertical wall takes the wall's +z side.
     pub fn fill_heights(&self, z0: f64, dz: f64, j0: usize, out: &mut [f32]) {
         let cell_of = |z: f64| first_cell((z - z0) / dz);
