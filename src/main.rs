@@ -854,7 +854,8 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             (1024, 576, 1200, 450, 1200, 375)
         };
         let (dev, sec, tr) = progress.stage("drawing the plots", || {
-            let dev = vpcut::developed_view(stock, &job.thread, tol, dw, dh, &title);
+            let deviation = &grids.as_ref().expect("the grid was kept").deviation;
+            let dev = vpcut::developed_view(stock, &job.thread, deviation, tol, dw, dh, &title);
             let sec = vpcut::section_view(stock, &job.thread, angle, tol, sw, sh, &title);
             let tr = vpcut::trace_view(stock, &job.thread, angle, tol, tw, th, &title);
             (png(&dev), png(&sec), png(&tr))

@@ -40,7 +40,15 @@ fn developed_view_shows_the_reported_extremes() {
     let j = job(&text);
     let out = simulate(&j, &SimOptions::default()).unwrap();
     let tol = j.sim.tolerance;
-    let plot = developed_plot(&out.stock, &j.thread, tol, 1000, 900, "seed002");
+    let plot = developed_plot(
+        &out.stock,
+        &j.thread,
+        &out.deviation,
+        tol,
+        1000,
+        900,
+        "seed002",
+    );
     let img = &plot.image;
     let [x0, y0, x1, y1] = plot.field;
     let (z_bot, z_top) = plot.z;
@@ -76,6 +84,20 @@ fn developed_view_shows_the_reported_extremes() {
         "worst leftover at {l:?} -> pixel {x},{y}"
     );
     assert_eq!(kind(img, x, y), "leftover");
+    // The rings and the legend's values are the report's extremes, not the picture's own
+    // per-pixel distance (a root short all across is reported at its radial size).
+    for (worst, value, at) in [
+        (plot.worst[0], -d.max_gouge_mm, g),
+        (plot.worst[1], d.max_leftover_mm, l),
+    ] {
+        let (v, [x, y]) = worst.expect("the worst place is ringed");
+        assert!((v - value).abs() <= 1e-6, "ringed {v} vs reported {value}");
+        let (ex, ey) = pixel(at.angle_deg, at.z_mm);
+        assert!(
+            x.abs_diff(ex) <= 1 && y.abs_diff(ey) <= 1,
+            "ring at {x},{y}, the report's place at {ex},{ey}"
+        );
+    }
     // Same bytes with 1 and 2 threads.
     let pool = |n| {
         rayon::ThreadPoolBuilder::new()
@@ -83,7 +105,7 @@ fn developed_view_shows_the_reported_extremes() {
             .build()
             .unwrap()
     };
-    let draw = || developed_plot(&out.stock, &j.thread, tol, 500, 300, "t").image;
+    let draw = || developed_plot(&out.stock, &j.thread, &out.deviation, tol, 500, 300, "t").image;
     let (a, b) = (pool(1).install(draw), pool(2).install(draw));
     assert_eq!(a.as_raw(), b.as_raw());
     let draw = || trace_view(&out.stock, &j.thread, 0.3, tol, 500, 300, "t");
@@ -99,7 +121,15 @@ fn an_exact_cut_is_all_neutral() {
     let j = job(&scene_text("equal-groove-single-pass"));
     let out = simulate(&j, &SimOptions::default()).unwrap();
     assert_eq!(out.report.verdict, vpcut::Verdict::Pass);
-    let plot = developed_plot(&out.stock, &j.thread, j.sim.tolerance, 600, 400, "exact");
+    let plot = developed_plot(
+        &out.stock,
+        &j.thread,
+        &out.deviation,
+        j.sim.tolerance,
+        600,
+        400,
+        "exact",
+    );
     let [x0, y0, x1, y1] = plot.field;
     assert!(x1 - x0 > 300 && y1 - y0 > 200, "{:?}", plot.field);
     let coloured = (x0..x1)
@@ -107,6 +137,7 @@ fn an_exact_cut_is_all_neutral() {
         .filter(|&(x, y)| kind(&plot.image, x, y) != "other")
         .count();
     assert_eq!(coloured, 0);
+    assert_eq!(plot.worst, [None, None]);
     let prof = section_profile(&out.stock, &j.thread, 0.0);
     let ideal = j.thread.column(
         0.0,

@@ -11,6 +11,7 @@ use super::chart::{
     LEFTOVER_BANDS, NOT_COMPARED, WITHIN,
 };
 use super::{signed_deviation, surface};
+use crate::analysis::compare::{Deviation, Extreme};
 use crate::model::stock::Stock;
 use crate::model::thread::{ColumnIdeal, ThreadSpec};
 use image::RgbImage;
@@ -30,6 +31,9 @@ pub struct DevelopedPlot {
     pub field: [u32; 4],
     /// The z span shown (mm): the compared span of every generator together.
     pub z: (f64, f64),
+    /// The worst gouge and the worst leftover beyond the tolerance, ringed: the signed
+    /// value (mm; the comparison's, so the report's) and the pixel of its dexel.
+    pub worst: [Option<(f64, [u32; 2])>; 2],
 }
 
 /// The z span compared on any generator (the union of the columns' spans), or the grid.
@@ -126,6 +130,7 @@ fn field(
 pub fn developed_plot(
     stock: &Stock,
     thread: &ThreadSpec,
+    dev: &Deviation,
     tol: f64,
     width: u32,
     height: u32,
@@ -135,6 +140,7 @@ pub fn developed_plot(
     let (z_lo, z_hi) = compared_span(stock, thread);
     let grid = stock.grid;
     let mut field_px = [0u32; 4];
+    let mut worst = [None, None];
     let image = picture(width, height, |root| {
         root.fill(&WHITE)?;
         let title_h = (px * 2.4) as u32;
@@ -174,7 +180,6 @@ pub fn developed_plot(
         ];
         let cols = field(stock, thread, fw as usize, fh as usize, (z_lo, z_hi))
             .unwrap_or_else(|| vec![vec![(None, false); fh as usize]; fw as usize]);
-        let (mut worst_g, mut worst_l) = (None::<(f64, i32, i32)>, None::<(f64, i32, i32)>);
         for (x, col) in cols.iter().enumerate() {
             let within = |y: usize| col[y].0.is_some_and(|d| d.abs() <= tol);
             for (y, &(d, line)) in col.iter().enumerate() {
@@ -198,22 +203,29 @@ pub fn developed_plot(
                         c = band_colour(col[k].0, tol);
                     }
                 }
-                let (bx, by) = (xr.start + x as i32, yr.start + y as i32);
-                root.draw_pixel((bx, by), &rgb(c))?;
-                if let Some(d) = d {
-                    if d < -tol && worst_g.is_none_or(|w| d < w.0) {
-                        worst_g = Some((d, bx, by));
-                    }
-                    if d > tol && worst_l.is_none_or(|w| d > w.0) {
-                        worst_l = Some((d, bx, by));
-                    }
-                }
+                root.draw_pixel((xr.start + x as i32, yr.start + y as i32), &rgb(c))?;
             }
         }
-        // The worst places ringed, so a narrow band is found at a glance.
+        // The worst places ringed, so a narrow band is found at a glance: the comparison's
+        // extremes (the report's values and places; a pixel's own normal distance can
+        // differ, e.g. a root short all across is reported at its radial size).
+        let at = |e: &Extreme| {
+            let x = (e.theta.to_degrees().rem_euclid(360.0) / 360.0 * fw as f64).floor();
+            let y = ((z_hi - e.z) / (z_hi - z_lo) * fh as f64).floor();
+            [
+                xr.start as u32 + (x as u32).min(fw as u32 - 1),
+                yr.start as u32 + (y.max(0.0) as u32).min(fh as u32 - 1),
+            ]
+        };
+        let beyond = |e: Option<Extreme>| e.filter(|e| e.value > tol);
+        worst = [
+            beyond(dev.max_gouge()).map(|e| (-e.value, at(&e))),
+            beyond(dev.max_leftover()).map(|e| (e.value, at(&e))),
+        ];
         let ring = (px * 1.1) as i32;
-        for (w, c) in [(worst_g, GOUGE_BANDS[2]), (worst_l, LEFTOVER_BANDS[2])] {
-            if let Some((_, x, y)) = w {
+        for (w, c) in worst.iter().zip([GOUGE_BANDS[2], LEFTOVER_BANDS[2]]) {
+            if let Some((_, [x, y])) = *w {
+                let (x, y) = (x as i32, y as i32);
                 root.draw(&Circle::new((x, y), ring, rgb(c).stroke_width(3)))?;
                 root.draw(&Circle::new((x, y), ring + 3, WHITE.stroke_width(1)))?;
             }
@@ -287,13 +299,13 @@ pub fn developed_plot(
                 "pitch helix (turn line)".to_string(),
             ),
         ];
-        if let Some((d, ..)) = worst_g {
+        if let Some((d, _)) = worst[0] {
             items.push((
                 Swatch::Ring(GOUGE_BANDS[2]),
                 format!("worst gouge {d:+.3} mm ({:.1}x)", d.abs() / tol),
             ));
         }
-        if let Some((d, ..)) = worst_l {
+        if let Some((d, _)) = worst[1] {
             items.push((
                 Swatch::Ring(LEFTOVER_BANDS[2]),
                 format!("worst leftover {d:+.3} mm ({:.1}x)", d.abs() / tol),
@@ -323,6 +335,7 @@ pub fn developed_plot(
         image,
         field: field_px,
         z: (z_lo, z_hi),
+        worst,
     }
 }
 
@@ -330,10 +343,11 @@ pub fn developed_plot(
 pub fn developed_view(
     stock: &Stock,
     thread: &ThreadSpec,
+    dev: &Deviation,
     tol: f64,
     width: u32,
     height: u32,
     title: &str,
 ) -> RgbImage {
-    developed_plot(stock, thread, tol, width, height, title).image
+    developed_plot(stock, thread, dev, tol, width, height, title).image
 }
