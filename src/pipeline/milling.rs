@@ -49,20 +49,14 @@ pub(super) fn add_mill(
         let tool = mj.cutter_ids[pm.cutter];
         if m.kind == nc::MillKind::Rapid && r6(cut.depth) > 0.0 {
             report.findings.push(Finding {
-                kind: FindingKind::RapidCut,
-                severity: Severity::Error,
-                turn: None,
-                start: None,
-                flank: None,
                 pass: Some(i + 1),
                 angle_deg: Some(r4(cut.at.0.to_degrees().rem_euclid(360.0))),
                 z_mm: Some(r6(cut.at.1)),
                 file: Some(m.file.clone()),
                 line: Some(m.line),
-                column: None,
                 value: Some(r6(cut.depth)),
                 unit: Some("mm"),
-                message: format!(
+                ..Finding::new(FindingKind::RapidCut, Severity::Error, format!(
                     "{}:{}: a rapid (G00) move cuts {:.4} mm deep ({:.3} mm3) at {:.1} deg, z {:.3}",
                     m.file,
                     m.line,
@@ -70,29 +64,26 @@ pub(super) fn add_mill(
                     cut.volume,
                     cut.at.0.to_degrees().rem_euclid(360.0),
                     cut.at.1
-                ),
+                ))
             });
         }
         if let (Some(f), Some(max)) = (m.feed.filter(|_| cutting), job.machine.max_feed) {
             if f > max {
                 report.findings.push(Finding {
-                    kind: FindingKind::FeedLimit,
-                    severity: Severity::Error,
-                    turn: None,
-                    start: None,
-                    flank: None,
                     pass: Some(i + 1),
-                    angle_deg: None,
                     z_mm: Some(r6(m.end[2])),
                     file: Some(m.file.clone()),
                     line: Some(m.line),
-                    column: None,
                     value: Some(r6(f)),
                     unit: Some("mm/min"),
-                    message: format!(
-                        "{}:{}: feed {f} mm/min over the machine's {max} mm/min",
-                        m.file, m.line
-                    ),
+                    ..Finding::new(
+                        FindingKind::FeedLimit,
+                        Severity::Error,
+                        format!(
+                            "{}:{}: feed {f} mm/min over the machine's {max} mm/min",
+                            m.file, m.line
+                        ),
+                    )
                 });
             }
         }
@@ -174,22 +165,13 @@ pub(super) fn add_mill(
                 continue;
             };
             report.findings.push(Finding {
-                kind: FindingKind::PitchDiameter,
-                severity: Severity::Error,
                 turn: Some(turn),
                 start: Some(start),
-                flank: None,
-                pass: None,
-                angle_deg: None,
-                z_mm: None,
-                file: None,
-                line: None,
-                column: None,
                 value: Some(r6(off)),
                 unit: Some("mm"),
-                message: format!(
+                ..Finding::new(FindingKind::PitchDiameter, Severity::Error, format!(
                     "turn {turn}: pitch diameter {a:.4} to {b:.4} mm, outside the drawing's {lo} to {hi} mm"
-                ),
+                ))
             });
         }
     }

@@ -150,27 +150,16 @@ pub(crate) fn build_report(
         if hand != thread.hand() {
             let name = |h: Hand| if h == Hand::Right { "right" } else { "left" };
             findings.push(Finding {
-                kind: FindingKind::Hand,
-                severity: Severity::Error,
-                turn: None,
-                start: None,
-                flank: None,
                 pass: Some(i + 1),
-                angle_deg: None,
                 z_mm: Some(r6(p.z_start)),
-                file: None,
-                line: None,
-                column: None,
-                value: None,
-                unit: None,
-                message: format!(
+                ..Finding::new(FindingKind::Hand, Severity::Error, format!(
                     "pass {}: spindle {} feeding toward {}z cuts a {}-hand helix; the drawing's thread is {}-hand",
                     i + 1,
                     if p.spindle == Spindle::Cw { "cw (M03)" } else { "ccw (M04)" },
                     if p.z_end < p.z_start { "-" } else { "+" },
                     name(hand),
                     name(thread.hand())
-                ),
+                ))
             });
         }
     }
@@ -192,45 +181,32 @@ pub(crate) fn build_report(
                     z_mm: r6(h.z),
                     volume_mm3: r6(h.volume),
                 });
+                let severity = if h.depth > tol {
+                    Severity::Error
+                } else {
+                    Severity::Warning
+                };
+                let message = format!(
+                    "turn {turn} {flank} flank: the tool body cut {:.4} mm past its edge's surface at {angle:.1} deg, z {:.3} ({:.3} mm3): the side clearance is smaller than the helix angle there",
+                    h.depth, h.z, h.volume
+                );
                 findings.push(Finding {
-                    kind: FindingKind::FlankInterference,
-                    severity: if h.depth > tol { Severity::Error } else { Severity::Warning },
                     turn: Some(turn),
                     start: Some(start),
                     flank: Some(Flank::ALL[k]),
-                    pass: None,
                     angle_deg: Some(angle),
                     z_mm: Some(r6(h.z)),
-                    file: None,
-                    line: None,
-                    column: None,
                     value: Some(r6(h.depth)),
                     unit: Some("mm"),
-                    message: format!(
-                        "turn {turn} {flank} flank: the tool body cut {:.4} mm past its edge's surface at {angle:.1} deg, z {:.3} ({:.3} mm3): the side clearance is smaller than the helix angle there",
-                        h.depth, h.z, h.volume
-                    ),
+                    ..Finding::new(FindingKind::FlankInterference, severity, message)
                 });
             }
         }
     }
     for mi in machine_issues {
         findings.push(Finding {
-            kind: mi.kind,
-            severity: if mi.error {
-                Severity::Error
-            } else {
-                Severity::Warning
-            },
-            turn: None,
-            start: None,
-            flank: None,
             pass: Some(mi.pass + 1),
-            angle_deg: None,
             z_mm: Some(r6(mi.z)),
-            file: None,
-            line: None,
-            column: None,
             value: Some(r6(mi.value)),
             unit: Some(match mi.kind {
                 FindingKind::FeedLimit => "mm/min",
@@ -238,25 +214,27 @@ pub(crate) fn build_report(
                 FindingKind::ThreadChain => "mm/rev",
                 _ => "mm",
             }),
-            message: mi.message.clone(),
+            ..Finding::new(
+                mi.kind,
+                if mi.error {
+                    Severity::Error
+                } else {
+                    Severity::Warning
+                },
+                mi.message.clone(),
+            )
         });
     }
     for w in &job.program_warnings {
         findings.push(Finding {
-            kind: FindingKind::Program,
-            severity: Severity::Warning,
-            turn: None,
-            start: None,
-            flank: None,
-            pass: None,
-            angle_deg: None,
-            z_mm: None,
             file: Some(w.file.clone()),
             line: Some(w.line),
             column: Some(w.col.max(1)),
-            value: None,
-            unit: None,
-            message: format!("{}:{}:{}: {}", w.file, w.line, w.col.max(1), w.message),
+            ..Finding::new(
+                FindingKind::Program,
+                Severity::Warning,
+                format!("{}:{}:{}: {}", w.file, w.line, w.col.max(1), w.message),
+            )
         });
     }
     if dev.compared_dexels == 0 {
@@ -373,20 +351,11 @@ fn turn_findings(
     out: &mut Vec<Finding>,
 ) {
     let base = |kind, severity, value: f64, message: String| Finding {
-        kind,
-        severity,
         turn: Some(row.turn),
         start: Some(row.start),
-        flank: None,
-        pass: None,
-        angle_deg: None,
-        z_mm: None,
-        file: None,
-        line: None,
-        column: None,
         value: Some(r6(value)),
         unit: Some("mm"),
-        message,
+        ..Finding::new(kind, severity, message)
     };
     for (kind, slots) in [
         (FindingKind::Gouge, &td.gouge),
