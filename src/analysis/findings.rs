@@ -100,6 +100,52 @@ impl FindingKind {
     }
 }
 
+impl FindingKind {
+    /// One sentence on what it means (SARIF's rule text).
+    pub fn description(self) -> &'static str {
+        match self {
+            FindingKind::NotCompared => {
+                "Part of the thread lies on no simulated dexel: it is not checked."
+            }
+            FindingKind::Hand => "A pass cuts the other hand than the drawing's thread.",
+            FindingKind::RapidCut => "A rapid (G00) move removes material.",
+            FindingKind::HeadLength => {
+                "A pass runs deeper than the tool's head reaches: the holder hits the part."
+            }
+            FindingKind::Gouge => {
+                "Material removed that the ideal thread keeps, beyond the tolerance."
+            }
+            FindingKind::Leftover => {
+                "Material left that the ideal thread removes, beyond the tolerance."
+            }
+            FindingKind::FlankInterference => "A tool body cuts past the surface its edge cut.",
+            FindingKind::MissingFeature => {
+                "A groove or tooth of the drawing is not formed at the pitch diameter."
+            }
+            FindingKind::Lead => "A turn's lead is off by more than the tolerance.",
+            FindingKind::PitchDiameter => {
+                "A turn's simple pitch diameter is outside the drawing's limits."
+            }
+            FindingKind::GrooveWidth => "A groove's width is off by more than the tolerance.",
+            FindingKind::ToothWidth => "A tooth's width is off by more than the tolerance.",
+            FindingKind::FeedLimit => "The axis feed exceeds the machine's maximum.",
+            FindingKind::SplitFeature => {
+                "A ridge or notch crosses the pitch diameter inside one feature."
+            }
+            FindingKind::RunIn => "Less run-in than the axis needs to reach speed.",
+            FindingKind::AxisAcceleration => {
+                "A lead change needs more axial acceleration than the machine has."
+            }
+            FindingKind::Program => {
+                "A diagnostic of the NC program (a skipped word or code, a missing subprogram)."
+            }
+            FindingKind::ThreadChain => {
+                "A chained thread block re-programs the lead law without a re-sync."
+            }
+        }
+    }
+}
+
 impl fmt::Display for FindingKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())

@@ -223,70 +223,19 @@ pub(crate) fn junit(cases: &[Case]) -> String {
     )
 }
 
-/// What each kind of finding means, for SARIF's rules.
-const RULES: [(&str, &str); 19] = [
-    (
-        "hand",
-        "A pass cuts the other hand than the drawing's thread.",
-    ),
-    ("rapid_cut", "A rapid (G00) move removes material."),
-    (
-        "head_length",
-        "A pass runs deeper than the tool's head reaches: the holder hits the part.",
-    ),
-    (
-        "gouge",
-        "Material removed that the ideal thread keeps, beyond the tolerance.",
-    ),
-    (
-        "leftover",
-        "Material left that the ideal thread removes, beyond the tolerance.",
-    ),
-    (
-        "flank_interference",
-        "A tool body cuts past the surface its edge cut.",
-    ),
-    (
-        "missing_feature",
-        "A groove or tooth of the drawing is not formed at the pitch diameter.",
-    ),
-    ("lead", "A turn's lead is off by more than the tolerance."),
-    (
-        "pitch_diameter",
-        "A turn's simple pitch diameter is outside the drawing's limits.",
-    ),
-    (
-        "groove_width",
-        "A groove's width is off by more than the tolerance.",
-    ),
-    (
-        "tooth_width",
-        "A tooth's width is off by more than the tolerance.",
-    ),
-    ("feed_limit", "The axis feed exceeds the machine's maximum."),
-    (
-        "split_feature",
-        "A ridge or notch crosses the pitch diameter inside one feature.",
-    ),
-    ("run_in", "Less run-in than the axis needs to reach speed."),
-    (
-        "axis_acceleration",
-        "A lead change needs more axial acceleration than the machine has.",
-    ),
-    (
-        "program",
-        "A diagnostic of the NC program (a skipped word or code, a missing subprogram).",
-    ),
-    (
-        "thread_chain",
-        "A chained thread block re-programs the lead law without a re-sync.",
-    ),
-    (
+/// SARIF's rules: one per kind of finding (`FindingKind::description`), and one for a job
+/// that cannot be read or simulated.
+fn rules() -> Vec<(&'static str, &'static str)> {
+    let mut r: Vec<_> = vpcut::FindingKind::ALL
+        .iter()
+        .map(|k| (k.name(), k.description()))
+        .collect();
+    r.push((
         "input",
         "The job or its program cannot be read or simulated.",
-    ),
-    ("other", "Another finding."),
-];
+    ));
+    r
+}
 
 /// A path as a URI reference: relative paths stay relative (to the directory the run
 /// started in), absolute ones become `file://` URIs; reserved characters are
@@ -314,11 +263,12 @@ pub(crate) fn uri(path: &Path) -> String {
 /// could not be read).
 pub(crate) fn sarif(cases: &[Case]) -> String {
     use serde_json::json;
+    let rules = rules();
     let rule_index = |kind: &str| {
-        RULES
+        rules
             .iter()
             .position(|r| r.0 == kind)
-            .unwrap_or(RULES.len() - 1)
+            .expect("every finding kind has a rule")
     };
     let location = |p: &Place| {
         json!([{
@@ -352,7 +302,7 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
                         }
                     }
                     results.push(json!({
-                        "ruleId": RULES[i].0,
+                        "ruleId": rules[i].0,
                         "ruleIndex": i,
                         "level": if f.is_error() { "error" } else { "warning" },
                         "message": { "text": format!("{}: {}", case.name(), f.message) },
@@ -374,7 +324,7 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
             }
         }
     }
-    let rules: Vec<_> = RULES
+    let rules: Vec<_> = rules
         .iter()
         .map(|(id, text)| json!({ "id": id, "shortDescription": { "text": text } }))
         .collect();
