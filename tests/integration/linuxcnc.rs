@@ -255,3 +255,165 @@ fn every_move_of_g33_and_g76_matches_linuxcnc() {
         }
     }
 }
+
+/// One motion of rs274's canon output, in mm: traverse or feed, start and end (X a radius),
+/// and for a synchronised feed the distance per revolution along the path.
+#[derive(Debug)]
+struct CanonMove {
+    rapid: bool,
+    from: [f64; 2],
+    to: [f64; 2],
+    path_lead: Option<f64>,
+    /// Revolutions of the spindle since the synchronised motion began (the phase at the
+    /// move's start): 0 after a traverse; continuous over back-to-back synchronised feeds.
+    revs: f64,
+}
+
+/// Every non-zero motion of a canon file. Lengths are divided by `scale` (the program's
+/// scaling, see `random/gen.py`) and inches are converted to mm.
+fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
+    let mut out = Vec::new();
+    let (mut x, mut z) = (0.0, 0.0);
+    let mut mm = 1.0;
+    let mut pitch: Option<f64> = None;
+    let mut revs = 0.0;
+    for line in text.lines() {
+        let args = || -> Vec<f64> {
+            let inner = &line[line.find('(').unwrap() + 1..line.rfind(')').unwrap()];
+            inner
+                .split(',')
+                .map(|s| s.trim().parse().unwrap())
+                .collect()
+        };
+        if line.contains("USE_LENGTH_UNITS(CANON_UNITS_INCHES)") {
+            mm = 25.4;
+        } else if line.contains("USE_LENGTH_UNITS(CANON_UNITS_MM)") {
+            mm = 1.0;
+        } else if line.contains("START_SPEED_FEED_SYNC(") {
+            pitch = Some(args()[0] * mm / scale);
+        } else if line.contains("STOP_SPEED_FEED_SYNCH") {
+            pitch = None;
+        } else if line.contains("STRAIGHT_TRAVERSE(") || line.contains("STRAIGHT_FEED(") {
+            let v = args();
+            let (xb, zb) = (v[0] * mm / scale, v[2] * mm / scale);
+            let rapid = line.contains("STRAIGHT_TRAVERSE(");
+            if rapid {
+                revs = 0.0;
+            }
+            // rs274 makes every move, even of no length, where vpcut leaves those out; a
+            // move shorter than the print's resolution (1e-4 x the scale) is one of those.
+            if (xb - x).hypot(zb - z) > 5e-7 {
+                let path_lead = if rapid { None } else { pitch };
+                out.push(CanonMove {
+                    rapid,
+                    from: [x, z],
+                    to: [xb, zb],
+                    path_lead,
+                    revs,
+                });
+                if let Some(p) = path_lead {
+                    revs += (xb - x).hypot(zb - z) / p;
+                }
+            }
+            (x, z) = (xb, zb);
+        }
+    }
+    out
+}
+
+/// Issue 17's proof: seeded random programs (`tests/data/linuxcnc/random/gen.py`, seed 17):
+/// 64 G76 cycles (taper modes L0..L3 in turn with E, Q, H, R, I/J/K, internal and external,
+/// G7 and G8, G20 and G21, towards -Z and +Z) and 32 programs of straight and tapered G33
+/// blocks and chains (absolute and G91). vpcut must make rs274's motions move for move:
+/// rapids as rapids, feeds as feed or thread moves, every start and end to 1e-6 mm; every
+/// synchronised move's leads (rs274 syncs the distance along the path: the z lead is that
+/// times |dz| / path; vpcut's `lead` is the z lead) and the spindle phase at which it
+/// starts (0 after a rapid; continued over back-to-back synchronised moves).
+#[test]
+fn random_g76_and_g33_match_linuxcnc_move_for_move() {
+    let dir = root().join("tests/data/linuxcnc/random");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            name.strip_suffix(".ngc").map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    let count = |p: &str| names.iter().filter(|n| n.starts_with(p)).count();
+    assert!(
+        count("g76-") >= 60 && count("g33-") >= 30,
+        "random programs missing"
+    );
+    let mut failures = Vec::new();
+    let (mut n_moves, mut n_threads) = (0, 0);
+    for name in &names {
+        let ngc = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+        let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
+        let scale = if ngc.contains("G20") { 10000.0 } else { 1000.0 };
+        let want = canon_moves(&canon, scale);
+        let src = Source {
+            name: format!("{name}.ngc"),
+            text: ngc,
+        };
+        let moves = match interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default()) {
+            Ok(m) => m,
+            Err(e) => {
+                failures.push(format!("{name}: {e}"));
+                continue;
+            }
+        };
+        if moves.len() != want.len() {
+            failures.push(format!(
+                "{name}: {} moves, rs274 {}",
+                moves.len(),
+                want.len()
+            ));
+            continue;
+        }
+        for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
+            n_moves += 1;
+            let got = [
+                m.x_start / 2.0 / scale,
+                m.z_start / scale,
+                m.x_dia / 2.0 / scale,
+                m.z / scale,
+            ];
+            let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
+            let mut bad = (0..4).any(|c| (got[c] - exp[c]).abs() > 1e-6);
+            bad |= (m.kind == MoveKind::Rapid) != w.rapid;
+            if let Some(p) = w.path_lead {
+                let path = (w.to[0] - w.from[0]).hypot(w.to[1] - w.from[1]);
+                let dz = (w.to[1] - w.from[1]).abs();
+                if dz > 0.0 {
+                    n_threads += 1;
+                    bad |= m.kind != MoveKind::Thread;
+                    let z_lead = p * dz / path;
+                    bad |= m.lead.map_or(true, |l| (l / scale - z_lead).abs() > 1e-6);
+                    let phase = (w.revs * 360.0).rem_euclid(360.0);
+                    bad |= m.sync_angle_deg.map_or(true, |a| {
+                        let d = (a - phase).rem_euclid(360.0);
+                        d.min(360.0 - d) > 1e-3
+                    });
+                } else {
+                    // A synchronised radial move (G76's entry taper): no z, no thread.
+                    bad |= m.kind != MoveKind::Feed;
+                }
+            } else {
+                bad |= m.kind == MoveKind::Thread;
+            }
+            if bad {
+                failures.push(format!("{name} move {k}: {m:?}\n   vs rs274 {w:?}"));
+                break;
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} programs differ from rs274:\n{}",
+        failures.len(),
+        names.len(),
+        failures.join("\n")
+    );
+    assert!(n_moves > 3000 && n_threads > 1500, "{n_moves} {n_threads}");
+}
