@@ -1110,17 +1110,7 @@ fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     }
     let mut moves = toolpath.moves;
     // Moves name their program (`O2`); rows name the file that holds it.
-    for m in &mut moves {
-        if let Some(p) = inputs.program_file(&m.file) {
-            if p.file_name().is_some_and(|n| n != m.file.as_str()) {
-                m.file = p
-                    .file_name()
-                    .unwrap_or_default()
-                    .to_string_lossy()
-                    .into_owned();
-            }
-        }
-    }
+    inputs.name_move_files(&mut moves);
     let _ = args.csv;
     if args.json {
         let rows: Vec<serde_json::Value> = moves

@@ -74,6 +74,8 @@ pub(crate) struct Read {
 #[derive(Debug, Default)]
 pub(crate) struct Inputs {
     files: RefCell<Vec<Read>>,
+    /// Program lookups made (`holder` calls): the tests count them.
+    scans: std::cell::Cell<usize>,
 }
 
 impl Inputs {
@@ -111,34 +113,51 @@ impl Inputs {
     }
 
     /// The file that holds the NC program `name` as diagnostics and moves name it: a file
-    /// read under that name, or (FANUC) the file with an `O<n>` line for `O<n>`.
-    fn holder(&self, name: &str) -> Option<Read> {
+    /// read under that name, or (FANUC) the file with an `O<n>` line for `O<n>`. Only its
+    /// path and name are copied (a move's lookup must not copy the program's text: 200k
+    /// moves of a 5 MB program did, quadratic). Each call counts in `scans`.
+    fn holder(&self, name: &str) -> Option<(PathBuf, String)> {
+        self.scans.set(self.scans.get() + 1);
         let files = self.files.borrow();
-        if let Some(r) = files.iter().find(|r| r.name == name) {
-            return Some(r.clone());
-        }
-        let n: u32 = name.strip_prefix('O')?.parse().ok()?;
-        files
-            .iter()
-            .filter(|r| r.role == "program")
-            .find(|r| {
+        let found = files.iter().find(|r| r.name == name).or_else(|| {
+            let n: u32 = name.strip_prefix('O')?.parse().ok()?;
+            files.iter().filter(|r| r.role == "program").find(|r| {
                 decode_program(&r.bytes).lines().any(|l| {
                     let code = l.split(['(', ';']).next().unwrap_or("").trim();
                     code.strip_prefix(['O', 'o'])
                         .is_some_and(|d| !d.is_empty() && d.parse::<u32>().ok() == Some(n))
                 })
             })
-            .cloned()
+        });
+        found.map(|r| (r.path.clone(), r.name.clone()))
     }
 
     /// The path of the file that holds program `name`, as the user would write it.
     pub(crate) fn program_file(&self, name: &str) -> Option<PathBuf> {
-        self.holder(name).map(|r| r.path)
+        self.holder(name).map(|r| r.0)
     }
 
     /// The name the job gives the file that holds program `name` (relative to the job).
     pub(crate) fn program_name(&self, name: &str) -> Option<String> {
-        self.holder(name).map(|r| r.name)
+        self.holder(name).map(|r| r.1)
+    }
+
+    /// Moves name their program (`O2`); rows name the file that holds it: each move's
+    /// `file` becomes that file's name. Each distinct program is looked up once (a lookup
+    /// may decode every program file), so this is linear in the moves.
+    pub(crate) fn name_move_files(&self, moves: &mut [vpcut::Move]) {
+        let mut names: std::collections::HashMap<String, Option<String>> =
+            std::collections::HashMap::new();
+        for m in moves {
+            let name = names.entry(m.file.clone()).or_insert_with(|| {
+                let p = self.program_file(&m.file)?;
+                let file = p.file_name()?.to_string_lossy().into_owned();
+                (file != m.file).then_some(file)
+            });
+            if let Some(n) = name {
+                m.file.clone_from(n);
+            }
+        }
     }
 
     /// The paths of the files read.
@@ -198,5 +217,44 @@ mod tests {
             Some(PathBuf::from("d/MAIN.NC"))
         );
         assert_eq!(inputs.program_file("O3"), None);
+    }
+
+    /// The toolpath rows' file names: one lookup per distinct program, whatever the number
+    /// of moves (each lookup may decode every program file: a lookup per move made
+    /// `vpcut toolpath` quadratic, 30 s for 100k blocks). An operation count, not a timing.
+    #[test]
+    fn move_files_are_named_with_one_lookup_per_program() {
+        let inputs = Inputs::default();
+        let mut text = b"O0001\nM98 P2\nM30\nO0002 (SUB)\nM99\n".to_vec();
+        text.extend(std::iter::repeat_n(b'(', 100_000));
+        inputs.add(
+            "program",
+            PathBuf::from("d/MAIN.NC"),
+            "MAIN.NC".into(),
+            text,
+        );
+        let mv = |file: &str| vpcut::Move {
+            file: file.into(),
+            line: 1,
+            kind: vpcut::MoveKind::Rapid,
+            x_start: 0.0,
+            z_start: 0.0,
+            x_dia: 1.0,
+            z: 1.0,
+            lead: None,
+            lead_change: None,
+            sync_angle_deg: None,
+            chained: false,
+            tool: None,
+            spindle: vpcut::Spindle::Cw,
+            arc: None,
+        };
+        let mut moves: Vec<vpcut::Move> = (0..30_000)
+            .map(|k| mv(["O1", "O2", "MAIN.NC", "O9"][k % 4]))
+            .collect();
+        inputs.name_move_files(&mut moves);
+        assert_eq!(inputs.scans.get(), 4, "one lookup per distinct program");
+        let files: Vec<&str> = moves[..4].iter().map(|m| m.file.as_str()).collect();
+        assert_eq!(files, ["MAIN.NC", "MAIN.NC", "MAIN.NC", "O9"]);
     }
 }
