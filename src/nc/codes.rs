@@ -138,6 +138,9 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (10 | 28 | 30 | 53 | 80 | 92, true) => Verdict::Run,
             _ if matches!(c, 281 | 301 | 591..=593 | 611 | 901 | 911 | 921..=923) => Verdict::Run,
             (52, true) => refused("local coordinate system offset"),
+            // LinuxCNC 2.9's G70 (finishing) and G71/G72 (.1, .2: roughing) cut an o-word
+            // subroutine's contour (interp_g7x): refused, never skipped.
+            (70..=72, _) => refused("lathe finishing/roughing cycle over an o-word contour"),
             (33, false) => refused("rigid tapping"),
             (38, false) => refused("probing"),
             (73 | 74 | 81..=89, true) => refused("canned cycle"),
@@ -382,6 +385,12 @@ mod tests {
             Verdict::Refused(_)
         ));
         assert_eq!(g_code(Dialect::Linuxcnc, 33.0), Verdict::Run);
+        for g in [70.0, 71.0, 71.1, 71.2, 72.0, 72.1, 72.2] {
+            assert!(
+                matches!(g_code(Dialect::Linuxcnc, g), Verdict::Refused(_)),
+                "G{g}"
+            );
+        }
         assert!(matches!(m_code(Dialect::Fanuc, 123.0), Verdict::Unknown(_)));
         assert!(matches!(
             m_code(Dialect::Siemens802d, 98.0),

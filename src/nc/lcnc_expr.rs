@@ -18,7 +18,8 @@
 //! start-up (overrides enabled 1, adaptive feed and feed hold 0, `_task` 1, `_remap_level` 0,
 //! axes vpcut does not have 0, `_vmajor`/`_vminor` 2 and 9). `#5161..#5428` read homes,
 //! offsets, the tool and the position (`lc_system`). Lengths read in program units and X in
-//! the active X mode (a diameter in G7, a radius in G8), as the program writes them.
+//! the active X mode (a diameter in G7, a radius in G8), as the program writes them, but the
+//! current point (`#<_x>`, `#<_abs_x>`, `#5420`), whose X rs274 reads as a radius in G7 too.
 //! `#<_ini[..]>` and `#<_hal[..]>` are refused (no INI file or HAL).
 
 use super::expr::Fail;
@@ -242,7 +243,7 @@ impl Interp<'_> {
             "_RPM" => self.modal.speed.unwrap_or(0.0),
             "_X" => px,
             "_Z" => pz,
-            "_ABS_X" => self.lc_len(self.x, true),
+            "_ABS_X" => self.lc_radius(self.x),
             "_ABS_Z" => self.lc_len(self.z, false),
             "_Y" | "_A" | "_B" | "_C" | "_U" | "_V" | "_W" | "_ABS_Y" | "_ABS_A" | "_ABS_B"
             | "_ABS_C" => 0.0,
@@ -257,13 +258,23 @@ impl Interp<'_> {
 
     /// The current position in the active coordinate system (work offset and G92 applied),
     /// in program units, X in the active X mode.
+    /// The current point in program units, X as a radius in G7 and G8: rs274 2.9.0~pre1
+    /// reads `#<_x>`, `#<_abs_x>` and `#5420` as the radius even in diameter mode (`G7 G0
+    /// X25` then `#<_x>` reads 12.5; checked with `rs274`, see
+    /// `tests/data/linuxcnc/corpus/`).
     fn lc_position(&self) -> (f64, f64) {
         let (ox, oz) = self.frames.offsets[self.frames.work];
         let (gx, gz) = self.frames.g92_off;
         (
-            self.lc_len(self.x - ox - gx, true),
+            self.lc_radius(self.x - ox - gx),
             self.lc_len(self.z - oz - gz, false),
         )
+    }
+
+    /// A diameter in mm as the radius in program units.
+    fn lc_radius(&self, dia: f64) -> f64 {
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
+        dia * 0.5 / scale
     }
 
     /// A numbered system parameter above #5160 (LinuxCNC manual, "Numbered Parameters"):
@@ -299,13 +310,10 @@ impl Interp<'_> {
             5400 => Some(f64::from(self.modal.tool.unwrap_or(0))),
             // Tool offsets, diameter, angles and orientation: vpcut has no tool table.
             5401..=5413 => Some(0.0),
-            5420..=5428 => axis(5420, {
-                let (x, z) = self.lc_position();
-                // Back to mm and a diameter: `axis` converts again.
-                let scale = if self.modal.inch { 25.4 } else { 1.0 };
-                let xs = if self.modal.diameter_mode { 1.0 } else { 2.0 };
-                (x * scale * xs, z * scale)
-            }),
+            // The current point, X as a radius (see `lc_position`).
+            5420 => Some(self.lc_position().0),
+            5422 => Some(self.lc_position().1),
+            5421 | 5423..=5428 => Some(0.0),
             _ => None,
         }
     }

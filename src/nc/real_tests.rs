@@ -37,7 +37,7 @@ fn lc_value(setup: &str, expr: &str) -> f64 {
 
 #[test]
 fn linuxcnc_predefined_parameters_read_the_state() {
-    let cases: [(&str, &str, f64); 40] = [
+    let cases: [(&str, &str, f64); 41] = [
         ("", "#<_vmajor>*10+#<_vminor>", 29.0),
         ("", "#<_metric>", 1.0),
         // (In G20 the X word is in inches: 1 reads 25.4 mm.)
@@ -76,8 +76,10 @@ fn linuxcnc_predefined_parameters_read_the_state() {
         ("", "#<_call_level>", 0.0),
         ("", "#<_line>", 3.0),
         ("G0 X10 Z5", "#<_z>", 5.0),
-        // G8 (radius mode): X10 is 20 on the diameter; G7 reads it back as 20.
-        ("G8 G0 X10 Z5", "#<_x>", 20.0),
+        // rs274 2.9.0~pre1 reads the current X as a radius in G7 too (`G7 G0 X25` then
+        // `G0 X[100+#<_x>]` goes to X112.5): G8 X10 reads 10; G7 X30 reads 15.
+        ("G8 G0 X10 Z5", "#<_x>", 10.0),
+        ("G7 G0 X30 Z5", "#<_x>*100+#<_abs_x>", 1515.0),
         ("G10 L2 P1 Z100\nG0 Z5", "#<_abs_z>*1000+#<_z>", 105005.0),
         ("", "#<_y>+#<_a>+#<_abs_c>", 0.0),
         ("G0 Z3\nG1 F10 Z2", "#<_motion_mode>", 10.0),
@@ -118,8 +120,8 @@ fn linuxcnc_numbered_system_parameters() {
         ("G10 L2 P2 X4 Z-50", "#5241*1000+#5243", 3950.0),
         ("G10 L2 P9 Z-7", "#5383", -7.0),
         ("T5 M6", "#5400", 5.0),
-        // After the helper's G0 X1.
-        ("G0 X30 Z9", "#5420*100+#5422", 109.0),
+        // After the helper's G7 G0 X1: X reads as the radius 0.5 (rs274, see `#<_x>`).
+        ("G0 X30 Z9", "#5420*100+#5422", 59.0),
         // L20: Z0 (machine) reads Z2, so G54's Z offset is -2.
         ("G10 L20 P1 Z2\nG0 Z0", "#5422*100+#<_abs_z>", -2.0),
     ];

@@ -277,6 +277,9 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
     let mut mm = 1.0;
     let mut pitch: Option<f64> = None;
     let mut revs = 0.0;
+    // rs274 prints points in the current frame: the work offset and G92 (radius, program
+    // units) are added back so points are machine points, as vpcut's are.
+    let (mut g5x, mut g92) = ([0.0; 2], [0.0; 2]);
     for line in text.lines() {
         let args = || -> Vec<f64> {
             let inner = &line[line.find('(').unwrap() + 1..line.rfind(')').unwrap()];
@@ -285,7 +288,26 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                 .map(|s| s.trim().parse().unwrap())
                 .collect()
         };
-        if line.contains("USE_LENGTH_UNITS(CANON_UNITS_INCHES)") {
+        if line.contains("SET_G5X_OFFSET(") {
+            let v = args();
+            g5x = [v[1], v[3]];
+        } else if line.contains("SET_G92_OFFSET(") {
+            let v = args();
+            g92 = [v[0], v[2]];
+        } else if line.contains("ARC_FEED(") {
+            // In the XZ plane: first end Z, second end X.
+            let v = args();
+            let xb = (v[1] + g5x[0] + g92[0]) * mm / scale;
+            let zb = (v[0] + g5x[1] + g92[1]) * mm / scale;
+            out.push(CanonMove {
+                rapid: false,
+                from: [x, z],
+                to: [xb, zb],
+                path_lead: None,
+                revs: 0.0,
+            });
+            (x, z) = (xb, zb);
+        } else if line.contains("USE_LENGTH_UNITS(CANON_UNITS_INCHES)") {
             mm = 25.4;
         } else if line.contains("USE_LENGTH_UNITS(CANON_UNITS_MM)") {
             mm = 1.0;
@@ -295,14 +317,15 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
             pitch = None;
         } else if line.contains("STRAIGHT_TRAVERSE(") || line.contains("STRAIGHT_FEED(") {
             let v = args();
-            let (xb, zb) = (v[0] * mm / scale, v[2] * mm / scale);
+            let xb = (v[0] + g5x[0] + g92[0]) * mm / scale;
+            let zb = (v[2] + g5x[1] + g92[1]) * mm / scale;
             let rapid = line.contains("STRAIGHT_TRAVERSE(");
             if rapid {
                 revs = 0.0;
             }
             // rs274 makes every move, even of no length, where vpcut leaves those out; a
             // move shorter than the print's resolution (1e-4 x the scale) is one of those.
-            if (xb - x).hypot(zb - z) > 5e-7 {
+            if (xb - x).hypot(zb - z) > 5e-7 * scale / 1000.0 * mm {
                 let path_lead = if rapid { None } else { pitch };
                 out.push(CanonMove {
                     rapid,
@@ -416,4 +439,86 @@ fn random_g76_and_g33_match_linuxcnc_move_for_move() {
         failures.join("\n")
     );
     assert!(n_moves > 3000 && n_threads > 1500, "{n_moves} {n_threads}");
+}
+
+/// Issue 17's corpus, LinuxCNC part: every `tests/data/nc/linuxcnc/corpus-*.nc` (whole shop
+/// programs in the styles `CORPUS.md` there names) against rs274's canon kept in
+/// `tests/data/linuxcnc/corpus/` (made with its `tool.tbl`: tools with zero offsets, as
+/// vpcut's tools), move for move: rapids as rapids, feeds and arcs as feed, arc or thread
+/// moves, every start and end to rs274's print resolution (4 decimals of the program's unit:
+/// 5e-5 mm, 1.27e-3 mm in inch), every synchronised move a thread move with rs274's
+/// distance per revolution along the path (6 decimals) and the z lead that makes. Moves of
+/// no length are left out on both sides (rs274 prints every traverse, even after G92 made
+/// it one of no length).
+#[test]
+fn corpus_matches_linuxcnc_move_for_move() {
+    let dir = root().join("tests/data/nc/linuxcnc");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            let stem = name.strip_suffix(".nc")?;
+            stem.starts_with("corpus-").then(|| stem.to_string())
+        })
+        .collect();
+    names.sort();
+    assert!(names.len() >= 16, "{} corpus programs", names.len());
+    let mut failures = Vec::new();
+    for name in &names {
+        let nc = std::fs::read_to_string(dir.join(format!("{name}.nc"))).unwrap();
+        let canon_path = root().join(format!("tests/data/linuxcnc/corpus/{name}.canon"));
+        let canon = std::fs::read_to_string(&canon_path).unwrap();
+        let inch = canon.contains("USE_LENGTH_UNITS(CANON_UNITS_INCHES)");
+        let unit = if inch { 25.4 } else { 1.0 };
+        let want = canon_moves(&canon, 1.0);
+        let src = Source {
+            name: format!("{name}.nc"),
+            text: nc,
+        };
+        let moves = interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let moves: Vec<&vpcut::Move> = moves
+            .iter()
+            .filter(|m| m.x_dia != m.x_start || m.z != m.z_start)
+            .collect();
+        let want: Vec<&CanonMove> = want
+            .iter()
+            .filter(|w| (w.to[0] - w.from[0]).hypot(w.to[1] - w.from[1]) > 0.6e-4 * unit)
+            .collect();
+        if moves.len() != want.len() {
+            failures.push(format!(
+                "{name}: {} moves, rs274 {}",
+                moves.len(),
+                want.len()
+            ));
+            continue;
+        }
+        let tol = 0.51e-4 * unit;
+        for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
+            let got = [m.x_start / 2.0, m.z_start, m.x_dia / 2.0, m.z];
+            let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
+            let mut bad = (0..4).any(|c| (got[c] - exp[c]).abs() > tol);
+            bad |= (m.kind == MoveKind::Rapid) != w.rapid;
+            match w.path_lead {
+                // A synchronised radial move (G76's entry taper): a feed, no thread.
+                Some(_) if (w.to[1] - w.from[1]).abs() < tol => bad |= m.kind != MoveKind::Feed,
+                Some(p) => {
+                    bad |= m.kind != MoveKind::Thread;
+                    bad |= vpcut::path_lead(m).map_or(true, |l| (l - p).abs() > 0.51e-6 * unit);
+                }
+                None => bad |= m.kind == MoveKind::Thread,
+            }
+            if bad {
+                failures.push(format!("{name} move {k}: {m:?}\n   vs rs274 {w:?}"));
+                break;
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} corpus programs differ from rs274:\n{}",
+        failures.len(),
+        names.len(),
+        failures.join("\n")
+    );
 }

@@ -1,0 +1,19 @@
+(Trapezoidal Tr20x4, 30 deg: G76 with Q14.5 flank infeed, many passes, R1 constant depth)
+G18 G7 G21 G90 G40 G80 G94
+T1 M6 G43
+G96 D2000 S160 M3
+G95 F0.2
+G0 X22 Z2
+G1 Z0 F0.1
+X-1.6
+G0 Z2 X19.9
+G1 Z-45 F0.2
+X22
+G0 Z5
+T3 M6 G43
+G97 S250 M3
+G0 X23 Z8
+G76 P4 Z-40 I-1.55 J0.2 K4.5 R1 Q14.5 H2
+G0 X30 Z20
+M5
+M2

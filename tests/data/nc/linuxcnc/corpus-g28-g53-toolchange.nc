@@ -1,0 +1,23 @@
+(G28 and G53 tool change moves in a LinuxCNC lathe program; M16x1.5 in radius mode G8)
+G18 G8 G21 G90 G40 G80 G94
+G28
+T1 M6 G43
+G96 D2500 S180 M3
+G95 F0.2
+G0 X9 Z2
+G1 Z0 F0.1
+X-0.8
+G0 Z2 X7.98
+G1 Z-20 F0.2
+X9
+G53 G0 X0
+G53 G0 Z0
+T3 M6 G43
+G97 S600 M3
+G0 X9 Z4
+(G8: I J K are radial values)
+G76 P1.5 Z-18 I-1 J0.25 K0.92 R2 Q29.5 H1
+G53 G0 X0
+G28
+M5
+M2
