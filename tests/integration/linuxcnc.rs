@@ -412,9 +412,9 @@ fn random_g76_and_g33_match_linuxcnc_move_for_move() {
                     n_threads += 1;
                     bad |= m.kind != MoveKind::Thread;
                     let z_lead = p * dz / path;
-                    bad |= m.lead.map_or(true, |l| (l / scale - z_lead).abs() > 1e-6);
+                    bad |= m.lead.is_none_or(|l| (l / scale - z_lead).abs() > 1e-6);
                     let phase = (w.revs * 360.0).rem_euclid(360.0);
-                    bad |= m.sync_angle_deg.map_or(true, |a| {
+                    bad |= m.sync_angle_deg.is_none_or(|a| {
                         let d = (a - phase).rem_euclid(360.0);
                         d.min(360.0 - d) > 1e-3
                     });
@@ -504,7 +504,7 @@ fn corpus_matches_linuxcnc_move_for_move() {
                 Some(_) if (w.to[1] - w.from[1]).abs() < tol => bad |= m.kind != MoveKind::Feed,
                 Some(p) => {
                     bad |= m.kind != MoveKind::Thread;
-                    bad |= vpcut::path_lead(m).map_or(true, |l| (l - p).abs() > 0.51e-6 * unit);
+                    bad |= vpcut::path_lead(m).is_none_or(|l| (l - p).abs() > 0.51e-6 * unit);
                 }
                 None => bad |= m.kind == MoveKind::Thread,
             }
