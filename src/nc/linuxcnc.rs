@@ -810,8 +810,13 @@ impl Interp<'_> {
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let half = if self.modal.diameter_mode { 0.5 } else { 1.0 };
         let pitch = val("P").ok_or((1, "G76 needs P (the pitch)".to_string()))? * scale;
-        // Z is in the work frame (work offset and G92), as rs274 has it.
-        let frame_z = self.frames.offsets[self.frames.work].1 + self.frames.g92_off.1;
+        // Z is in the work frame (work offset and G92), or under G91 from the current Z,
+        // as rs274 has it.
+        let frame_z = if self.modal.incremental {
+            self.z
+        } else {
+            self.frames.offsets[self.frames.work].1 + self.frames.g92_off.1
+        };
         let end_z = val("Z").ok_or((1, "G76 needs Z".to_string()))? * scale + frame_z;
         let i = val("I").ok_or((
             1,
