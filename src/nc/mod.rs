@@ -42,6 +42,12 @@ mod program;
 #[cfg(test)]
 mod real_tests;
 mod siemens;
+mod siemens_840d;
+mod siemens_cycles;
+mod siemens_flow;
+#[cfg(test)]
+mod siemens_tests;
+mod siemens_vars;
 mod state;
 #[cfg(test)]
 mod tests;
@@ -72,6 +78,9 @@ pub enum Dialect {
     Gsk980,
     /// Siemens SINUMERIK 802D.
     Siemens802d,
+    /// Siemens SINUMERIK 840D (sl): 802D and user variables (`DEF`), structured control
+    /// flow, `PROC` parameters, the thread cycles CYCLE97/CYCLE99 and G331/G332.
+    Siemens840d,
 }
 
 impl Dialect {
@@ -82,6 +91,7 @@ impl Dialect {
             "gsk980" => Some(Dialect::Gsk980),
             "linuxcnc" => Some(Dialect::Linuxcnc),
             "siemens-802d" => Some(Dialect::Siemens802d),
+            "siemens-840d" => Some(Dialect::Siemens840d),
             _ => None,
         }
     }
@@ -92,6 +102,7 @@ impl Dialect {
     fn syntax(self) -> Dialect {
         match self {
             Dialect::Gsk980 => Dialect::Fanuc,
+            Dialect::Siemens840d => Dialect::Siemens802d,
             d => d,
         }
     }
@@ -413,6 +424,7 @@ pub fn interpret_with(
     let gsk = dialect == Dialect::Gsk980;
     let dialect = dialect.syntax();
     let mut m = Interp::new(dialect, gsk, loader, opts);
+    m.cfg.s840 = real == Dialect::Siemens840d;
     m.lc.st.home28 = m.frames.reference;
     m.lc.st.home30 = m.frames.reference2;
     if m.cfg.milling && real != Dialect::Fanuc {
@@ -531,6 +543,8 @@ impl Interp<'_> {
     fn real_dialect(&self) -> Dialect {
         if self.cfg.gsk {
             Dialect::Gsk980
+        } else if self.cfg.s840 {
+            Dialect::Siemens840d
         } else {
             self.cfg.dialect
         }
@@ -620,7 +634,7 @@ impl Interp<'_> {
                 st.stack = callers(&stack);
             }
             let step = match dialect {
-                Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
+                Dialect::Siemens802d | Dialect::Siemens840d => m.siemens_block(&cur, pc, text),
                 Dialect::Linuxcnc => m.lcnc_block(&cur, pc, text),
                 Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
             };

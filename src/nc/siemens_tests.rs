@@ -1,0 +1,1 @@
+//! Tests of the Siemens 840D additions and the thread cycles.
