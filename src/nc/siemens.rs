@@ -59,7 +59,8 @@ impl Interp<'_> {
                 self.assign_user(&mut c, &name)?;
                 continue;
             }
-            if !(name.starts_with("CYCLE") || (s840 && c.peek() == Some(b'('))) {
+            // An address letter (or R) and its number.
+            if codes::siemens_address(&short) || short.len() == 1 {
                 c.i = letters;
                 name = short;
             }

@@ -184,6 +184,7 @@ impl Interp<'_> {
         let mut params = Vec::new();
         if c.eat("(") && !c.eat(")") {
             loop {
+                c.ws();
                 let at = c.col();
                 let ty = c.ident();
                 let ty = match ty.as_str() {
@@ -197,12 +198,14 @@ impl Interp<'_> {
                             "VAR parameters (call by reference) are not modelled".into(),
                         ))
                     }
-                    other => return Err((
-                        at,
-                        format!(
+                    other => {
+                        return Err((
+                            at,
+                            format!(
                             "PROC parameter type `{other}` is not modelled (REAL, INT, BOOL, CHAR)"
                         ),
-                    )),
+                        ))
+                    }
                 };
                 let name = c.name_with_digits();
                 if name.len() < 2 {
@@ -279,6 +282,7 @@ impl Interp<'_> {
             self.frames.g92_off = (0.0, 0.0);
         }
         while !c.done() {
+            c.ws();
             let wat = c.col();
             let axis = c.ident();
             let _ = c.eat("=");
@@ -383,20 +387,21 @@ impl Interp<'_> {
         if x.is_none() && z.is_none() {
             return Ok(step);
         }
-        let kind =
-            match self.modal.motion {
-                0 => super::MoveKind::Rapid,
-                1 => {
-                    self.need_feed(&w)?;
-                    super::MoveKind::Feed
-                }
-                g => return Err((
+        let kind = match self.modal.motion {
+            0 => super::MoveKind::Rapid,
+            1 => {
+                self.need_feed(&w)?;
+                super::MoveKind::Feed
+            }
+            g => {
+                return Err((
                     1,
                     format!(
                         "SUPA/G53 with G{g}: vpcut moves in machine coordinates with G0 or G1 only"
                     ),
-                )),
-            };
+                ))
+            }
+        };
         if self.modal.incremental {
             return Err((1, "SUPA/G53 needs absolute coordinates (G90)".into()));
         }

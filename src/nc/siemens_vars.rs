@@ -89,6 +89,7 @@ impl Interp<'_> {
 
     /// `DEF type name[dims][=init], ..` (the cursor after `DEF`).
     pub(super) fn def(&mut self, c: &mut Cursor) -> Result<(), Fail> {
+        c.ws();
         let at = c.col();
         let mut ty_name = c.ident();
         if matches!(ty_name.as_str(), "NCK" | "CHAN") {
@@ -135,6 +136,7 @@ impl Interp<'_> {
             }
         };
         loop {
+            c.ws();
             let at = c.col();
             let name = c.name_with_digits();
             if name.is_empty() || name.as_bytes()[0].is_ascii_digit() {
@@ -249,6 +251,7 @@ impl Interp<'_> {
     /// The element index of `var` named at `c` (`[i]`, `[i, j]`, or nothing for a
     /// scalar).
     pub(super) fn element(&self, c: &mut Cursor, name: &str, var: &UserVar) -> Result<usize, Fail> {
+        c.ws();
         let at = c.col();
         let scalar = var.dims == (1, 1);
         if !c.eat("[") {
