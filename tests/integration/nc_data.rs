@@ -21,10 +21,11 @@ use vpcut::{
 };
 
 /// The dialect folders and what they run as.
-const DIALECTS: [(&str, Dialect, bool); 5] = [
+const DIALECTS: [(&str, Dialect, bool); 6] = [
     ("fanuc", Dialect::Fanuc, false),
     ("gsk", Dialect::Gsk980, false),
     ("siemens", Dialect::Siemens802d, false),
+    ("siemens-840d", Dialect::Siemens840d, false),
     ("linuxcnc", Dialect::Linuxcnc, false),
     ("fanuc-mill", Dialect::Fanuc, true),
 ];
