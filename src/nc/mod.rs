@@ -1,4 +1,4 @@
-//! NC programs: FANUC (Macro A/B), GSK 980TDC, Siemens 802D and LinuxCNC lathe dialects
+//! NC programs: FANUC (Macro A/B), GSK 980TDC, Siemens 802D/840D and LinuxCNC lathe dialects
 //! interpreted into a toolpath whose thread moves become passes.
 //!
 //! The interpreter reads text given by the caller (no IO here): the main program, and a
@@ -11,7 +11,9 @@
 //!   static check and both expression readers;
 //! - `expr`: the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
-//! - `siemens`: Siemens 802D blocks, labels and jumps;
+//! - `siemens`: Siemens 802D blocks, labels and jumps; `siemens_840d`, `siemens_vars` and
+//!   `siemens_flow`: the 840D's statements, user variables and control structures;
+//!   `siemens_cycles`: the thread cycles CYCLE97/CYCLE99 as their moves;
 //! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
 //! - `lcnc_expr`: LinuxCNC expressions and numbered/named parameters;
 //! - `motion`: modal state, motion words, and recording moves;

@@ -144,6 +144,19 @@ impl Interp<'_> {
                         }
                     }
                 }
+                cycle
+                    if cycle.len() > 5
+                        && cycle.starts_with("CYCLE")
+                        && cycle[5..].bytes().all(|b| b.is_ascii_digit()) =>
+                {
+                    // Another Siemens cycle (stock removal, grooving, drilling, tapping):
+                    // its moves are missing from the toolpath.
+                    self.unknown(
+                        at + 1,
+                        format!("`{cycle}` is not simulated: its moves are missing from the toolpath (vpcut runs CYCLE97 and CYCLE99)"),
+                    )?;
+                    break;
+                }
                 kw if codes::siemens_keyword(kw) => {
                     // A statement vpcut does not simulate: skip the rest of the block.
                     self.unknown(at + 1, format!("`{kw}` is not simulated"))?;
