@@ -117,7 +117,7 @@ pub(super) fn depths(tdep: f64, fal: f64, nrc: u32, constant_section: bool, nid:
         })
         .collect();
     out.push(tdep);
-    out.extend(std::iter::repeat(tdep).take(nid as usize));
+    out.extend(std::iter::repeat_n(tdep, nid as usize));
     out
 }
 

@@ -91,7 +91,7 @@ impl Interp<'_> {
     pub(super) fn def(&mut self, c: &mut Cursor) -> Result<(), Fail> {
         c.ws();
         let at = c.col();
-        let mut ty_name = c.ident();
+        let ty_name = c.ident();
         if matches!(ty_name.as_str(), "NCK" | "CHAN") {
             return Err((
                 at,
@@ -130,9 +130,7 @@ impl Interp<'_> {
             }
             "" => return c.err("expected a type after DEF (REAL, INT, BOOL, CHAR, STRING)"),
             _ => {
-                ty_name.insert_str(0, "`");
-                ty_name.push('`');
-                return Err((at, format!("{ty_name} is not a type of DEF (REAL, INT, BOOL, CHAR, STRING, AXIS, FRAME)")));
+                return Err((at, format!("`{ty_name}` is not a type of DEF (REAL, INT, BOOL, CHAR, STRING, AXIS, FRAME)")));
             }
         };
         loop {
