@@ -187,7 +187,7 @@ impl Interp<'_> {
             "CYCLE99" => self.cycle99(&args, at)?,
             _ => unreachable!("called for CYCLE97 and CYCLE99"),
         };
-        let segs = plan(&t);
+        // Checked before the moves are made, so that they cannot fill the memory.
         let cuts = u64::from(t.numt) * (u64::from(t.nrc) + 1 + u64::from(t.nid));
         if cuts > MAX_CUTS {
             return Err((
@@ -195,7 +195,7 @@ impl Interp<'_> {
                 format!("{name} would make {cuts} cuts (at most {MAX_CUTS})"),
             ));
         }
-        for s in segs {
+        for s in plan(&t) {
             let from = (self.x, self.z);
             let (kind, sync) = match s.thread_angle {
                 Some(angle) => (

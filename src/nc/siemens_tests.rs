@@ -176,6 +176,10 @@ fn cycle97_pitch_by_size_and_its_errors() {
             "CYCLE99(0,10,-10,10,2,1,1,0,0,0,2,0,1.5,1100103,1,0)",
             "coded machining type",
         ),
+        (
+            "CYCLE97(1,,0,-10,10,10,2,1,1,0,0,0,99999,99999,1,99999)",
+            "cuts (at most",
+        ),
     ] {
         let e = run(&format!("G0 X40 Z5\n{text}\n")).unwrap_err();
         assert!(e.message.contains(what), "{text}: {}", e.message);
