@@ -661,7 +661,11 @@ fn siemens_block(
                     }
                 }
             }
-            "CYCLE" if l.s[l.i..].starts_with(b"97(") || l.s[l.i..].starts_with(b"99(") => {
+            "CYCLE"
+                if l.s[l.i..].starts_with(b"97(")
+                    || l.s[l.i..].starts_with(b"99(")
+                    || l.s[l.i..].starts_with(b"84(") =>
+            {
                 // The thread cycles (`siemens_cycles`): their arguments are expressions,
                 // any may be left empty.
                 l.i += 3;

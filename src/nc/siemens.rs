@@ -55,6 +55,10 @@ impl Interp<'_> {
                 self.apply(&w, prog, pc)?;
                 return self.thread_cycle(&mut c, prog, pc, &name, at + 1);
             }
+            if name == "CYCLE84" {
+                self.apply(&w, prog, pc)?;
+                return self.cycle84(&mut c, prog, pc, at + 1);
+            }
             if s840 && self.user_var(&name).is_some() {
                 self.assign_user(&mut c, &name)?;
                 continue;

@@ -22,10 +22,17 @@
 //! _VARI, _NUMTH, _VRT, ..)`: the same thread with the start and end points first and the
 //! pitch later; `_VARI` 1..4 as CYCLE97's VARI. The 840D sl's coded `_VARI` (several
 //! digits) and the parameters after `_VRT` are refused by name when set.
+//!
+//! `CYCLE84(RTP, RFP, SDIS, DP, DPR, DTB, SDAC, MPIT, PIT, POSS, SST, SST1)`, rigid tapping
+//! on the spindle axis (X0): rapid to `RFP + SDIS`, tap to `DP` (or `RFP - DPR`) as a thread
+//! move of lead |PIT| (or the ISO coarse pitch of |MPIT|; negative: a left-hand tap, the
+//! spindle M4), back to `RFP + SDIS` with the spindle reversed, rapid to `RTP` (SINUMERIK
+//! 802D/840D Cycles manuals, "Rigid tapping - CYCLE84").
 
 use super::expr::Fail;
 use super::lex::Cursor;
 use super::{Interp, MoveKind, Program, Step, Sync};
+use crate::model::helix::Spindle;
 
 /// ISO coarse pitches by nominal diameter (ISO 261), for `MPIT` (M3..M60).
 const ISO_COARSE: &[(u32, f64)] = &[
@@ -216,6 +223,78 @@ impl Interp<'_> {
                 break;
             }
         }
+        Ok(Step::Next)
+    }
+
+    /// `CYCLE84(..)`, rigid tapping on the axis (the cursor after the name).
+    pub(super) fn cycle84(
+        &mut self,
+        c: &mut Cursor,
+        prog: &Program,
+        pc: usize,
+        at: usize,
+    ) -> Result<Step, Fail> {
+        let a = self.cycle_args(c, "CYCLE84")?;
+        let v = |k: usize| a.get(k).copied().flatten();
+        let (scale, ox, oz) = self.cycle_frame();
+        let z = |p: f64| p * scale + oz;
+        let err = |m: &str| Err((at, format!("CYCLE84: {m}")));
+        let (Some(rtp), Some(rfp)) = (v(0), v(1)) else {
+            return err("RTP and RFP (retract and reference planes) are needed");
+        };
+        let sdis = v(2).unwrap_or(0.0).abs();
+        let dp = match (v(3), v(4)) {
+            (Some(dp), _) => dp,
+            (None, Some(dpr)) => rfp - dpr.abs(),
+            (None, None) => return err("DP or DPR (the tapping depth) is needed"),
+        };
+        if dp == rfp {
+            return err("the depth DP is at the reference plane RFP");
+        }
+        let (mpit, pit) = (v(7).unwrap_or(0.0), v(8).unwrap_or(0.0));
+        let left = mpit < 0.0 || pit < 0.0;
+        let lead = pitch("CYCLE84", pit.abs(), mpit.abs(), at)? * scale;
+        if (self.x - ox).abs() > 1e-9 {
+            return err("tapping off the spindle axis (X not 0) needs driven tools: not modelled");
+        }
+        // The safety distance lies on the side away from the depth.
+        let dir = (z(dp) - z(rfp)).signum();
+        let safe = z(rfp) - dir * sdis * scale;
+        let x = self.x;
+        let spindle = self.modal.spindle;
+        let tap_in = if left { Spindle::Ccw } else { Spindle::Cw };
+        let tap_out = if left { Spindle::Cw } else { Spindle::Ccw };
+        let sync = Sync {
+            lead,
+            change: 0.0,
+            angle: v(9).unwrap_or(0.0),
+        };
+        if self.z != safe {
+            self.emit(prog, pc, MoveKind::Rapid, (x, self.z), (x, safe), None);
+        }
+        self.modal.spindle = tap_in;
+        self.emit(
+            prog,
+            pc,
+            MoveKind::Thread,
+            (x, safe),
+            (x, z(dp)),
+            Some(sync),
+        );
+        self.modal.spindle = tap_out;
+        self.emit(
+            prog,
+            pc,
+            MoveKind::Thread,
+            (x, z(dp)),
+            (x, safe),
+            Some(sync),
+        );
+        self.modal.spindle = spindle;
+        if z(rtp) != safe {
+            self.emit(prog, pc, MoveKind::Rapid, (x, safe), (x, z(rtp)), None);
+        }
+        self.z = z(rtp);
         Ok(Step::Next)
     }
 

@@ -4,6 +4,7 @@
 //! against values worked by hand.
 
 use super::*;
+use crate::model::helix::Spindle;
 
 fn run_with(text: &str, dialect: Dialect, strict: bool) -> Result<Toolpath, NcError> {
     let src = Source {
@@ -327,4 +328,33 @@ fn rigid_tapping_is_thread_moves_on_the_spindle_axis() {
     assert_eq!(t[0].spindle, crate::model::helix::Spindle::Cw);
     assert_eq!(t[1].spindle, crate::model::helix::Spindle::Ccw);
     assert!(t.iter().all(|m| m.x_dia == 0.0 && m.x_start == 0.0));
+}
+
+/// CYCLE84 (rigid tapping, Cycles manual "CYCLE84"): RTP 10, RFP 0, SDIS 2, DP -18,
+/// PIT 1.5: rapid to Z2, tap to Z-18 (lead 1.5, cw), back to Z2 (ccw), rapid to Z10; a
+/// negative MPIT (M8, pitch 1.25) taps left-hand (ccw in, cw out); DPR gives the depth
+/// from RFP; off the axis it is refused.
+#[test]
+fn cycle84_taps_on_the_axis() {
+    use crate::model::helix::Spindle::{Ccw, Cw};
+    let m = run("G0 X0 Z20 M3\nCYCLE84(10,0,2,-18,,0,3,,1.5,0,300,300)\n").unwrap();
+    let got: Vec<(MoveKind, f64, f64, Option<f64>, Spindle)> = m[1..]
+        .iter()
+        .map(|m| (m.kind, m.z_start, m.z, m.lead, m.spindle))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (MoveKind::Rapid, 20.0, 2.0, None, Cw),
+            (MoveKind::Thread, 2.0, -18.0, Some(1.5), Cw),
+            (MoveKind::Thread, -18.0, 2.0, Some(1.5), Ccw),
+            (MoveKind::Rapid, 2.0, 10.0, None, Cw),
+        ]
+    );
+    let m = run("G0 X0 Z5 M3\nCYCLE84(5,0,1,,12,0,3,-8,,0,300,300)\n").unwrap();
+    let t = threads(&m);
+    assert_eq!((t[0].z_start, t[0].z, t[0].lead), (1.0, -12.0, Some(1.25)));
+    assert_eq!((t[0].spindle, t[1].spindle), (Ccw, Cw));
+    let e = run("G0 X20 Z5\nCYCLE84(5,0,1,-10,,0,3,,1,0,300,300)\n").unwrap_err();
+    assert!(e.message.contains("off the spindle axis"), "{}", e.message);
 }
