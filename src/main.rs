@@ -54,7 +54,7 @@ enum Command {
 struct ToolpathArgs {
     /// The main program; subprograms are looked up beside it.
     program: PathBuf,
-    /// Controller dialect: `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`.
+    /// Controller dialect: `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d` or `siemens-840d`.
     #[arg(long)]
     dialect: String,
     /// Print JSON instead of CSV.
@@ -292,7 +292,7 @@ impl Pictures {
 struct PlanArgs {
     /// The job file (TOML) with `[process] kind = "plan"`; see docs/job-format.md.
     job: PathBuf,
-    /// The controller: `fanuc`, `gsk980`, `siemens-802d` or `linuxcnc`.
+    /// The controller: `fanuc`, `gsk980`, `siemens-802d`, `siemens-840d` or `linuxcnc`.
     #[arg(long)]
     dialect: String,
     /// FANUC: the compact Custom Macro B version (layer tables and WHILE loops).
@@ -605,7 +605,7 @@ fn readable(x: f64) -> String {
 fn plan(args: PlanArgs) -> anyhow::Result<ExitCode> {
     let post = vpcut::post::Post::from_name(&args.dialect, args.macro_b).with_context(|| {
         format!(
-            "unknown dialect `{}`{}: expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d` (--macro: fanuc only)",
+            "unknown dialect `{}`{}: expected `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d` or `siemens-840d` (--macro: fanuc only)",
             args.dialect,
             if args.macro_b { " with --macro" } else { "" }
         )
@@ -1066,7 +1066,7 @@ const GLB_BYTES_PER_DEXEL: f64 = 44.0;
 fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     let dialect = vpcut::Dialect::from_name(&args.dialect).with_context(|| {
         format!(
-            "unknown dialect `{}`: expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`",
+            "unknown dialect `{}`: expected `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d` or `siemens-840d`",
             args.dialect
         )
     })?;

@@ -74,7 +74,7 @@ pub(super) fn program(
         cx.err(
             "program.dialect",
             format!(
-                "expected `fanuc`, `gsk980`, `linuxcnc` or `siemens-802d`, got `{}`",
+                "expected `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d` or `siemens-840d`, got `{}`",
                 pr.dialect
             ),
         )

@@ -108,7 +108,7 @@ impl Line<'_> {
         let (st, end) = self.c.number_span()?;
         let t = self.c.text((st, end));
         let max = match self.dialect {
-            Dialect::Siemens802d => SIEMENS_MAX_VALUE,
+            Dialect::Siemens802d | Dialect::Siemens840d => SIEMENS_MAX_VALUE,
             _ => FANUC_MAX_VALUE,
         };
         match t.parse::<f64>() {
@@ -661,6 +661,27 @@ fn siemens_block(
                     }
                 }
             }
+            "CYCLE"
+                if l.s[l.i..].starts_with(b"97(")
+                    || l.s[l.i..].starts_with(b"99(")
+                    || l.s[l.i..].starts_with(b"84(") =>
+            {
+                // The thread cycles (`siemens_cycles`): their arguments are expressions,
+                // any may be left empty.
+                l.i += 3;
+                loop {
+                    l.ws();
+                    if !matches!(l.peek(), Some(b',') | Some(b')')) {
+                        l.s_expr()?;
+                    }
+                    if l.eat(")") {
+                        break;
+                    }
+                    if !l.eat(",") {
+                        return l.unexpected("`,` or `)`");
+                    }
+                }
+            }
             kw if codes::siemens_keyword(kw) => {
                 l.unknown(at + 1, format!("`{kw}` is not simulated"), strict);
                 // Skip its arguments: `=value`, `(...)` or the rest of the block.
@@ -736,6 +757,8 @@ pub(super) fn check_program(
                 stack: Vec::new(),
             };
         match dialect {
+            // 840D blocks are checked by `siemens_flow::check` below and as they run.
+            Dialect::Siemens840d => {}
             Dialect::Siemens802d => {
                 let mut jumps = Vec::new();
                 let mut calls = Vec::new();
@@ -839,6 +862,9 @@ pub(super) fn check_program(
                 .into_iter()
                 .map(|(col, sev, msg, hint)| diag(col, sev, msg, hint)),
         );
+    }
+    if dialect == Dialect::Siemens840d {
+        out.extend(super::siemens_flow::check(prog));
     }
     for (n, line, col) in loops {
         let orig = prog

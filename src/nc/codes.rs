@@ -108,6 +108,13 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
                 name(dialect)
             )),
         },
+        Dialect::Siemens840d => match (g, whole) {
+            // Rigid tapping (thread moves on the spindle axis), the 840D's frame
+            // suppression G53 (this block in machine coordinates, `siemens`), G153/G500.
+            (331 | 332 | 53 | 500, true) => Verdict::Run,
+            (153, true) => refused("frame and tool offset suppression"),
+            _ => g_code(Dialect::Siemens802d, code),
+        },
         Dialect::Siemens802d => match (g, whole) {
             (0..=4 | 9 | 17 | 18 | 19 | 25 | 26 | 33 | 34 | 35 | 40 | 41 | 42, true) => {
                 Verdict::Run
@@ -164,13 +171,14 @@ pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
         Dialect::Fanuc | Dialect::Gsk980 => {
             matches!(m, 0..=5 | 8 | 9 | 13 | 14 | 19 | 23 | 24 | 30 | 41..=44 | 98 | 99)
         }
-        Dialect::Siemens802d => {
+        Dialect::Siemens802d | Dialect::Siemens840d => {
             if m == 98 || m == 99 {
                 return Verdict::Refused(format!(
                     "M{m} is not a Siemens word: call subprograms by name"
                 ));
             }
             matches!(m, 0..=5 | 8 | 9 | 17 | 19 | 30 | 40..=45)
+                || (dialect == Dialect::Siemens840d && matches!(m, 6 | 7 | 10 | 11 | 70))
         }
         Dialect::Linuxcnc => matches!(m, 0..=9 | 30 | 48 | 49 | 50..=53 | 60),
     };
@@ -336,8 +344,6 @@ pub(super) fn siemens_keyword(name: &str) -> bool {
             | "DEF"
             | "CYCLE"
             | "CYCLE95"
-            | "CYCLE97"
-            | "CYCLE99"
             | "LCYC"
             | "LCYC97"
             | "STOPFIFO"
@@ -359,6 +365,7 @@ fn name(d: Dialect) -> &'static str {
         Dialect::Fanuc => "FANUC lathe",
         Dialect::Gsk980 => "GSK 980TDC",
         Dialect::Siemens802d => "Siemens 802D",
+        Dialect::Siemens840d => "Siemens 840D",
         Dialect::Linuxcnc => "LinuxCNC lathe",
     }
 }

@@ -26,14 +26,14 @@ pub(super) fn in_range(
     what: impl FnOnce() -> String,
 ) -> Result<f64, Fail> {
     let max = match dialect {
-        Dialect::Siemens802d => SIEMENS_MAX_VALUE,
+        Dialect::Siemens802d | Dialect::Siemens840d => SIEMENS_MAX_VALUE,
         _ => FANUC_MAX_VALUE,
     };
     if v.is_finite() && v.abs() <= max {
         return Ok(v);
     }
     let alarm = match dialect {
-        Dialect::Siemens802d => "",
+        Dialect::Siemens802d | Dialect::Siemens840d => "",
         _ => " (alarm 111)",
     };
     let why = if v.is_nan() {
@@ -70,7 +70,7 @@ impl Interp<'_> {
     /// where the reference starts, for errors.
     pub(super) fn get(&self, c: &Cursor, idx: f64, col: usize) -> Result<f64, Fail> {
         match c.dialect {
-            Dialect::Siemens802d => {
+            Dialect::Siemens802d | Dialect::Siemens840d => {
                 let n = r_index(idx, col)?;
                 Ok(*self.vars.r.get(&n).unwrap_or(&0.0))
             }
@@ -132,7 +132,7 @@ impl Interp<'_> {
     pub(super) fn cmp(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let v = self.add(c)?;
         let ops: &[(&str, Compare)] = match c.dialect {
-            Dialect::Siemens802d => &[
+            Dialect::Siemens802d | Dialect::Siemens840d => &[
                 ("==", |a, b| a == b),
                 ("<>", |a, b| a != b),
                 ("<=", |a, b| a <= b),
@@ -244,7 +244,7 @@ impl Interp<'_> {
             return Ok(None);
         };
         let max = match c.dialect {
-            Dialect::Siemens802d => SIEMENS_MAX_VALUE,
+            Dialect::Siemens802d | Dialect::Siemens840d => SIEMENS_MAX_VALUE,
             _ => FANUC_MAX_VALUE,
         };
         if v.abs() > max {
@@ -290,6 +290,19 @@ impl Interp<'_> {
                 return c.err("expected an R parameter number");
             };
             return self.get(c, n, at + 1);
+        }
+        if self.cfg.s840 {
+            // A Siemens 840D user variable (its name may go on with digits).
+            let save = c.i;
+            let mut full = name.clone();
+            while c.i < c.s.len() && (c.s[c.i].is_ascii_alphanumeric() || c.s[c.i] == b'_') {
+                full.push(char::from(c.s[c.i]));
+                c.i += 1;
+            }
+            if let Some(v) = self.read_user(c, &full, at + 1)? {
+                return Ok(v);
+            }
+            c.i = save;
         }
         if !c.eat(open) {
             return Err((at + 1, format!("unknown name `{name}`")));
@@ -436,7 +449,7 @@ impl Interp<'_> {
     /// FANUC variable) passes, it leaves the word out.
     pub(super) fn word_value(&self, name: &str, v: f64, col: usize) -> Result<f64, Fail> {
         let (max, digits) = match self.cfg.dialect {
-            Dialect::Siemens802d => (SIEMENS_MAX_WORD, "nine"),
+            Dialect::Siemens802d | Dialect::Siemens840d => (SIEMENS_MAX_WORD, "nine"),
             _ => (FANUC_MAX_WORD, "eight"),
         };
         if v.is_nan() && self.cfg.dialect != Dialect::Siemens802d {

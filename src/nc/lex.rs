@@ -75,7 +75,7 @@ impl<'a> Cursor<'a> {
             i: 0,
             dialect,
             blanks: Blanks::Line {
-                comments: dialect != Dialect::Siemens802d,
+                comments: !matches!(dialect, Dialect::Siemens802d | Dialect::Siemens840d),
             },
             nest: 0,
             unclosed: Vec::new(),
@@ -107,7 +107,7 @@ impl<'a> Cursor<'a> {
     /// The dialect's expression brackets: `( )` on Siemens, `[ ]` elsewhere.
     pub(super) fn brackets(&self) -> (&'static str, &'static str) {
         match self.dialect {
-            Dialect::Siemens802d => ("(", ")"),
+            Dialect::Siemens802d | Dialect::Siemens840d => ("(", ")"),
             Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => ("[", "]"),
         }
     }

@@ -1,4 +1,4 @@
-//! NC programs: FANUC (Macro A/B), GSK 980TDC, Siemens 802D and LinuxCNC lathe dialects
+//! NC programs: FANUC (Macro A/B), GSK 980TDC, Siemens 802D/840D and LinuxCNC lathe dialects
 //! interpreted into a toolpath whose thread moves become passes.
 //!
 //! The interpreter reads text given by the caller (no IO here): the main program, and a
@@ -11,7 +11,9 @@
 //!   static check and both expression readers;
 //! - `expr`: the expression evaluators (FANUC `[ ]`/`#`, Siemens `( )`/`R`);
 //! - `fanuc`: FANUC/GSK blocks, Macro A/B, G76, G92, GSK G34;
-//! - `siemens`: Siemens 802D blocks, labels and jumps;
+//! - `siemens`: Siemens 802D blocks, labels and jumps; `siemens_840d`, `siemens_vars` and
+//!   `siemens_flow`: the 840D's statements, user variables and control structures;
+//!   `siemens_cycles`: the thread cycles CYCLE97/CYCLE99 as their moves;
 //! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
 //! - `lcnc_expr`: LinuxCNC expressions and numbered/named parameters;
 //! - `motion`: modal state, motion words, and recording moves;
@@ -42,6 +44,12 @@ mod program;
 #[cfg(test)]
 mod real_tests;
 mod siemens;
+mod siemens_840d;
+mod siemens_cycles;
+mod siemens_flow;
+#[cfg(test)]
+mod siemens_tests;
+mod siemens_vars;
 mod state;
 #[cfg(test)]
 mod tests;
@@ -72,6 +80,9 @@ pub enum Dialect {
     Gsk980,
     /// Siemens SINUMERIK 802D.
     Siemens802d,
+    /// Siemens SINUMERIK 840D (sl): 802D and user variables (`DEF`), structured control
+    /// flow, `PROC` parameters, the thread cycles CYCLE97/CYCLE99 and G331/G332.
+    Siemens840d,
 }
 
 impl Dialect {
@@ -82,6 +93,7 @@ impl Dialect {
             "gsk980" => Some(Dialect::Gsk980),
             "linuxcnc" => Some(Dialect::Linuxcnc),
             "siemens-802d" => Some(Dialect::Siemens802d),
+            "siemens-840d" => Some(Dialect::Siemens840d),
             _ => None,
         }
     }
@@ -92,6 +104,7 @@ impl Dialect {
     fn syntax(self) -> Dialect {
         match self {
             Dialect::Gsk980 => Dialect::Fanuc,
+            Dialect::Siemens840d => Dialect::Siemens802d,
             d => d,
         }
     }
@@ -413,6 +426,7 @@ pub fn interpret_with(
     let gsk = dialect == Dialect::Gsk980;
     let dialect = dialect.syntax();
     let mut m = Interp::new(dialect, gsk, loader, opts);
+    m.cfg.s840 = real == Dialect::Siemens840d;
     m.lc.st.home28 = m.frames.reference;
     m.lc.st.home30 = m.frames.reference2;
     if m.cfg.milling && real != Dialect::Fanuc {
@@ -531,6 +545,8 @@ impl Interp<'_> {
     fn real_dialect(&self) -> Dialect {
         if self.cfg.gsk {
             Dialect::Gsk980
+        } else if self.cfg.s840 {
+            Dialect::Siemens840d
         } else {
             self.cfg.dialect
         }
@@ -620,7 +636,7 @@ impl Interp<'_> {
                 st.stack = callers(&stack);
             }
             let step = match dialect {
-                Dialect::Siemens802d => m.siemens_block(&cur, pc, text),
+                Dialect::Siemens802d | Dialect::Siemens840d => m.siemens_block(&cur, pc, text),
                 Dialect::Linuxcnc => m.lcnc_block(&cur, pc, text),
                 Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
             };

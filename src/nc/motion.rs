@@ -111,6 +111,8 @@ impl Interp<'_> {
                     self.frames.work = (g - DECIMAL_G - 591) as usize + 6;
                 }
                 0..=3 | 32 | 33 | 34 | 35 => self.modal.motion = g,
+                // Siemens 840D rigid tapping (`siemens_840d`): thread moves, lead K.
+                331 | 332 if self.cfg.s840 => self.modal.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
                 92 if self.cfg.dialect == Dialect::Fanuc => self.modal.motion = 92,
                 // FANUC/GSK system A: G90 outer/inner diameter and G94 end face cutting
@@ -396,6 +398,13 @@ impl Interp<'_> {
                         Some(val("SF").unwrap_or(0.0)),
                     )
                 }
+                (Dialect::Siemens802d, 331 | 332) => {
+                    let k = val("K").ok_or((
+                        1,
+                        format!("G{} needs K (the tap's lead)", self.modal.motion),
+                    ))? * scale;
+                    (MoveKind::Thread, Some(k.abs()), Some(0.0), Some(0.0))
+                }
                 (_, g) => {
                     return Err((
                         1,
@@ -408,14 +417,30 @@ impl Interp<'_> {
                 change: change.unwrap_or(0.0),
                 angle: angle.unwrap_or(0.0),
             });
-            match sync {
-                Some(sync) => self.thread_block(w, prog, pc, (x, z), sync, scale)?,
+            // G332, the tap's way out: the spindle turns the other way.
+            let reverse = self.cfg.s840 && self.modal.motion == 332;
+            if reverse {
+                self.modal.spindle = match self.modal.spindle {
+                    Spindle::Cw => Spindle::Ccw,
+                    Spindle::Ccw => Spindle::Cw,
+                };
+            }
+            let done = match sync {
+                Some(sync) => self.thread_block(w, prog, pc, (x, z), sync, scale),
                 None => {
                     self.emit(prog, pc, kind, (self.x, self.z), (x, z), sync);
                     self.x = x;
                     self.z = z;
+                    Ok(())
                 }
+            };
+            if reverse {
+                self.modal.spindle = match self.modal.spindle {
+                    Spindle::Cw => Spindle::Ccw,
+                    Spindle::Ccw => Spindle::Cw,
+                };
             }
+            done?;
         }
         Ok(if end { Step::End } else { Step::Next })
     }
@@ -427,7 +452,7 @@ impl Interp<'_> {
         let g = self.modal.motion;
         let alarm = match self.real_dialect() {
             Dialect::Fanuc | Dialect::Gsk980 => "alarm 011, feed zero",
-            Dialect::Siemens802d => "alarm 10860, feedrate not programmed",
+            Dialect::Siemens802d | Dialect::Siemens840d => "alarm 10860, feedrate not programmed",
             Dialect::Linuxcnc => "\"cannot do G1 with zero feed rate\"",
         };
         match self.modal.feed {

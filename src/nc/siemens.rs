@@ -1,5 +1,8 @@
 //! Siemens 802D blocks: R parameter assignment, address = expression, labels, GOTOF/GOTOB/
-//! GOTO, IF .. GOTOF, subprogram calls by name with P repeats, RET.
+//! GOTO, IF .. GOTOF, subprogram calls by name with P repeats, RET, the thread cycles
+//! CYCLE97/CYCLE99 (`siemens_cycles`); with the 840D (`Config::s840`) its statements
+//! (`siemens_840d`), user variables (`siemens_vars`) and structured control flow
+//! (`siemens_flow`).
 
 use super::codes;
 use super::expr::{r_index, Fail};
@@ -27,11 +30,63 @@ impl Interp<'_> {
             // Not a label: read the block from the start.
             c.i = save;
         }
+        if self.cfg.s840 {
+            if let Some(step) = self.s840_statement(prog, pc, &mut c)? {
+                return Ok(step);
+            }
+        }
+        let s840 = self.cfg.s840;
         let mut w = Words::default();
+        // SUPA or G53 (840D): this block's X/Z in machine coordinates.
+        let mut machine = false;
         while !c.done() {
             let at = c.i;
-            let name = c.ident();
+            let mut name = c.ident();
+            // A name that goes on with digits: a cycle, a user variable, a subprogram.
+            let (letters, short) = (c.i, name.clone());
+            while name.len() > 1
+                && c.i < c.s.len()
+                && (c.s[c.i].is_ascii_alphanumeric() || c.s[c.i] == b'_')
+            {
+                name.push(char::from(c.s[c.i]));
+                c.i += 1;
+            }
+            if matches!(name.as_str(), "CYCLE97" | "CYCLE99") {
+                self.apply(&w, prog, pc)?;
+                return self.thread_cycle(&mut c, prog, pc, &name, at + 1);
+            }
+            if name == "CYCLE84" {
+                self.apply(&w, prog, pc)?;
+                return self.cycle84(&mut c, prog, pc, at + 1);
+            }
+            if s840 && self.user_var(&name).is_some() {
+                self.assign_user(&mut c, &name)?;
+                continue;
+            }
+            // An address letter (or R) and its number.
+            if codes::siemens_address(&short) || short.len() == 1 {
+                c.i = letters;
+                name = short;
+            }
             match name.as_str() {
+                "DIAMON" | "DIAMOF" | "DIAM90" if s840 => {
+                    self.modal.diameter_mode = name != "DIAMOF";
+                    self.vars.s840.diam90 = name == "DIAM90";
+                }
+                "SUPA" if s840 => machine = true,
+                "TRANS" | "ATRANS" if s840 => {
+                    self.trans(&mut c, name == "ATRANS", at + 1)?;
+                    break;
+                }
+                "LIMS" if s840 => {
+                    // The spindle speed limit of G96: nothing the toolpath shows.
+                    let _ = c.eat("=");
+                    self.expr(&mut c)?;
+                }
+                "G" if s840 && c.peek() == Some(b'5') && c.s[c.i..].starts_with(b"53") => {
+                    let _ = c.number();
+                    machine = true;
+                }
                 "IF" => {
                     let v = self.expr(&mut c)?;
                     let kw = c.ident();
@@ -57,9 +112,21 @@ impl Interp<'_> {
                     self.vars.r.insert(n, v);
                 }
                 "" => return Err((at + 1, format!("unexpected {}", c.here()))),
+                "T" if s840 && c.eat("=") && c.peek() == Some(b'"') => {
+                    let t = self.tool_name(&mut c)?;
+                    w.vals.insert("T".into(), (t, at + 1));
+                }
                 addr if codes::siemens_address(addr) => {
                     let v = if c.eat("=") {
-                        self.expr(&mut c)?
+                        let ac_ic = if s840 && matches!(addr, "X" | "Z") {
+                            self.ac_ic(&mut c, addr)?
+                        } else {
+                            None
+                        };
+                        match ac_ic {
+                            Some(v) => v,
+                            None => self.expr(&mut c)?,
+                        }
                     } else {
                         let neg = c.eat("-");
                         let v = self.literal(&mut c)?.ok_or((
@@ -81,18 +148,39 @@ impl Interp<'_> {
                         }
                     }
                 }
+                cycle
+                    if cycle.len() > 5
+                        && cycle.starts_with("CYCLE")
+                        && cycle[5..].bytes().all(|b| b.is_ascii_digit()) =>
+                {
+                    // Another Siemens cycle (stock removal, grooving, drilling, tapping):
+                    // its moves are missing from the toolpath.
+                    self.unknown(
+                        at + 1,
+                        format!("`{cycle}` is not simulated: its moves are missing from the toolpath (vpcut runs CYCLE97 and CYCLE99)"),
+                    )?;
+                    break;
+                }
                 kw if codes::siemens_keyword(kw) => {
                     // A statement vpcut does not simulate: skip the rest of the block.
                     self.unknown(at + 1, format!("`{kw}` is not simulated"))?;
                     break;
                 }
                 call if call.len() > 2 => {
-                    // A subprogram called by name, with an optional repeat `P n`.
+                    // A subprogram called by name, with an optional repeat `P n`; on the
+                    // 840D with arguments `NAME(a, b)` for its PROC, in a scope of its own.
+                    if s840 && c.peek() == Some(b'(') {
+                        self.call_args(&mut c, at + 1)?;
+                    }
                     let mut times = 1;
                     if c.eat("P") {
                         times = c.number().unwrap_or(1.0).max(1.0) as u32;
                     }
                     self.apply(&w, prog, pc)?;
+                    if s840 {
+                        self.new_scope();
+                        return Ok(Step::Call(call.to_string(), times, Some(Vec::new())));
+                    }
                     return Ok(Step::Call(call.to_string(), times, None));
                 }
                 other => {
@@ -104,6 +192,21 @@ impl Interp<'_> {
                         let _ = c.number();
                     }
                 }
+            }
+        }
+        if s840 {
+            if self.vars.s840.diam90 && self.modal.incremental && w.vals.contains_key("X") {
+                return Err((
+                    w.vals["X"].1,
+                    "DIAM90 with G91: incremental X in radius is not modelled (program DIAMON or G90)".into(),
+                ));
+            }
+            if w.g.contains(&500) {
+                // G500: no settable work offset (the zero frame).
+                self.frames.work = 8;
+            }
+            if machine {
+                return self.machine_block(w, prog, pc);
             }
         }
         self.apply(&w, prog, pc)

@@ -40,6 +40,8 @@ pub(super) struct Config {
     pub(super) dialect: Dialect,
     /// GSK 980TDC semantics for G34.
     pub(super) gsk: bool,
+    /// Siemens 840D: the 802D syntax and its additions (`siemens_840d`).
+    pub(super) s840: bool,
     /// FANUC lathe G-code system (codes are translated to system A when read).
     pub(super) system: GcodeSystem,
     /// Unknown words and codes are errors.
@@ -128,6 +130,8 @@ pub(super) struct Vars {
     pub(super) locals: Vec<HashMap<u32, f64>>,
     /// Siemens R parameters.
     pub(super) r: HashMap<u32, f64>,
+    /// Siemens 840D user variables, `PROC` arguments, tool names.
+    pub(super) s840: super::siemens_vars::S840State,
 }
 
 /// What the run has made and counted.
@@ -165,6 +169,7 @@ impl<'l> Interp<'l> {
             cfg: Config {
                 dialect,
                 gsk,
+                s840: false,
                 system: opts.settings.gcode_system,
                 strict: opts.strict,
                 block_skip: opts.settings.block_skip,
@@ -219,6 +224,7 @@ impl<'l> Interp<'l> {
                 common: HashMap::new(),
                 locals: vec![HashMap::new()],
                 r: HashMap::new(),
+                s840: Default::default(),
             },
             out: Output {
                 moves: Vec::new(),

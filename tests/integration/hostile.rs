@@ -649,7 +649,7 @@ fn vpcut_limited(dir: &std::path::Path, args: &str) -> (Option<i32>, String) {
 #[test]
 fn the_command_line_exits_2_naming_the_place() {
     let d = tmp_dir();
-    let programs: [(&str, &[u8], &str, &str); 8] = [
+    let programs: [(&str, &[u8], &str, &str); 9] = [
         (
             "fanuc",
             b"#1=EXP[1000]\nG00 X#1\n",
@@ -688,6 +688,12 @@ fn the_command_line_exits_2_naming_the_place() {
             "NUL byte (0x00)",
         ),
         ("siemens-802d", b"G0 X1 \xB0 Z2\n", "--> P.NC:1:7\n", "0xB0"),
+        (
+            "siemens-840d",
+            b"DEF REAL AB[2]\nG0 X=AB[2]\n",
+            "--> P.NC:2:8\n",
+            "out of range",
+        ),
     ];
     for (dialect, bytes, at, want) in programs {
         std::fs::write(d.join("P.NC"), bytes).unwrap();

@@ -21,10 +21,11 @@ use vpcut::{
 };
 
 /// The dialect folders and what they run as.
-const DIALECTS: [(&str, Dialect, bool); 5] = [
+const DIALECTS: [(&str, Dialect, bool); 6] = [
     ("fanuc", Dialect::Fanuc, false),
     ("gsk", Dialect::Gsk980, false),
     ("siemens", Dialect::Siemens802d, false),
+    ("siemens-840d", Dialect::Siemens840d, false),
     ("linuxcnc", Dialect::Linuxcnc, false),
     ("fanuc-mill", Dialect::Fanuc, true),
 ];
@@ -248,4 +249,44 @@ fn nc_programs_give_their_reviewed_moves() {
     }
     assert!(count >= 20, "only {count} NC data programs");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The 840D is a superset of the 802D: every 802D program of the data (and the seed's
+/// MYAAA.MPF) makes the same moves read as `siemens-840d`.
+#[test]
+fn siemens_802d_programs_make_the_same_moves_on_the_840d() {
+    let mut dirs = vec![root().join("tests/data/nc/siemens")];
+    dirs.push(root().join("scenes/seed002-siemens-equal-tooth"));
+    let mut compared = 0;
+    for dir in dirs {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "nc" || x == "MPF"))
+            .collect();
+        files.sort();
+        for path in files {
+            let main = Source {
+                name: path.file_name().unwrap().to_string_lossy().into_owned(),
+                text: std::fs::read_to_string(&path).unwrap(),
+            };
+            let loader = |n: &str| {
+                std::fs::read_to_string(dir.join(n))
+                    .ok()
+                    .map(|text| Source {
+                        name: n.to_string(),
+                        text,
+                    })
+            };
+            let opts = NcOptions::default();
+            let Ok(a) = interpret_with(&main, Dialect::Siemens802d, &loader, &opts) else {
+                continue;
+            };
+            let b = interpret_with(&main, Dialect::Siemens840d, &loader, &opts)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert_eq!(a.moves, b.moves, "{}", path.display());
+            compared += 1;
+        }
+    }
+    assert!(compared >= 6, "only {compared} programs compared");
 }

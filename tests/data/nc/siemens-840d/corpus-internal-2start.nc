@@ -1,0 +1,22 @@
+%_N_NUT_TR_MPF
+;$PATH=/_N_MPF_DIR
+; two-start internal thread in a bored nut, alternating flank infeed
+; blank: tube d60/d30, 25 long; zero at the face
+N10 G18 G90 G95 G54 DIAMON
+N20 T="BORE_BAR" D1 M6
+N30 G96 S150 LIMS=2500 M3 M8
+N40 G0 X38 Z2
+N50 G1 Z-26 F0.12           ; bore d38
+N60 X36
+N70 G0 Z2
+N80 X40.2
+N90 G1 X38 Z0.9 F0.1        ; entry chamfer
+N100 G0 X30 Z50
+N110 T="THREAD_INT" D1 M6
+N120 G97 S400 M3
+N130 G0 X37 Z6
+;PIT,MPIT,SPL,FPL,DM1,DM2,APP,ROP,TDEP,FAL,IANG,NSP,NRC,NID,VARI,NUMT
+N140 CYCLE97(3,,0,-25,40,40,4,1,0.8,0,-30,0,2,0,2,2)
+N150 G0 Z50
+N160 X100 M5 M9
+N170 M30

@@ -1,0 +1,17 @@
+; 802D left-hand M16 thread with CYCLE97, pitch from the thread size (MPIT)
+; the cut runs from the shoulder towards the face (+Z) with M3
+N10 G18 G90 G95 G54
+N20 T1 D1
+N30 G96 S150 M3 M8
+N40 G0 X20 Z0.2
+N50 G1 X-1.6 F0.15
+N60 G0 X15.9 Z2
+N70 G1 Z-32 F0.2
+N80 X20
+N90 G0 X80 Z80
+N100 T3 D1
+N110 G97 S600 M3
+N120 G0 X20 Z-34
+N130 CYCLE97(,16,-28,0,16,16,2,3,1,0.1,0,0,3,2,3,1)
+N140 G0 X80 Z80 M9
+N150 M30
