@@ -348,8 +348,6 @@ pub(crate) struct Comparer<'a> {
     /// Compute every point's distance (no pruning): the oracle of the pruning's tests.
     #[cfg(test)]
     exhaustive: bool,
-    #[cfg(test)]
-    gap_only: bool,
 }
 
 impl<'a> Comparer<'a> {
@@ -369,8 +367,6 @@ impl<'a> Comparer<'a> {
             q_blank,
             #[cfg(test)]
             exhaustive: false,
-            #[cfg(test)]
-            gap_only: false,
         }
     }
 
@@ -487,13 +483,6 @@ impl<'a> Comparer<'a> {
             open: None,
             found: Vec::new(),
         };
-        // An upper bound on the distance from the current point to the ideal, carried
-        // along the column: the distance to a set is 1-Lipschitz, so from a point whose
-        // distance `d` was computed, a point `dz` further along and `dh` apart in height is
-        // at most `d + dz + |dh|` away (infinite until a distance is known). With the
-        // radial gap it prunes the runs of points beside a wall that the gap alone cannot.
-        let mut reach = f64::INFINITY;
-        let mut h_prev = 0.0f64;
         for (k, &hi32) in ideal_h.iter().enumerate() {
             let j = j0 + k;
             let z = grid.z(j);
@@ -535,8 +524,6 @@ impl<'a> Comparer<'a> {
             out.removed_volume += v;
             out.ideal_removed_volume += ideal_removed;
             let gap = h_cut - h_ideal;
-            reach += grid.dz + (h_cut - h_prev).abs();
-            h_prev = h_cut;
             // Flats: how far the whole root (crest) of this crossing stays above (below)
             // its ideal height, measured radially.
             while next_seg <= z {
@@ -566,32 +553,10 @@ impl<'a> Comparer<'a> {
             for f in 0..4 {
                 floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
             }
-            // Both bounds hold for the distance computed (at most the gap, its bound), with
-            // a margin over the rounding of the chain.
-            let bound = gap.abs().min(reach * (1.0 + 1e-9) + 1e-9);
-            #[cfg(test)]
-            let bound = if self.gap_only { gap.abs() } else { bound };
-            if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), bound, &floor) {
+            if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
                 continue;
             }
-            // The search starts from the tighter bound (the segments it visits are fewer;
-            // the nearest is the same, ties included, as it lies within both); the gap
-            // again where that finds nothing (the chain's rounding), as the distance does.
-            let search = if self.prunes() { bound } else { gap.abs() };
-            let found = ideal.nearest(seg, z, h_cut, search).or_else(|| {
-                (search < gap.abs()).then(|| ideal.nearest(seg, z, h_cut, gap.abs()))?
-            });
-            let (d, flank) = match found {
-                Some((d, i, end)) => {
-                    reach = d;
-                    (d, ideal.flank_of(i, end, z, h_cut))
-                }
-                // Nothing within the gap (its rounding): the distance is not known.
-                None => {
-                    reach = f64::INFINITY;
-                    (gap.abs(), Flank::Crest)
-                }
-            };
+            let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
             Extreme::keep_max(
                 &mut slots[flank.index()],
                 Extreme {
@@ -727,8 +692,8 @@ mod tests {
         }
     }
 
-    /// The pruned comparison (points that cannot beat the extremes, by their radial gap or
-    /// by the distance carried along the column, are skipped) gives exactly the extremes,
+    /// The pruned comparison (points that cannot beat the extremes by their radial gap, in
+    /// this column or in those before it in the tile, are skipped) gives exactly the extremes,
     /// volumes and flats of computing every point's distance, on cuts of every kind: runs
     /// of random length at random offsets from the ideal (gouges and leftovers, deep and
     /// shallow, walls moved), on square and trapezoid, external and internal threads.
@@ -761,7 +726,6 @@ mod tests {
             let mut cmp = Comparer::new(grid, q_blank, surface, &thread, window);
             let (mut prior, mut pruned, mut every) =
                 (Prior::default(), Deviation::default(), Deviation::default());
-            let (mut prior2, mut gap_only) = (Prior::default(), Deviation::default());
             for i in 0..grid.n_theta {
                 let ideal = thread.column(grid.theta(i), grid.z(0), grid.z(grid.n_z - 1));
                 // Runs of cells: the ideal shifted along z by up to 1 mm and offset in
@@ -789,15 +753,9 @@ mod tests {
                 let d = cmp.column(i, &col, &prior);
                 prior.add(&d);
                 pruned.add_column(&d);
-                cmp.gap_only = true;
-                let d = cmp.column(i, &col, &prior2);
-                prior2.add(&d);
-                gap_only.add_column(&d);
-                cmp.gap_only = false;
                 cmp.exhaustive = true;
                 every.add_column(&cmp.column(i, &col, &Prior::default()));
             }
-            assert_eq!(gap_only, every, "gap only {side:?} {angles}");
             assert_eq!(pruned, every, "{side:?} {angles}");
             assert!(every.max_gouge().is_some() && every.max_leftover().is_some());
             assert!(every.turns.len() >= 7, "{}", every.turns.len());
