@@ -345,6 +345,9 @@ pub(crate) struct Comparer<'a> {
     window: (f64, f64),
     surface: Surface,
     q_blank: f64,
+    /// Compute every point's distance (no pruning): the oracle of the pruning's tests.
+    #[cfg(test)]
+    exhaustive: bool,
 }
 
 impl<'a> Comparer<'a> {
@@ -362,7 +365,19 @@ impl<'a> Comparer<'a> {
             window,
             surface,
             q_blank,
+            #[cfg(test)]
+            exhaustive: false,
         }
+    }
+
+    /// Whether points that cannot beat the extremes are skipped (always, but in the
+    /// pruning's tests).
+    #[inline]
+    fn prunes(&self) -> bool {
+        #[cfg(test)]
+        return !self.exhaustive;
+        #[cfg(not(test))]
+        true
     }
 
     /// Compare column `i` of the grid, its stored values `col`.
@@ -538,7 +553,7 @@ impl<'a> Comparer<'a> {
             for f in 0..4 {
                 floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
             }
-            if cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
+            if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
                 continue;
             }
             let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
@@ -627,4 +642,123 @@ fn cannot_win(
         }
     }
     true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::helix::{Helix, LeadLaw};
+    use crate::model::thread::Side;
+
+    /// Seed 002's square equal-tooth screw (major 28, minor 22, pitch 7 + 1.5 t, tooth 3),
+    /// or with flank angles (`angles` deg) a trapezoid of the same pitches.
+    fn screw(side: Side, angles: f64) -> ThreadSpec {
+        let (root, crest) = match side {
+            Side::External => (11.0, 14.0),
+            Side::Internal => (14.0, 11.0),
+        };
+        ThreadSpec {
+            side,
+            root_radius: root,
+            crest_radius: crest,
+            pitch_radius: 12.5,
+            left_angle: angles.to_radians(),
+            right_angle: angles.to_radians(),
+            width: WidthRule::Tooth(3.0),
+            starts: 1,
+            helix: Helix {
+                z0: 0.0,
+                dir: -1.0,
+                law: LeadLaw {
+                    f: 7.0 - 0.75,
+                    k: 1.5,
+                },
+                theta0: 0.0,
+                spin: 1.0,
+            },
+            turns: 7.0,
+        }
+    }
+
+    /// A small deterministic generator (64-bit LCG, the high bits).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// The pruned comparison (points that cannot beat the extremes by their radial gap, in
+    /// this column or in those before it in the tile, are skipped) gives exactly the extremes,
+    /// volumes and flats of computing every point's distance, on cuts of every kind: runs
+    /// of random length at random offsets from the ideal (gouges and leftovers, deep and
+    /// shallow, walls moved), on square and trapezoid, external and internal threads.
+    #[test]
+    fn pruning_changes_nothing() {
+        let mut rng = Lcg(20);
+        for (side, angles) in [
+            (Side::External, 0.0),
+            (Side::External, 15.0),
+            (Side::Internal, 0.0),
+            (Side::Internal, 30.0),
+        ] {
+            let thread = screw(side, angles);
+            let grid = Grid {
+                n_theta: 24,
+                n_z: 4800,
+                theta0: 0.0,
+                z0: -92.0 + 0.01,
+                dz: 0.02,
+            };
+            let surface = match side {
+                Side::External => Surface::Outer,
+                Side::Internal => Surface::Inner,
+            };
+            let q_blank = match side {
+                Side::External => 14.0,
+                Side::Internal => -11.0,
+            };
+            let window = (-92.0, 4.0);
+            let mut cmp = Comparer::new(grid, q_blank, surface, &thread, window);
+            let (mut prior, mut pruned, mut every) =
+                (Prior::default(), Deviation::default(), Deviation::default());
+            for i in 0..grid.n_theta {
+                let ideal = thread.column(grid.theta(i), grid.z(0), grid.z(grid.n_z - 1));
+                // Runs of cells: the ideal shifted along z by up to 1 mm and offset in
+                // height by up to 2 mm (clamped to the blank and one depth below the
+                // root), or left uncut.
+                let mut col = vec![0f32; grid.n_z];
+                let mut j = 0;
+                while j < grid.n_z {
+                    let len = 1 + (rng.next() * 400.0) as usize;
+                    let (shift, off) = ((rng.next() - 0.5) * 2.0, (rng.next() - 0.5) * 4.0);
+                    let uncut = rng.next() < 0.1;
+                    for c in col.iter_mut().skip(j).take(len) {
+                        if !uncut {
+                            let z = grid.z(j) + shift;
+                            let h = (ideal.height_at(z) + off).clamp(-3.0, 3.0);
+                            let r = thread.radius(h);
+                            *c = (surface.sense() * r - q_blank).min(0.0) as f32;
+                        }
+                        j += 1;
+                    }
+                }
+                // Pruned as a tile runs (against the extremes of the columns before it),
+                // and every distance computed; merged in column order.
+                cmp.exhaustive = false;
+                let d = cmp.column(i, &col, &prior);
+                prior.add(&d);
+                pruned.add_column(&d);
+                cmp.exhaustive = true;
+                every.add_column(&cmp.column(i, &col, &Prior::default()));
+            }
+            assert_eq!(pruned, every, "{side:?} {angles}");
+            assert!(every.max_gouge().is_some() && every.max_leftover().is_some());
+            assert!(every.turns.len() >= 7, "{}", every.turns.len());
+        }
+    }
 }

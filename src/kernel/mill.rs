@@ -498,11 +498,12 @@ pub fn sweep_mill(
     stats
 }
 
-/// What the path did to one column: per move, and the placements and dexel updates.
+/// What the path did to one column: per move that changed it (the others add nothing),
+/// and the placements and dexel updates.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct MillColumn {
-    /// Per move.
-    pub(crate) cuts: Vec<MoveCut>,
+    /// The moves that changed the column, in path order: (move index, what it did).
+    pub(crate) cuts: Vec<(usize, MoveCut)>,
     /// Samples that reached the column.
     pub(crate) placements: u64,
     /// Dexel updates.
@@ -513,8 +514,10 @@ impl MillStats {
     /// Add one column's figures (in column order, so that sums do not depend on the
     /// thread count).
     pub(crate) fn add_column(&mut self, c: &MillColumn) {
-        for (a, b) in self.moves.iter_mut().zip(&c.cuts) {
-            a.merge(b);
+        // A move that did not change the column adds nothing (+0 volume, no dexel, no
+        // depth): leaving it out gives the same sums.
+        for (m, b) in &c.cuts {
+            self.moves[*m].merge(b);
         }
         self.placements += c.placements;
         self.dexel_updates += c.updates;
@@ -565,7 +568,7 @@ impl<'a> GridMill<'a> {
         let cell_area = grid.dtheta() * 0.5 * grid.dz;
         let theta = grid.theta(i);
         let ray = MillRay::new(theta, grid.z0, grid.dz, col.len(), q_blank, self.surface);
-        let mut cuts = vec![MoveCut::default(); path.moves.len()];
+        let mut cuts = Vec::new();
         let (mut hits, mut snapshot) = (Vec::new(), Vec::new());
         let (mut placements, mut updates) = (0u64, 0u64);
         for (m, mv) in path.moves.iter().enumerate() {
@@ -590,7 +593,7 @@ impl<'a> GridMill<'a> {
             snapshot.extend_from_slice(&col[range.clone()]);
             placements += hits.len() as u64;
             updates += ray.apply(col, &hits, segs);
-            let c = &mut cuts[m];
+            let mut c = MoveCut::default();
             for (k, (&old, &new)) in snapshot.iter().zip(&col[range.clone()]).enumerate() {
                 if new < old {
                     let (ro, rn) = (old as f64 + q_blank, new as f64 + q_blank);
@@ -602,6 +605,9 @@ impl<'a> GridMill<'a> {
                         c.at = (theta, grid.z(range.start + k));
                     }
                 }
+            }
+            if c.dexels > 0 {
+                cuts.push((m, c));
             }
         }
         MillColumn {

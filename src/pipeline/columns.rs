@@ -52,6 +52,25 @@ pub(super) struct Merged {
     pub(super) seconds: (f64, f64),
 }
 
+/// Tiles per thread in a wave (see [`Pipeline::run`]).
+const WAVE_TILES: usize = 4;
+
+/// Merge columns' results, in column order, into `m`.
+fn merge(m: &mut Merged, columns: impl IntoIterator<Item = ColumnOut>) {
+    for c in columns {
+        m.stats = m.stats + c.stats;
+        m.dev.add_column(&c.dev);
+        if let Some(h) = &c.hits {
+            interference::add_column(&mut m.hits, h);
+        }
+        if let (Some(total), Some(c)) = (m.mill.as_mut(), &c.mill) {
+            total.add_column(c);
+        }
+        m.seconds.0 += c.seconds.0;
+        m.seconds.1 += c.seconds.1;
+    }
+}
+
 /// The per-column pipeline: cut, compare, body interference.
 pub(super) struct Pipeline<'a> {
     pub(super) cut: Cutting<'a>,
@@ -137,82 +156,82 @@ impl Pipeline<'_> {
         let (grid, n_z) = (self.grid, self.grid.n_z);
         let tile = compare::tile_columns(grid.n_theta);
         let twice = self.twice();
-        let columns: Vec<ColumnOut> = if n_z == 0 {
-            Vec::new()
-        } else if let Some(stock) = stock {
-            let Some(q) = stock.surface_mut(surface) else {
-                return Ok(Merged::default());
-            };
-            let tiles: Vec<Vec<ColumnOut>> = match edge_stock.and_then(|e| e.surface_mut(surface)) {
-                Some(qe) => q
-                    .par_chunks_mut(tile * n_z)
-                    .zip(qe.par_chunks_mut(tile * n_z))
-                    .enumerate()
-                    .map(|(t, (c, e))| self.tile(t * tile, c, Some(e)))
-                    .collect(),
-                None => q
-                    .par_chunks_mut(tile * n_z)
-                    .enumerate()
-                    .map(|(t, c)| self.tile(t * tile, c, None))
-                    .collect(),
-            };
-            tiles.into_iter().flatten().collect()
-        } else {
-            let n_tiles = grid.n_theta.div_ceil(tile);
-            let tiles: Vec<Option<Vec<ColumnOut>>> = (0..n_tiles)
-                .into_par_iter()
-                .map_init(
-                    || {
-                        let main = column_buffer(n_z)?;
-                        let edge = if twice {
-                            Some(column_buffer(n_z)?)
-                        } else {
-                            None
-                        };
-                        Some((main, edge))
-                    },
-                    |bufs, t| {
-                        let (main, edge) = bufs.as_mut()?;
-                        let cols = t * tile..((t + 1) * tile).min(grid.n_theta);
-                        let mut prior = compare::Prior::default();
-                        Some(
-                            cols.map(|i| {
-                                main.fill(0.0);
-                                if let Some(e) = edge.as_mut() {
-                                    e.fill(0.0);
-                                }
-                                self.column(i, main, edge.as_deref_mut(), &mut prior)
-                            })
-                            .collect(),
-                        )
-                    },
-                )
-                .collect();
-            let mut out = Vec::with_capacity(grid.n_theta);
-            for t in tiles {
-                out.extend(t.ok_or(SimError::OutOfMemory {
-                    bytes: n_z as u128 * 4 * if twice { 2 } else { 1 },
-                    angular: grid.n_theta,
-                    axial: grid.n_z,
-                })?);
-            }
-            out
-        };
         let mut m = Merged {
             mill,
             ..Merged::default()
         };
-        for c in &columns {
-            m.stats = m.stats + c.stats;
-            m.dev.add_column(&c.dev);
-            if let Some(h) = &c.hits {
-                interference::add_column(&mut m.hits, h);
+        if n_z == 0 {
+            return Ok(m);
+        }
+        // Tiles run in waves of a few per thread, each wave merged in column order before
+        // the next starts: the columns' results held at once (a milling column's per-move
+        // figures among them) do not grow with the number of columns.
+        let wave = WAVE_TILES * rayon::current_num_threads().max(1);
+        let n_tiles = grid.n_theta.div_ceil(tile);
+        if let Some(stock) = stock {
+            let Some(q) = stock.surface_mut(surface) else {
+                return Ok(Merged::default());
+            };
+            let mut edges = edge_stock.and_then(|e| e.surface_mut(surface));
+            let span = wave * tile * n_z;
+            for (w, q) in q.chunks_mut(span).enumerate() {
+                let first = w * wave * tile;
+                let here = w * span..w * span + q.len();
+                let tiles: Vec<Vec<ColumnOut>> = match edges.as_deref_mut() {
+                    Some(qe) => q
+                        .par_chunks_mut(tile * n_z)
+                        .zip(qe[here].par_chunks_mut(tile * n_z))
+                        .enumerate()
+                        .map(|(t, (c, e))| self.tile(first + t * tile, c, Some(e)))
+                        .collect(),
+                    None => q
+                        .par_chunks_mut(tile * n_z)
+                        .enumerate()
+                        .map(|(t, c)| self.tile(first + t * tile, c, None))
+                        .collect(),
+                };
+                merge(&mut m, tiles.into_iter().flatten());
             }
-            if let (Some(total), Some(c)) = (m.mill.as_mut(), &c.mill) {
-                total.add_column(c);
+        } else {
+            for w0 in (0..n_tiles).step_by(wave) {
+                let tiles: Vec<Option<Vec<ColumnOut>>> = (w0..(w0 + wave).min(n_tiles))
+                    .into_par_iter()
+                    .map_init(
+                        || {
+                            let main = column_buffer(n_z)?;
+                            let edge = if twice {
+                                Some(column_buffer(n_z)?)
+                            } else {
+                                None
+                            };
+                            Some((main, edge))
+                        },
+                        |bufs, t| {
+                            let (main, edge) = bufs.as_mut()?;
+                            let cols = t * tile..((t + 1) * tile).min(grid.n_theta);
+                            let mut prior = compare::Prior::default();
+                            Some(
+                                cols.map(|i| {
+                                    main.fill(0.0);
+                                    if let Some(e) = edge.as_mut() {
+                                        e.fill(0.0);
+                                    }
+                                    self.column(i, main, edge.as_deref_mut(), &mut prior)
+                                })
+                                .collect(),
+                            )
+                        },
+                    )
+                    .collect();
+                for t in tiles {
+                    let t = t.ok_or(SimError::OutOfMemory {
+                        bytes: n_z as u128 * 4 * if twice { 2 } else { 1 },
+                        angular: grid.n_theta,
+                        axial: grid.n_z,
+                    })?;
+                    merge(&mut m, t);
+                }
             }
-            m.seconds.0 += c.seconds.0;
-            m.seconds.1 += c.seconds.1;
         }
         Ok(m)
     }
