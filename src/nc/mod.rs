@@ -31,6 +31,7 @@ mod check;
 mod codes;
 #[cfg(test)]
 mod cycle_tests;
+mod cycles;
 mod expr;
 mod fanuc;
 mod lcnc_expr;
