@@ -39,6 +39,8 @@ mod lex;
 mod linuxcnc;
 mod mill;
 mod motion;
+#[cfg(test)]
+mod mrc_tests;
 mod program;
 #[cfg(test)]
 mod real_tests;
