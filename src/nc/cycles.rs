@@ -195,7 +195,8 @@ impl Interp<'_> {
                     ))?,
                 };
                 let retract = self.thread.cycles.retract.unwrap_or(DEFAULT_RETRACT);
-                if !(depth > 0.0 && depth.is_finite()) || !(retract >= 0.0) {
+                let fine = depth > 0.0 && depth.is_finite() && retract >= 0.0;
+                if !fine {
                     return Err((
                         1,
                         format!("G{g} needs a depth of cut > 0 and a retract >= 0"),
