@@ -236,3 +236,38 @@ fn g71_g72_random_shapes_rough_within_the_allowance_and_g70_follows_the_shape() 
         assert!(near(back, start), "case {case}");
     }
 }
+
+/// G-code system C numbers the cycles G72..G77 (G70..G75 in A) and B keeps A's numbers
+/// (FANUC 0i-TF "G code list"): the same program in the three systems makes the same moves.
+#[test]
+fn cycles_in_gcode_systems_b_and_c_are_the_system_a_cycles() {
+    let body = |g: [u32; 5]| {
+        format!(
+            "G0 X62 Z2\nG{} U2 R0.5\nG{} P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X30\nG1 Z-20\nX40 Z-30\nN20 X62\n\
+             G{} P10 Q20\nG0 X64 Z2\nG{} R0.5\nG{} X50 Z-12 P2000 Q3000 F0.1\nM30\n",
+            g[0], g[0], g[1], g[2], g[3]
+        )
+    };
+    let run_in = |system: GcodeSystem, text: &str| {
+        let src = Source {
+            name: "T.NC".into(),
+            text: text.into(),
+        };
+        let opts = Options {
+            settings: Settings {
+                gcode_system: system,
+                ..Settings::default()
+            },
+            ..Options::default()
+        };
+        interpret_with(&src, Dialect::Fanuc, &|_| None, &opts)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .moves
+    };
+    let a = run_in(GcodeSystem::A, &body([71, 70, 75, 75, 75]));
+    assert!(a.len() > 20);
+    let b = run_in(GcodeSystem::B, &body([71, 70, 75, 75, 75]));
+    let c = run_in(GcodeSystem::C, &body([73, 72, 77, 77, 77]));
+    assert_eq!(a, b);
+    assert_eq!(a, c);
+}
