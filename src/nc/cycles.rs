@@ -636,12 +636,16 @@ impl Interp<'_> {
         }
         let (x0, z0) = (self.x, self.z);
         let (ox, oz) = self.frames.offsets[self.frames.work];
+        // In G-code systems B/C under G91, X/Z are incremental too.
+        let inc = self.modal.incremental;
         let x1 = match (val("X"), val("U")) {
+            (Some(x), _) if inc => x0 + x * scale,
             (Some(x), _) => x * scale + ox,
             (None, Some(u)) => x0 + u * scale,
             _ => x0,
         };
         let z1 = match (val("Z"), val("W")) {
+            (Some(z), _) if inc => z0 + z * scale,
             (Some(z), _) => z * scale + oz,
             (None, Some(wv)) => z0 + wv * scale,
             _ => z0,

@@ -270,4 +270,8 @@ fn cycles_in_gcode_systems_b_and_c_are_the_system_a_cycles() {
     let c = run_in(GcodeSystem::C, &body([73, 72, 77, 77, 77]));
     assert_eq!(a, b);
     assert_eq!(a, c);
+    // Under G91 (systems B/C) the G75 end point is incremental: X64 Z2 + (-14, -14).
+    let inc = body([71, 70, 75, 75, 75]).replace("G75 X50 Z-12", "G91 G75 X-14 Z-14");
+    let b_inc = run_in(GcodeSystem::B, &inc);
+    assert_eq!(a, b_inc);
 }
