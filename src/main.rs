@@ -55,6 +55,10 @@ struct ToolpathArgs {
     /// The main program; subprograms are looked up beside it.
     program: PathBuf,
     /// Controller dialect: `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d` or `siemens-840d`.
+    /// FANUC/GSK cycles take their variant from the block's words: a G76 with K or D is the
+    /// one-block G76 of Haas and FANUC 0T (else FANUC 0i's two blocks); G71/G72 with D (G73
+    /// with I, K or D) the one-block 0T/Haas form; G70..G75 list every move they make
+    /// (docs/job-format.md, "Multiple repetitive cycles").
     #[arg(long)]
     dialect: String,
     /// Print JSON instead of CSV.

@@ -309,6 +309,7 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
     }
     let mut g65 = false;
     let mut g76 = false;
+    let mut mrc = false;
     let mut m98 = false;
     let mut m99 = false;
     let mut p_word: Option<(f64, usize)> = None;
@@ -425,6 +426,14 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
                         && code.fract() == 0.0
                         && code >= 0.0
                         && codes::in_system_a(l.system, code as u32) == codes::InA::Code(76);
+                    mrc |= letter == 'G'
+                        && !l.mill
+                        && code.fract() == 0.0
+                        && code >= 0.0
+                        && matches!(
+                            codes::in_system_a(l.system, code as u32),
+                            codes::InA::Code(71..=74)
+                        );
                     m98 |= letter == 'M' && code == 98.0;
                     m99 |= letter == 'M' && code == 99.0;
                 }
@@ -444,6 +453,9 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
     if !g65 {
         // The one-block G76 (Haas, FANUC 0T) reads A (tool angle) and D (first depth).
         strange.retain(|&(_, c)| !(g76 && matches!(c, 'A' | 'D')));
+        // The one-block G71..G73 (0T, Haas) read D (depth, divisions); G74 D is refused
+        // by name when it runs.
+        strange.retain(|&(_, c)| !(mrc && c == 'D'));
         for (col, letter) in strange {
             l.unknown(col, format!("unknown address `{letter}`"), strict);
         }

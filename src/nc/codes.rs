@@ -99,7 +99,8 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (80, true) => Verdict::Run,
             (30, true) => Verdict::Run,
             (10 | 52, true) => refused("coordinate system setting"),
-            (70..=75, true) => refused("multiple repetitive cycle"),
+            // Multiple repetitive cycles (`cycles.rs`).
+            (70..=75, true) => Verdict::Run,
             (90 | 94, true) => Verdict::Run,
             (33, true) if dialect == Dialect::Gsk980 => refused("tapping cycle"),
             _ => Verdict::Unknown(format!(

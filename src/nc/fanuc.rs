@@ -154,7 +154,8 @@ impl Interp<'_> {
                 l if codes::address(self.cfg.milling, l as char) => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
-                // A and D: only the one-block G76 reads them (checked below).
+                // A and D: only the one-block G76 (and D the one-block G71..G73) reads them
+                // (checked below).
                 b'A' | b'D' if !self.cfg.milling => {
                     w.vals.insert((letter as char).to_string(), (v, at + 1));
                 }
@@ -179,6 +180,9 @@ impl Interp<'_> {
         }
         if w.g.contains(&76) {
             return self.g76(&w, prog, pc);
+        }
+        if let Some(&g) = w.g.iter().find(|g| (70..=75).contains(*g)) {
+            return self.repetitive_cycle(g, &w, prog, pc);
         }
         for k in ["A", "D"] {
             if let Some(&(_, col)) = w.vals.get(k) {

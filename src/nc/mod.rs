@@ -33,6 +33,7 @@ mod check;
 mod codes;
 #[cfg(test)]
 mod cycle_tests;
+mod cycles;
 mod expr;
 mod fanuc;
 mod lcnc_expr;
@@ -40,6 +41,8 @@ mod lex;
 mod linuxcnc;
 mod mill;
 mod motion;
+#[cfg(test)]
+mod mrc_tests;
 mod program;
 #[cfg(test)]
 mod real_tests;

@@ -63,6 +63,7 @@ pub(super) struct Programs<'l> {
 }
 
 /// Modal state: motion mode, units, X mode, feed, spindle and tool.
+#[derive(Clone)]
 pub(super) struct Modal {
     /// Active motion G code (0, 1, 2, 3, 32, ...).
     pub(super) motion: u32,
@@ -120,6 +121,8 @@ pub(super) struct ThreadState {
     /// while the next thread block would continue it without a re-sync; `None` once
     /// anything else moved.
     pub(super) chain_end: Option<(f64, f64)>,
+    /// The multiple repetitive cycles' (G70..G75) first-block data.
+    pub(super) cycles: super::cycles::CycleSetup,
 }
 
 /// FANUC and Siemens variable stores (LinuxCNC's are in [`linuxcnc::Lcnc`]).
@@ -219,6 +222,7 @@ impl<'l> Interp<'l> {
                 cycle90: None,
                 runout: (None, None),
                 chain_end: None,
+                cycles: Default::default(),
             },
             vars: Vars {
                 common: HashMap::new(),

@@ -1,0 +1,277 @@
+//! Randomized property tests of the FANUC G71 and G72 roughing cycles and G70 (`cycles.rs`):
+//! for random monotonic shapes (G71 outside and inside, G72 outside), the oracle is the shape
+//! itself (its vertices as written in the program, moved by the allowance), not the code
+//! under test. In the cycle's frame (`a` the axis the depth steps along: radius for G71, Z
+//! for G72; `b` the axis the passes run along):
+//!
+//! - no roughing pass runs inside the shape moved by the allowance (U/2, W);
+//! - the depth steps are dd from the start, and the last level is within dd of the shape's
+//!   bottom;
+//! - after the roughing passes, at every z what is left above the moved shape is at most dd
+//!   (the cusp between passes), and the last pass runs exactly along the moved shape, so the
+//!   allowance is all that is left;
+//! - G70 runs exactly along the shape as written.
+
+use super::*;
+
+/// splitmix64: the same cases on every run.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// A multiple of 0.001 in [lo, hi].
+    fn mm(&mut self, lo: f64, hi: f64) -> f64 {
+        let n = ((hi - lo) * 1000.0) as u64;
+        lo + (self.next() % (n + 1)) as f64 / 1000.0
+    }
+}
+
+fn run(text: &str) -> Vec<Move> {
+    let src = Source {
+        name: "T.NC".into(),
+        text: text.into(),
+    };
+    interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default())
+        .unwrap_or_else(|e| panic!("{e}\n{text}"))
+        .moves
+}
+
+/// The lowest (`s = 1`) or highest (`s = -1`) `a` of the polyline `pts` (a, b) at `b`
+/// (called `z` here), where it covers it.
+fn shape_at(pts: &[(f64, f64)], s: f64, z: f64) -> Option<f64> {
+    let mut best: Option<f64> = None;
+    for w in pts.windows(2) {
+        let ((r0, z0), (r1, z1)) = (w[0], w[1]);
+        let (lo, hi) = (z0.min(z1), z0.max(z1));
+        if z < lo - 1e-12 || z > hi + 1e-12 {
+            continue;
+        }
+        let r = if z0 == z1 {
+            if s > 0.0 {
+                r0.min(r1)
+            } else {
+                r0.max(r1)
+            }
+        } else {
+            r0 + (z - z0) / (z1 - z0) * (r1 - r0)
+        };
+        best = Some(best.map_or(r, |b: f64| if s * (r - b) < 0.0 { r } else { b }));
+    }
+    best
+}
+
+#[test]
+fn g71_g72_random_shapes_rough_within_the_allowance_and_g70_follows_the_shape() {
+    let mut rng = Rng(17);
+    let q = |v: f64| (v * 1000.0).round() / 1000.0;
+    for case in 0..450 {
+        let facing = case % 3 == 2;
+        let outside = facing || case % 3 == 0;
+        let s = if outside { 1.0 } else { -1.0 };
+        let g = if facing { 72 } else { 71 };
+        // The shape in (a, b): from A' one way in a (towards the start's side) and towards
+        // -b, with flats, tapers and shoulders.
+        let a_first = if facing {
+            rng.mm(-25.0, -10.0)
+        } else if outside {
+            rng.mm(5.0, 15.0)
+        } else {
+            rng.mm(25.0, 35.0)
+        };
+        let b0 = if facing {
+            rng.mm(40.0, 60.0)
+        } else {
+            rng.mm(1.0, 3.0)
+        };
+        let db_max = if facing { 6.0 } else { 12.0 };
+        let mut pts = vec![(q(a_first), q(b0))];
+        let n = 2 + (rng.next() % 5) as usize;
+        for k in 0..n {
+            let (a, b) = *pts.last().expect("one");
+            let kind = if k == 0 { 0 } else { rng.next() % 3 };
+            let db = rng.mm(1.0, db_max);
+            let da = rng.mm(0.5, 4.0);
+            pts.push(match kind {
+                0 => (a, q(b - db)),
+                1 => (q(a + s * da), q(b - db)),
+                _ => (q(a + s * da), b),
+            });
+        }
+        let b0 = q(b0);
+        let a_last = pts.last().expect("points").0;
+        // The start: on the start's side of the whole shape, by a random clearance.
+        let a_start = q(a_last + s * rng.mm(0.5, 5.0));
+        let dd = q(rng.mm(0.3, 3.0));
+        let e = q(rng.mm(0.0, 1.0));
+        let du = q(s * rng.mm(0.0, 1.0));
+        let dw = q(rng.mm(0.0, 0.3));
+        // (a, b) to the program's (X diameter, Z) and back.
+        let xz = |(a, b): (f64, f64)| if facing { (2.0 * b, a) } else { (2.0 * a, b) };
+        let ab = |x: f64, z: f64| if facing { (z, x / 2.0) } else { (x / 2.0, z) };
+        let start = xz((a_start, b0));
+        let depth_word = if facing { "W" } else { "U" };
+        let mut text = format!(
+            "G0 X{:.3} Z{:.3}\nG{g} {depth_word}{dd:.3} R{e:.3}\nG{g} P10 Q20 U{du:.3} W{dw:.3} F0.2\n",
+            start.0, start.1
+        );
+        let first = xz(pts[0]);
+        if facing {
+            text.push_str(&format!("N10 G0 Z{:.3}\n", first.1));
+        } else {
+            text.push_str(&format!("N10 G0 X{:.3}\n", first.0));
+        }
+        for (i, &p) in pts.iter().enumerate().skip(1) {
+            let n = if i == pts.len() - 1 { "N20 " } else { "" };
+            let (x, z) = xz(p);
+            text.push_str(&format!("{n}G1 X{x:.3} Z{z:.3}\n"));
+        }
+        text.push_str("G70 P10 Q20\nM30\n");
+        let moves = run(&text);
+        // The allowance in (a, b): (du/2, dw) for G71, (dw, du/2) for G72.
+        let shift = if facing {
+            (dw, du / 2.0)
+        } else {
+            (du / 2.0, dw)
+        };
+        let moved: Vec<(f64, f64)> = pts
+            .iter()
+            .map(|&(a, b)| (a + shift.0, b + shift.1))
+            .collect();
+        let rough: Vec<&Move> = moves.iter().filter(|m| m.line == 3).collect();
+        // The last pass starts with the move to A' moved; the roughing passes (the feeds
+        // along b at one a) come before it.
+        let last_pass = 1 + rough
+            .iter()
+            .rposition(|m| {
+                let p = ab(m.x_dia, m.z);
+                (p.0 - moved[0].0).abs() < 1e-9 && (p.1 - moved[0].1).abs() < 1e-9
+            })
+            .unwrap_or_else(|| panic!("case {case}: no move to A'\n{text}"));
+        let passes: Vec<(f64, f64, f64)> = rough[..last_pass]
+            .iter()
+            .filter(|m| m.kind == MoveKind::Feed)
+            .map(|m| {
+                let (p, r) = (ab(m.x_start, m.z_start), ab(m.x_dia, m.z));
+                assert!(
+                    (p.0 - r.0).abs() < 1e-12,
+                    "case {case}: a pass along b only\n{text}"
+                );
+                (r.0, p.1, r.1)
+            })
+            .collect();
+        // Depth steps: dd from the start; the last within dd of the moved shape's bottom.
+        let bottom = moved[0].0;
+        for (k, p) in passes.iter().enumerate() {
+            let want = a_start - s * dd * (k + 1) as f64;
+            assert!((p.0 - want).abs() < 1e-9, "case {case}: level {k}\n{text}");
+        }
+        let deepest = passes.last().map_or(a_start, |p| p.0);
+        assert!(
+            s * (deepest - bottom) > 0.0 && s * (deepest - bottom) <= dd + 1e-9,
+            "case {case}: the last level {deepest} is within dd of {bottom}\n{text}"
+        );
+        // No pass inside the moved shape: sample every pass.
+        for &(a, ba, bb) in &passes {
+            for i in 0..=50 {
+                let b = ba + (bb - ba) * f64::from(i) / 50.0;
+                if let Some(sa) = shape_at(&moved, s, b) {
+                    assert!(
+                        s * (a - sa) >= -1e-9,
+                        "case {case}: the pass at a = {a} cuts inside the allowance at b = {b} (shape {sa})\n{text}"
+                    );
+                }
+            }
+        }
+        // What is left after the passes: within dd of the moved shape, from the start's b
+        // (the passes start there; before it is air) to the shape's end.
+        let b_end = moved.last().expect("points").1;
+        for i in 1..200 {
+            let b = b0 + (b_end - b0) * f64::from(i) / 200.0;
+            let Some(sa) = shape_at(&moved, s, b) else {
+                continue;
+            };
+            let covered = passes
+                .iter()
+                .filter(|p| b <= p.1.max(p.2) + 1e-12 && b >= p.1.min(p.2) - 1e-12)
+                .map(|p| p.0)
+                .fold(a_start, |x, y| if s * (y - x) < 0.0 { y } else { x });
+            assert!(
+                s * (covered - sa) <= dd + 1e-9,
+                "case {case}: at b = {b} the passes leave {covered} over the shape's {sa}\n{text}"
+            );
+        }
+        // The last pass: along the moved shape, vertex by vertex.
+        let fin = &rough[last_pass..];
+        for (k, w) in moved.windows(2).enumerate() {
+            let (p, r) = (
+                ab(fin[k].x_start, fin[k].z_start),
+                ab(fin[k].x_dia, fin[k].z),
+            );
+            let ok = (p.0 - w[0].0).abs() < 1e-9
+                && (p.1 - w[0].1).abs() < 1e-9
+                && (r.0 - w[1].0).abs() < 1e-9
+                && (r.1 - w[1].1).abs() < 1e-9;
+            assert!(ok, "case {case}: last pass move {k}\n{text}");
+        }
+        // G70: the shape as written, from the start point, and back.
+        let g70: Vec<&Move> = moves.iter().filter(|m| m.line >= 4).collect();
+        assert_eq!(g70.len(), pts.len() + 1, "case {case}\n{text}");
+        let near =
+            |m: &Move, (x, z): (f64, f64)| (m.x_dia - x).abs() < 1e-9 && (m.z - z).abs() < 1e-9;
+        assert!(
+            (g70[0].x_start - start.0).abs() < 1e-9 && (g70[0].z_start - start.1).abs() < 1e-9,
+            "case {case}"
+        );
+        for (k, &p) in pts.iter().enumerate() {
+            assert!(near(g70[k], xz(p)), "case {case}: G70 move {k}\n{text}");
+        }
+        let back = g70.last().expect("moves");
+        assert_eq!(back.kind, MoveKind::Rapid);
+        assert!(near(back, start), "case {case}");
+    }
+}
+
+/// G-code system C numbers the cycles G72..G77 (G70..G75 in A) and B keeps A's numbers
+/// (FANUC 0i-TF "G code list"): the same program in the three systems makes the same moves.
+#[test]
+fn cycles_in_gcode_systems_b_and_c_are_the_system_a_cycles() {
+    let body = |g: [u32; 5]| {
+        format!(
+            "G0 X62 Z2\nG{} U2 R0.5\nG{} P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X30\nG1 Z-20\nX40 Z-30\nN20 X62\n\
+             G{} P10 Q20\nG0 X64 Z2\nG{} R0.5\nG{} X50 Z-12 P2000 Q3000 F0.1\nM30\n",
+            g[0], g[0], g[1], g[2], g[3]
+        )
+    };
+    let run_in = |system: GcodeSystem, text: &str| {
+        let src = Source {
+            name: "T.NC".into(),
+            text: text.into(),
+        };
+        let opts = Options {
+            settings: Settings {
+                gcode_system: system,
+                ..Settings::default()
+            },
+            ..Options::default()
+        };
+        interpret_with(&src, Dialect::Fanuc, &|_| None, &opts)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .moves
+    };
+    let a = run_in(GcodeSystem::A, &body([71, 70, 75, 75, 75]));
+    assert!(a.len() > 20);
+    let b = run_in(GcodeSystem::B, &body([71, 70, 75, 75, 75]));
+    let c = run_in(GcodeSystem::C, &body([73, 72, 77, 77, 77]));
+    assert_eq!(a, b);
+    assert_eq!(a, c);
+    // Under G91 (systems B/C) the G75 end point is incremental: X64 Z2 + (-14, -14).
+    let inc = body([71, 70, 75, 75, 75]).replace("G75 X50 Z-12", "G91 G75 X-14 Z-14");
+    let b_inc = run_in(GcodeSystem::B, &inc);
+    assert_eq!(a, b_inc);
+}
