@@ -12,7 +12,8 @@ use crate::support::{blessing, root, run_scene, scene_job, scenes};
 use image::RgbImage;
 use std::f64::consts::TAU;
 use vpcut::{
-    build_scene, Legend, Mesh, RenderOptions, Renderer, Scene, SceneOptions, View, SHADER,
+    build_scene, Legend, Mesh, RenderOptions, Renderer, Scene, SceneOptions, ToolpathMode, View,
+    SHADER,
 };
 
 /// Golden pictures are this size: big enough to read, small enough to keep 52 of them.
@@ -155,7 +156,7 @@ fn opts(view: View) -> RenderOptions {
         width: GOLDEN_SIZE.0,
         height: GOLDEN_SIZE.1,
         edges: false,
-        toolpath: true,
+        toolpath: ToolpathMode::Auto,
     }
 }
 
@@ -473,7 +474,7 @@ fn toolpath_and_edges_are_drawn_as_asked() {
     let Some(r) = renderer() else { return };
     let name = "iso-m20x2.5-radial";
     let scene = build_scene(&scene_job(name), &run_scene(name), &SceneOptions::default());
-    const FEED: [u8; 3] = [240, 120, 0];
+    const FEED: [u8; 3] = [100, 175, 0];
     const EDGE: [u8; 3] = [35, 35, 35];
     let count = |img: &RgbImage, c: [u8; 3]| {
         img.pixels()
@@ -484,7 +485,11 @@ fn toolpath_and_edges_are_drawn_as_asked() {
         r.render(
             &scene,
             &RenderOptions {
-                toolpath,
+                toolpath: if toolpath {
+                    ToolpathMode::Full
+                } else {
+                    ToolpathMode::Off
+                },
                 edges,
                 ..opts(view)
             },
