@@ -36,7 +36,7 @@ struct Cli {
 enum Command {
     /// Simulate a job: sweep every pass through the stock, compare with the ideal thread,
     /// print a summary and optionally write the JSON report.
-    Simulate(SimulateArgs),
+    Simulate(Box<SimulateArgs>),
     /// Verify many jobs in one call (in parallel): one line per job with its verdict, worst
     /// gouge and leftover and time; exit 1 if any fails, 2 if any cannot be read.
     Check(CheckArgs),
@@ -543,7 +543,7 @@ fn error_place(e: &anyhow::Error, job: &Path) -> Place {
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
-        Command::Simulate(args) => simulate(args),
+        Command::Simulate(args) => simulate(*args),
         Command::Check(args) => check(args),
         Command::Render(args) => render(args),
         Command::Toolpath(args) => toolpath(args),

@@ -415,11 +415,11 @@ fn legend(scene: &Scene) -> String {
         }
     };
     let mut items = vec![swatch(WITHIN, &format!("within {tol} mm"))];
-    for k in 0..3 {
-        items.push(swatch(GOUGE_BANDS[k], &format!("gouge {}", band(k))));
+    for (k, c) in GOUGE_BANDS.iter().enumerate() {
+        items.push(swatch(*c, &format!("gouge {}", band(k))));
     }
-    for k in 0..3 {
-        items.push(swatch(LEFTOVER_BANDS[k], &format!("leftover {}", band(k))));
+    for (k, c) in LEFTOVER_BANDS.iter().enumerate() {
+        items.push(swatch(*c, &format!("leftover {}", band(k))));
     }
     items.push(swatch(BLANK, "uncut blank, end faces"));
     items.push(swatch(CUT_NOT_COMPARED, "cut, not compared"));
