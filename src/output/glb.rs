@@ -281,7 +281,8 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, GlbError> {
         nodes.extend(w.mesh("ideal", ideal, mat));
     }
     if !scene.toolpath.is_empty() {
-        let feed = w.material("feed", [1.0, 0.35, 0.0, 1.0], false, 0.0);
+        // The renders' lime green (sRGB 100, 175, 0) in linear light: no deviation colour.
+        let feed = w.material("feed", [0.127, 0.429, 0.0, 1.0], false, 0.0);
         let rapid = w.material("rapid", [0.25, 0.25, 0.25, 1.0], false, 0.0);
         let primitives: Vec<json::mesh::Primitive> = scene
             .toolpath

@@ -185,6 +185,43 @@ fn cli_writes_the_plots() {
     let _ = std::fs::remove_dir_all(&dir);
     let out = run(std::path::Path::new("/proc/vpcut-no-such-place"));
     assert_eq!(out.status.code(), Some(2));
+    // --plot-size: the developed view's size, the others its width and 2/3, 5/9 of its
+    // height (rounded up); out-of-range or malformed sizes and a size without plots are
+    // refused with exit 2 before anything is simulated.
+    let sized = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .args(["simulate", job.to_str().unwrap(), "-q"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let out = sized(&["--plots", dir.to_str().unwrap(), "--plot-size", "800x600"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for (file, want) in [
+        ("developed.png", (800, 600)),
+        ("section.png", (800, 400)),
+        ("trace.png", (800, 334)),
+    ] {
+        let img = image::open(dir.join(file)).unwrap();
+        assert_eq!((img.width(), img.height()), want, "{file}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    for bad in ["100x600", "800x9000", "800", "axb", "800x-1"] {
+        let out = sized(&["--plots", dir.to_str().unwrap(), "--plot-size", bad]);
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("--plot-size"),
+            "{bad}"
+        );
+        assert!(!dir.exists(), "{bad}: nothing written");
+    }
+    let out = sized(&["--plot-size", "800x600"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--plots"));
 }
 
 /// A two-start thread: the developed view labels every groove of the drawing on the 360 deg
