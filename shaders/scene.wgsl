@@ -92,10 +92,11 @@ fn vs_line(v: VertexIn) -> VertexOut {
     return out;
 }
 
+// Lines are blended by their alpha: 1 for most, less for a dimmed toolpath.
 @fragment
 fn fs_line(in: VertexOut) -> @location(0) vec4<f32> {
     if cut_away(in.world) {
         discard;
     }
-    return vec4<f32>(to_linear(in.colour.rgb), 1.0);
+    return vec4<f32>(to_linear(in.colour.rgb), in.colour.a);
 }

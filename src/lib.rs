@@ -89,7 +89,9 @@ pub use output::plot::chart::band_colour;
 pub use output::plot::developed::{developed_plot, developed_view, DevelopedPlot};
 pub use output::plot::section::{section_view, trace_view};
 pub use output::plot::{section_profile, signed_deviation};
-pub use output::render::{encode_png, RenderError, RenderOptions, Renderer, View, SHADER};
+pub use output::render::{
+    encode_png, RenderError, RenderOptions, Renderer, ToolpathMode, View, SHADER,
+};
 pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{

@@ -36,7 +36,7 @@ struct Cli {
 enum Command {
     /// Simulate a job: sweep every pass through the stock, compare with the ideal thread,
     /// print a summary and optionally write the JSON report.
-    Simulate(SimulateArgs),
+    Simulate(Box<SimulateArgs>),
     /// Verify many jobs in one call (in parallel): one line per job with its verdict, worst
     /// gouge and leftover and time; exit 1 if any fails, 2 if any cannot be read.
     Check(CheckArgs),
@@ -137,10 +137,19 @@ struct PictureArgs {
     /// Draw feature edges (crests, roots, flank corners) as dark lines.
     #[arg(long)]
     edges: bool,
-    /// Leave the toolpath out of the whole-part views (programs with many passes hide the
-    /// part behind their lines).
-    #[arg(long)]
+    /// The toolpath in the whole-part views: `auto` (the default: in full while its lines
+    /// cross at most 12 % of the part's pixels, translucent up to 30 %, left out beyond, as
+    /// the caption says), `full` or `off`.
+    #[arg(long, value_name = "MODE", value_parser = parse_toolpath)]
+    toolpath: Option<vpcut::ToolpathMode>,
+    /// Leave the toolpath out of the whole-part views (`--toolpath off`).
+    #[arg(long, conflicts_with = "toolpath")]
     no_toolpath: bool,
+}
+
+fn parse_toolpath(s: &str) -> Result<vpcut::ToolpathMode, String> {
+    vpcut::ToolpathMode::from_name(s)
+        .ok_or_else(|| format!("expected one of auto, full, off, not `{s}`"))
 }
 
 fn parse_view(s: &str) -> Result<vpcut::View, String> {
@@ -160,6 +169,18 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     .validate()
     .map_err(|e| e.to_string())?;
     Ok(size)
+}
+
+fn parse_plot_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT such as 1600x900, not `{s}`");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    if !(320..=8192).contains(&w) || !(320..=8192).contains(&h) {
+        return Err(format!(
+            "plot size {w}x{h}: each side from 320 to 8192 pixels"
+        ));
+    }
+    Ok((w, h))
 }
 
 fn parse_msaa(s: &str) -> Result<u32, String> {
@@ -233,6 +254,7 @@ impl PictureArgs {
                 (self.msaa.is_some(), "--msaa"),
                 (self.edges, "--edges"),
                 (self.no_toolpath, "--no-toolpath"),
+                (self.toolpath.is_some(), "--toolpath"),
             ];
             if let Some((_, flag)) = given.iter().find(|g| g.0) {
                 anyhow::bail!("{flag} is for pictures: give --png FILE or --renders DIR");
@@ -245,7 +267,11 @@ impl PictureArgs {
             width,
             height,
             edges: self.edges,
-            toolpath: !self.no_toolpath,
+            toolpath: if self.no_toolpath {
+                vpcut::ToolpathMode::Off
+            } else {
+                self.toolpath.unwrap_or_default()
+            },
         };
         let base = opts(self.view.unwrap_or(vpcut::View::Iso));
         base.validate()?;
@@ -350,6 +376,11 @@ struct SimulateArgs {
     /// Angle of the generator in `section.png` (deg on the part; default 0).
     #[arg(long, value_name = "DEG", requires = "plots", value_parser = parse_finite)]
     section_angle: Option<f64>,
+    /// Size of `developed.png` as `WIDTHxHEIGHT` pixels (default 1600x900; each side 320
+    /// to 8192); `section.png` and `trace.png` take its width and 2/3 and 5/9 of its
+    /// height. Text sizes follow the picture.
+    #[arg(long, value_name = "WxH", value_parser = parse_plot_size)]
+    plot_size: Option<(u32, u32)>,
     /// Write the cut part as binary glTF (`.glb`): the stock coloured by deviation, the
     /// toolpath, the tool, and the report summary in `extras`; positions in metres. `-`:
     /// standard output.
@@ -516,7 +547,7 @@ fn error_place(e: &anyhow::Error, job: &Path) -> Place {
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
-        Command::Simulate(args) => simulate(args),
+        Command::Simulate(args) => simulate(*args),
         Command::Check(args) => check(args),
         Command::Render(args) => render(args),
         Command::Toolpath(args) => toolpath(args),
@@ -731,6 +762,9 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
+    if args.plot_size.is_some() && args.plots.is_none() && args.html.is_none() {
+        anyhow::bail!("--plot-size is the size of the plots: give --plots DIR or --html FILE");
+    }
     let ci_slots = args.ci.slots(&mut outs)?;
     let pictures = args.picture.prepare(&mut outs, &progress)?;
     let html = match &args.html {
@@ -852,7 +886,9 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         let title = format!("{name}: {verdict}");
         let angle = args.section_angle.unwrap_or(0.0).to_radians();
         // The page alone shows them at most 720 pixels wide: smaller ones cost less.
-        let (dw, dh, sw, sh, tw, th) = if plot_slots.is_some() {
+        let (dw, dh, sw, sh, tw, th) = if let Some((w, h)) = args.plot_size {
+            (w, h, w, (h * 2).div_ceil(3), w, (h * 5).div_ceil(9))
+        } else if plot_slots.is_some() {
             (1600, 900, 1600, 600, 1600, 500)
         } else {
             (1024, 576, 1200, 450, 1200, 375)

@@ -124,6 +124,6 @@ fn options(view: vpcut::View) -> vpcut::RenderOptions {
         width: RENDER_SIZE.0,
         height: RENDER_SIZE.1,
         edges: false,
-        toolpath: true,
+        toolpath: vpcut::ToolpathMode::Auto,
     }
 }

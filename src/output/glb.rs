@@ -281,7 +281,8 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, GlbError> {
         nodes.extend(w.mesh("ideal", ideal, mat));
     }
     if !scene.toolpath.is_empty() {
-        let feed = w.material("feed", [1.0, 0.35, 0.0, 1.0], false, 0.0);
+        // The renders' lime green (sRGB 100, 175, 0) in linear light: no deviation colour.
+        let feed = w.material("feed", [0.127, 0.429, 0.0, 1.0], false, 0.0);
         let rapid = w.material("rapid", [0.25, 0.25, 0.25, 1.0], false, 0.0);
         let primitives: Vec<json::mesh::Primitive> = scene
             .toolpath
@@ -327,7 +328,8 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, GlbError> {
             "legend": {
                 "tolerance_mm": scene.legend.tolerance_mm,
                 "scale_mm": scene.legend.scale_mm,
-                "colours": "gouge blue, within tolerance grey, leftover red, not compared dark grey, cut by a tool body past its edge purple, the ideal teal",
+                "colours": "bands of the tolerance as in the plots: within light grey; gouge 1-2x, 2-5x, over 5x light to dark blue; leftover 1-2x, 2-5x, over 5x light orange to dark red; the blank's uncut surface and end faces warm dark grey; cut but not compared light grey; cut by a tool body past its edge purple; the ideal teal",
+                "bands_x_tolerance": [1.0, 2.0, 5.0],
             },
             "focus": scene.focus.as_ref().map(|f| serde_json::json!({
                 "kind": f.kind, "value_mm": f.value_mm, "point_mm": f.point,

@@ -15,7 +15,7 @@ pub use passes::{finding_passes, finding_point, FindingPass};
 
 use crate::analysis::findings::FindingKind;
 use crate::output::scene::{Mesh, PathKind, Scene};
-use crate::report::{Finding, Report, TurnRow};
+use crate::report::{r6, Finding, Report, TurnRow};
 use std::fmt::Write as _;
 
 const TEMPLATE: &str = include_str!("html/page.html");
@@ -170,6 +170,8 @@ fn scene_data(scene: &Scene) -> (serde_json::Value, Vec<u8>) {
         at += l.points.len();
     }
     let bounds = scene.stock.bounds().map(|(lo, hi)| json!([lo, hi]));
+    // The renders' rule decides how the toolpath shows at first (the toggle stays).
+    let (path_look, path_cover) = crate::output::render::default_toolpath_look(scene);
     let focus = scene
         .focus
         .as_ref()
@@ -180,6 +182,8 @@ fn scene_data(scene: &Scene) -> (serde_json::Value, Vec<u8>) {
         "lines": {"pos": lines_at, "n": at, "strips": strips},
         "bounds": bounds,
         "legend": {"tolerance_mm": scene.legend.tolerance_mm, "scale_mm": scene.legend.scale_mm},
+        "toolpath": {"look": path_look, "coverage": r6(path_cover)},
+        "internal": crate::output::render::is_internal(scene),
         "focus": focus,
         "bytes": bin.len(),
     });
@@ -388,21 +392,44 @@ fn figures(s: &mut String, pics: &[HtmlPicture]) {
     }
 }
 
-/// The colours of the 3D view as swatches (the one colour map of every picture).
+/// The colours of the 3D view as swatches: the plots' tolerance bands and the 3D greys
+/// (the one colour map of every picture).
 fn legend(scene: &Scene) -> String {
-    let (tol, scale) = (scene.legend.tolerance_mm, scene.legend.scale_mm);
-    let swatch = |d: f64, what: &str| {
-        let c = crate::output::plot::colour(Some(d), tol, scale);
+    use crate::output::plot::chart::{BAND_EDGES, GOUGE_BANDS, LEFTOVER_BANDS, WITHIN};
+    use crate::output::plot::{BLANK, BODY_RUB, CUT_NOT_COMPARED, IDEAL_COLOUR};
+    let tol = scene.legend.tolerance_mm;
+    let swatch = |c: [u8; 3], what: &str| {
         format!(
-            "<span class=\"swatch\" style=\"background:rgb({},{},{})\"></span> {what}",
-            c[0], c[1], c[2]
+            "<span class=\"swatch\" style=\"background:rgb({},{},{})\"></span> {}",
+            c[0],
+            c[1],
+            c[2],
+            esc(what)
         )
     };
+    let band = |k: usize| {
+        let (a, b) = (BAND_EDGES[k], BAND_EDGES.get(k + 1));
+        match b {
+            Some(b) => format!("{a}-{b}x"),
+            None => format!("over {a}x"),
+        }
+    };
+    let mut items = vec![swatch(WITHIN, &format!("within {tol} mm"))];
+    for (k, c) in GOUGE_BANDS.iter().enumerate() {
+        items.push(swatch(*c, &format!("gouge {}", band(k))));
+    }
+    for (k, c) in LEFTOVER_BANDS.iter().enumerate() {
+        items.push(swatch(*c, &format!("leftover {}", band(k))));
+    }
+    items.push(swatch(BLANK, "uncut blank, end faces"));
+    items.push(swatch(CUT_NOT_COMPARED, "cut, not compared"));
+    if scene.stock.colors.contains(&BODY_RUB) {
+        items.push(swatch(BODY_RUB, "body rub"));
+    }
+    items.push(swatch(IDEAL_COLOUR, "ideal"));
     format!(
-        "Colours: {}, {}, {} (full colour at {scale} mm).",
-        swatch(-scale, "gouge"),
-        swatch(0.0, &format!("within {tol} mm")),
-        swatch(scale, "leftover")
+        "Colours (bands of the tolerance, as in the plots): {}.",
+        items.join(", ")
     )
 }
 

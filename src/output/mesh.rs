@@ -23,9 +23,11 @@
 //! becomes a vertex (`--gltf-full`). The integration tests measure the bound on columns the
 //! mesh skipped (sections of the triangles against dexel data the mesh never saw).
 //!
-//! **Colours** are the developed view's colour map ([`crate::output::plot`]) of the signed normal
-//! deviation at each vertex (an exact dexel sample), so the 3D model, the developed view
-//! and the legend agree. Columns are built in parallel (rayon) and concatenated in column
+//! **Colours** are the developed view's tolerance bands ([`crate::output::plot`]: within,
+//! 1-2x, 2-5x, over 5x the tolerance, gouge blues and leftover oranges) of the signed
+//! normal deviation at each vertex (an exact dexel sample), so the 3D model, the developed
+//! view and the legend agree; the blank's own uncut surface (and the end faces, the blank's
+//! ends) is a darker warm grey and a cut outside the compared span a light one. Columns are built in parallel (rayon) and concatenated in column
 //! order, so the mesh does not depend on the thread count.
 
 use crate::analysis::compare::{Deviation, Extreme};
@@ -36,7 +38,7 @@ use crate::model::pass::Pass;
 use crate::model::stock::{Stock, Surface};
 use crate::model::thread::{Side, ThreadSpec};
 use crate::model::tool::Tool;
-use crate::output::plot::{colour, signed_deviation, BODY_RUB};
+use crate::output::plot::{signed_deviation, surface_colour, BLANK, BODY_RUB};
 use crate::output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 use crate::pipeline::Outcome;
 use crate::report::r6;
@@ -412,7 +414,7 @@ impl Surfacer<'_> {
             simplify(&pts, &forced, 0.5 * self.e, &mut keep);
             keep
         };
-        let (tol, scale) = (self.legend.tolerance_mm, self.legend.scale_mm);
+        let tol = self.legend.tolerance_mm;
         // Dexels a tool body cut past its edge get their own colour.
         let edge = self.edge.and_then(|e| e.surface(self.s)).map(|q| {
             let n_z = grid.n_z;
@@ -431,7 +433,8 @@ impl Surfacer<'_> {
                 let d = ideal
                     .as_ref()
                     .and_then(|id| signed_deviation(self.thread, id, pts[j].0, pts[j].1));
-                colour(d, tol, scale)
+                // The blank is stored as zero: any other value was cut.
+                surface_colour(d, own[j] != 0.0, tol)
             })
             .collect();
         let mut zr: Vec<(f64, f64)> = keep.iter().map(|&j| pts[j]).collect();
@@ -622,7 +625,7 @@ pub(crate) fn stock_mesh_with(
         } else {
             let c = mesh.positions.len() as u32;
             mesh.positions.push([0.0, 0.0, z as f32]);
-            mesh.colors.push(colour(None, 0.0, 1.0));
+            mesh.colors.push(BLANK);
             for k in 0..m {
                 let k1 = (k + 1) % m;
                 if end {

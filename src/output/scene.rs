@@ -2,8 +2,8 @@
 //!
 //! Everything is in the part's frame, in mm: `z` along the part axis, `x = r cos(theta)`,
 //! `y = r sin(theta)` with `theta` the angle on the part (the same angle the report gives).
-//! Colours are sRGB bytes, the same ones the developed view and the legend use, so a
-//! picture and a model of the same job agree colour for colour.
+//! Colours are sRGB bytes, the same bands of the tolerance the developed view and the
+//! legend use, so a picture and a model of the same job agree colour for colour.
 //!
 //! A [`Scene`] is plain data: [`crate::output::mesh`] builds one from a simulation, [`crate::output::glb`]
 //! writes it to a `.glb` and reads it back, [`crate::output::render`] draws it.
@@ -55,12 +55,13 @@ pub struct Polyline {
     pub points: Vec<[f32; 3]>,
 }
 
-/// The colour scale of the deviation colours.
+/// The colour scale of the deviation colours: the bands of the tolerance (within, 1-2x,
+/// 2-5x, over 5x), as in the plots.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Legend {
-    /// Deviations up to this (mm) are within tolerance: neutral colour.
+    /// Deviations up to this (mm) are within tolerance; the bands are multiples of it.
     pub tolerance_mm: f64,
-    /// Deviations of this size (mm) and more get the full gouge or leftover colour.
+    /// The largest deviation (mm, at least twice the tolerance), as the report rounds it.
     pub scale_mm: f64,
 }
 

@@ -569,3 +569,60 @@ fn the_ideal_sheet_is_the_closed_form_between_columns() {
         );
     }
 }
+
+/// The model's vertex colours are the plots' bands of the tolerance (issue 18): every
+/// stock vertex of seed 002's misplaced grooves is one of the seven band colours
+/// (`band_colour`, the developed view's map) or the 3D greys (uncut blank, cut but not
+/// compared) or the body rub; the worst gouge and leftover (150x the tolerance) are in the
+/// over-5x bands; and the colours read back from the `.glb` byte for byte.
+#[test]
+fn vertex_colours_are_the_plots_bands() {
+    let text = with(
+        &scene_text("seed002-equal-groove"),
+        &[("simulation", "angular_cells", "720")],
+    );
+    let j = job(&text);
+    let out = simulate(&j, &SimOptions::default()).unwrap();
+    let scene = build_scene(&j, &out, &SceneOptions::default());
+    let tol = j.sim.tolerance;
+    let bands: Vec<[u8; 3]> = [-10.0, -3.0, -1.5, 0.0, 1.5, 3.0, 10.0]
+        .iter()
+        .map(|k| vpcut::band_colour(Some(k * tol), tol))
+        .collect();
+    const BLANK: [u8; 3] = [158, 152, 142];
+    const CUT_NOT_COMPARED: [u8; 3] = [190, 192, 196];
+    const BODY_RUB: [u8; 3] = [160, 40, 200];
+    let mut used = std::collections::BTreeSet::new();
+    for c in &scene.stock.colors {
+        assert!(
+            bands.contains(c) || [BLANK, CUT_NOT_COMPARED, BODY_RUB].contains(c),
+            "{c:?} is no colour of the map"
+        );
+        used.insert(*c);
+    }
+    // A failing cut shows the over-5x bands, the within grey and the uncut blank.
+    for c in [bands[0], bands[6], bands[3], BLANK] {
+        assert!(used.contains(&c), "{c:?} unused: {used:?}");
+    }
+    let d = &out.report.deviation;
+    assert!(d.max_gouge_mm > 5.0 * tol && d.max_leftover_mm > 5.0 * tol);
+    for (at, want) in [(&d.max_gouge_at, bands[0]), (&d.max_leftover_at, bands[6])] {
+        let at = at.as_ref().unwrap();
+        let th = at.angle_deg.to_radians();
+        let (k, _) = scene
+            .stock
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let a = (p[1] as f64).atan2(p[0] as f64);
+                let da = (a - th + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0;
+                (k, (p[2] as f64 - at.z_mm).abs() + 40.0 * da.abs())
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        assert_eq!(scene.stock.colors[k], want, "vertex {k}");
+    }
+    let back = from_glb(&to_glb(&scene).unwrap()).unwrap();
+    assert_eq!(back.stock.colors, scene.stock.colors);
+}

@@ -185,4 +185,97 @@ fn cli_writes_the_plots() {
     let _ = std::fs::remove_dir_all(&dir);
     let out = run(std::path::Path::new("/proc/vpcut-no-such-place"));
     assert_eq!(out.status.code(), Some(2));
+    // --plot-size: the developed view's size, the others its width and 2/3, 5/9 of its
+    // height (rounded up); out-of-range or malformed sizes and a size without plots are
+    // refused with exit 2 before anything is simulated.
+    let sized = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .args(["simulate", job.to_str().unwrap(), "-q"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let out = sized(&["--plots", dir.to_str().unwrap(), "--plot-size", "800x600"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for (file, want) in [
+        ("developed.png", (800, 600)),
+        ("section.png", (800, 400)),
+        ("trace.png", (800, 334)),
+    ] {
+        let img = image::open(dir.join(file)).unwrap();
+        assert_eq!((img.width(), img.height()), want, "{file}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    for bad in ["100x600", "800x9000", "800", "axb", "800x-1"] {
+        let out = sized(&["--plots", dir.to_str().unwrap(), "--plot-size", bad]);
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("--plot-size"),
+            "{bad}"
+        );
+        assert!(!dir.exists(), "{bad}: nothing written");
+    }
+    let out = sized(&["--plot-size", "800x600"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--plots"));
+}
+
+/// A two-start thread: the developed view labels every groove of the drawing on the 360 deg
+/// generator with its turn and start, as the report files them. Oracle: the report's
+/// per-turn rows (the comparison's (turn, start) pairs) are the labels' pairs; the labels
+/// alternate starts and lie one pitch (`lead / 2`, the closed form) apart in z; each
+/// start's turns count up by one per lead towards -z (the thread is cut from +z).
+#[test]
+fn developed_view_labels_every_start() {
+    let text = with(
+        &scene_text("iso-m20x2.5-radial"),
+        &[
+            ("thread", "starts", "2"),
+            ("simulation", "angular_cells", "360"),
+            ("simulation", "axial_spacing", "0.02"),
+        ],
+    );
+    let j = job(&text);
+    assert_eq!(j.thread.starts, 2);
+    let out = simulate(&j, &SimOptions::default()).unwrap();
+    let plot = developed_plot(
+        &out.stock,
+        &j.thread,
+        &out.deviation,
+        j.sim.tolerance,
+        1200,
+        1600,
+        "two starts",
+    );
+    let labels = &plot.turn_labels;
+    assert!(labels.len() >= 8, "{labels:?}");
+    let mut got: Vec<(i64, u32)> = labels.iter().map(|l| (l.0, l.1)).collect();
+    got.sort_unstable();
+    let mut want: Vec<(i64, u32)> = out
+        .report
+        .turns
+        .iter()
+        .map(|t| (t.turn, t.start + 1))
+        .collect();
+    want.sort_unstable();
+    want.dedup();
+    assert_eq!(got, want, "labels against the report's turns");
+    let pitch = 2.5;
+    for w in labels.windows(2) {
+        let ((ta, sa, za), (tb, sb, zb)) = (w[0], w[1]);
+        assert_ne!(sa, sb, "{w:?}: starts alternate");
+        assert!(((za - zb) - pitch).abs() < 0.05, "{w:?}: one pitch apart");
+        let _ = (ta, tb);
+    }
+    for s in [1, 2] {
+        let mine: Vec<&(i64, u32, f64)> = labels.iter().filter(|l| l.1 == s).collect();
+        for w in mine.windows(2) {
+            assert_eq!(w[1].0, w[0].0 + 1, "start {s}: {w:?}");
+            assert!(((w[0].2 - w[1].2) - 2.0 * pitch).abs() < 0.05);
+        }
+    }
 }

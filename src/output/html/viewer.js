@@ -129,6 +129,17 @@
     ideal_box.parentNode.title = "no ideal surface in this report";
   }
   if (!lines) path_box.disabled = true;
+  // The renders' rule: a toolpath that would hide the part starts faint or off.
+  const pathLook = hdr.toolpath ? hdr.toolpath.look : "full";
+  const pathAlpha = pathLook === "dimmed" ? 0.3 : 1;
+  if (pathLook === "hidden") path_box.checked = false;
+  if (pathLook !== "full" && hdr.toolpath) {
+    path_box.parentNode.title =
+      "starts " + (pathLook === "hidden" ? "off" : "faint") + ": its lines cross " +
+      Math.round(100 * hdr.toolpath.coverage) + " % of the part in the iso view";
+  }
+  // An internal thread starts in section, so the bore shows.
+  if (hdr.internal) section_box.checked = true;
 
   // The part's bounds and the camera framing it.
   const lo = hdr.bounds ? hdr.bounds[0] : [-1, -1, -1];
@@ -232,10 +243,15 @@
     gl.uniform1i(lineProg.u.clip, 0);
     if (lines && path_box.checked) {
       gl.bindVertexArray(lines);
+      if (pathAlpha < 1) {
+        gl.enable(gl.BLEND);
+        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+      }
       for (const s of hdr.lines.strips) {
-        gl.uniform4fv(lineProg.u.colour, s[2] === 0 ? [0.95, 0.75, 0.2, 1] : [0.55, 0.6, 0.7, 1]);
+        gl.uniform4fv(lineProg.u.colour, s[2] === 0 ? [0.39, 0.69, 0, pathAlpha] : [0.55, 0.6, 0.7, pathAlpha]);
         gl.drawArrays(gl.LINE_STRIP, s[0], s[1]);
       }
+      gl.disable(gl.BLEND);
     }
     if (selected) {
       const k = cam.dist * 0.04;

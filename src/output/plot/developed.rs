@@ -34,6 +34,10 @@ pub struct DevelopedPlot {
     /// The worst gouge and the worst leftover beyond the tolerance, ringed: the signed
     /// value (mm; the comparison's, so the report's) and the pixel of its dexel.
     pub worst: [Option<(f64, [u32; 2])>; 2],
+    /// The turn labels on the right edge: `(turn, start, z)`, start 1-based, at the centre
+    /// of each groove of the drawing on the 360 deg generator (labels that would overlap
+    /// the one above are left out).
+    pub turn_labels: Vec<(i64, u32, f64)>,
 }
 
 /// The z span compared on any generator (the union of the columns' spans), or the grid.
@@ -141,6 +145,7 @@ pub fn developed_plot(
     let grid = stock.grid;
     let mut field_px = [0u32; 4];
     let mut worst = [None, None];
+    let mut labels = Vec::new();
     let image = picture(width, height, |root| {
         root.fill(&WHITE)?;
         let title_h = (px * 2.4) as u32;
@@ -156,7 +161,7 @@ pub fn developed_plot(
             .margin((px * 0.6) as u32)
             .x_label_area_size((px * 3.2) as u32)
             .y_label_area_size((px * 5.5) as u32)
-            .margin_right((px * 3.5) as u32)
+            .margin_right((px * if thread.starts > 1 { 4.5 } else { 3.5 }) as u32)
             .build_cartesian_2d(0f64..360f64, z_lo..z_hi)?;
         chart
             .configure_mesh()
@@ -230,35 +235,45 @@ pub fn developed_plot(
                 root.draw(&Circle::new((x, y), ring + 3, WHITE.stroke_width(1)))?;
             }
         }
-        // Turn numbers on the right, between the pitch-helix crossings of the 360 deg end.
+        // Turn numbers on the right: every groove of the drawing on the 360 deg generator,
+        // at its centre, with the turn (and start) the comparison files its dexels under.
         let ideal = thread.column(
             grid.theta(grid.n_theta - 1),
             grid.z(0),
             grid.z(grid.n_z - 1),
         );
-        let style = ("sans-serif", px * 0.9).into_font().color(&BLACK);
+        let multi = thread.starts > 1;
+        let style = ("sans-serif", px * if multi { 0.75 } else { 0.9 })
+            .into_font()
+            .color(&BLACK);
         let y_of = |z: f64| yr.start as f64 + (z_hi - z) / (z_hi - z_lo) * fh as f64;
-        let mut prev: Option<f64> = None;
         let mut last_y = f64::NEG_INFINITY;
-        for f in ideal.features.iter().filter(|f| f.start == 0) {
-            let mid = prev.map_or(f.z, |p| 0.5 * (p + f.z));
-            prev = Some(f.z);
+        let mut grooves: Vec<_> = ideal.grooves.clone();
+        grooves.sort_by(|a, b| b.z_lo.total_cmp(&a.z_lo));
+        for g in &grooves {
+            let mid = 0.5 * (g.z_lo + g.z_hi);
             if mid < z_lo || mid > z_hi {
                 continue;
             }
             let y = y_of(mid);
-            if (y - last_y).abs() < px * 1.1 {
+            if (y - last_y).abs() < px * if multi { 0.95 } else { 1.1 } {
                 continue;
             }
             last_y = y;
+            labels.push((g.turn, g.start + 1, mid));
+            let text = if multi {
+                format!("T{} s{}", g.turn, g.start + 1)
+            } else {
+                format!("T{}", g.turn)
+            };
             root.draw(&Text::new(
-                format!("T{}", f.turn()),
+                text,
                 (xr.end + (px * 0.4) as i32, (y - px * 0.45) as i32),
                 style.clone(),
             ))?;
         }
         root.draw(&Text::new(
-            "turn",
+            if multi { "turn, start" } else { "turn" },
             (xr.end + (px * 0.2) as i32, yr.start - (px * 1.3) as i32),
             style.clone(),
         ))?;
@@ -336,6 +351,7 @@ pub fn developed_plot(
         field: field_px,
         z: (z_lo, z_hi),
         worst,
+        turn_labels: labels,
     }
 }
 

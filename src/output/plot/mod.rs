@@ -5,9 +5,9 @@
 //!   span, in tolerance bands (within, 1-2x, 2-5x, over 5x; gouge blue, leftover orange-red);
 //! - the **axial section** and the **deviation trace** ([`section`]).
 //!
-//! Here: the signed deviation they share and the continuous colour map of the 3D model's
-//! vertex colours (the renders' colour bar). Pure: images are
-//! returned, `main.rs` writes them.
+//! Here: the signed deviation they share and the colours of the 3D model's vertices (the
+//! same tolerance bands, with the uncut blank and the cut but not compared surface in
+//! their own greys). Pure: images are returned, `main.rs` writes them.
 
 pub(crate) mod chart;
 pub(crate) mod developed;
@@ -16,21 +16,17 @@ pub(crate) mod section;
 use crate::model::stock::{Stock, Surface};
 use crate::model::thread::{ColumnIdeal, Side, ThreadSpec};
 
-/// Neutral (within tolerance).
-pub(crate) const NEUTRAL: [u8; 3] = [215, 215, 210];
-/// Not compared (outside the drawing's turns).
-pub(crate) const OUTSIDE: [u8; 3] = [70, 70, 70];
-/// Full gouge colour.
-pub(crate) const GOUGE: [u8; 3] = [25, 70, 200];
-/// Full leftover colour.
-pub(crate) const LEFTOVER: [u8; 3] = [200, 30, 30];
 /// Where a tool body cut past its edge (3D model and renders).
 pub(crate) const BODY_RUB: [u8; 3] = [160, 40, 200];
 /// The ideal thread, everywhere it is drawn (plots, renders, the .glb): teal, neither the
-/// gouge blue nor the leftover red nor the body-rub violet.
+/// gouge blues nor the leftover oranges nor the body-rub violet.
 pub(crate) const IDEAL_COLOUR: [u8; 3] = [0, 150, 140];
-const PALE_GOUGE: [u8; 3] = [150, 180, 240];
-const PALE_LEFTOVER: [u8; 3] = [245, 160, 150];
+/// The blank's own surface where no tool touched it (crests left at the blank's diameter,
+/// the stock beyond the thread, the end faces), in the 3D outputs: a darker, warmer grey
+/// than the machined "within tolerance" grey, so the cut reads apart from the bar.
+pub(crate) const BLANK: [u8; 3] = [158, 152, 142];
+/// Cut, but outside the drawing's compared span (run-in, run-out), in the 3D outputs.
+pub(crate) const CUT_NOT_COMPARED: [u8; 3] = [190, 192, 196];
 
 /// Which surface of the stock the thread is on.
 pub(crate) fn surface(thread: &ThreadSpec) -> Surface {
@@ -55,20 +51,16 @@ pub fn signed_deviation(thread: &ThreadSpec, ideal: &ColumnIdeal, z: f64, r: f64
     Some(gap.signum() * ideal.distance(z, h_cut, gap.abs()).0)
 }
 
-/// The colour of a deviation `d` (mm) with tolerance `tol`, saturating at `scale`.
-pub(crate) fn colour(d: Option<f64>, tol: f64, scale: f64) -> [u8; 3] {
-    let Some(d) = d else { return OUTSIDE };
-    if d.abs() <= tol {
-        return NEUTRAL;
+/// The colour of a point of the 3D outputs' stock surface: the plots' tolerance bands
+/// ([`chart::band_colour`]) for a compared point beyond the tolerance or a cut one within
+/// it; [`BLANK`] where the tool left the blank's surface (`cut` false) and the point is
+/// within tolerance or not compared; [`CUT_NOT_COMPARED`] for a cut outside the span.
+pub(crate) fn surface_colour(d: Option<f64>, cut: bool, tol: f64) -> [u8; 3] {
+    match d {
+        Some(d) if cut || d.abs() > tol => chart::band_colour(Some(d), tol),
+        None if cut => CUT_NOT_COMPARED,
+        _ => BLANK,
     }
-    let t = ((d.abs() - tol) / (scale - tol).max(1e-12)).clamp(0.0, 1.0);
-    let (a, b) = if d < 0.0 {
-        (PALE_GOUGE, GOUGE)
-    } else {
-        (PALE_LEFTOVER, LEFTOVER)
-    };
-    let mix = |k: usize| (a[k] as f64 + t * (b[k] as f64 - a[k] as f64)).round() as u8;
-    [mix(0), mix(1), mix(2)]
 }
 
 /// The dexel column nearest to the angle `theta` (rad).

@@ -6,7 +6,7 @@
 //! radius `x` points up. A section plane contains the axis; the half of the part on the
 //! camera's side of it is cut away.
 
-use crate::output::plot::OUTSIDE;
+use crate::output::plot::{BLANK, CUT_NOT_COMPARED};
 use crate::output::scene::Scene;
 use glam::{DMat4, DVec3, DVec4};
 
@@ -58,6 +58,11 @@ pub(crate) struct Camera {
     pub(crate) plane: Option<DVec4>,
     /// Angle of the section's upper generator (rad), for the caption.
     pub(crate) section_angle: Option<f64>,
+    /// A whole-part view of an internal thread with its near half cut away (the plane
+    /// through the axis facing the camera), so the bore's thread shows.
+    pub(crate) cutaway: bool,
+    /// The part's axial extent and largest radius (mm): `(z_lo, z_hi, r_max)`.
+    pub(crate) part: (f64, f64, f64),
     /// Image size in pixels.
     pub(crate) size: (u32, u32),
     /// Millimetres per pixel.
@@ -71,7 +76,17 @@ pub(crate) struct Camera {
 impl Camera {
     /// The section plane's quad covering the picture (a triangle strip), for sections.
     pub(crate) fn cap_quad(&self) -> Option<[DVec3; 4]> {
-        self.plane?;
+        let plane = self.plane?;
+        if self.cutaway {
+            // The plane holds the axis and `t`: a quad over the part's extent with a margin.
+            let n = plane.truncate();
+            let t = n.cross(DVec3::Z);
+            let (z0, z1, r) = self.part;
+            let m = 0.05 * (z1 - z0 + r) + 1.0;
+            let at = |z: f64, s: f64| DVec3::Z * z + t * s;
+            let (z0, z1, r) = (z0 - m, z1 + m, r + m);
+            return Some([at(z0, -r), at(z1, -r), at(z0, r), at(z1, r)]);
+        }
         let (l, r, b, t) = self.window;
         let at = |x: f64, y: f64| self.right * (self.centre.0 + x) + self.up * (self.centre.1 + y);
         Some([at(l, b), at(r, b), at(l, t), at(r, t)])
@@ -126,6 +141,10 @@ pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Came
         }
     };
     let back = right.cross(up);
+    // An internal thread's whole-part views cut the near half away (the plane through the
+    // axis square to the view's direction across it).
+    let cutaway = matches!(view, View::Iso | View::Front) && internal(scene);
+    let across = DVec3::new(back.x, back.y, 0.0).normalize_or_zero();
     // Extents of the part in the screen frame; depth over everything drawn.
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for p in stock() {
@@ -184,18 +203,40 @@ pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Came
         0.0,
         (eye_d - d_lo + pad).max(1e-3),
     );
+    let (mut z_lo, mut z_hi, mut r_max) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+    for p in stock() {
+        z_lo = z_lo.min(p.z);
+        z_hi = z_hi.max(p.z);
+        r_max = r_max.max(p.x.hypot(p.y));
+    }
+    if !z_lo.is_finite() {
+        (z_lo, z_hi) = (-1.0, 1.0);
+    }
+    let plane = match theta {
+        Some(_) => Some(back.extend(0.0)),
+        None if cutaway && across != DVec3::ZERO => Some(across.extend(0.0)),
+        None => None,
+    };
     Camera {
         view_proj: proj * view_m,
         right,
         up,
         back,
-        plane: theta.map(|_| back.extend(0.0)),
+        plane,
         section_angle: theta,
+        cutaway: plane.is_some() && theta.is_none(),
+        part: (z_lo, z_hi, r_max),
         size: (width, height),
         mm_per_px: (window.1 - window.0) / w_px,
         centre,
         window,
     }
+}
+
+/// Whether the scene is of an internal thread (its report summary says so).
+pub(crate) fn internal(scene: &Scene) -> bool {
+    serde_json::from_str::<serde_json::Value>(&scene.summary)
+        .is_ok_and(|v| v["thread"]["side"] == "internal")
 }
 
 /// Where the close-up looks: the worst finding's point and angle, or, for a cut within
@@ -211,7 +252,7 @@ pub(crate) fn closeup_target(scene: &Scene) -> (DVec3, f64) {
         .positions
         .iter()
         .zip(&m.colors)
-        .filter(|(_, c)| **c != OUTSIDE)
+        .filter(|(_, c)| **c != BLANK && **c != CUT_NOT_COMPARED)
         .map(|(p, _)| p[2] as f64);
     let (z_lo, z_hi) = compared
         .fold(None, |acc: Option<(f64, f64)>, z| {
@@ -230,7 +271,7 @@ pub(crate) fn closeup_target(scene: &Scene) -> (DVec3, f64) {
         .positions
         .iter()
         .zip(&m.colors)
-        .filter(|(_, c)| **c != OUTSIDE)
+        .filter(|(_, c)| **c != BLANK && **c != CUT_NOT_COMPARED)
         .map(|(p, _)| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
         .min_by(|a, b| a.distance(target).total_cmp(&b.distance(target)));
     let p = best.unwrap_or(target);
@@ -295,6 +336,41 @@ mod tests {
         assert!(y_up < ya);
         // 120 mm over the 640 pixels with the 8 % margin.
         assert!((c.mm_per_px - 1.08 * 120.0 / 640.0).abs() < 1e-12);
+    }
+
+    /// An internal thread's iso and front views cut the near half away: the plane holds
+    /// the axis, faces the camera (the kept half is the far one), and its cap quad lies on
+    /// it and covers the part's section; an external thread's are whole.
+    #[test]
+    fn internal_threads_are_cut_away_in_whole_views() {
+        let mut s = bar(20.0, -120.0, 0.0);
+        for view in [View::Iso, View::Front] {
+            assert!(camera(&s, view, 640, 480).plane.is_none());
+        }
+        s.summary = r#"{"thread": {"side": "internal"}}"#.into();
+        for view in [View::Iso, View::Front] {
+            let c = camera(&s, view, 640, 480);
+            assert!(c.cutaway);
+            let p = c.plane.unwrap();
+            let n = p.truncate();
+            assert!(p.w == 0.0 && n.z.abs() < 1e-12 && (n.length() - 1.0).abs() < 1e-12);
+            assert!(
+                n.dot(c.back) > 0.1,
+                "{view:?}: the cut half must face the camera"
+            );
+            let q = c.cap_quad().unwrap();
+            for v in q {
+                assert!(n.dot(v).abs() < 1e-9);
+            }
+            let (zs, ss): (Vec<f64>, Vec<f64>) =
+                q.iter().map(|v| (v.z, v.dot(n.cross(DVec3::Z)))).unzip();
+            assert!(zs.iter().cloned().fold(f64::INFINITY, f64::min) < -120.0);
+            assert!(zs.iter().cloned().fold(f64::NEG_INFINITY, f64::max) > 0.0);
+            assert!(ss.iter().all(|x| x.abs() > 20.0));
+        }
+        // Sections keep their own plane (square to the view), not the cut-away one.
+        let c = camera(&s, View::Section, 640, 480);
+        assert!(!c.cutaway && c.section_angle.is_some());
     }
 
     /// The close-up centres the worst finding, and its section plane contains the axis and

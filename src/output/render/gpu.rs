@@ -5,7 +5,8 @@
 //! `Depth24PlusStencil8` depth-stencil buffer. Triangles are drawn without culling. A frame
 //! with a section plane is capped: the clipped stock is drawn again into the stencil only
 //! (inverting it per fragment), then a quad on the plane where the stencil is odd, i.e.
-//! where the plane lies inside the material; lines come last.
+//! where the plane lies inside the material; lines come last, translucent (faint) ones
+//! blended once per sample (a stencil bit).
 
 use super::RenderError;
 use bytemuck::{Pod, Zeroable};
@@ -44,6 +45,9 @@ pub(crate) struct Frame<'a> {
     pub(crate) cap: Option<[Vertex; 4]>,
     /// Line segments, two vertices each.
     pub(crate) lines: &'a [Vertex],
+    /// Translucent line segments (their vertices' alpha), blended at most once per pixel
+    /// sample, so that many lines over one pixel stay as faint as one.
+    pub(crate) faint: &'a [Vertex],
 }
 
 /// A device with its pipelines.
@@ -57,6 +61,7 @@ pub(crate) struct Gpu {
     stencil: wgpu::RenderPipeline,
     cap: wgpu::RenderPipeline,
     line: wgpu::RenderPipeline,
+    faint: wgpu::RenderPipeline,
     /// An error the device raised outside an error scope, or its loss: wgpu would panic
     /// on it; the next draw returns it instead.
     fault: std::sync::Arc<std::sync::Mutex<Option<String>>>,
@@ -157,7 +162,8 @@ impl Gpu {
                         topology: wgpu::PrimitiveTopology,
                         depth: (bool, wgpu::CompareFunction),
                         stencil: wgpu::StencilState,
-                        colour: wgpu::ColorWrites| {
+                        colour: wgpu::ColorWrites,
+                        blend: Option<wgpu::BlendState>| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(vs),
                 layout: Some(&pipeline_layout),
@@ -194,7 +200,7 @@ impl Gpu {
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format: FORMAT,
-                        blend: None,
+                        blend,
                         write_mask: colour,
                     })],
                 }),
@@ -204,16 +210,18 @@ impl Gpu {
         };
         let tris = wgpu::PrimitiveTopology::TriangleList;
         let depth_test = (true, wgpu::CompareFunction::LessEqual);
-        let face = |compare, op| wgpu::StencilFaceState {
+        let face = |compare, op, depth_fail_op| wgpu::StencilFaceState {
             compare,
             fail_op: wgpu::StencilOperation::Keep,
-            depth_fail_op: op,
+            depth_fail_op,
             pass_op: op,
         };
-        let stencil = |compare, op, write_mask| wgpu::StencilState {
-            front: face(compare, op),
-            back: face(compare, op),
-            read_mask: 0xff,
+        // Bit 0 of the stencil is the section's parity, bit 7 marks a sample a faint line
+        // has already been blended into.
+        let stencil = |compare, op, read_mask, write_mask| wgpu::StencilState {
+            front: face(compare, op, op),
+            back: face(compare, op, op),
+            read_mask,
             write_mask,
         };
         let all = wgpu::ColorWrites::ALL;
@@ -224,6 +232,7 @@ impl Gpu {
             depth_test,
             Default::default(),
             all,
+            None,
         );
         // Every clipped fragment flips the stencil: odd counts start inside the material.
         let stencil_pipeline = pipeline(
@@ -234,9 +243,11 @@ impl Gpu {
             stencil(
                 wgpu::CompareFunction::Always,
                 wgpu::StencilOperation::Invert,
-                0xff,
+                0x01,
+                0x01,
             ),
             wgpu::ColorWrites::empty(),
+            None,
         );
         let cap = pipeline(
             "vs_mesh",
@@ -246,9 +257,11 @@ impl Gpu {
             stencil(
                 wgpu::CompareFunction::NotEqual,
                 wgpu::StencilOperation::Keep,
+                0x01,
                 0,
             ),
             all,
+            None,
         );
         let line = pipeline(
             "vs_line",
@@ -257,6 +270,28 @@ impl Gpu {
             depth_test,
             Default::default(),
             all,
+            None,
+        );
+        // Faint lines: blended by their alpha where bit 7 is clear, which they then set
+        // (a hidden line, failing the depth test, leaves it clear).
+        let once = face(
+            wgpu::CompareFunction::NotEqual,
+            wgpu::StencilOperation::Replace,
+            wgpu::StencilOperation::Keep,
+        );
+        let faint = pipeline(
+            "vs_line",
+            "fs_line",
+            wgpu::PrimitiveTopology::LineList,
+            depth_test,
+            wgpu::StencilState {
+                front: once,
+                back: once,
+                read_mask: 0x80,
+                write_mask: 0x80,
+            },
+            all,
+            Some(wgpu::BlendState::ALPHA_BLENDING),
         );
         Ok(Gpu {
             device,
@@ -268,6 +303,7 @@ impl Gpu {
             stencil: stencil_pipeline,
             cap,
             line,
+            faint,
             fault,
         })
     }
@@ -315,6 +351,7 @@ impl Gpu {
             .iter()
             .map(|m| std::mem::size_of_val(m.0).max(std::mem::size_of_val(m.1)))
             .chain([std::mem::size_of_val(frame.lines)])
+            .chain([std::mem::size_of_val(frame.faint)])
             .max()
             .unwrap_or(0) as u64;
         if biggest > limits.max_buffer_size {
@@ -386,6 +423,12 @@ impl Gpu {
         let lines = (!frame.lines.is_empty()).then(|| {
             buffer(
                 bytemuck::cast_slice(frame.lines),
+                wgpu::BufferUsages::VERTEX,
+            )
+        });
+        let faint = (!frame.faint.is_empty()).then(|| {
+            buffer(
+                bytemuck::cast_slice(frame.faint),
                 wgpu::BufferUsages::VERTEX,
             )
         });
@@ -465,6 +508,12 @@ impl Gpu {
                 pass.set_pipeline(&self.line);
                 pass.set_vertex_buffer(0, l.slice(..));
                 pass.draw(0..frame.lines.len() as u32, 0..1);
+            }
+            if let Some(l) = &faint {
+                pass.set_pipeline(&self.faint);
+                pass.set_stencil_reference(0x80);
+                pass.set_vertex_buffer(0, l.slice(..));
+                pass.draw(0..frame.faint.len() as u32, 0..1);
             }
         }
         enc.copy_texture_to_buffer(

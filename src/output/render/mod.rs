@@ -15,17 +15,20 @@
 
 mod camera;
 mod gpu;
+mod look;
 
 pub use camera::View;
 
 use crate::output::plot::chart::Area;
 use crate::output::plot::chart::{legend_row, picture_on, rgb, text_px, Res, Swatch};
-use crate::output::plot::{colour, BODY_RUB, IDEAL_COLOUR};
+use crate::output::plot::chart::{BAND_EDGES, GOUGE_BANDS, LEFTOVER_BANDS, WITHIN};
+use crate::output::plot::{BLANK, BODY_RUB, CUT_NOT_COMPARED, IDEAL_COLOUR};
 use crate::output::scene::{Mesh, PathKind, Scene};
 use camera::Camera;
 use glam::DVec3;
 use gpu::{Frame, Gpu, Uniforms, Vertex};
 use image::RgbImage;
+use look::Look;
 use plotters::prelude::*;
 use std::collections::HashMap;
 
@@ -37,7 +40,9 @@ const BACKGROUND: [u8; 3] = [244, 244, 240];
 /// Colour of the material on a section plane (sRGB).
 const CAP: [u8; 3] = [168, 176, 190];
 /// Toolpath colours (sRGB): feeds and rapids.
-const FEED: [u8; 3] = [240, 120, 0];
+/// Feeds are lime green: no colour of the deviation map (the leftover bands are oranges),
+/// nor the body rub's violet nor the ideal's teal.
+const FEED: [u8; 3] = [100, 175, 0];
 const RAPID: [u8; 3] = [90, 90, 90];
 /// Feature edges and the ideal profile on a section plane (sRGB).
 const EDGE: [u8; 3] = [35, 35, 35];
@@ -75,8 +80,48 @@ pub struct RenderOptions {
     pub height: u32,
     /// Draw the feature edges (crests, roots, flank corners) as dark lines.
     pub edges: bool,
-    /// Draw the toolpath (whole-part views only: sections leave it out).
-    pub toolpath: bool,
+    /// How to draw the toolpath (whole-part views only: sections leave it out).
+    pub toolpath: ToolpathMode,
+}
+
+/// How the whole-part views draw the toolpath.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ToolpathMode {
+    /// As the picture allows: in full while its lines cross at most 12 % of the part's
+    /// pixels, translucent up to 30 %, left out beyond (the caption says which and why).
+    #[default]
+    Auto,
+    /// Always in full.
+    Full,
+    /// Never.
+    Off,
+}
+
+impl ToolpathMode {
+    /// The mode of a command-line name (`auto`, `full`, `off`).
+    pub fn from_name(name: &str) -> Option<ToolpathMode> {
+        match name {
+            "auto" => Some(ToolpathMode::Auto),
+            "full" => Some(ToolpathMode::Full),
+            "off" => Some(ToolpathMode::Off),
+            _ => None,
+        }
+    }
+}
+
+/// Whether the scene is of an internal thread (its views are cut away to show the bore).
+pub(crate) fn is_internal(scene: &Scene) -> bool {
+    camera::internal(scene)
+}
+
+/// How the HTML viewer shows the toolpath at first (`full`, `dimmed` or `hidden`: the
+/// renders' automatic rule on the iso view at 1024 x 768) and the fraction of the part's
+/// pixels its lines cross there.
+pub(crate) fn default_toolpath_look(scene: &Scene) -> (&'static str, f64) {
+    let cam = camera::camera(scene, View::Iso, 1024, 768 - strip_height(1024, 768));
+    let c = look::coverage(scene, &cam);
+    (Look::of(c).name(), c)
 }
 
 impl Default for RenderOptions {
@@ -86,7 +131,7 @@ impl Default for RenderOptions {
             width: 1024,
             height: 768,
             edges: false,
-            toolpath: true,
+            toolpath: ToolpathMode::Auto,
         }
     }
 }
@@ -174,20 +219,22 @@ impl Renderer {
         let stock = vertices(&scene.stock);
         let tool = vertices(&scene.tool);
         let mut lines = Vec::new();
-        // Sections show profiles; the toolpath would only hide them.
-        let toolpath = if cam.plane.is_some() || !opts.toolpath {
-            &[][..]
-        } else {
-            &scene.toolpath[..]
+        let mut faint = Vec::new();
+        let (path_look, coverage) = toolpath_look(scene, opts, &cam);
+        let (alpha, into) = match path_look {
+            Look::Dimmed => ((look::DIM_ALPHA * 255.0).round() as u8, &mut faint),
+            _ => (255, &mut lines),
         };
-        for p in toolpath {
-            let c = match p.kind {
-                PathKind::Feed => FEED,
-                PathKind::Rapid => RAPID,
-            };
-            for w in p.points.windows(2) {
-                lines.push(vertex(w[0], c));
-                lines.push(vertex(w[1], c));
+        if path_look != Look::Hidden {
+            for p in &scene.toolpath {
+                let c = match p.kind {
+                    PathKind::Feed => FEED,
+                    PathKind::Rapid => RAPID,
+                };
+                for w in p.points.windows(2) {
+                    into.push(vertex_a(w[0], c, alpha));
+                    into.push(vertex_a(w[1], c, alpha));
+                }
             }
         }
         if opts.edges {
@@ -212,11 +259,17 @@ impl Renderer {
             size: (opts.width, gpu_h),
             background: BACKGROUND,
             uniforms,
-            meshes: vec![(&stock, &scene.stock.indices), (&tool, &scene.tool.indices)],
+            // A cut-away view shows the bore: the tool in it would hide the thread.
+            meshes: if cam.cutaway {
+                vec![(&stock, &scene.stock.indices)]
+            } else {
+                vec![(&stock, &scene.stock.indices), (&tool, &scene.tool.indices)]
+            },
             cap: cam
                 .cap_quad()
                 .map(|q| q.map(|p| vertex([p.x as f32, p.y as f32, p.z as f32], CAP))),
             lines: &lines,
+            faint: &faint,
         };
         let rgba = self.gpu.draw(&frame)?;
         let n = 3 * opts.width as usize * opts.height as usize;
@@ -230,8 +283,9 @@ impl Renderer {
                 .flat_map(|p| [p[0], p[1], p[2]]),
         );
         drop(rgba);
+        let path = (path_look, coverage);
         Ok(picture_on(rgb, opts.width, opts.height, |root| {
-            overlay(root, scene, opts, &cam, strip)
+            overlay(root, scene, opts, &cam, strip, path)
         }))
     }
 
@@ -273,10 +327,30 @@ pub fn encode_png(img: &RgbImage, text: &[(&str, String)]) -> Result<Vec<u8>, pn
 }
 
 fn vertex(p: [f32; 3], c: [u8; 3]) -> Vertex {
+    vertex_a(p, c, 255)
+}
+
+fn vertex_a(p: [f32; 3], c: [u8; 3], alpha: u8) -> Vertex {
     Vertex {
         position: p,
-        colour: [c[0], c[1], c[2], 255],
+        colour: [c[0], c[1], c[2], alpha],
     }
+}
+
+/// How this picture draws the toolpath, and the fraction of the part's pixels its lines
+/// would cross: sections and `Off` leave it out, `Full` draws it, `Auto` follows
+/// [`Look::of`].
+fn toolpath_look(scene: &Scene, opts: &RenderOptions, cam: &Camera) -> (Look, f64) {
+    if cam.section_angle.is_some() || scene.toolpath.is_empty() {
+        return (Look::Hidden, 0.0);
+    }
+    let c = look::coverage(scene, cam);
+    let l = match opts.toolpath {
+        ToolpathMode::Off => Look::Hidden,
+        ToolpathMode::Full => Look::Full,
+        ToolpathMode::Auto => Look::of(c),
+    };
+    (l, c)
 }
 
 fn vertices(m: &Mesh) -> Vec<Vertex> {
@@ -292,8 +366,9 @@ fn f4(v: DVec3, w: f64) -> [f32; 4] {
 }
 
 fn uniforms(cam: &Camera) -> Uniforms {
-    // Key light from the upper left, in front of the part.
-    let light = (-0.45 * cam.right + 0.75 * cam.up + 0.5 * cam.back).normalize();
+    // Key light from the upper right, in front of the part: the iso view's visible end
+    // face (+z, to the right) is lit, not only the fill's glancing light.
+    let light = (0.35 * cam.right + 0.75 * cam.up + 0.55 * cam.back).normalize();
     let m = cam.view_proj.to_cols_array_2d();
     Uniforms {
         view_proj: m.map(|c| c.map(|x| x as f32)),
@@ -380,8 +455,16 @@ fn legend_px(w: u32, h: u32) -> f64 {
 }
 
 /// Captions, the colour bar and the key in the strip above the part (`strip` rows), and
-/// the close-up's marker with its turn, flank, z and value on the part.
-fn overlay(root: &Area, scene: &Scene, opts: &RenderOptions, cam: &Camera, strip: u32) -> Res<()> {
+/// the close-up's marker with its turn, flank, z and value on the part. `path` is how the
+/// toolpath was drawn and the fraction of the part its lines cross.
+fn overlay(
+    root: &Area,
+    scene: &Scene,
+    opts: &RenderOptions,
+    cam: &Camera,
+    strip: u32,
+    path: (Look, f64),
+) -> Res<()> {
     let summary: serde_json::Value = serde_json::from_str(&scene.summary).unwrap_or_default();
     let job = summary["job"].as_str().unwrap_or("");
     let verdict = summary["verdict"].as_str().unwrap_or("").to_uppercase();
@@ -392,7 +475,7 @@ fn overlay(root: &Area, scene: &Scene, opts: &RenderOptions, cam: &Camera, strip
         vec![(0, strip as i32 - 1), (w, strip as i32 - 1)],
         RGBColor(180, 180, 180),
     ))?;
-    // Row 1: the job, the verdict, the view.
+    // Row 1: the job, the verdict, the view, what was cut away or left out.
     let mut caption = match cam.section_angle {
         Some(theta) => format!(
             "{}: section at {:.1}\u{b0} (top) and {:.1}\u{b0}",
@@ -400,10 +483,33 @@ fn overlay(root: &Area, scene: &Scene, opts: &RenderOptions, cam: &Camera, strip
             theta.to_degrees().rem_euclid(360.0),
             (theta.to_degrees() + 180.0).rem_euclid(360.0)
         ),
+        None if cam.cutaway => format!(
+            "{}, internal thread: near half cut away along the axis, tool not drawn",
+            opts.view.name()
+        ),
         None => opts.view.name().to_string(),
     };
     if opts.view == View::Closeup {
         caption += &format!(", {:.2} mm wide", cam.mm_per_px * w as f64);
+    }
+    let passes = scene
+        .toolpath
+        .iter()
+        .filter(|p| p.kind == PathKind::Feed)
+        .count();
+    let share = (path.1 * 100.0).round();
+    match path.0 {
+        Look::Dimmed => {
+            caption += &format!(", toolpath faint ({passes} passes over {share:.0} % of the part)")
+        }
+        Look::Hidden
+            if opts.toolpath == ToolpathMode::Auto && cam.section_angle.is_none() && passes > 0 =>
+        {
+            caption += &format!(
+                ", toolpath left out ({passes} passes would cover {share:.0} % of the part)"
+            )
+        }
+        _ => {}
     }
     let pad = (px * 0.6) as i32;
     root.draw(&Text::new(
@@ -411,82 +517,107 @@ fn overlay(root: &Area, scene: &Scene, opts: &RenderOptions, cam: &Camera, strip
         (pad, (px * 0.4) as i32),
         font(1.1),
     ))?;
-    // Row 2: the colour bar (gouge left, leftover right), row 3 its values.
-    let (tol, scale) = (scene.legend.tolerance_mm, scene.legend.scale_mm.max(1e-9));
+    // Row 2: the tolerance bands as in the plots (gouge left, leftover right), row 3 the
+    // band edges in multiples of the tolerance.
+    let tol = scene.legend.tolerance_mm;
     let y_bar = (px * 1.9) as i32;
     let bar_h = (px * 0.9) as i32;
     let gw = root
         .estimate_text_size("gouge", &font(0.9))
         .map_or(0, |s| s.0 as i32);
     let bx0 = pad + gw + (px * 0.4) as i32;
-    let bw = ((w as f64 * 0.35).min(px * 24.0)) as i32;
-    root.draw(&Text::new("gouge", (pad, y_bar), font(0.9)))?;
-    for x in 0..bw {
-        let d = scale * (2.0 * (x as f64 + 0.5) / bw as f64 - 1.0);
+    let bands: Vec<[u8; 3]> = GOUGE_BANDS
+        .iter()
+        .rev()
+        .chain([&WITHIN])
+        .chain(LEFTOVER_BANDS.iter())
+        .copied()
+        .collect();
+    let cell = ((w as f64 * 0.33).min(px * 22.0) / bands.len() as f64).round() as i32;
+    let bw = cell * bands.len() as i32;
+    root.draw(&Text::new(
+        "gouge",
+        (bx0 - gw - (px * 0.4) as i32, y_bar),
+        font(0.9),
+    ))?;
+    for (k, c) in bands.iter().enumerate() {
+        let x = bx0 + k as i32 * cell;
         root.draw(&Rectangle::new(
-            [(bx0 + x, y_bar), (bx0 + x + 1, y_bar + bar_h)],
-            rgb(colour(Some(d), tol, scale)).filled(),
+            [(x, y_bar), (x + cell, y_bar + bar_h)],
+            rgb(*c).filled(),
         ))?;
     }
+    root.draw(&Rectangle::new(
+        [(bx0, y_bar), (bx0 + bw, y_bar + bar_h)],
+        RGBColor(120, 120, 120),
+    ))?;
     root.draw(&Text::new(
         "leftover",
         (bx0 + bw + (px * 0.4) as i32, y_bar),
         font(0.9),
     ))?;
-    let mut last = i32::MIN;
-    let x_of = |v: f64| bx0 + ((v / scale + 1.0) * 0.5 * bw as f64).round() as i32;
-    for v in [-scale, -tol, tol, scale] {
-        let x = x_of(v);
-        let label = format!("{v:+.3}");
+    let edges: Vec<f64> = BAND_EDGES
+        .iter()
+        .rev()
+        .map(|e| -e)
+        .chain(BAND_EDGES.iter().copied())
+        .collect();
+    let y_val = y_bar + bar_h + (px * 0.35) as i32;
+    for (k, e) in edges.iter().enumerate() {
+        let x = bx0 + (k as i32 + 1) * cell;
+        let label = format!("{}", e.abs());
         let lw = root
             .estimate_text_size(&label, &font(0.8))
             .map_or(0, |s| s.0 as i32);
-        let lx = (x - lw / 2).max(0);
         root.draw(&PathElement::new(
             vec![(x, y_bar + bar_h), (x, y_bar + bar_h + (px * 0.3) as i32)],
             BLACK,
         ))?;
-        if lx > last {
-            root.draw(&Text::new(
-                label,
-                (lx, y_bar + bar_h + (px * 0.35) as i32),
-                font(0.8),
-            ))?;
-            last = lx + lw + (px * 0.3) as i32;
+        root.draw(&Text::new(label, (x - lw / 2, y_val), font(0.8)))?;
+    }
+    root.draw(&Text::new(
+        format!("\u{d7} tolerance {tol} mm"),
+        (bx0 + bw + (px * 0.4) as i32, y_val),
+        font(0.8),
+    ))?;
+    // Right of the bar: the lines and the other colours (row 2), the greys (row 3).
+    let mut key = Vec::new();
+    if path.0 != Look::Hidden {
+        key.push((Swatch::Line(FEED), "feed"));
+        if scene.toolpath.iter().any(|p| p.kind == PathKind::Rapid) {
+            key.push((Swatch::Line(RAPID), "rapid"));
         }
     }
-    let x_mm = x_of(scale) + (px * 0.5) as i32;
-    if x_mm > last {
-        root.draw(&Text::new(
-            "mm",
-            (x_mm, y_bar + bar_h + (px * 0.35) as i32),
-            font(0.8),
-        ))?;
+    if cam.plane.is_some() {
+        key.push((Swatch::Fill(CAP), "cut face"));
+        if scene.ideal.is_some() {
+            key.push((Swatch::Line(IDEAL), "ideal profile"));
+        }
     }
-    // Row 2, right of the bar: what the lines and the other colours are.
-    let mut key = match (cam.plane.is_some(), scene.ideal.is_some()) {
-        (false, _) if !opts.toolpath => vec![],
-        (false, _) => vec![(Swatch::Line(FEED), "feed"), (Swatch::Line(RAPID), "rapid")],
-        (true, true) => vec![
-            (Swatch::Fill(CAP), "cut face"),
-            (Swatch::Line(IDEAL), "ideal profile"),
-        ],
-        (true, false) => vec![(Swatch::Fill(CAP), "cut face")],
-    };
     if scene.stock.colors.contains(&BODY_RUB) {
         key.push((Swatch::Fill(BODY_RUB), "body rub"));
     }
     let key: Vec<(Swatch, String)> = key.into_iter().map(|(s, n)| (s, n.into())).collect();
+    let greys: Vec<(Swatch, String)> = [
+        (Swatch::Fill(BLANK), "uncut blank"),
+        (Swatch::Fill(CUT_NOT_COMPARED), "not compared"),
+    ]
+    .into_iter()
+    .filter(|(s, _)| match s {
+        Swatch::Fill(c) => scene.stock.colors.contains(c),
+        _ => false,
+    })
+    .map(|(s, n)| (s, n.to_string()))
+    .collect();
     let lw = root
         .estimate_text_size("leftover", &font(0.9))
         .map_or(0, |s| s.0 as i32);
-    legend_row(
-        root,
-        bx0 + bw + lw + (px * 1.6) as i32,
-        y_bar,
-        px * 0.9,
-        &key,
-    )?;
+    let tw = root
+        .estimate_text_size(&format!("\u{d7} tolerance {tol} mm"), &font(0.8))
+        .map_or(0, |s| s.0 as i32);
+    let kx = bx0 + bw + lw.max(tw) + (px * 1.6) as i32;
+    legend_row(root, kx, y_bar, px * 0.9, &key)?;
+    legend_row(root, kx, y_val, px * 0.8, &greys)?;
     // The close-up marks the worst finding: turn, flank, z, value.
     if opts.view == View::Closeup {
         if let Some(f) = &scene.focus {
@@ -496,13 +627,19 @@ fn overlay(root: &Area, scene: &Scene, opts: &RenderOptions, cam: &Camera, strip
             let r = (px * 1.3) as i32;
             root.draw(&Circle::new((cx, cy), r + 1, WHITE.stroke_width(1)))?;
             root.draw(&Circle::new((cx, cy), r, BLACK.stroke_width(2)))?;
-            let flank = if f.flank.is_empty() {
-                String::new()
+            let flank = match f.flank.as_str() {
+                "" => String::new(),
+                "left" | "right" => format!(" {} flank", f.flank),
+                other => format!(" {other}"),
+            };
+            let tol = scene.legend.tolerance_mm;
+            let times = if tol > 0.0 {
+                format!(" ({:.1}x tol)", f.value_mm / tol)
             } else {
-                format!(" {} flank", f.flank)
+                String::new()
             };
             let label = format!(
-                "worst {}: turn {}{flank}, z {:.2} mm, {:.3} mm",
+                "worst {}: turn {}{flank}, z {:.2} mm, {:.3} mm{times}",
                 f.kind, f.turn, f.point[2], f.value_mm
             );
             let (tw, th) = root
