@@ -30,19 +30,19 @@ use std::f64::consts::TAU;
 
 /// A turning or boring tool: a round nose with two straight edges tangent to it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TurningTool {
+pub(crate) struct TurningTool {
     /// The id the program's T word selects.
-    pub id: u32,
+    pub(crate) id: u32,
     /// Nose radius (mm, at least 0: 0 is a sharp corner).
-    pub nose_radius: f64,
+    pub(crate) nose_radius: f64,
     /// The leading (-z side) edge's angle from the radial direction (rad), positive when
     /// it leans towards -z away from the nose (a 95 deg approach angle is -5 deg).
-    pub lead_angle: f64,
+    pub(crate) lead_angle: f64,
     /// The trailing (+z side) edge's angle from the radial direction (rad), positive when
     /// it leans towards +z (a 5 deg end cutting edge angle is 85 deg).
-    pub trail_angle: f64,
+    pub(crate) trail_angle: f64,
     /// A boring bar (cuts the bore) rather than an external tool.
-    pub internal: bool,
+    pub(crate) internal: bool,
 }
 
 impl TurningTool {
@@ -82,7 +82,7 @@ impl TurningTool {
 
     /// The lowest point of the shape at axial offset `u` from the nose centre, relative to
     /// the nose centre's height; `+inf` outside the shape.
-    pub fn lower(&self, u: f64) -> f64 {
+    pub(crate) fn lower(&self, u: f64) -> f64 {
         let r = self.nose_radius;
         let (a, b) = self.arc_span();
         if u < a {
@@ -127,7 +127,7 @@ impl TurningTool {
 
 /// The path of the nose centre in the axial half-plane `(z, h)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum TurnPath {
+pub(crate) enum TurnPath {
     /// A straight move.
     Line {
         /// Start `(z, h)`.
@@ -153,7 +153,7 @@ impl TurnPath {
     /// The nose centre's path of a move of the imaginary tip from `(z0, x0)` to `(z1, x1)`
     /// (`x` diameters) on the surface of `sense` (1 outside, -1 in the bore), straight or
     /// about the centre `(zc, xc)` (clockwise as G02 in the (z, radius) plane).
-    pub fn of_move(
+    pub(crate) fn of_move(
         tool: &TurningTool,
         sense: f64,
         from: (f64, f64),
@@ -208,7 +208,7 @@ impl TurnPath {
 }
 
 /// The swept shape's lowest point at `z`: `+inf` where the move does not reach.
-pub fn envelope(tool: &TurningTool, path: &TurnPath, z: f64) -> f64 {
+pub(crate) fn envelope(tool: &TurningTool, path: &TurnPath, z: f64) -> f64 {
     let r = tool.nose_radius;
     let (umin, umax) = tool.domain();
     match *path {
@@ -305,11 +305,11 @@ pub fn envelope(tool: &TurningTool, path: &TurnPath, z: f64) -> f64 {
 
 /// One turning move: its tool and the nose centre's path.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TurnCut {
+pub(crate) struct TurnCut {
     /// The tool.
-    pub tool: TurningTool,
+    pub(crate) tool: TurningTool,
     /// The nose centre's path.
-    pub path: TurnPath,
+    pub(crate) path: TurnPath,
 }
 
 impl TurnCut {
@@ -327,15 +327,15 @@ impl TurnCut {
 
 /// The turning moves of one surface, in program order: the turned profile.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Turned {
+pub(crate) struct Turned {
     /// The moves.
-    pub cuts: Vec<TurnCut>,
+    pub(crate) cuts: Vec<TurnCut>,
 }
 
 impl Turned {
     /// Clamp a column of cells `z0 + j dz` holding `q - q_blank` to the turned profile,
     /// never below `q_floor` (no material left: the axis, or the other surface).
-    pub fn clamp(&self, q: &mut [f32], z0: f64, dz: f64, q_blank: f64, q_floor: f64) {
+    pub(crate) fn clamp(&self, q: &mut [f32], z0: f64, dz: f64, q_blank: f64, q_floor: f64) {
         for cut in &self.cuts {
             let Some((lo, hi)) = cut.span(q_blank) else {
                 continue;
@@ -353,7 +353,7 @@ impl Turned {
 
     /// The turned profile over `n` cells `z0 + j dz`, as `q - q_blank` (zero where nothing
     /// was turned).
-    pub fn profile(&self, n: usize, z0: f64, dz: f64, q_blank: f64, q_floor: f64) -> Vec<f32> {
+    pub(crate) fn profile(&self, n: usize, z0: f64, dz: f64, q_blank: f64, q_floor: f64) -> Vec<f32> {
         let mut q = vec![0f32; n];
         self.clamp(&mut q, z0, dz, q_blank, q_floor);
         q
@@ -364,7 +364,7 @@ impl Turned {
     /// `q_floor`), sampled every `dz` from `z_lo`: the depth and its z, or `None` when it
     /// meets no material.
     #[allow(clippy::too_many_arguments)]
-    pub fn rapid_depth(
+    pub(crate) fn rapid_depth(
         &self,
         done: usize,
         tool: &TurningTool,
