@@ -18,12 +18,12 @@
 //! Layout: `ctx` (locating keys, the errors' context), `keys` (serde's errors and every
 //! number's range), `schema`, `parse`, `forms`, `tools`, `process`, `program`, `mill`.
 
+use crate::kernel::turn::TurningTool;
 use crate::model::pass::Pass;
 pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
 use crate::model::thread::ThreadSpec;
 use crate::model::tool::Tool;
 use crate::nc::{Diagnostic, NcError, Severity};
-use crate::kernel::turn::TurningTool;
 use crate::toolpath::{self, LatheTurning, ProgramError, TurnStock};
 
 mod ctx;

@@ -5,8 +5,8 @@
 use super::ctx::Ctx;
 use super::forms::resolve_thread;
 use super::mill::{self, MillParts};
-use super::schema::{RawJob, SpindleName};
 use super::schema::ToolKind;
+use super::schema::{RawJob, SpindleName};
 use super::tools::{check_tool_keys, resolve_tool, resolve_turning};
 use super::{process, program, Job, JobError, SimConfig, DEFAULT_MAX_DEXELS};
 use crate::model::helix::Spindle;

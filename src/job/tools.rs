@@ -143,7 +143,10 @@ pub(super) fn resolve_turning(t: &RawTool, i: usize, cx: &Ctx) -> Result<Turning
     if l + r < 1.0 {
         return Err(cx.err(
             &key("edge_angles"),
-            format!("expected an insert's included angle (the sum) of at least 1 degree, got {}", l + r),
+            format!(
+                "expected an insert's included angle (the sum) of at least 1 degree, got {}",
+                l + r
+            ),
         ));
     }
     Ok(TurningTool {
@@ -165,7 +168,11 @@ pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), Job
         ("width", t.width.is_some(), &[Grooving]),
         ("angle", t.angle.is_some(), &[Threading, ThreadMill]),
         ("tip_flat", t.tip_flat.is_some(), &[Threading, ThreadMill]),
-        ("nose_radius", t.nose_radius.is_some(), &[Threading, Turning]),
+        (
+            "nose_radius",
+            t.nose_radius.is_some(),
+            &[Threading, Turning],
+        ),
         ("edge_angles", t.edge_angles.is_some(), &[Turning]),
         ("side", t.side.is_some(), &[Turning]),
         ("tip_width", t.tip_width.is_some(), &[Trapezoidal]),

@@ -197,9 +197,7 @@ impl TurnPath {
                 (from.0.min(to.0), from.0.max(to.0)),
                 (from.1.min(to.1), from.1.max(to.1)),
             ),
-            TurnPath::Arc {
-                centre, radius, ..
-            } => (
+            TurnPath::Arc { centre, radius, .. } => (
                 (centre.0 - radius, centre.0 + radius),
                 (centre.1 - radius, centre.1 + radius),
             ),
@@ -342,10 +340,11 @@ impl Turned {
             };
             let j0 = ((lo - z0) / dz).floor().max(0.0) as usize;
             let j1 = (((hi - z0) / dz).ceil() + 1.0).clamp(0.0, q.len() as f64) as usize;
-            for j in j0.min(j1)..j1 {
-                let e = envelope(&cut.tool, &cut.path, z0 + dz * j as f64);
-                if e < q_blank + q[j] as f64 {
-                    q[j] = q[j].min((e.max(q_floor) - q_blank) as f32);
+            let j0 = j0.min(j1);
+            for (j, v) in q[j0..j1].iter_mut().enumerate() {
+                let e = envelope(&cut.tool, &cut.path, z0 + dz * (j0 + j) as f64);
+                if e < q_blank + *v as f64 {
+                    *v = v.min((e.max(q_floor) - q_blank) as f32);
                 }
             }
         }
@@ -353,7 +352,14 @@ impl Turned {
 
     /// The turned profile over `n` cells `z0 + j dz`, as `q - q_blank` (zero where nothing
     /// was turned).
-    pub(crate) fn profile(&self, n: usize, z0: f64, dz: f64, q_blank: f64, q_floor: f64) -> Vec<f32> {
+    pub(crate) fn profile(
+        &self,
+        n: usize,
+        z0: f64,
+        dz: f64,
+        q_blank: f64,
+        q_floor: f64,
+    ) -> Vec<f32> {
         let mut q = vec![0f32; n];
         self.clamp(&mut q, z0, dz, q_blank, q_floor);
         q
@@ -374,7 +380,10 @@ impl Turned {
         q_blank: f64,
         q_floor: f64,
     ) -> Option<(f64, f64)> {
-        let rapid = TurnCut { tool: *tool, path: *path };
+        let rapid = TurnCut {
+            tool: *tool,
+            path: *path,
+        };
         let (lo, hi) = rapid.span(q_blank)?;
         let (lo, hi) = (lo.max(z_lo), hi.min(z_hi));
         if lo > hi {

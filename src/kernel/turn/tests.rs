@@ -71,7 +71,11 @@ fn lower_brute(t: &TurningTool, u: f64) -> f64 {
 fn the_lower_boundary_is_the_nose_and_the_edges() {
     let mut rng = Rng(7);
     for _ in 0..200 {
-        let t = tool(rng.range(0.0, 1.6), rng.range(-30.0, 80.0), rng.range(-30.0, 88.0));
+        let t = tool(
+            rng.range(0.0, 1.6),
+            rng.range(-30.0, 80.0),
+            rng.range(-30.0, 88.0),
+        );
         if t.lead_angle + t.trail_angle <= 0.05 {
             continue;
         }
@@ -120,7 +124,11 @@ fn envelopes_equal_a_fine_sampling_of_the_path() {
     let n = 20_000;
     for case in 0..300 {
         let lead = rng.range(-20.0, 70.0);
-        let t = tool(rng.range(0.0, 1.2), lead, rng.range((1.0 - lead).max(2.0), 88.0));
+        let t = tool(
+            rng.range(0.0, 1.2),
+            lead,
+            rng.range((1.0 - lead).max(2.0), 88.0),
+        );
         let p0 = (rng.range(-20.0, 0.0), rng.range(5.0, 15.0));
         let path = if case % 2 == 0 {
             TurnPath::Line {
@@ -146,11 +154,20 @@ fn envelopes_equal_a_fine_sampling_of_the_path() {
             let e = envelope(&t, &path, z);
             let b = envelope_brute(&t, &path, z, n);
             if b.is_infinite() {
-                assert!(e.is_infinite() || e > 1e3, "case {case} z {z}: {e} where sampling finds nothing");
+                assert!(
+                    e.is_infinite() || e > 1e3,
+                    "case {case} z {z}: {e} where sampling finds nothing"
+                );
                 continue;
             }
-            assert!(e <= b + 1e-9, "case {case} z {z}: {e} above the sampled {b}");
-            assert!(e >= b - step * (1.0 + slope) - 1e-9, "case {case} z {z}: {e} far below the sampled {b}");
+            assert!(
+                e <= b + 1e-9,
+                "case {case} z {z}: {e} above the sampled {b}"
+            );
+            assert!(
+                e >= b - step * (1.0 + slope) - 1e-9,
+                "case {case} z {z}: {e} far below the sampled {b}"
+            );
         }
     }
 }
@@ -220,7 +237,12 @@ fn an_uncompensated_taper_leaves_the_textbook_nose_error() {
             }
             let rp = r0 + m * (z - z0);
             let e = envelope(&t, &p, z);
-            assert!((e - rp - fx).abs() < 1e-9, "b {} z {z}: {} vs {fx}", beta.to_degrees(), e - rp);
+            assert!(
+                (e - rp - fx).abs() < 1e-9,
+                "b {} z {z}: {} vs {fx}",
+                beta.to_degrees(),
+                e - rp
+            );
         }
     }
     // The 45 deg chamfer in numbers: 0.8 nose, 0.4686 mm radially, 0.3314 mm normal.
@@ -264,12 +286,27 @@ fn a_bore_mirrors_the_outside() {
     t.internal = true;
     let p = TurnPath::of_move(&t, -1.0, (0.0, 20.0), (-10.0, 20.0), None);
     assert!((envelope(&t, &p, -5.0) + 10.0).abs() < 1e-12);
-    let outer = TurnPath::of_move(&t, 1.0, (0.0, 16.0), (-2.0, 20.0), Some(((-2.0, 16.0), true)));
-    let inner = TurnPath::of_move(&t, -1.0, (0.0, -16.0), (-2.0, -20.0), Some(((-2.0, -16.0), false)));
+    let outer = TurnPath::of_move(
+        &t,
+        1.0,
+        (0.0, 16.0),
+        (-2.0, 20.0),
+        Some(((-2.0, 16.0), true)),
+    );
+    let inner = TurnPath::of_move(
+        &t,
+        -1.0,
+        (0.0, -16.0),
+        (-2.0, -20.0),
+        Some(((-2.0, -16.0), false)),
+    );
     for k in 0..20 {
         let z = -2.5 + 0.15 * k as f64;
         let (a, b) = (envelope(&t, &outer, z), envelope(&t, &inner, z));
-        assert!((a.is_infinite() && b.is_infinite()) || (a - b).abs() < 1e-12, "z {z}: {a} {b}");
+        assert!(
+            (a.is_infinite() && b.is_infinite()) || (a - b).abs() < 1e-12,
+            "z {z}: {a} {b}"
+        );
     }
 }
 
@@ -321,13 +358,18 @@ fn a_rapid_meets_only_the_stock_left_at_its_time() {
     };
     let rapid = TurnPath::of_move(&t, 1.0, (1.0, 31.0), (-10.0, 31.0), None);
     let window = (-40.0, 0.0);
-    assert_eq!(turned.rapid_depth(1, &t, &rapid, window, 0.01, 16.0, 0.0), None);
+    assert_eq!(
+        turned.rapid_depth(1, &t, &rapid, window, 0.01, 16.0, 0.0),
+        None
+    );
     let (depth, z) = turned
         .rapid_depth(0, &t, &rapid, window, 0.01, 16.0, 0.0)
         .unwrap();
-    assert!((depth - 0.5).abs() < 1e-12 && z <= 0.0 && z >= -10.0);
+    assert!((depth - 0.5).abs() < 1e-12 && (-10.0..=0.0).contains(&z));
     // Off the part (z > 0) nothing is met, whatever the diameter.
     let air = TurnPath::of_move(&t, 1.0, (5.0, 0.0), (5.0, 40.0), None);
-    assert_eq!(turned.rapid_depth(0, &t, &air, window, 0.01, 16.0, 0.0), None);
+    assert_eq!(
+        turned.rapid_depth(0, &t, &air, window, 0.01, 16.0, 0.0),
+        None
+    );
 }
-
