@@ -235,7 +235,8 @@ impl Job {
         match pending {
             Pending::Lathe(program) => {
                 let path = toolpath::interpret(&program, load).map_err(fail)?;
-                let lathe = toolpath::lathe_passes(&path.moves, &self.tools).map_err(fail)?;
+                let lathe = toolpath::lathe_passes(&path.moves, &self.tools, &self.turning_tools)
+                    .map_err(fail)?;
                 let offset = self.passes.len();
                 self.chains.extend(lathe.links.into_iter().map(|mut l| {
                     l.pass += offset;

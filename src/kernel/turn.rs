@@ -364,46 +364,73 @@ impl Turned {
         self.clamp(&mut q, z0, dz, q_blank, q_floor);
         q
     }
+}
 
-    /// How deep the shape of `tool` swept along `path` (a rapid) goes into the stock left
-    /// by the first `done` cuts (the blank `q_blank` over `[z_lo, z_hi]`, down to
-    /// `q_floor`), sampled every `dz` from `z_lo`: the depth and its z, or `None` when it
-    /// meets no material.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn rapid_depth(
-        &self,
-        done: usize,
-        tool: &TurningTool,
-        path: &TurnPath,
-        (z_lo, z_hi): (f64, f64),
-        dz: f64,
-        q_blank: f64,
-        q_floor: f64,
-    ) -> Option<(f64, f64)> {
+/// The stock of one surface along z as the moves so far left it, sampled every `dz` from
+/// the blank's start: what a rapid is checked against, in program order (each cut and each
+/// check costs the cells it spans, so a long program stays linear in its moves).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Profile {
+    z_lo: f64,
+    z_hi: f64,
+    dz: f64,
+    q_blank: f64,
+    q_floor: f64,
+    q: Vec<f64>,
+}
+
+impl Profile {
+    /// The blank: `q_blank` over `[z_lo, z_hi]`, no cut going below `q_floor`.
+    pub(crate) fn new((z_lo, z_hi): (f64, f64), dz: f64, q_blank: f64, q_floor: f64) -> Profile {
+        let n = ((z_hi - z_lo) / dz).ceil().max(0.0) as usize + 1;
+        Profile {
+            z_lo,
+            z_hi,
+            dz,
+            q_blank,
+            q_floor,
+            q: vec![q_blank; n],
+        }
+    }
+
+    /// The cells a swept shape reaches below the blank in.
+    fn cells(&self, cut: &TurnCut) -> Option<std::ops::Range<usize>> {
+        let (lo, hi) = cut.span(self.q_blank)?;
+        let (lo, hi) = (lo.max(self.z_lo), hi.min(self.z_hi));
+        if lo > hi {
+            return None;
+        }
+        let j0 = ((lo - self.z_lo) / self.dz).floor().max(0.0) as usize;
+        let j1 = (((hi - self.z_lo) / self.dz).ceil() as usize + 1).min(self.q.len());
+        Some(j0.min(j1)..j1)
+    }
+
+    fn z(&self, j: usize) -> f64 {
+        (self.z_lo + self.dz * j as f64).min(self.z_hi)
+    }
+
+    /// Remove what `cut` sweeps.
+    pub(crate) fn cut(&mut self, cut: &TurnCut) {
+        let Some(cells) = self.cells(cut) else {
+            return;
+        };
+        for j in cells {
+            let e = envelope(&cut.tool, &cut.path, self.z(j)).max(self.q_floor);
+            self.q[j] = self.q[j].min(e);
+        }
+    }
+
+    /// How deep the shape of `tool` swept along `path` (a rapid) goes into the stock: the
+    /// deepest radial depth and its z, or `None` when it meets no material.
+    pub(crate) fn rapid_depth(&self, tool: &TurningTool, path: &TurnPath) -> Option<(f64, f64)> {
         let rapid = TurnCut {
             tool: *tool,
             path: *path,
         };
-        let (lo, hi) = rapid.span(q_blank)?;
-        let (lo, hi) = (lo.max(z_lo), hi.min(z_hi));
-        if lo > hi {
-            return None;
-        }
-        let j0 = ((lo - z_lo) / dz).floor().max(0.0) as usize;
-        let j1 = ((hi - z_lo) / dz).ceil() as usize;
         let mut worst: Option<(f64, f64)> = None;
-        for j in j0..=j1 {
-            let z = (z_lo + dz * j as f64).min(z_hi);
-            let e = envelope(tool, path, z);
-            if e >= q_blank {
-                continue;
-            }
-            let stock = self.cuts[..done]
-                .iter()
-                .map(|c| envelope(&c.tool, &c.path, z))
-                .fold(q_blank, f64::min)
-                .max(q_floor);
-            let depth = stock - e.max(q_floor);
+        for j in self.cells(&rapid)? {
+            let z = self.z(j);
+            let depth = self.q[j] - envelope(tool, path, z).max(self.q_floor);
             if depth > 0.0 && worst.is_none_or(|(d, _)| depth > d) {
                 worst = Some((depth, z));
             }

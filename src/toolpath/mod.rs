@@ -14,7 +14,7 @@
 //! cutters, the machine's axis and speed) and does no IO: the program's text and its
 //! subprograms come from the caller's loader.
 
-use crate::kernel::turn::{TurnCut, TurnPath, Turned, TurningTool};
+use crate::kernel::turn::{Profile, TurnCut, TurnPath, Turned, TurningTool};
 use crate::model::pass::Pass;
 use crate::model::setup::ChainLink;
 use crate::model::tool::Tool;
@@ -92,6 +92,7 @@ pub(crate) struct LathePasses {
 pub(crate) fn lathe_passes(
     moves: &[nc::Move],
     tools: &[Tool],
+    turning: &[TurningTool],
 ) -> Result<LathePasses, ProgramError> {
     let fail = |m: &nc::Move, message: String| ProgramError::Move {
         file: m.file.clone(),
@@ -112,13 +113,12 @@ pub(crate) fn lathe_passes(
             None => None,
         }
         .ok_or_else(|| {
-            fail(
-                m,
-                format!(
-                    "threading with tool {:?}, which the job's [[tool]] list does not define",
-                    m.tool
-                ),
-            )
+            let why = if turning.iter().any(|t| Some(t.id) == m.tool) {
+                "a turning tool (kind = \"turning\"): threading needs a threading tool"
+            } else {
+                "which the job's [[tool]] list does not define"
+            };
+            fail(m, format!("threading with tool {:?}, {why}", m.tool))
         })?;
         let angle = m.sync_angle_deg.unwrap_or(0.0).to_radians();
         let pass = Pass {
@@ -212,17 +212,19 @@ pub(crate) fn lathe_turning(
     if tools.is_empty() {
         return out;
     }
+    let mut outer_stock = Profile::new(z_span, dz, outer.q_blank, outer.q_floor);
+    let mut inner_stock = inner.map(|s| Profile::new(z_span, dz, s.q_blank, s.q_floor));
     for m in moves.iter().skip(1) {
         let Some(tool) = m.tool.and_then(|id| tools.iter().find(|t| t.id == id)) else {
             continue;
         };
         let (turned, stock, sense) = if tool.internal {
-            match inner {
+            match inner_stock.as_mut() {
                 Some(s) => (&mut out.inner, s, -1.0),
                 None => continue,
             }
         } else {
-            (&mut out.outer, outer, 1.0)
+            (&mut out.outer, &mut outer_stock, 1.0)
         };
         let arc = match (m.kind, &m.arc) {
             (MoveKind::Arc, Some(a)) => Some(((a.z_centre, a.x_centre_dia), a.clockwise)),
@@ -230,18 +232,14 @@ pub(crate) fn lathe_turning(
         };
         let path = TurnPath::of_move(tool, sense, (m.z_start, m.x_start), (m.z, m.x_dia), arc);
         match m.kind {
-            MoveKind::Feed | MoveKind::Arc => turned.cuts.push(TurnCut { tool: *tool, path }),
+            MoveKind::Feed | MoveKind::Arc => {
+                let cut = TurnCut { tool: *tool, path };
+                stock.cut(&cut);
+                turned.cuts.push(cut);
+            }
             MoveKind::Rapid => {
-                let hit = turned.rapid_depth(
-                    turned.cuts.len(),
-                    tool,
-                    &path,
-                    z_span,
-                    dz,
-                    stock.q_blank,
-                    stock.q_floor,
-                );
                 // Deeper than the report's rounding (as milling's rapids).
+                let hit = stock.rapid_depth(tool, &path);
                 if let Some((depth, z)) = hit.filter(|h| h.0 >= 5e-7) {
                     out.rapids.push(RapidHit {
                         file: m.file.clone(),

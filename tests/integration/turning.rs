@@ -184,6 +184,11 @@ fn turning_tools_are_checked_key_by_key() {
         assert!(d.message.contains(key) || d.line > 0, "{to}: {d:?}");
         assert!(d.line > 0, "{to}: no line: {d:?}");
     }
+    // A thread block under a turning tool's T number says so, at its line.
+    let bad = program().replace("N130 T0303", "N130 T0101");
+    let e = job_with(&bad, &[]).unwrap_err().diagnostic();
+    assert!(e.message.contains("a turning tool"), "{e:?}");
+    assert!(e.line > 0, "{e:?}");
     // A turning tool needs a program; a pass cannot use it.
     let t = text.replace(
         "[program]\nfile = \"O0017.NC\"\ndialect = \"fanuc\"\n",

@@ -350,26 +350,23 @@ fn a_rapid_meets_only_the_stock_left_at_its_time() {
     // Turned to x = 30 over z in [-20, 0], then a rapid along x = 31 (inside the blank's
     // 32 but outside what was turned): it meets nothing after the turn, 0.5 mm before it.
     let t = cnmg(0.4);
-    let turned = Turned {
-        cuts: vec![TurnCut {
-            tool: t,
-            path: TurnPath::of_move(&t, 1.0, (1.0, 30.0), (-20.0, 30.0), None),
-        }],
+    let turn = TurnCut {
+        tool: t,
+        path: TurnPath::of_move(&t, 1.0, (1.0, 30.0), (-20.0, 30.0), None),
     };
     let rapid = TurnPath::of_move(&t, 1.0, (1.0, 31.0), (-10.0, 31.0), None);
-    let window = (-40.0, 0.0);
-    assert_eq!(
-        turned.rapid_depth(1, &t, &rapid, window, 0.01, 16.0, 0.0),
-        None
-    );
-    let (depth, z) = turned
-        .rapid_depth(0, &t, &rapid, window, 0.01, 16.0, 0.0)
-        .unwrap();
+    let mut stock = Profile::new((-40.0, 0.0), 0.01, 16.0, 0.0);
+    let (depth, z) = stock.rapid_depth(&t, &rapid).unwrap();
     assert!((depth - 0.5).abs() < 1e-12 && (-10.0..=0.0).contains(&z));
+    stock.cut(&turn);
+    assert_eq!(stock.rapid_depth(&t, &rapid), None);
+    // The profile is the envelope at every cell, floored at the axis.
+    for j in 0..stock.q.len() {
+        let z = stock.z(j);
+        let want = envelope(&t, &turn.path, z).max(0.0).min(16.0);
+        assert_eq!(stock.q[j], want, "z {z}");
+    }
     // Off the part (z > 0) nothing is met, whatever the diameter.
     let air = TurnPath::of_move(&t, 1.0, (5.0, 0.0), (5.0, 40.0), None);
-    assert_eq!(
-        turned.rapid_depth(0, &t, &air, window, 0.01, 16.0, 0.0),
-        None
-    );
+    assert_eq!(stock.rapid_depth(&t, &air), None);
 }
