@@ -363,7 +363,7 @@ fn a_rapid_meets_only_the_stock_left_at_its_time() {
     // The profile is the envelope at every cell, floored at the axis.
     for j in 0..stock.q.len() {
         let z = stock.z(j);
-        let want = envelope(&t, &turn.path, z).max(0.0).min(16.0);
+        let want = envelope(&t, &turn.path, z).clamp(0.0, 16.0);
         assert_eq!(stock.q[j], want, "z {z}");
     }
     // Off the part (z > 0) nothing is met, whatever the diameter.
