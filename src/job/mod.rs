@@ -18,12 +18,13 @@
 //! Layout: `ctx` (locating keys, the errors' context), `keys` (serde's errors and every
 //! number's range), `schema`, `parse`, `forms`, `tools`, `process`, `program`, `mill`.
 
+use crate::kernel::turn::TurningTool;
 use crate::model::pass::Pass;
 pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
 use crate::model::thread::ThreadSpec;
 use crate::model::tool::Tool;
 use crate::nc::{Diagnostic, NcError, Severity};
-use crate::toolpath::{self, ProgramError};
+use crate::toolpath::{self, LatheTurning, ProgramError, TurnStock};
 
 mod ctx;
 mod forms;
@@ -173,6 +174,10 @@ pub struct Job {
     pub pitch_diameter_limits: Option<(f64, f64)>,
     /// The plan of `[process] kind = "plan"`, whose passes are [`Job::passes`].
     pub plan: Option<crate::gen::plan::Plan>,
+    /// The turning tools (`kind = "turning"`) the program's T words select.
+    pub(crate) turning_tools: Vec<TurningTool>,
+    /// What the program's turning moves cut, and its rapids that meet material.
+    pub(crate) turning: LatheTurning,
 }
 
 impl Job {
@@ -230,7 +235,8 @@ impl Job {
         match pending {
             Pending::Lathe(program) => {
                 let path = toolpath::interpret(&program, load).map_err(fail)?;
-                let lathe = toolpath::lathe_passes(&path.moves, &self.tools).map_err(fail)?;
+                let lathe = toolpath::lathe_passes(&path.moves, &self.tools, &self.turning_tools)
+                    .map_err(fail)?;
                 let offset = self.passes.len();
                 self.chains.extend(lathe.links.into_iter().map(|mut l| {
                     l.pass += offset;
@@ -244,6 +250,23 @@ impl Job {
                         .map(|(i, (file, line))| (offset + i, file, line)),
                 );
                 self.passes.extend(lathe.passes);
+                let b = &self.blank;
+                let outer = TurnStock {
+                    q_blank: b.diameter / 2.0,
+                    q_floor: b.bore / 2.0,
+                };
+                let inner = (b.bore > 0.0).then_some(TurnStock {
+                    q_blank: -b.bore / 2.0,
+                    q_floor: -b.diameter / 2.0,
+                });
+                self.turning = toolpath::lathe_turning(
+                    &path.moves,
+                    &self.turning_tools,
+                    outer,
+                    inner,
+                    (b.z_front - b.length, b.z_front),
+                    self.sim.axial_spacing,
+                );
                 self.program_warnings = path.warnings;
             }
             Pending::Mill(parts) => {

@@ -5,8 +5,9 @@
 use super::ctx::Ctx;
 use super::forms::resolve_thread;
 use super::mill::{self, MillParts};
+use super::schema::ToolKind;
 use super::schema::{RawJob, SpindleName};
-use super::tools::{check_tool_keys, resolve_tool};
+use super::tools::{check_tool_keys, resolve_tool, resolve_turning};
 use super::{process, program, Job, JobError, SimConfig, DEFAULT_MAX_DEXELS};
 use crate::model::helix::Spindle;
 use crate::model::setup::{Blank, Machine};
@@ -153,6 +154,8 @@ pub(super) fn resolve(
             mill: None,
             pitch_diameter_limits,
             plan: None,
+            turning_tools: Vec::new(),
+            turning: Default::default(),
         };
         return Ok(Parsed {
             job,
@@ -176,8 +179,19 @@ pub(super) fn resolve(
         ));
     }
     let mut tools = Vec::with_capacity(raw.tool.len());
+    let mut turning_tools = Vec::new();
     for (i, t) in raw.tool.iter().enumerate() {
-        tools.push(resolve_tool(t, i, cx, load)?);
+        if t.kind == ToolKind::Turning {
+            if raw.program.is_none() {
+                return Err(cx.err(
+                    &format!("tool[{i}].kind"),
+                    "a turning tool cuts by the moves of a [program]; this job has none",
+                ));
+            }
+            turning_tools.push(resolve_turning(t, i, cx)?);
+        } else {
+            tools.push(resolve_tool(t, i, cx, load)?);
+        }
     }
     let (passes, plan) = process::job_passes(&raw, &thread, &tools, &blank, &machine, &sim, cx)?;
     let program = match &raw.program {
@@ -199,6 +213,8 @@ pub(super) fn resolve(
         mill: None,
         pitch_diameter_limits: None,
         plan,
+        turning_tools,
+        turning: Default::default(),
     };
     Ok(Parsed { job, program })
 }

@@ -188,6 +188,7 @@ pub(super) enum ToolKind {
     Trapezoidal,
     Mesh,
     ThreadMill,
+    Turning,
 }
 
 #[derive(Deserialize, Clone, Copy, Default, PartialEq)]
@@ -209,6 +210,9 @@ pub(super) struct RawTool {
     pub(super) angle: Option<f64>,
     pub(super) tip_flat: Option<f64>,
     pub(super) nose_radius: Option<f64>,
+    #[serde(default, deserialize_with = "keys::fixed")]
+    pub(super) edge_angles: Option<[f64; 2]>,
+    pub(super) side: Option<SideName>,
     pub(super) tip_width: Option<f64>,
     pub(super) flank_angle: Option<f64>,
     #[serde(default, deserialize_with = "keys::fixed")]

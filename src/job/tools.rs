@@ -1,9 +1,11 @@
 //! `[[tool]]` tables into [`Tool`]s: the edge of each kind of tool, the keys each kind
-//! takes, mesh tools (OBJ, read through the loader) and the insert body behind the edge.
+//! takes, mesh tools (OBJ, read through the loader) and the insert body behind the edge;
+//! turning tools (`kind = "turning"`) into [`TurningTool`]s.
 
 use super::ctx::Ctx;
-use super::schema::{RawTool, RefName, ToolKind};
+use super::schema::{RawTool, RefName, SideName, ToolKind};
 use super::JobError;
+use crate::kernel::turn::TurningTool;
 use crate::model::solid::Solid;
 use crate::model::tool::{Body, Edge, Reference, Tool};
 
@@ -86,6 +88,12 @@ pub(super) fn resolve_tool(
                 "a thread mill needs a milling job: set [machine] kind = \"mill\"",
             ))
         }
+        ToolKind::Turning => {
+            return Err(cx.err(
+                &key("kind"),
+                "a turning tool cuts no thread: passes and [process] need a threading tool",
+            ))
+        }
     };
     if t.kind == ToolKind::Mesh {
         return Ok(Tool {
@@ -110,17 +118,63 @@ pub(super) fn resolve_tool(
     })
 }
 
+/// Default nose radius of a turning tool (mm): the most common insert, CNMG 120404.
+pub(super) const TURNING_NOSE_RADIUS: f64 = 0.4;
+/// Default edge angles of a turning tool (deg, leading and trailing edge from the radial
+/// direction): an 80 deg rhombic insert (C) in a 95 deg approach holder (PCLNR).
+pub(super) const TURNING_EDGE_ANGLES: [f64; 2] = [-5.0, 85.0];
+
+/// A `kind = "turning"` tool: nose radius, the edges' angles and the side it cuts.
+pub(super) fn resolve_turning(t: &RawTool, i: usize, cx: &Ctx) -> Result<TurningTool, JobError> {
+    let key = |k: &str| format!("tool[{i}].{k}");
+    let nose_radius = cx.non_negative(
+        &key("nose_radius"),
+        t.nose_radius.unwrap_or(TURNING_NOSE_RADIUS),
+    )?;
+    if nose_radius > 25.0 {
+        return Err(cx.err(
+            &key("nose_radius"),
+            format!("expected at most 25 mm, got {nose_radius}"),
+        ));
+    }
+    let [l, r] = t.edge_angles.unwrap_or(TURNING_EDGE_ANGLES);
+    let lead = cx.angle(&key("edge_angles"), l, -89.0, 89.0)?;
+    let trail = cx.angle(&key("edge_angles"), r, -89.0, 89.0)?;
+    if l + r < 1.0 {
+        return Err(cx.err(
+            &key("edge_angles"),
+            format!(
+                "expected an insert's included angle (the sum) of at least 1 degree, got {}",
+                l + r
+            ),
+        ));
+    }
+    Ok(TurningTool {
+        id: t.id,
+        nose_radius,
+        lead_angle: lead,
+        trail_angle: trail,
+        internal: t.side.unwrap_or_default() == SideName::Internal,
+    })
+}
+
 /// Every optional `[[tool]]` key and the kinds of tool it applies to: a key set on a tool
 /// of another kind is an error that says so.
 pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), JobError> {
-    use ToolKind::{Grooving, Mesh, ThreadMill, Threading, Trapezoidal};
+    use ToolKind::{Grooving, Mesh, ThreadMill, Threading, Trapezoidal, Turning};
     const INSERTS: &[ToolKind] = &[Grooving, Threading, Trapezoidal];
     const MILL: &[ToolKind] = &[ThreadMill];
-    let keys: [(&str, bool, &[ToolKind]); 34] = [
+    let keys: [(&str, bool, &[ToolKind]); 36] = [
         ("width", t.width.is_some(), &[Grooving]),
         ("angle", t.angle.is_some(), &[Threading, ThreadMill]),
         ("tip_flat", t.tip_flat.is_some(), &[Threading, ThreadMill]),
-        ("nose_radius", t.nose_radius.is_some(), &[Threading]),
+        (
+            "nose_radius",
+            t.nose_radius.is_some(),
+            &[Threading, Turning],
+        ),
+        ("edge_angles", t.edge_angles.is_some(), &[Turning]),
+        ("side", t.side.is_some(), &[Turning]),
         ("tip_width", t.tip_width.is_some(), &[Trapezoidal]),
         ("flank_angle", t.flank_angle.is_some(), &[Trapezoidal]),
         (

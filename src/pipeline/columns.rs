@@ -77,6 +77,17 @@ pub(super) struct Pipeline<'a> {
     pub(super) cmp: compare::Comparer<'a>,
     pub(super) bodies: interference::Measurer<'a>,
     pub(super) grid: Grid,
+    /// The program's turning moves as a per-cell bound on `q - q_blank` (the same for every
+    /// column: the cut is axisymmetric), or `None` without turning moves.
+    pub(super) turned: Option<&'a [f32]>,
+}
+
+/// Clamp a column to the turned profile. Removal is a minimum, so it commutes with the
+/// sweep: the result does not depend on when the turning moves ran.
+fn clamp_turned(col: &mut [f32], turned: &[f32]) {
+    for (q, t) in col.iter_mut().zip(turned) {
+        *q = q.min(*t);
+    }
 }
 
 impl Pipeline<'_> {
@@ -115,6 +126,13 @@ impl Pipeline<'_> {
                 (stats, Some(c), None)
             }
         };
+        let mut edge = edge;
+        if let Some(t) = self.turned {
+            clamp_turned(col, t);
+            if let Some(e) = edge.as_deref_mut() {
+                clamp_turned(e, t);
+            }
+        }
         let t1 = Instant::now();
         let dev = self.cmp.column(i, col, prior);
         prior.add(&dev);

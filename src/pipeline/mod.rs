@@ -259,11 +259,20 @@ fn run(job: &Job, opts: &SimOptions, keep: bool) -> Result<Run, SimError> {
         Cutting::Milling(m) => Some(m.stats()),
         Cutting::Turning { .. } => None,
     };
+    // The program's turning moves on the thread's surface: one profile along z, clamped
+    // into every column and every measurement generator (kernel::turn).
+    let (turned, q_floor) = match surface {
+        Surface::Outer => (&job.turning.outer, job.blank.bore / 2.0),
+        Surface::Inner => (&job.turning.inner, -job.blank.diameter / 2.0),
+    };
+    let turned_profile = (!turned.cuts.is_empty())
+        .then(|| turned.profile(grid.n_z, grid.z0, grid.dz, q_blank, q_floor));
     let pipe = Pipeline {
         cut,
         cmp: Comparer::new(grid, q_blank, surface, thread, window),
         bodies: Measurer::new(grid, q_blank, surface, thread),
         grid,
+        turned: turned_profile.as_deref(),
     };
     let merged = if has_surface {
         pipe.run(surface, stock.as_mut(), edge_stock.as_mut(), mill_stats)?
@@ -296,6 +305,7 @@ fn run(job: &Job, opts: &SimOptions, keep: bool) -> Result<Run, SimError> {
             Operation::Turning { passes, tools } => {
                 let cut = |q: &mut [f32], c: Column| {
                     sweep_column(q, c, passes, tools);
+                    turned.clamp(q, c.z0, c.dz, c.q_blank, q_floor);
                 };
                 measure_by(thread, &cut, q_blank, (m_lo, m_hi), cfg)
             }

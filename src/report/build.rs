@@ -237,6 +237,27 @@ pub(crate) fn build_report(
             )
         });
     }
+    for h in &job.turning.rapids {
+        findings.push(Finding {
+            z_mm: Some(r6(h.z)),
+            file: Some(h.file.clone()),
+            line: Some(h.line),
+            value: Some(r6(h.depth)),
+            unit: Some("mm"),
+            ..Finding::new(
+                FindingKind::RapidCut,
+                Severity::Error,
+                format!(
+                    "{}:{}: a rapid (G00) move of a turning tool runs {:.4} mm into the {} at z {:.3} (the stock the moves before it left)",
+                    h.file,
+                    h.line,
+                    h.depth,
+                    if h.internal { "bore's wall" } else { "part" },
+                    h.z
+                ),
+            )
+        });
+    }
     if dev.compared_dexels == 0 {
         findings.push(Finding::new(
             FindingKind::NotCompared,

@@ -4,6 +4,9 @@
 //!
 //! - on a lathe, every thread move into a [`Pass`], with the [`ChainLink`]s of continuous
 //!   thread chains and the block each pass comes from ([`lathe_passes`]);
+//! - on a lathe, every feed and arc move of a turning tool into a [`TurnCut`] of the
+//!   surface it turns, and every rapid of one checked against the stock turned so far
+//!   ([`lathe_turning`]);
 //! - on a mill, the milling moves into the kernel's [`MillPath`] in the part's frame
 //!   (`mill::mill_path`).
 //!
@@ -11,6 +14,7 @@
 //! cutters, the machine's axis and speed) and does no IO: the program's text and its
 //! subprograms come from the caller's loader.
 
+use crate::kernel::turn::{Profile, TurnCut, TurnPath, Turned, TurningTool};
 use crate::model::pass::Pass;
 use crate::model::setup::ChainLink;
 use crate::model::tool::Tool;
@@ -88,6 +92,7 @@ pub(crate) struct LathePasses {
 pub(crate) fn lathe_passes(
     moves: &[nc::Move],
     tools: &[Tool],
+    turning: &[TurningTool],
 ) -> Result<LathePasses, ProgramError> {
     let fail = |m: &nc::Move, message: String| ProgramError::Move {
         file: m.file.clone(),
@@ -108,13 +113,12 @@ pub(crate) fn lathe_passes(
             None => None,
         }
         .ok_or_else(|| {
-            fail(
-                m,
-                format!(
-                    "threading with tool {:?}, which the job's [[tool]] list does not define",
-                    m.tool
-                ),
-            )
+            let why = if turning.iter().any(|t| Some(t.id) == m.tool) {
+                "a turning tool (kind = \"turning\"): threading needs a threading tool"
+            } else {
+                "which the job's [[tool]] list does not define"
+            };
+            fail(m, format!("threading with tool {:?}, {why}", m.tool))
         })?;
         let angle = m.sync_angle_deg.unwrap_or(0.0).to_radians();
         let pass = Pass {
@@ -151,4 +155,103 @@ pub(crate) fn lathe_passes(
         out.passes.push(pass);
     }
     Ok(out)
+}
+
+/// The stock one surface had before the program: the blank's signed radius `q_blank` over
+/// the blank's axial span, and the floor no cut goes below (the other surface).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TurnStock {
+    /// The blank's signed radius (`r` outside, `-r` in the bore).
+    pub(crate) q_blank: f64,
+    /// The lowest signed radius material can have (the bore, or minus the outside).
+    pub(crate) q_floor: f64,
+}
+
+/// A rapid of a turning tool that meets material left at its time.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct RapidHit {
+    /// The program file and 1-based line of the block.
+    pub(crate) file: String,
+    /// 1-based line.
+    pub(crate) line: usize,
+    /// How deep its tool's shape goes into the stock (mm, radial).
+    pub(crate) depth: f64,
+    /// Where (z, mm).
+    pub(crate) z: f64,
+    /// In the bore.
+    pub(crate) internal: bool,
+}
+
+/// What a lathe program's turning moves do.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct LatheTurning {
+    /// The feed and arc moves of external turning tools, in program order.
+    pub(crate) outer: Turned,
+    /// Those of boring bars.
+    pub(crate) inner: Turned,
+    /// The rapids that meet material.
+    pub(crate) rapids: Vec<RapidHit>,
+}
+
+/// The turning moves of a lathe program: every feed and arc move whose T number selects one
+/// of `tools` removes that tool's shape along its path on the surface the tool cuts; every
+/// rapid of one is checked against that surface's stock as the moves before it left it
+/// (`outer`, and `inner` for a tube), over the blank's span `z_span`, every `dz`. Thread
+/// moves are the passes' ([`lathe_passes`]); the moves of other tools cut nothing here.
+/// The program's first move starts wherever the machine happens to be (the interpreter
+/// starts at the work zero, which no real machine does): it neither cuts nor is checked.
+pub(crate) fn lathe_turning(
+    moves: &[nc::Move],
+    tools: &[TurningTool],
+    outer: TurnStock,
+    inner: Option<TurnStock>,
+    z_span: (f64, f64),
+    dz: f64,
+) -> LatheTurning {
+    let mut out = LatheTurning::default();
+    if tools.is_empty() {
+        return out;
+    }
+    let mut outer_stock = Profile::new(z_span, dz, outer.q_blank, outer.q_floor);
+    let mut inner_stock = inner.map(|s| Profile::new(z_span, dz, s.q_blank, s.q_floor));
+    for m in moves.iter().skip(1) {
+        let Some(tool) = m.tool.and_then(|id| tools.iter().find(|t| t.id == id)) else {
+            continue;
+        };
+        let (turned, stock, sense) = if tool.internal {
+            match inner_stock.as_mut() {
+                Some(s) => (&mut out.inner, s, -1.0),
+                None => continue,
+            }
+        } else {
+            (&mut out.outer, &mut outer_stock, 1.0)
+        };
+        let arc = match (m.kind, &m.arc) {
+            (MoveKind::Arc, Some(a)) => Some(((a.z_centre, a.x_centre_dia), a.clockwise)),
+            _ => None,
+        };
+        let path = TurnPath::of_move(tool, sense, (m.z_start, m.x_start), (m.z, m.x_dia), arc);
+        match m.kind {
+            MoveKind::Feed | MoveKind::Arc => {
+                let cut = TurnCut { tool: *tool, path };
+                stock.cut(&cut);
+                turned.cuts.push(cut);
+            }
+            MoveKind::Rapid => {
+                // Deeper than the report's rounding (as milling's rapids).
+                let hit = stock.rapid_depth(tool, &path);
+                if let Some((depth, z)) = hit.filter(|h| h.0 >= 5e-7) {
+                    out.rapids.push(RapidHit {
+                        file: m.file.clone(),
+                        line: m.line,
+                        depth,
+                        z,
+                        internal: tool.internal,
+                    });
+                }
+            }
+            MoveKind::Thread => {}
+        }
+    }
+    out
 }

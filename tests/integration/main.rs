@@ -44,3 +44,6 @@ mod streaming;
 mod tidy;
 /// No false PASS: randomized clean cuts pass, short defects fail on their turn and flank.
 mod trust;
+/// The whole lathe program cuts the stock: turned profiles against hand derivations, rapids
+/// into material.
+mod turning;

@@ -1,0 +1,443 @@
+//! Turning: the stock a lathe's turning, facing and boring moves remove, axisymmetric.
+//!
+//! While the spindle turns, a feed or arc move of a turning tool removes its 2-D shape
+//! swept along the move's (z, x) path at every angle of the part. The shape is a round nose
+//! (radius `r_n`) with two straight edges tangent to it ([`TurningTool`]); the program
+//! drives its *imaginary tip* (the corner of the nose's tangents along z and x, tool tip
+//! orientation 3 of the controls, as programs without nose radius compensation do), so the
+//! nose centre runs `r_n` above and `r_n` to the +z side of the programmed point.
+//!
+//! Everything here works in the axial half-plane `(z, h)` with `h = q = sense * r` (`q` of
+//! [`crate::model::stock`]): the tool's body lies towards `+h` (outwards for an external
+//! tool, towards the axis for a boring bar), and a cut lowers `q`. The shape's lower
+//! boundary `g(u)` at axial offset `u` from the nose centre is convex (the nose's lower arc
+//! between the edges' tangent points, the edges beyond, `+inf` outside the shape), so the
+//! swept envelope `e(z) = min over the path of [h_c + g(z - z_c)]` is exact in closed form:
+//! a function of the path parameter whose minimum is at an end of the move, at an end of
+//! the shape's span, or where the path's slope equals the boundary's slope (on the nose
+//! that is the path offset by `r_n` along its normal: a parallel line, or the concentric
+//! circle of radius `R -+ r_n` for an arc; on an edge, the path point whose tangent is
+//! parallel to it). Every candidate is a point of the swept shape, and the minimum is
+//! among them, so the envelope is exact at every z it is evaluated at ([`Turned`]). Feed
+//! marks (the nose's cusps between revolutions, `f^2 / (8 r_n)` high) are neglected.
+//!
+//! Material removal is a union of swept volumes, so the order of cuts does not matter:
+//! the turned profile is a per-z clamp `q = min(q, e(z))` applied to every column with the
+//! thread sweeps. Only what needs the time order (a rapid that meets material that was
+//! still there) walks the moves in order ([`Turned::rapid_depth`]).
+
+use std::f64::consts::TAU;
+
+/// A turning or boring tool: a round nose with two straight edges tangent to it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct TurningTool {
+    /// The id the program's T word selects.
+    pub(crate) id: u32,
+    /// Nose radius (mm, at least 0: 0 is a sharp corner).
+    pub(crate) nose_radius: f64,
+    /// The leading (-z side) edge's angle from the radial direction (rad), positive when
+    /// it leans towards -z away from the nose (a 95 deg approach angle is -5 deg).
+    pub(crate) lead_angle: f64,
+    /// The trailing (+z side) edge's angle from the radial direction (rad), positive when
+    /// it leans towards +z (a 5 deg end cutting edge angle is 85 deg).
+    pub(crate) trail_angle: f64,
+    /// A boring bar (cuts the bore) rather than an external tool.
+    pub(crate) internal: bool,
+}
+
+impl TurningTool {
+    /// The `u` span of the nose's lower arc: between the edges' tangent points, or to the
+    /// nose's side where an edge leans back over it.
+    fn arc_span(&self) -> (f64, f64) {
+        let r = self.nose_radius;
+        let a = if self.lead_angle > 0.0 {
+            -r * self.lead_angle.cos()
+        } else {
+            -r
+        };
+        let b = if self.trail_angle > 0.0 {
+            r * self.trail_angle.cos()
+        } else {
+            r
+        };
+        (a, b)
+    }
+
+    /// The `u` span of the shape (infinite on a side whose edge leans out).
+    fn domain(&self) -> (f64, f64) {
+        let r = self.nose_radius;
+        (
+            if self.lead_angle > 0.0 {
+                f64::NEG_INFINITY
+            } else {
+                -r
+            },
+            if self.trail_angle > 0.0 {
+                f64::INFINITY
+            } else {
+                r
+            },
+        )
+    }
+
+    /// The lowest point of the shape at axial offset `u` from the nose centre, relative to
+    /// the nose centre's height; `+inf` outside the shape.
+    pub(crate) fn lower(&self, u: f64) -> f64 {
+        let r = self.nose_radius;
+        let (a, b) = self.arc_span();
+        if u < a {
+            if self.lead_angle > 0.0 {
+                -r * self.lead_angle.sin() + (a - u) / self.lead_angle.tan()
+            } else {
+                f64::INFINITY
+            }
+        } else if u > b {
+            if self.trail_angle > 0.0 {
+                -r * self.trail_angle.sin() + (u - b) / self.trail_angle.tan()
+            } else {
+                f64::INFINITY
+            }
+        } else {
+            -(r * r - u * u).max(0.0).sqrt()
+        }
+    }
+
+    /// The slopes `dg/du` of the edges that are part of the lower boundary.
+    fn edge_slopes(&self) -> impl Iterator<Item = f64> {
+        let lead = (self.lead_angle > 0.0).then(|| -1.0 / self.lead_angle.tan());
+        let trail = (self.trail_angle > 0.0).then(|| 1.0 / self.trail_angle.tan());
+        lead.into_iter().chain(trail)
+    }
+
+    /// Half of the shape's axial width at height `dh` above its lowest point (an upper
+    /// bound): where it can reach below a surface `dh` above the nose's bottom.
+    fn reach(&self, dh: f64) -> (f64, f64) {
+        let r = self.nose_radius;
+        let dh = dh.max(0.0);
+        let side = |angle: f64| {
+            if angle > 0.0 {
+                r + dh * angle.tan()
+            } else {
+                r
+            }
+        };
+        (side(self.lead_angle), side(self.trail_angle))
+    }
+}
+
+/// The path of the nose centre in the axial half-plane `(z, h)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum TurnPath {
+    /// A straight move.
+    Line {
+        /// Start `(z, h)`.
+        from: (f64, f64),
+        /// End `(z, h)`.
+        to: (f64, f64),
+    },
+    /// A circular move.
+    Arc {
+        /// Centre `(z, h)`.
+        centre: (f64, f64),
+        /// Radius (mm).
+        radius: f64,
+        /// Angle of the start from the centre (rad, from +z towards +h).
+        start: f64,
+        /// Signed sweep (rad): positive counter-clockwise in `(z, h)`; a full circle is
+        /// `+-TAU`.
+        sweep: f64,
+    },
+}
+
+impl TurnPath {
+    /// The nose centre's path of a move of the imaginary tip from `(z0, x0)` to `(z1, x1)`
+    /// (`x` diameters) on the surface of `sense` (1 outside, -1 in the bore), straight or
+    /// about the centre `(zc, xc)` (clockwise as G02 in the (z, radius) plane).
+    pub(crate) fn of_move(
+        tool: &TurningTool,
+        sense: f64,
+        from: (f64, f64),
+        to: (f64, f64),
+        arc: Option<((f64, f64), bool)>,
+    ) -> TurnPath {
+        let rn = tool.nose_radius;
+        let at = |(z, x): (f64, f64)| (z + rn, sense * x / 2.0 + rn);
+        let (a, b) = (at(from), at(to));
+        match arc {
+            None => TurnPath::Line { from: a, to: b },
+            Some((centre, clockwise)) => {
+                let c = at(centre);
+                let radius = (a.0 - c.0).hypot(a.1 - c.1);
+                let start = (a.1 - c.1).atan2(a.0 - c.0);
+                let end = (b.1 - c.1).atan2(b.0 - c.0);
+                // Mirrored (h = -r in a bore), a clockwise arc turns the other way.
+                let ccw = clockwise == (sense < 0.0);
+                let mut sweep = if ccw {
+                    (end - start).rem_euclid(TAU)
+                } else {
+                    -(start - end).rem_euclid(TAU)
+                };
+                if a == b {
+                    sweep = if ccw { TAU } else { -TAU };
+                }
+                TurnPath::Arc {
+                    centre: c,
+                    radius,
+                    start,
+                    sweep,
+                }
+            }
+        }
+    }
+
+    /// The path's axial and height extent.
+    fn bounds(&self) -> ((f64, f64), (f64, f64)) {
+        match *self {
+            TurnPath::Line { from, to } => (
+                (from.0.min(to.0), from.0.max(to.0)),
+                (from.1.min(to.1), from.1.max(to.1)),
+            ),
+            TurnPath::Arc { centre, radius, .. } => (
+                (centre.0 - radius, centre.0 + radius),
+                (centre.1 - radius, centre.1 + radius),
+            ),
+        }
+    }
+}
+
+/// The swept shape's lowest point at `z`: `+inf` where the move does not reach.
+pub(crate) fn envelope(tool: &TurningTool, path: &TurnPath, z: f64) -> f64 {
+    let r = tool.nose_radius;
+    let (umin, umax) = tool.domain();
+    match *path {
+        TurnPath::Line { from, to } => {
+            let at = |t: f64| (from.0 + t * (to.0 - from.0), from.1 + t * (to.1 - from.1));
+            let eval = |t: f64| {
+                let c = at(t);
+                c.1 + tool.lower(z - c.0)
+            };
+            let mut best = eval(0.0).min(eval(1.0));
+            let dz = to.0 - from.0;
+            if dz != 0.0 {
+                let m = (to.1 - from.1) / dz;
+                // Where the shape's boundary is parallel to the move (on the nose), and
+                // where the shape's span ends.
+                let u_nose = m * r / (1.0 + m * m).sqrt();
+                for u in [u_nose, umin, umax] {
+                    if !u.is_finite() {
+                        continue;
+                    }
+                    let t = (z - from.0 - u) / dz;
+                    if (0.0..=1.0).contains(&t) {
+                        let c = at(t);
+                        let v = c.1 + tool.lower(u.clamp(umin, umax));
+                        best = best.min(v);
+                    }
+                }
+            }
+            best
+        }
+        TurnPath::Arc {
+            centre,
+            radius,
+            start,
+            sweep,
+        } => {
+            let at = |th: f64| (centre.0 + radius * th.cos(), centre.1 + radius * th.sin());
+            let inside = |th: f64| {
+                let d = if sweep >= 0.0 {
+                    (th - start).rem_euclid(TAU)
+                } else {
+                    (start - th).rem_euclid(TAU)
+                };
+                d <= sweep.abs() + 1e-12 || d >= TAU - 1e-12
+            };
+            let eval = |th: f64| {
+                let c = at(th);
+                c.1 + tool.lower(z - c.0)
+            };
+            let mut best = eval(start).min(eval(start + sweep));
+            let mut try_angle = |th: f64, u: Option<f64>| {
+                if th.is_finite() && inside(th) {
+                    let c = at(th);
+                    let v = match u {
+                        Some(u) => c.1 + tool.lower(u),
+                        None => c.1 + tool.lower(z - c.0),
+                    };
+                    best = best.min(v);
+                }
+            };
+            // On the nose: the contact point is on the concentric circle of radius
+            // R - r_n (upper half, sin > 0) or R + r_n (lower half).
+            for s in [1.0f64, -1.0] {
+                let rho = radius - s * r;
+                if rho != 0.0 {
+                    let c = (z - centre.0) / rho;
+                    if c.abs() <= 1.0 {
+                        let th = s * c.acos();
+                        try_angle(th, Some(-s * r * th.cos()));
+                    }
+                }
+            }
+            // On an edge: the path's tangent parallel to it (slope -cot th = m).
+            for m in tool.edge_slopes() {
+                let th = 1.0f64.atan2(-m);
+                try_angle(th, None);
+                try_angle(th + std::f64::consts::PI, None);
+            }
+            // Where the shape's span ends: z - z_c(th) = u.
+            for u in [umin, umax] {
+                if u.is_finite() && radius > 0.0 {
+                    let c = (z - u - centre.0) / radius;
+                    if c.abs() <= 1.0 {
+                        let th = c.acos();
+                        try_angle(th, Some(u));
+                        try_angle(-th, Some(u));
+                    }
+                }
+            }
+            best
+        }
+    }
+}
+
+/// One turning move: its tool and the nose centre's path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct TurnCut {
+    /// The tool.
+    pub(crate) tool: TurningTool,
+    /// The nose centre's path.
+    pub(crate) path: TurnPath,
+}
+
+impl TurnCut {
+    /// The z span where the swept shape reaches below `q_top`; `None` when it does not.
+    fn span(&self, q_top: f64) -> Option<(f64, f64)> {
+        let ((z0, z1), (h0, _)) = self.path.bounds();
+        let bottom = h0 - self.tool.nose_radius;
+        if bottom >= q_top {
+            return None;
+        }
+        let (l, r) = self.tool.reach(q_top - bottom);
+        Some((z0 - l, z1 + r))
+    }
+}
+
+/// The turning moves of one surface, in program order: the turned profile.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Turned {
+    /// The moves.
+    pub(crate) cuts: Vec<TurnCut>,
+}
+
+impl Turned {
+    /// Clamp a column of cells `z0 + j dz` holding `q - q_blank` to the turned profile,
+    /// never below `q_floor` (no material left: the axis, or the other surface).
+    pub(crate) fn clamp(&self, q: &mut [f32], z0: f64, dz: f64, q_blank: f64, q_floor: f64) {
+        for cut in &self.cuts {
+            let Some((lo, hi)) = cut.span(q_blank) else {
+                continue;
+            };
+            let j0 = ((lo - z0) / dz).floor().max(0.0) as usize;
+            let j1 = (((hi - z0) / dz).ceil() + 1.0).clamp(0.0, q.len() as f64) as usize;
+            let j0 = j0.min(j1);
+            for (j, v) in q[j0..j1].iter_mut().enumerate() {
+                let e = envelope(&cut.tool, &cut.path, z0 + dz * (j0 + j) as f64);
+                if e < q_blank + *v as f64 {
+                    *v = v.min((e.max(q_floor) - q_blank) as f32);
+                }
+            }
+        }
+    }
+
+    /// The turned profile over `n` cells `z0 + j dz`, as `q - q_blank` (zero where nothing
+    /// was turned).
+    pub(crate) fn profile(
+        &self,
+        n: usize,
+        z0: f64,
+        dz: f64,
+        q_blank: f64,
+        q_floor: f64,
+    ) -> Vec<f32> {
+        let mut q = vec![0f32; n];
+        self.clamp(&mut q, z0, dz, q_blank, q_floor);
+        q
+    }
+}
+
+/// The stock of one surface along z as the moves so far left it, sampled every `dz` from
+/// the blank's start: what a rapid is checked against, in program order (each cut and each
+/// check costs the cells it spans, so a long program stays linear in its moves).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Profile {
+    z_lo: f64,
+    z_hi: f64,
+    dz: f64,
+    q_blank: f64,
+    q_floor: f64,
+    q: Vec<f64>,
+}
+
+impl Profile {
+    /// The blank: `q_blank` over `[z_lo, z_hi]`, no cut going below `q_floor`.
+    pub(crate) fn new((z_lo, z_hi): (f64, f64), dz: f64, q_blank: f64, q_floor: f64) -> Profile {
+        let n = ((z_hi - z_lo) / dz).ceil().max(0.0) as usize + 1;
+        Profile {
+            z_lo,
+            z_hi,
+            dz,
+            q_blank,
+            q_floor,
+            q: vec![q_blank; n],
+        }
+    }
+
+    /// The cells a swept shape reaches below the blank in.
+    fn cells(&self, cut: &TurnCut) -> Option<std::ops::Range<usize>> {
+        let (lo, hi) = cut.span(self.q_blank)?;
+        let (lo, hi) = (lo.max(self.z_lo), hi.min(self.z_hi));
+        if lo > hi {
+            return None;
+        }
+        let j0 = ((lo - self.z_lo) / self.dz).floor().max(0.0) as usize;
+        let j1 = (((hi - self.z_lo) / self.dz).ceil() as usize + 1).min(self.q.len());
+        Some(j0.min(j1)..j1)
+    }
+
+    fn z(&self, j: usize) -> f64 {
+        (self.z_lo + self.dz * j as f64).min(self.z_hi)
+    }
+
+    /// Remove what `cut` sweeps.
+    pub(crate) fn cut(&mut self, cut: &TurnCut) {
+        let Some(cells) = self.cells(cut) else {
+            return;
+        };
+        for j in cells {
+            let e = envelope(&cut.tool, &cut.path, self.z(j)).max(self.q_floor);
+            self.q[j] = self.q[j].min(e);
+        }
+    }
+
+    /// How deep the shape of `tool` swept along `path` (a rapid) goes into the stock: the
+    /// deepest radial depth and its z, or `None` when it meets no material.
+    pub(crate) fn rapid_depth(&self, tool: &TurningTool, path: &TurnPath) -> Option<(f64, f64)> {
+        let rapid = TurnCut {
+            tool: *tool,
+            path: *path,
+        };
+        let mut worst: Option<(f64, f64)> = None;
+        for j in self.cells(&rapid)? {
+            let z = self.z(j);
+            let depth = self.q[j] - envelope(tool, path, z).max(self.q_floor);
+            if depth > 0.0 && worst.is_none_or(|(d, _)| depth > d) {
+                worst = Some((depth, z));
+            }
+        }
+        worst
+    }
+}
+
+#[cfg(test)]
+mod tests;
