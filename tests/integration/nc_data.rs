@@ -290,3 +290,62 @@ fn siemens_802d_programs_make_the_same_moves_on_the_840d() {
     }
     assert!(compared >= 6, "only {compared} programs compared");
 }
+
+/// Issue 17's corpus: whole shop programs (`corpus-*.nc` in the dialect folders), at least
+/// 40 of them. Each is named in its folder's `CORPUS.md` (with the public sources its
+/// features come from), every `CORPUS.md` row names a program that exists, and each runs
+/// from its first block to its last: its reviewed `.moves` holds no error and at least one
+/// thread move (the moves themselves are checked by `nc_programs_give_their_reviewed_moves`).
+#[test]
+fn corpus_programs_are_listed_and_run_to_their_threads() {
+    let mut total = 0;
+    for (folder, _, _) in DIALECTS {
+        let dir = root().join("tests/data/nc").join(folder);
+        let corpus: Vec<String> = programs(&dir)
+            .into_iter()
+            .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .filter(|n| n.starts_with("corpus-"))
+            .collect();
+        if corpus.is_empty() {
+            continue;
+        }
+        let index = std::fs::read_to_string(dir.join("CORPUS.md"))
+            .unwrap_or_else(|_| panic!("{folder}: corpus programs but no CORPUS.md"));
+        for name in &corpus {
+            let stem = name.trim_end_matches(".nc");
+            assert!(
+                index.contains(&format!("`{name}`")) || index.contains(&format!("`{stem}`")),
+                "{folder}/{name} is not listed in {folder}/CORPUS.md"
+            );
+            let moves = std::fs::read_to_string(dir.join(name).with_extension("moves")).unwrap();
+            let body: Vec<&str> = moves.lines().filter(|l| !l.starts_with('#')).collect();
+            assert!(
+                !body.iter().any(|l| l.starts_with("error ")),
+                "{folder}/{name} does not run to its end"
+            );
+            assert!(
+                body.iter().any(|l| l.contains(" thread ")),
+                "{folder}/{name} makes no thread move"
+            );
+        }
+        for listed in index.lines().filter_map(|l| {
+            let l = l.strip_prefix("| `")?;
+            let listed = &l[..l.find('`')?];
+            Some(if listed.ends_with(".nc") {
+                listed.to_string()
+            } else {
+                format!("{listed}.nc")
+            })
+        }) {
+            assert!(
+                corpus.contains(&listed),
+                "{folder}/CORPUS.md lists `{listed}`, which is not a corpus program there"
+            );
+        }
+        total += corpus.len();
+    }
+    assert!(
+        total >= 40,
+        "the corpus holds {total} programs, fewer than 40"
+    );
+}
