@@ -149,7 +149,8 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             // LinuxCNC 2.9's G70 (finishing) and G71/G72 (.1, .2: roughing) cut an o-word
             // subroutine's contour (interp_g7x): refused, never skipped.
             (70..=72, _) => refused("lathe finishing/roughing cycle over an o-word contour"),
-            (33, false) => refused("rigid tapping"),
+            // G33.1, rigid tapping: thread moves in and out (`motion::lc_rigid_tap`).
+            _ if c == 331 => Verdict::Run,
             (38, false) => refused("probing"),
             (73 | 74 | 81..=89, true) => refused("canned cycle"),
             _ => Verdict::Unknown(format!(
@@ -388,10 +389,7 @@ mod tests {
         assert_eq!(g_code(Dialect::Siemens802d, 90.0), Verdict::Run);
         assert_eq!(g_code(Dialect::Fanuc, 90.0), Verdict::Run);
         assert!(matches!(g_code(Dialect::Fanuc, 91.0), Verdict::Unknown(_)));
-        assert!(matches!(
-            g_code(Dialect::Linuxcnc, 33.1),
-            Verdict::Refused(_)
-        ));
+        assert_eq!(g_code(Dialect::Linuxcnc, 33.1), Verdict::Run);
         assert_eq!(g_code(Dialect::Linuxcnc, 33.0), Verdict::Run);
         for g in [70.0, 71.0, 71.1, 71.2, 72.0, 72.1, 72.2] {
             assert!(

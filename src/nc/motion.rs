@@ -111,6 +111,8 @@ impl Interp<'_> {
                     self.frames.work = (g - DECIMAL_G - 591) as usize + 6;
                 }
                 0..=3 | 32 | 33 | 34 | 35 => self.modal.motion = g,
+                // LinuxCNC G33.1 (rigid tapping, modal like G33): `lc_rigid_tap`.
+                g if lcnc && g == DECIMAL_G + 331 => self.modal.motion = 331,
                 // Siemens 840D rigid tapping (`siemens_840d`): thread moves, lead K.
                 331 | 332 if self.cfg.s840 => self.modal.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
@@ -349,6 +351,10 @@ impl Interp<'_> {
             let (kind, lead, change, angle) = match (self.cfg.dialect, self.modal.motion) {
                 (_, 0) => (MoveKind::Rapid, None, None, None),
                 (_, 1) => (MoveKind::Feed, None, None, None),
+                (Dialect::Linuxcnc, 331) => {
+                    self.lc_rigid_tap(w, prog, pc, (x, z), scale)?;
+                    return Ok(if end { Step::End } else { Step::Next });
+                }
                 (Dialect::Linuxcnc, 33) => {
                     let k = val("K").ok_or((1, "G33 needs K (the pitch)".to_string()))? * scale;
                     // rs274/LinuxCNC: K is the distance per revolution along the programmed
@@ -443,6 +449,77 @@ impl Interp<'_> {
             done?;
         }
         Ok(if end { Step::End } else { Step::Next })
+    }
+
+    /// LinuxCNC `G33.1 X Z K` (rigid tapping, rs274's `RIGID_TAP(x, y, z)` canon call;
+    /// LinuxCNC manual, G33.1): from the current point, at an index pulse, a move synchronised
+    /// to the spindle at K per revolution along the path to the end point; there the spindle
+    /// reverses and the tap goes back along the same line, still synchronised (the same
+    /// groove), to where it started; the spindle direction is then restored and the block
+    /// ends at its start point (rs274's next incremental move counts from there). The
+    /// overtravel while the spindle stops and reverses (machine dynamics, not in the
+    /// canon) is not modelled. K is the distance per revolution along the path, as G33's:
+    /// the z lead is K |dz| / path. A tap off the spindle axis (X not 0) or along a slope is
+    /// run as LinuxCNC runs it (its interpreter accepts any end point): the two thread
+    /// moves lie where the control puts them. `I` (the return's speed multiplier, LinuxCNC
+    /// 2.9) changes no path and is not read. K must be positive.
+    fn lc_rigid_tap(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        end: (f64, f64),
+        scale: f64,
+    ) -> Result<(), Fail> {
+        let &(k, col) = w
+            .vals
+            .get("K")
+            .ok_or((1, "G33.1 needs K (the tap's pitch)".to_string()))?;
+        if k <= 0.0 || !k.is_finite() {
+            return Err((
+                col,
+                format!("G33.1 with K{k}: the tap's pitch must be positive"),
+            ));
+        }
+        let k = k * scale;
+        let start = (self.x, self.z);
+        let (dr, dz) = ((end.0 - start.0) / 2.0, end.1 - start.1);
+        let path = dr.hypot(dz);
+        if path == 0.0 {
+            // rs274 prints the call; nothing moves.
+            return Ok(());
+        }
+        if dz == 0.0 {
+            return Err((
+                1,
+                "G33.1 along X only: a tap needs travel along Z (the spindle axis)".into(),
+            ));
+        }
+        let lead = k * dz.abs() / path;
+        let inward = Sync {
+            lead,
+            change: 0.0,
+            angle: 0.0,
+        };
+        // At the bottom the spindle has turned path / K revolutions; reversed, the angle
+        // past the index counts the other way, so the way back (the same helix) starts at
+        // minus that.
+        let back = Sync {
+            angle: (-360.0 * path / k).rem_euclid(360.0),
+            ..inward
+        };
+        let spindle = self.modal.spindle;
+        self.emit(prog, pc, MoveKind::Thread, start, end, Some(inward));
+        self.modal.spindle = match spindle {
+            Spindle::Cw => Spindle::Ccw,
+            Spindle::Ccw => Spindle::Cw,
+        };
+        self.emit(prog, pc, MoveKind::Thread, end, start, Some(back));
+        self.modal.spindle = spindle;
+        // The final placement is unsynchronised: the next thread block waits for the index.
+        self.thread.chain_end = None;
+        (self.x, self.z) = start;
+        Ok(())
     }
 
     /// A feed move (G01, G02/G03, the feed legs of G90/G94) needs a positive feed: with F0,
