@@ -98,11 +98,14 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             // lines such as `G18 G20 G40 G80 G99` carry it).
             (80, true) => Verdict::Run,
             (30, true) => Verdict::Run,
+            // G84 (rigid tapping with M29; `fanuc::tap_modes`).
+            (84, true) if dialect == Dialect::Fanuc => Verdict::Run,
             (10 | 52, true) => refused("coordinate system setting"),
             // Multiple repetitive cycles (`cycles.rs`).
             (70..=75, true) => Verdict::Run,
             (90 | 94, true) => Verdict::Run,
-            (33, true) if dialect == Dialect::Gsk980 => refused("tapping cycle"),
+            // GSK G33, the Z tapping cycle: `motion::gsk_tap`.
+            (33, true) if dialect == Dialect::Gsk980 => Verdict::Run,
             _ => Verdict::Unknown(format!(
                 "G{} is not a {} code vpcut knows",
                 fmt(code),
@@ -149,7 +152,8 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             // LinuxCNC 2.9's G70 (finishing) and G71/G72 (.1, .2: roughing) cut an o-word
             // subroutine's contour (interp_g7x): refused, never skipped.
             (70..=72, _) => refused("lathe finishing/roughing cycle over an o-word contour"),
-            (33, false) => refused("rigid tapping"),
+            // G33.1, rigid tapping: thread moves in and out (`motion::lc_rigid_tap`).
+            _ if c == 331 => Verdict::Run,
             (38, false) => refused("probing"),
             (73 | 74 | 81..=89, true) => refused("canned cycle"),
             _ => Verdict::Unknown(format!(
@@ -170,7 +174,8 @@ pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
     let m = c / 10;
     let known = match dialect {
         Dialect::Fanuc | Dialect::Gsk980 => {
-            matches!(m, 0..=5 | 8 | 9 | 13 | 14 | 19 | 23 | 24 | 30 | 41..=44 | 98 | 99)
+            // M29: rigid tapping mode (`fanuc::tap_modes`).
+            matches!(m, 0..=5 | 8 | 9 | 13 | 14 | 19 | 23 | 24 | 29 | 30 | 41..=44 | 98 | 99)
         }
         Dialect::Siemens802d | Dialect::Siemens840d => {
             if m == 98 || m == 99 {
@@ -388,10 +393,7 @@ mod tests {
         assert_eq!(g_code(Dialect::Siemens802d, 90.0), Verdict::Run);
         assert_eq!(g_code(Dialect::Fanuc, 90.0), Verdict::Run);
         assert!(matches!(g_code(Dialect::Fanuc, 91.0), Verdict::Unknown(_)));
-        assert!(matches!(
-            g_code(Dialect::Linuxcnc, 33.1),
-            Verdict::Refused(_)
-        ));
+        assert_eq!(g_code(Dialect::Linuxcnc, 33.1), Verdict::Run);
         assert_eq!(g_code(Dialect::Linuxcnc, 33.0), Verdict::Run);
         for g in [70.0, 71.0, 71.1, 71.2, 72.0, 72.1, 72.2] {
             assert!(

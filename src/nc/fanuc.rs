@@ -173,13 +173,17 @@ impl Interp<'_> {
                     codes::InA::Code(c) => g.push(c),
                     codes::InA::Absolute => self.modal.incremental = false,
                     codes::InA::Incremental => self.modal.incremental = true,
-                    codes::InA::ReturnLevel => {}
+                    // G98/G99: the canned cycle's (G84's) return level.
+                    codes::InA::ReturnLevel => self.thread.tap.to_r = code == 99,
                 }
             }
             w.g = g;
         }
         if w.g.contains(&76) {
             return self.g76(&w, prog, pc);
+        }
+        if let Some(step) = self.tap_modes(&w, prog, pc)? {
+            return Ok(step);
         }
         if let Some(&g) = w.g.iter().find(|g| (70..=75).contains(*g)) {
             return self.repetitive_cycle(g, &w, prog, pc);
@@ -770,5 +774,266 @@ impl Interp<'_> {
             ));
         }
         Ok(len)
+    }
+}
+
+impl Interp<'_> {
+    /// FANUC lathe rigid tapping (FANUC 0i-TF/30i lathe manuals, "Canned cycle for drilling"
+    /// and "Rigid tapping"): `M29 S..` selects rigid mode (the spindle is position-controlled
+    /// and the Z feed follows it); `G84 X(U) Z(W) R P F K` taps on the face. Modal until G80
+    /// (or a group-01 G code). Per hole: positioning in X at the initial level (rapid), a
+    /// rapid to the R point (`R`: from the initial level, signed, incremental), the tap in to
+    /// the bottom (Z absolute, W from the R point) synchronised at the pitch (G99: F is the
+    /// pitch; G98: F is the feed per minute, pitch F / S), a dwell P, the spindle reverses,
+    /// the tap comes back to the R point in the same groove, the spindle is restored; then a
+    /// rapid to the initial level (system A; systems B/C: G98, or stays at the R point with
+    /// G99). `K` repeats it at the same place. Without M29 (a floating holder: the spindle
+    /// not synchronised) G84 is refused, and so is a hole off the spindle axis (live
+    /// tooling). `None` when the block is no tapping block.
+    pub(super) fn tap_modes(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+    ) -> Result<Option<Step>, Fail> {
+        // GSK taps with its G33 cycle (`motion::gsk_tap`).
+        if self.cfg.gsk {
+            return Ok(None);
+        }
+        if w.m.contains(&29) {
+            self.thread.tap.rigid = true;
+        }
+        let g84 = w.g.contains(&84);
+        if w.g.contains(&80) || w.g.iter().any(|&g| matches!(g, 0..=3 | 32 | 34)) {
+            if self.thread.tap.initial.take().is_some() && !g84 {
+                self.modal.motion = self.thread.tap.before;
+            }
+            self.thread.tap.rigid = false;
+        }
+        if g84 {
+            if !self.thread.tap.rigid {
+                return Err((
+                    1,
+                    "G84 without M29 (tapping with a floating holder: the spindle is not synchronised) is not simulated: program `M29 S..` before G84".into(),
+                ));
+            }
+            if self.thread.tap.initial.is_none() {
+                self.thread.tap.before = self.modal.motion;
+                self.thread.tap.initial = Some(self.z);
+                self.thread.tap.r = None;
+                self.thread.tap.bottom = None;
+            }
+        }
+        let Some(initial) = self.thread.tap.initial else {
+            return Ok(None);
+        };
+        let mut end = false;
+        if let Some(step) = self.m_words(w, &mut end)? {
+            return Ok(Some(step));
+        }
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let moved = ["X", "Z", "U", "W", "R"]
+            .iter()
+            .any(|k| w.vals.contains_key(*k));
+        if !moved {
+            return Ok(Some(if end { Step::End } else { Step::Next }));
+        }
+        let scale = if self.modal.inch { 25.4 } else { 1.0 };
+        if let Some(s) = val("S") {
+            self.modal.speed = Some(s);
+        }
+        if let Some(f) = val("F") {
+            self.modal.feed = Some(f);
+        }
+        let oz = self.frames.offsets[self.frames.work].1;
+        let ox = self.frames.offsets[self.frames.work].0;
+        let x = match (val("X"), val("U")) {
+            (Some(v), _) => v * scale + ox,
+            (None, Some(u)) => self.x + u * scale,
+            (None, None) => self.x,
+        };
+        if x.abs() > 1e-9 {
+            return Err((
+                1,
+                "G84 off the spindle axis (X not 0) taps with a driven tool (live tooling, C axis): not modelled".into(),
+            ));
+        }
+        if let Some(r) = val("R") {
+            self.thread.tap.r = Some(r * scale);
+        }
+        let r_point = initial
+            + self.thread.tap.r.ok_or((
+                1,
+                "G84 needs R (the R point, from the initial level)".to_string(),
+            ))?;
+        let bottom = match (val("Z"), val("W")) {
+            (Some(z), _) => z * scale + oz,
+            (None, Some(wv)) => r_point + wv * scale,
+            (None, None) => self
+                .thread
+                .tap
+                .bottom
+                .ok_or((1, "G84 needs Z or W (the hole bottom)".to_string()))?,
+        };
+        self.thread.tap.bottom = Some(bottom);
+        if bottom == r_point {
+            return Err((1, "G84: the hole bottom is at the R point".into()));
+        }
+        let feed = self.modal.feed.filter(|f| *f > 0.0).ok_or((
+            1,
+            "G84 needs F > 0 (the pitch in G99, the feed in G98)".to_string(),
+        ))?;
+        let lead = if self.modal.per_rev {
+            feed * scale
+        } else {
+            let s = self.modal.speed.filter(|s| *s > 0.0).ok_or((
+                1,
+                "G84 in G98 (feed per minute) needs S > 0: the pitch is F / S".to_string(),
+            ))?;
+            feed / s * scale
+        };
+        let times = match w.vals.get("K") {
+            Some(&(k, col)) if k < 0.0 || k.fract() != 0.0 || k > 9999.0 => {
+                return Err((col, format!("G84 K{k}: expected a repeat count 0..9999")))
+            }
+            Some(&(k, _)) => k as u32,
+            None => 1,
+        };
+        let ret = if self.thread.tap.to_r {
+            r_point
+        } else {
+            initial
+        };
+        if (x, self.z) != (self.x, self.z) {
+            self.emit(
+                prog,
+                pc,
+                MoveKind::Rapid,
+                (self.x, self.z),
+                (x, self.z),
+                None,
+            );
+        }
+        self.x = x;
+        for _ in 0..times {
+            self.tap_on_axis(prog, pc, x, (self.z, r_point, bottom, ret), lead);
+        }
+        Ok(Some(if end { Step::End } else { Step::Next }))
+    }
+}
+
+#[cfg(test)]
+mod tap_tests {
+    //! G84/M29 beyond the reviewed programs of `tests/data/nc/fanuc/tap-*`: every expected
+    //! number derived by hand in the comments.
+    use super::super::{
+        interpret_with, Dialect, GcodeSystem, Move, MoveKind, NcError, Options, Settings, Source,
+    };
+
+    fn run(text: &str, system: GcodeSystem) -> Result<Vec<Move>, NcError> {
+        let src = Source {
+            name: "T.NC".into(),
+            text: text.into(),
+        };
+        let opts = Options {
+            settings: Settings {
+                gcode_system: system,
+                ..Settings::default()
+            },
+            ..Options::default()
+        };
+        interpret_with(&src, Dialect::Fanuc, &|_| None, &opts).map(|t| t.moves)
+    }
+
+    fn path(m: &[Move]) -> Vec<(MoveKind, f64, f64)> {
+        m.iter().map(|m| (m.kind, m.z_start, m.z)).collect()
+    }
+
+    /// System B: G99 returns to the R point (Z3 = 10 - 7), G98 to the initial level; K2
+    /// taps twice at the same place; K0 only positions.
+    #[test]
+    fn return_levels_and_repeats() {
+        use MoveKind::{Rapid, Thread};
+        let b = "G0 X0 Z10\nM3 S300\nM29 S300\nG99 G84 Z-20 R-7 F1.5\nG80\n";
+        // In system B G95 is feed per revolution; F1.5 the pitch.
+        let m = run(&format!("G95\n{b}"), GcodeSystem::B).unwrap();
+        assert_eq!(
+            path(&m[1..]),
+            [
+                (Rapid, 10.0, 3.0),
+                (Thread, 3.0, -20.0),
+                (Thread, -20.0, 3.0)
+            ]
+        );
+        let m = run(
+            "G99\nG0 X0 Z10\nM3 S300\nM29 S300\nG84 Z-20 R-7 F1.5 K2\nG80\n",
+            GcodeSystem::A,
+        )
+        .unwrap();
+        assert_eq!(m.iter().filter(|m| m.kind == Thread).count(), 4);
+        assert_eq!(
+            (m.last().unwrap().z_start, m.last().unwrap().z),
+            (3.0, 10.0)
+        );
+        let m = run(
+            "G99\nG0 X0 Z10\nM3 S300\nM29 S300\nG84 Z-20 R-7 F1.5 K0\nG80\nG0 Z40\n",
+            GcodeSystem::A,
+        )
+        .unwrap();
+        assert_eq!(path(&m[1..]), [(Rapid, 10.0, 40.0)]);
+    }
+
+    /// G80 restores the motion before G84 (G01 here: `Z5` feeds); off the axis, without R,
+    /// without F, and G98 without S are refused at their blocks.
+    #[test]
+    fn cancel_and_refusals() {
+        let m = run(
+            "G99\nG1 X0 Z10 F0.2\nM3 S300\nM29 S300\nG84 Z-20 R-7 F1.5\nG80\nZ5\n",
+            GcodeSystem::A,
+        )
+        .unwrap();
+        assert_eq!(m.last().unwrap().kind, MoveKind::Feed);
+        for (text, line, want) in [
+            (
+                "G0 X20 Z10\nM29 S300\nG84 Z-20 R-7 F1.5\n",
+                3,
+                "off the spindle axis",
+            ),
+            ("G0 X0 Z10\nM29 S300\nG84 Z-20 F1.5\n", 3, "needs R"),
+            ("G0 X0 Z10\nM29 S300\nG84 R-2 F1.5\n", 3, "needs Z or W"),
+            ("G0 X0 Z10\nM29 S300\nG84 Z-20 R-7\n", 3, "needs F"),
+            ("G98\nG0 X0 Z10\nM29\nG84 Z-20 R-7 F300\n", 4, "needs S"),
+            (
+                "G0 X0 Z10\nM29 S300\nG84 Z-20 R-7 F1.5 K-1\n",
+                3,
+                "repeat count",
+            ),
+        ] {
+            let e = run(text, GcodeSystem::A).unwrap_err();
+            assert_eq!(e.line, line, "{text}: {e}");
+            assert!(e.message.contains(want), "{text}: {e}");
+        }
+    }
+
+    /// GSK G33 (Z tapping): off the axis, with an X move, or without a positive F or I it
+    /// is refused.
+    #[test]
+    fn gsk_tap_refusals() {
+        for (text, want) in [
+            ("G0 X20 Z5\nG33 Z-10 F1\n", "off the spindle axis"),
+            ("G0 X0 Z5\nG33 X4 Z-10 F1\n", "off the spindle axis"),
+            ("G0 X0 Z5\nG33 Z-10\n", "needs F"),
+            ("G0 X0 Z5\nG33 Z-10 F0\n", "must be positive"),
+            ("G0 X0 Z5\nG33 Z-10 I-2\n", "must be positive"),
+        ] {
+            let src = Source {
+                name: "T.NC".into(),
+                text: text.into(),
+            };
+            let e =
+                interpret_with(&src, Dialect::Gsk980, &|_| None, &Options::default()).unwrap_err();
+            assert_eq!(e.line, 2, "{text}: {e}");
+            assert!(e.message.contains(want), "{text}: {e}");
+        }
     }
 }

@@ -207,6 +207,8 @@ impl Interp<'_> {
             "_VMAJOR" => 2.0,
             "_VMINOR" => 9.0,
             "_LINE" => st.line as f64,
+            // G33.1 (rigid tapping) is held as 331: its code in tenths already.
+            "_MOTION_MODE" if self.modal.motion == 331 => 331.0,
             "_MOTION_MODE" => f64::from(self.modal.motion * 10),
             "_PLANE" => f64::from(st.plane),
             "_CCOMP" => f64::from(st.ccomp),

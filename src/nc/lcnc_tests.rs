@@ -256,12 +256,8 @@ fn bad_lines_are_errors_with_columns() {
             "system parameter #5399 is not modelled",
         ),
         ("M98 P100\n", 1, 1, "use o-word subroutines"),
-        (
-            "G33.1 Z-10 K1\n",
-            1,
-            1,
-            "G33.1 (rigid tapping) is not simulated",
-        ),
+        // rs274: "K word missing with g33/g33.1" (and a G33.1 block repeats it).
+        ("G33.1 Z-10\n", 1, 1, "G33.1 needs K"),
         ("G0 U5\n", 1, 4, "`U` is not supported"),
         ("o9 call\n", 1, 1, "o9 is not defined"),
         ("G0 X1 X2\n", 1, 7, "more than one X word"),
@@ -366,4 +362,22 @@ fn g76_taper_words() {
     let th: Vec<&Move> = t.iter().filter(|m| m.kind == MoveKind::Thread).collect();
     assert_eq!(th.len(), 2 * 16);
     assert!((th[0].z_start - th[0].z - 20.0).abs() < 1e-9);
+}
+
+/// G33.1's refusals: K not positive (rs274 passes it to motion: vpcut refuses it at K's
+/// column), a tap along X only (no travel on the spindle axis); a block of no length runs
+/// and moves nothing (rs274 prints its RIGID_TAP).
+#[test]
+fn rigid_tap_refusals() {
+    for (text, col, want) in [
+        ("G0 X0 Z5\nM3\nG33.1 Z-10 K-1\n", 12, "must be positive"),
+        ("G0 X0 Z5\nM3\nG33.1 Z-10 K0\n", 12, "must be positive"),
+        ("G0 X0 Z5\nM3\nG33.1 X4 K1\n", 1, "along X only"),
+    ] {
+        let e = run(text).unwrap_err();
+        assert_eq!((e.line, e.col), (3, col), "{text}: {e}");
+        assert!(e.message.contains(want), "{text}: {e}");
+    }
+    let m = run("G0 X0 Z5\nM3\nG33.1 Z5 K1\n").unwrap();
+    assert_eq!(m.len(), 1);
 }

@@ -417,7 +417,7 @@ impl Interp<'_> {
                 Ok((tenth / 10.0) as u32)
             };
             // G codes with a decimal that vpcut knows (G28.1, G30.1, G59.1..G59.3, G61.1,
-            // G90.1, G91.1, G92.1..G92.3, and G33.1/G38.n to refuse them by name) come as
+            // G90.1, G91.1, G92.1..G92.3, G33.1, and G38.n to refuse it by name) come as
             // `DECIMAL_G + tenths` (see `motion::decimal_g`).
             let g_code = |v: f64| -> Result<u32, Fail> {
                 let tenth = (v * 10.0).round();

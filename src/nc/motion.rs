@@ -19,6 +19,17 @@ pub(super) fn g_number(g: u32) -> f64 {
     }
 }
 
+/// The way back of a tap that went in with `inward` for `revs` spindle revolutions: the
+/// same helix with the spindle reversed. The spindle has turned `revs` past the phase it
+/// started at; reversed, the angle past the index counts the other way, so the way back
+/// starts at minus that (mod 360).
+pub(super) fn tap_back(inward: Sync, revs: f64) -> Sync {
+    Sync {
+        angle: (-(inward.angle + 360.0 * revs)).rem_euclid(360.0),
+        ..inward
+    }
+}
+
 /// How far an arc's end may lie off the circle through its start (mm of radius).
 pub(super) const ARC_TOLERANCE: f64 = 0.002;
 
@@ -111,6 +122,8 @@ impl Interp<'_> {
                     self.frames.work = (g - DECIMAL_G - 591) as usize + 6;
                 }
                 0..=3 | 32 | 33 | 34 | 35 => self.modal.motion = g,
+                // LinuxCNC G33.1 (rigid tapping, modal like G33): `lc_rigid_tap`.
+                g if lcnc && g == DECIMAL_G + 331 => self.modal.motion = 331,
                 // Siemens 840D rigid tapping (`siemens_840d`): thread moves, lead K.
                 331 | 332 if self.cfg.s840 => self.modal.motion = g,
                 // G92 is the threading cycle on FANUC/GSK lathes, an offset on LinuxCNC.
@@ -349,6 +362,10 @@ impl Interp<'_> {
             let (kind, lead, change, angle) = match (self.cfg.dialect, self.modal.motion) {
                 (_, 0) => (MoveKind::Rapid, None, None, None),
                 (_, 1) => (MoveKind::Feed, None, None, None),
+                (Dialect::Linuxcnc, 331) => {
+                    self.lc_rigid_tap(w, prog, pc, (x, z), scale)?;
+                    return Ok(if end { Step::End } else { Step::Next });
+                }
                 (Dialect::Linuxcnc, 33) => {
                     let k = val("K").ok_or((1, "G33 needs K (the pitch)".to_string()))? * scale;
                     // rs274/LinuxCNC: K is the distance per revolution along the programmed
@@ -364,6 +381,11 @@ impl Interp<'_> {
                         k
                     };
                     (MoveKind::Thread, Some(lead), Some(0.0), Some(0.0))
+                }
+                // GSK 980TDc G33: the Z tapping cycle (`gsk_tap`).
+                (Dialect::Fanuc, 33) if self.cfg.gsk => {
+                    self.gsk_tap(w, prog, pc, (x, z), scale)?;
+                    return Ok(if end { Step::End } else { Step::Next });
                 }
                 (Dialect::Fanuc, 34) if self.cfg.gsk => {
                     return self.gsk_g34(w, prog, pc, x, z, scale);
@@ -443,6 +465,159 @@ impl Interp<'_> {
             done?;
         }
         Ok(if end { Step::End } else { Step::Next })
+    }
+
+    /// LinuxCNC `G33.1 X Z K` (rigid tapping, rs274's `RIGID_TAP(x, y, z)` canon call;
+    /// LinuxCNC manual, G33.1): from the current point, at an index pulse, a move synchronised
+    /// to the spindle at K per revolution along the path to the end point; there the spindle
+    /// reverses and the tap goes back along the same line, still synchronised (the same
+    /// groove), to where it started; the spindle direction is then restored and the block
+    /// ends at its start point (rs274's next incremental move counts from there). The
+    /// overtravel while the spindle stops and reverses (machine dynamics, not in the
+    /// canon) is not modelled. K is the distance per revolution along the path, as G33's:
+    /// the z lead is K |dz| / path. A tap off the spindle axis (X not 0) or along a slope is
+    /// run as LinuxCNC runs it (its interpreter accepts any end point): the two thread
+    /// moves lie where the control puts them. `I` (the return's speed multiplier, LinuxCNC
+    /// 2.9) changes no path and is not read. K must be positive.
+    fn lc_rigid_tap(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        end: (f64, f64),
+        scale: f64,
+    ) -> Result<(), Fail> {
+        let &(k, col) = w
+            .vals
+            .get("K")
+            .ok_or((1, "G33.1 needs K (the tap's pitch)".to_string()))?;
+        if k <= 0.0 || !k.is_finite() {
+            return Err((
+                col,
+                format!("G33.1 with K{k}: the tap's pitch must be positive"),
+            ));
+        }
+        let k = k * scale;
+        let start = (self.x, self.z);
+        let (dr, dz) = ((end.0 - start.0) / 2.0, end.1 - start.1);
+        let path = dr.hypot(dz);
+        if path == 0.0 {
+            // rs274 prints the call; nothing moves.
+            return Ok(());
+        }
+        if dz == 0.0 {
+            return Err((
+                1,
+                "G33.1 along X only: a tap needs travel along Z (the spindle axis)".into(),
+            ));
+        }
+        let lead = k * dz.abs() / path;
+        let inward = Sync {
+            lead,
+            change: 0.0,
+            angle: 0.0,
+        };
+        // At the bottom the spindle has turned path / K revolutions; reversed, the angle
+        // past the index counts the other way, so the way back (the same helix) starts at
+        // minus that.
+        let back = tap_back(inward, path / k);
+        let spindle = self.modal.spindle;
+        self.emit(prog, pc, MoveKind::Thread, start, end, Some(inward));
+        self.modal.spindle = match spindle {
+            Spindle::Cw => Spindle::Ccw,
+            Spindle::Ccw => Spindle::Cw,
+        };
+        self.emit(prog, pc, MoveKind::Thread, end, start, Some(back));
+        self.modal.spindle = spindle;
+        // The final placement is unsynchronised: the next thread block waits for the index.
+        self.thread.chain_end = None;
+        (self.x, self.z) = start;
+        Ok(())
+    }
+
+    /// A tap on the axis at diameter `x`, `levels` = (from, R point, bottom, return) Z: a
+    /// rapid from `from` to the R point, the tap in to the bottom (lead `lead`, spindle as
+    /// programmed, at an index pulse), back to the R point with the spindle reversed in the
+    /// same groove (`tap_back`), the spindle restored, a rapid to the return level. Moves of
+    /// no length are left out.
+    pub(super) fn tap_on_axis(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        x: f64,
+        levels: (f64, f64, f64, f64),
+        lead: f64,
+    ) {
+        let (from, r, bottom, ret) = levels;
+        if from != r {
+            self.emit(prog, pc, MoveKind::Rapid, (x, from), (x, r), None);
+        }
+        let inward = Sync {
+            lead,
+            change: 0.0,
+            angle: 0.0,
+        };
+        let spindle = self.modal.spindle;
+        self.emit(
+            prog,
+            pc,
+            MoveKind::Thread,
+            (x, r),
+            (x, bottom),
+            Some(inward),
+        );
+        self.modal.spindle = match spindle {
+            Spindle::Cw => Spindle::Ccw,
+            Spindle::Ccw => Spindle::Cw,
+        };
+        let back = tap_back(inward, (bottom - r).abs() / lead);
+        self.emit(prog, pc, MoveKind::Thread, (x, bottom), (x, r), Some(back));
+        self.modal.spindle = spindle;
+        if r != ret {
+            self.emit(prog, pc, MoveKind::Rapid, (x, r), (x, ret), None);
+        }
+        self.thread.chain_end = None;
+        (self.x, self.z) = (x, ret);
+    }
+
+    /// GSK 980TDc `G33 Z(W) F(I)` (the Z tapping cycle, GSK 980TDc manual "G33 Z axis
+    /// tapping cycle"): from the current point the tap goes in to Z at F per revolution (I:
+    /// threads per inch), the spindle stops and reverses at the bottom and the tap comes back
+    /// to the start point, where the spindle is restored; on the spindle axis only (X 0).
+    fn gsk_tap(
+        &mut self,
+        w: &Words,
+        prog: &Program,
+        pc: usize,
+        end: (f64, f64),
+        scale: f64,
+    ) -> Result<(), Fail> {
+        let lead = match (w.vals.get("F"), w.vals.get("I")) {
+            (Some(&(f, col)), _) if f <= 0.0 => {
+                return Err((col, format!("G33 F{f}: the tap's pitch must be positive")))
+            }
+            (Some(&(f, _)), _) => f * scale,
+            (None, Some(&(i, col))) if i <= 0.0 => {
+                return Err((col, format!("G33 I{i}: threads per inch must be positive")))
+            }
+            (None, Some(&(i, _))) => 25.4 / i,
+            (None, None) => {
+                return Err((1, "G33 needs F (the pitch) or I (threads per inch)".into()))
+            }
+        };
+        if end.0 != self.x || self.x.abs() > 1e-9 {
+            return Err((
+                1,
+                "G33 tapping off the spindle axis (X not 0) or with an X move is not modelled"
+                    .into(),
+            ));
+        }
+        if end.1 == self.z {
+            return Ok(());
+        }
+        let z0 = self.z;
+        self.tap_on_axis(prog, pc, self.x, (z0, z0, end.1, z0), lead);
+        Ok(())
     }
 
     /// A feed move (G01, G02/G03, the feed legs of G90/G94) needs a positive feed: with F0,

@@ -123,6 +123,25 @@ pub(super) struct ThreadState {
     pub(super) chain_end: Option<(f64, f64)>,
     /// The multiple repetitive cycles' (G70..G75) first-block data.
     pub(super) cycles: super::cycles::CycleSetup,
+    /// FANUC/GSK rigid tapping (M29, G84).
+    pub(super) tap: TapState,
+}
+
+/// FANUC/GSK rigid tapping's modal state (`fanuc::g84`).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct TapState {
+    /// M29 given: the next G84 taps rigidly (the spindle position-synchronised).
+    pub(super) rigid: bool,
+    /// While G84 is modal: the initial level (the Z where the cycle began).
+    pub(super) initial: Option<f64>,
+    /// The modal R (from the initial level to the R point, mm, signed) and hole bottom Z.
+    pub(super) r: Option<f64>,
+    /// The modal hole bottom (Z, mm in the job's frame).
+    pub(super) bottom: Option<f64>,
+    /// The group-01 motion before G84 (G80 restores it).
+    pub(super) before: u32,
+    /// G-code systems B/C: G99 returns to the R point (G98, the default: initial level).
+    pub(super) to_r: bool,
 }
 
 /// FANUC and Siemens variable stores (LinuxCNC's are in [`linuxcnc::Lcnc`]).
@@ -223,6 +242,7 @@ impl<'l> Interp<'l> {
                 runout: (None, None),
                 chain_end: None,
                 cycles: Default::default(),
+                tap: Default::default(),
             },
             vars: Vars {
                 common: HashMap::new(),

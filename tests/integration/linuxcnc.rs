@@ -269,6 +269,9 @@ struct CanonMove {
     /// Revolutions of the spindle since the synchronised motion began (the phase at the
     /// move's start): 0 after a traverse; continuous over back-to-back synchronised feeds.
     revs: f64,
+    /// The spindle turns clockwise (M03) during the move: the last START_SPINDLE_*, the
+    /// other way on a rigid tap's way back.
+    cw: bool,
 }
 
 /// Every non-zero motion of a canon file. Lengths are divided by `scale` (the program's
@@ -279,6 +282,7 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
     let mut mm = 1.0;
     let mut pitch: Option<f64> = None;
     let mut revs = 0.0;
+    let mut cw = true;
     // rs274 prints points in the current frame: the work offset and G92 (radius, program
     // units) are added back so points are machine points, as vpcut's are.
     let (mut g5x, mut g92) = ([0.0; 2], [0.0; 2]);
@@ -307,8 +311,44 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                 to: [xb, zb],
                 path_lead: None,
                 revs: 0.0,
+                cw,
             });
             (x, z) = (xb, zb);
+        } else if line.contains("START_SPINDLE_CLOCKWISE(") {
+            cw = true;
+        } else if line.contains("START_SPINDLE_COUNTERCLOCKWISE(") {
+            cw = false;
+        } else if line.contains("RIGID_TAP(") {
+            // LinuxCNC manual, G33.1: from the current point, at an index pulse, a move
+            // synchronised at the pitch to the end point; the spindle reverses and the tap
+            // comes back along the same line, still synchronised, to the start; the spindle
+            // is restored and a last unsynchronised move places the tool at the start
+            // (rs274's next position). The spindle's overtravel is machine dynamics (left
+            // out). The way back starts at the phase the way in ended at.
+            let v = args();
+            let xb = (v[0] + g5x[0] + g92[0]) * mm / scale;
+            let zb = (v[2] + g5x[1] + g92[1]) * mm / scale;
+            let p = pitch.expect("RIGID_TAP inside START_SPEED_FEED_SYNC");
+            let path = (xb - x).hypot(zb - z);
+            if path > 0.0 {
+                out.push(CanonMove {
+                    rapid: false,
+                    from: [x, z],
+                    to: [xb, zb],
+                    path_lead: Some(p),
+                    revs: 0.0,
+                    cw,
+                });
+                out.push(CanonMove {
+                    rapid: false,
+                    from: [xb, zb],
+                    to: [x, z],
+                    path_lead: Some(p),
+                    revs: path / p,
+                    cw: !cw,
+                });
+            }
+            revs = 0.0;
         } else if line.contains("USE_LENGTH_UNITS(CANON_UNITS_INCHES)") {
             mm = 25.4;
         } else if line.contains("USE_LENGTH_UNITS(CANON_UNITS_MM)") {
@@ -335,6 +375,7 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                     to: [xb, zb],
                     path_lead,
                     revs,
+                    cw,
                 });
                 if let Some(p) = path_lead {
                     revs += (xb - x).hypot(zb - z) / p;
@@ -523,4 +564,73 @@ fn corpus_matches_linuxcnc_move_for_move() {
         names.len(),
         failures.join("\n")
     );
+}
+
+/// Issue 17: LinuxCNC's rigid tapping `G33.1` against rs274 (`tests/data/linuxcnc/rigid-tap/`,
+/// scaled as `random/`: x1000 in mm, x10000 in inch): 7 programs (pitches 0.8 to 2.5 mm and
+/// 1/20 in, depths of whole and broken turns, G20/G21, G7/G8, M03 and M04, towards -Z and
+/// +Z, a work offset, modal G33.1 repeated, G33 threads before and after, off the axis and
+/// along a slope). Every motion move for move, each `RIGID_TAP` as its two synchronised
+/// moves (see `canon_moves`): ends to 1e-6 mm, z lead K |dz| / path, the spindle direction
+/// (reversed on the way back) and the spindle phase: 0 at the index pulse on the way in;
+/// on the way back the spindle, turned `path / K` revolutions, counts its angle past the
+/// index the other way: `-360 path / K` mod 360.
+#[test]
+fn rigid_tapping_matches_linuxcnc() {
+    let dir = root().join("tests/data/linuxcnc/rigid-tap");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            name.strip_suffix(".ngc").map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    assert!(names.len() >= 7, "{names:?}");
+    let mut n_taps = 0;
+    for name in &names {
+        let ngc = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+        let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
+        let scale = if ngc.contains("G20") { 10000.0 } else { 1000.0 };
+        let want = canon_moves(&canon, scale);
+        let src = Source {
+            name: format!("{name}.ngc"),
+            text: ngc,
+        };
+        let moves = interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(moves.len(), want.len(), "{name}: {moves:#?}\n{want:#?}");
+        for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
+            let got = [
+                m.x_start / 2.0 / scale,
+                m.z_start / scale,
+                m.x_dia / 2.0 / scale,
+                m.z / scale,
+            ];
+            let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
+            let at = format!("{name} move {k}: {m:?}\n   vs rs274 {w:?}");
+            assert!((0..4).all(|c| (got[c] - exp[c]).abs() < 1e-6), "{at}");
+            assert_eq!(m.kind == MoveKind::Rapid, w.rapid, "{at}");
+            match w.path_lead {
+                Some(p) => {
+                    let path = (w.to[0] - w.from[0]).hypot(w.to[1] - w.from[1]);
+                    let dz = (w.to[1] - w.from[1]).abs();
+                    assert_eq!(m.kind, MoveKind::Thread, "{at}");
+                    let lead = m.lead.unwrap() / scale;
+                    assert!((lead - p * dz / path).abs() < 1e-9, "{at}");
+                    assert_eq!(m.spindle == vpcut::Spindle::Cw, w.cw, "{at}");
+                    // No G33 here continues another synchronised move: a phase past 0 is a
+                    // tap's way back, counted the other way.
+                    let phase = (-w.revs * 360.0).rem_euclid(360.0);
+                    let d = (m.sync_angle_deg.unwrap() - phase).rem_euclid(360.0);
+                    assert!(d.min(360.0 - d) < 1e-6, "{at}");
+                    if w.revs > 0.0 {
+                        n_taps += 1;
+                    }
+                }
+                None => assert_ne!(m.kind, MoveKind::Thread, "{at}"),
+            }
+        }
+    }
+    assert_eq!(n_taps, 9);
 }
