@@ -434,13 +434,22 @@ impl Interp<'_> {
                     ))
                 }
             };
-            let sync = lead.map(|lead| Sync {
+            let mut sync = lead.map(|lead| Sync {
                 lead,
                 change: change.unwrap_or(0.0),
                 angle: angle.unwrap_or(0.0),
             });
-            // G332, the tap's way out: the spindle turns the other way.
+            // G332, the tap's way out: the spindle turns the other way, in the groove the
+            // G331 before it cut (the spindle stays in position control between them).
             let reverse = self.cfg.s840 && self.modal.motion == 332;
+            let tap_from = self.z;
+            if reverse {
+                if let (Some(s), Some((inward, revs))) =
+                    (sync.as_mut(), self.thread.tap.g331.take())
+                {
+                    s.angle = tap_back(inward, revs).angle;
+                }
+            }
             if reverse {
                 self.modal.spindle = match self.modal.spindle {
                     Spindle::Cw => Spindle::Ccw,
@@ -463,6 +472,9 @@ impl Interp<'_> {
                 };
             }
             done?;
+            if self.cfg.s840 && self.modal.motion == 331 {
+                self.thread.tap.g331 = sync.map(|s| (s, (self.z - tap_from).abs() / s.lead));
+            }
         }
         Ok(if end { Step::End } else { Step::Next })
     }

@@ -282,13 +282,15 @@ impl Interp<'_> {
             Some(sync),
         );
         self.modal.spindle = tap_out;
+        // Back in the groove the way in cut: its phase counted the other way.
+        let back = super::motion::tap_back(sync, (z(dp) - safe).abs() / lead);
         self.emit(
             prog,
             pc,
             MoveKind::Thread,
             (x, z(dp)),
             (x, safe),
-            Some(sync),
+            Some(back),
         );
         self.modal.spindle = spindle;
         if z(rtp) != safe {

@@ -328,6 +328,20 @@ fn rigid_tapping_is_thread_moves_on_the_spindle_axis() {
     assert_eq!(t[0].spindle, crate::model::helix::Spindle::Cw);
     assert_eq!(t[1].spindle, crate::model::helix::Spindle::Ccw);
     assert!(t.iter().all(|m| m.x_dia == 0.0 && m.x_start == 0.0));
+    // 20 turns in: the way back starts where the way in did (phase 0).
+    assert_eq!(
+        (t[0].sync_angle_deg, t[1].sync_angle_deg),
+        (Some(0.0), Some(0.0))
+    );
+    // 25/1.5 = 16 2/3 turns in end at 240 deg; the reversed spindle counts the other way,
+    // so G332 comes back in the same groove at -240 = 120 deg.
+    let moves = run("G0 X0 Z5\nSPOS=0\nG331 Z-20 K1.5 S400\nG332 Z5 K1.5\nM30\n").unwrap();
+    let t = threads(&moves);
+    assert!(
+        (t[1].sync_angle_deg.unwrap() - 120.0).abs() < 1e-9,
+        "{:?}",
+        t[1]
+    );
 }
 
 /// CYCLE84 (rigid tapping, Cycles manual "CYCLE84"): RTP 10, RFP 0, SDIS 2, DP -18,
@@ -350,6 +364,13 @@ fn cycle84_taps_on_the_axis() {
             (MoveKind::Thread, -18.0, 2.0, Some(1.5), Ccw),
             (MoveKind::Rapid, 2.0, 10.0, None, Cw),
         ]
+    );
+    // 20 mm at 1.5 = 13 1/3 turns end at 120 deg: back at -120 = 240 deg, in the groove.
+    assert_eq!(m[2].sync_angle_deg, Some(0.0));
+    assert!(
+        (m[3].sync_angle_deg.unwrap() - 240.0).abs() < 1e-9,
+        "{:?}",
+        m[3]
     );
     let m = run("G0 X0 Z5 M3\nCYCLE84(5,0,1,,12,0,3,-8,,0,300,300)\n").unwrap();
     let t = threads(&m);

@@ -142,6 +142,9 @@ pub(super) struct TapState {
     pub(super) before: u32,
     /// G-code systems B/C: G99 returns to the R point (G98, the default: initial level).
     pub(super) to_r: bool,
+    /// Siemens 840D: the last G331's way in (its sync and revolutions), so that the G332
+    /// after it comes back in the same groove.
+    pub(super) g331: Option<(super::Sync, f64)>,
 }
 
 /// FANUC and Siemens variable stores (LinuxCNC's are in [`linuxcnc::Lcnc`]).
