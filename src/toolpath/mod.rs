@@ -107,6 +107,16 @@ pub(crate) fn lathe_passes(
         .filter(|m| m.kind == MoveKind::Thread)
         .filter(goes)
     {
+        // A thread move along the spindle axis is a tap's (G84, G33.1, G331/G332, CYCLE84,
+        // G32 at X0): a threading tool's pass there would cut the whole part away.
+        if m.x_start.abs() < 1e-9 && m.x_dia.abs() < 1e-9 {
+            return Err(fail(
+                m,
+                "rigid tapping (a thread move along the spindle axis, X0) needs a tap, which \
+                 vpcut does not simulate yet; `vpcut toolpath` lists its moves"
+                    .to_string(),
+            ));
+        }
         let tool = match m.tool {
             Some(id) => tools.iter().position(|t| t.id == id),
             None if tools.len() == 1 => Some(0),

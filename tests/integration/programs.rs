@@ -193,6 +193,52 @@ fn g55_work_offset_shifts_a_g32_pass() {
     );
 }
 
+/// Rigid tapping runs in the interpreter (its moves are thread moves along the axis) but a
+/// job that simulates it is refused at the tapping block, whatever the code: a threading
+/// tool's pass at X0 would cut the whole part away (vpcut has no tap tool yet).
+#[test]
+fn tapping_blocks_are_refused_by_the_simulation_at_their_line() {
+    let cases = [
+        (
+            "fanuc",
+            "G0 X60 Z3\nG32 Z-20 F2\nG0 X0 Z5\nM29 S300\nG84 Z-10 R-2 F1.5\nG80\nM30\n",
+            5,
+        ),
+        (
+            "fanuc",
+            "G0 X60 Z3\nG32 Z-20 F2\nG0 X0 Z5\nG32 Z-10 F1.5\nM30\n",
+            4,
+        ),
+        (
+            "linuxcnc",
+            "G7 G0 X60 Z3\nG33 Z-20 K2\nG0 X0 Z5\nG33.1 Z-10 K1.5\nM2\n",
+            4,
+        ),
+        (
+            "siemens-840d",
+            "G0 X60 Z3\nG33 Z-20 K2\nG0 X0 Z5\nSPOS=0\nG331 Z-10 K1.5 S300\nG332 Z5 K1.5\nM30\n",
+            5,
+        ),
+    ];
+    for (dialect, prog, line) in cases {
+        let d = format!("\"{dialect}\"");
+        let err = program_job(prog, &[("dialect", &d)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("rigid tapping") && err.contains(&format!("T.NC:{line}")),
+            "{dialect}: {err}"
+        );
+        // Without the tapping blocks the same program simulates its thread.
+        let cut: String = prog.lines().take(2).map(|l| format!("{l}\n")).collect();
+        assert_eq!(
+            program_job(&cut, &[("dialect", &d)]).unwrap().passes.len(),
+            1,
+            "{dialect}"
+        );
+    }
+}
+
 /// `block_skip = false` runs the `/` blocks; bad `[program]` values name their key.
 #[test]
 fn program_settings_block_skip_and_errors() {
