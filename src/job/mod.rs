@@ -231,7 +231,7 @@ impl Job {
         load: &dyn Fn(&str) -> Option<String>,
         cx: &Ctx,
     ) -> Result<Job, JobError> {
-        let fail = |e: ProgramError| program_error(e, cx);
+        let fail = |e: ProgramError| program_error(e, cx, load);
         match pending {
             Pending::Lathe(program) => {
                 let path = toolpath::interpret(&program, load).map_err(fail)?;
@@ -324,8 +324,8 @@ impl Job {
 
 /// An error of the program stage as a job error: the interpreter's errors and those about a
 /// move as the program's (a move's about its block as a whole: column 0), the others at the
-/// job's keys.
-fn program_error(e: ProgramError, cx: &Ctx) -> JobError {
+/// job's keys. A move's error shows its block's line, read again through `load`.
+fn program_error(e: ProgramError, cx: &Ctx, load: &dyn Fn(&str) -> Option<String>) -> JobError {
     match e {
         ProgramError::Nc(nc) => JobError::Program(nc),
         ProgramError::Move {
@@ -333,11 +333,13 @@ fn program_error(e: ProgramError, cx: &Ctx) -> JobError {
             line,
             message,
         } => JobError::Program(Box::new(NcError {
+            snippet: load(&file)
+                .and_then(|t| t.lines().nth(line.wrapping_sub(1)).map(str::to_string))
+                .unwrap_or_default(),
             file,
             line,
             col: 0,
             message,
-            snippet: String::new(),
             stack: Vec::new(),
             hint: None,
             others: Vec::new(),
