@@ -433,19 +433,6 @@ impl<'a> Comparer<'a> {
             .map(|i| ideal.segment_flank(i))
             .collect();
         let flats: Vec<Option<bool>> = (0..kinds.len()).map(|i| ideal.flat(i)).collect();
-        // Each segment's inverse squared length (0 for a point), for the pruning's feet.
-        let inv: Vec<f64> = ideal
-            .verts
-            .windows(2)
-            .map(|w| {
-                let l = (w[1].vec() - w[0].vec()).length_squared();
-                if l > 0.0 {
-                    1.0 / l
-                } else {
-                    0.0
-                }
-            })
-            .collect();
         let whole: Vec<bool> = (0..kinds.len())
             .map(|i| ideal.verts[i].z >= lo && ideal.verts[i + 1].z <= hi)
             .collect();
@@ -566,9 +553,7 @@ impl<'a> Comparer<'a> {
             for f in 0..4 {
                 floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
             }
-            if self.prunes()
-                && cannot_win(&ideal, (&kinds, &inv), seg, (z, h_cut), gap.abs(), &floor)
-            {
+            if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
                 continue;
             }
             let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
@@ -605,28 +590,13 @@ impl<'a> Comparer<'a> {
 }
 
 /// Whether a point at `z` in segment `seg` with radial gap `g` to the ideal cannot beat the
-/// maxima `floor` (per flank) on whichever flank [`ColumnIdeal::distance_near`] gives it
-/// (an earlier point wins a tie). `kinds` and `inv`: each segment's flank and inverse
-/// squared length.
-///
-/// Its normal distance `d` is at most `g` (the distance's bound) and at most `u`, its
-/// distance to the segment holding `z` or to either neighbour. The distance picks some
-/// segment `i` nearest to it and names the flank `flank_of(i, end)` (the segment's own,
-/// or at a vertex that of a neighbour strictly nearer in direction, as the vertex rule
-/// decides), or falls back to the crest when no segment lies within `g`. So it cannot win
-/// when, for every segment within `u` along the axis: `u` is at most the floor of its own
-/// flank (were the vertex rule to give it a neighbour's flank, the neighbour holds the
-/// vertex, is as near, and is checked as a segment of its own); or its bounding box lies
-/// farther than `u`; or its distance is at most the floor of every flank the distance may
-/// give it: its own where the foot is inside, `flank_of(i, end)` where it is past an end,
-/// both where the foot is within 1e-9 of an end (where the distance's own rounding
-/// decides). Distances are compared squared with a margin (1e-8 relative, 1e-16 mm^2)
-/// above the rounding of the feet, so that the test stays on the safe side.
-///
-/// [`ColumnIdeal::distance_near`]: crate::model::thread::ColumnIdeal::distance_near
+/// maxima `floor` (per flank) on whichever flank it is nearest to: its normal distance is
+/// at most `g`, so the flank is that of a segment within `g` of it along the axis (or the
+/// crest, the distance's fallback), and it cannot win where `g` is at most that flank's
+/// maximum (an earlier point wins a tie).
 fn cannot_win(
     ideal: &crate::model::thread::ColumnIdeal,
-    (kinds, inv): (&[Flank], &[f64]),
+    kinds: &[Flank],
     seg: usize,
     (z, h): (f64, f64),
     g: f64,
@@ -637,67 +607,26 @@ fn cannot_win(
     }
     let v = &ideal.verts;
     let n = kinds.len();
-    let p = DVec2::new(z, h);
     // The distance falls back to the crest only when no segment lies within `g`: the
     // one it starts from (the distance's first segment) settles that.
     let first = seg.min(n - 1);
     if g > floor[Flank::Crest.index()]
-        && crate::model::geom::segment_distance2(p, v[first].vec(), v[first + 1].vec()) > g * g
+        && crate::model::geom::segment_distance2(
+            DVec2::new(z, h),
+            v[first].vec(),
+            v[first + 1].vec(),
+        ) > g * g
     {
         return false;
     }
-    // The squared distance to segment `i` and its foot's parameter (before clamping).
-    let foot = |i: usize| {
-        let (a, d) = (v[i].vec(), v[i + 1].vec() - v[i].vec());
-        let t = (p - a).dot(d) * inv[i];
-        ((p - (a + t.clamp(0.0, 1.0) * d)).length_squared(), t)
-    };
-    let margin = |d2: f64| d2 * (1.0 + 1e-8) + 1e-16;
-    // A bound of the distance (squared, with the margin): the bound itself, or the
-    // distance to the segment holding `z` or to a neighbour.
-    let mut u2 = foot(first).0.min(g * g);
-    if first > 0 {
-        u2 = u2.min(foot(first - 1).0);
-    }
-    if first + 1 < n {
-        u2 = u2.min(foot(first + 1).0);
-    }
-    let reach2 = margin(u2);
-    let floor2 = floor.map(|f| f * f);
-    if floor2.iter().all(|&f| reach2 <= f) {
-        return true;
-    }
-    let beyond = |x: f64| x > 0.0 && x * x > reach2;
-    // Whether segment `i` (within reach along the axis) can give a win.
-    let wins = |i: usize| {
-        if reach2 <= floor2[kinds[i].index()] {
-            return false;
-        }
-        let (a, b) = (v[i], v[i + 1]);
-        if beyond((a.z - z).max(z - b.z)) || beyond((a.h.min(b.h) - h).max(h - a.h.max(b.h))) {
-            return false;
-        }
-        let (d2, t) = foot(i);
-        let d2 = margin(d2);
-        let own = || d2 > floor2[kinds[i].index()];
-        let at = |end: i8| d2 > floor2[ideal.flank_of(i, end, z, h).index()];
-        const E: f64 = 1e-9;
-        if t > E && t < 1.0 - E {
-            own()
-        } else if t < -E {
-            at(-1)
-        } else if t > 1.0 + E {
-            at(1)
-        } else {
-            own() || at(if t < 0.5 { -1 } else { 1 })
-        }
-    };
+    // A margin over `g`: candidates are a superset of the segments the distance can pick.
+    let reach = g * (1.0 + 1e-9) + 1e-12;
     let mut i = first;
     while i < n {
-        if beyond(v[i].z - z) {
+        if v[i].z - z > reach {
             break;
         }
-        if wins(i) {
+        if g > floor[kinds[i].index()] {
             return false;
         }
         i += 1;
@@ -705,10 +634,10 @@ fn cannot_win(
     let mut i = first;
     while i > 0 {
         i -= 1;
-        if beyond(z - v[i + 1].z) {
+        if z - v[i + 1].z > reach {
             break;
         }
-        if wins(i) {
+        if g > floor[kinds[i].index()] {
             return false;
         }
     }
