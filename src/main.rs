@@ -322,7 +322,8 @@ impl Pictures {
 struct PlanArgs {
     /// The job file (TOML) with `[process] kind = "plan"`; see docs/job-format.md.
     job: PathBuf,
-    /// The controller: `fanuc`, `gsk980`, `siemens-802d`, `siemens-840d` or `linuxcnc`.
+    /// The controller: `fanuc`, `gsk980`, `siemens-802d`, `siemens-840d` (the 802D program,
+    /// which the 840D runs unchanged) or `linuxcnc`.
     #[arg(long)]
     dialect: String,
     /// FANUC: the compact Custom Macro B version (layer tables and WHILE loops).

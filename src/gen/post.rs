@@ -46,14 +46,16 @@ pub enum Post {
 }
 
 impl Post {
-    /// The post for a dialect name (`fanuc`, `gsk980`, `siemens-802d`, `linuxcnc`);
-    /// `macro_b` picks FANUC's macro version.
+    /// The post for a dialect name (`fanuc`, `gsk980`, `siemens-802d`, `linuxcnc`;
+    /// `siemens-840d` gets the 802D program, which the 840D runs unchanged); `macro_b` picks
+    /// FANUC's macro version.
     pub fn from_name(name: &str, macro_b: bool) -> Option<Post> {
         Some(match (Dialect::from_name(name)?, macro_b) {
             (Dialect::Fanuc, false) => Post::Fanuc,
             (Dialect::Fanuc, true) => Post::FanucMacro,
             (Dialect::Gsk980, false) => Post::Gsk980,
-            (Dialect::Siemens802d, false) => Post::Siemens802d,
+            // The 840D runs the 802D's programs unchanged (a superset).
+            (Dialect::Siemens802d | Dialect::Siemens840d, false) => Post::Siemens802d,
             (Dialect::Linuxcnc, false) => Post::Linuxcnc,
             _ => return None,
         })

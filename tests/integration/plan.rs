@@ -8,11 +8,14 @@ use crate::support::root;
 use vpcut::post::{self, Post};
 use vpcut::{simulate, Job, SimOptions, Verdict};
 
-const POSTS: [(Post, &str); 5] = [
+/// Each post and the dialect its program is read back in: the 802D's program also under the
+/// 840D (`--dialect siemens-840d` writes it, and the 840D runs it unchanged).
+const POSTS: [(Post, &str); 6] = [
     (Post::Fanuc, "fanuc"),
     (Post::FanucMacro, "fanuc"),
     (Post::Gsk980, "gsk980"),
     (Post::Siemens802d, "siemens-802d"),
+    (Post::Siemens802d, "siemens-840d"),
     (Post::Linuxcnc, "linuxcnc"),
 ];
 
@@ -47,6 +50,11 @@ fn assert_clean(what: &str, job: &Job) {
 fn planned_screws_round_trip_in_every_dialect_and_simulate_clean() {
     let plans = plans();
     assert_eq!(plans.len(), 6);
+    assert_eq!(
+        Post::from_name("siemens-840d", false),
+        Some(Post::Siemens802d)
+    );
+    assert_eq!(Post::from_name("siemens-840d", true), None);
     for (name, job) in &plans {
         let plan = job.plan.as_ref().expect("kind = plan");
         assert_eq!(job.passes, plan.passes());
