@@ -79,6 +79,14 @@ pub enum Spindle {
 }
 
 impl Spindle {
+    /// The other direction (M03 <-> M04): a tap's way out.
+    pub fn reversed(self) -> Spindle {
+        match self {
+            Spindle::Cw => Spindle::Ccw,
+            Spindle::Ccw => Spindle::Cw,
+        }
+    }
+
     /// +1 for clockwise, -1 for counter-clockwise: the sign with which the contact angle on
     /// the part *decreases* per revolution.
     pub fn sign(self) -> f64 {

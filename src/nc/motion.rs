@@ -451,10 +451,7 @@ impl Interp<'_> {
                 }
             }
             if reverse {
-                self.modal.spindle = match self.modal.spindle {
-                    Spindle::Cw => Spindle::Ccw,
-                    Spindle::Ccw => Spindle::Cw,
-                };
+                self.modal.spindle = self.modal.spindle.reversed();
             }
             let done = match sync {
                 Some(sync) => self.thread_block(w, prog, pc, (x, z), sync, scale),
@@ -466,10 +463,7 @@ impl Interp<'_> {
                 }
             };
             if reverse {
-                self.modal.spindle = match self.modal.spindle {
-                    Spindle::Cw => Spindle::Ccw,
-                    Spindle::Ccw => Spindle::Cw,
-                };
+                self.modal.spindle = self.modal.spindle.reversed();
             }
             done?;
             if self.cfg.s840 && self.modal.motion == 331 {
@@ -535,10 +529,7 @@ impl Interp<'_> {
         let back = tap_back(inward, path / k);
         let spindle = self.modal.spindle;
         self.emit(prog, pc, MoveKind::Thread, start, end, Some(inward));
-        self.modal.spindle = match spindle {
-            Spindle::Cw => Spindle::Ccw,
-            Spindle::Ccw => Spindle::Cw,
-        };
+        self.modal.spindle = spindle.reversed();
         self.emit(prog, pc, MoveKind::Thread, end, start, Some(back));
         self.modal.spindle = spindle;
         // The final placement is unsynchronised: the next thread block waits for the index.
@@ -578,10 +569,7 @@ impl Interp<'_> {
             (x, bottom),
             Some(inward),
         );
-        self.modal.spindle = match spindle {
-            Spindle::Cw => Spindle::Ccw,
-            Spindle::Ccw => Spindle::Cw,
-        };
+        self.modal.spindle = spindle.reversed();
         let back = tap_back(inward, (bottom - r).abs() / lead);
         self.emit(prog, pc, MoveKind::Thread, (x, bottom), (x, r), Some(back));
         self.modal.spindle = spindle;

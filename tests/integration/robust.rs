@@ -69,7 +69,7 @@ fn hostile_numbers_never_panic() {
 /// replaced at every 5th position by a hostile one interprets or fails cleanly.
 #[test]
 fn corrupted_programs_never_panic() {
-    use vpcut::{interpret, Dialect, Limits, Source};
+    use vpcut::{Dialect, Limits};
     let root = crate::support::root().join("scenes");
     let cases = [
         (
@@ -100,31 +100,7 @@ fn corrupted_programs_never_panic() {
     };
     let mut runs = 0;
     for (scene, file, dialect) in cases {
-        let dir = root.join(scene);
-        let text = std::fs::read_to_string(dir.join(file)).unwrap();
-        let chars: Vec<char> = text.chars().collect();
-        for (i, bad) in (0..chars.len())
-            .step_by(5)
-            .zip("[#=-X9 (;:/.".chars().cycle())
-        {
-            let mut c = chars.clone();
-            c[i] = bad;
-            let src = Source {
-                name: file.into(),
-                text: c.into_iter().collect(),
-            };
-            let load = |n: &str| {
-                std::fs::read_to_string(dir.join(n)).ok().map(|t| Source {
-                    name: n.into(),
-                    text: t,
-                })
-            };
-            let r = std::panic::catch_unwind(|| {
-                let _ = interpret(&src, dialect, &load, limits);
-            });
-            assert!(r.is_ok(), "{scene}/{file}: char {i} -> {bad:?} panicked");
-            runs += 1;
-        }
+        runs += corrupt_and_run(&root.join(scene), file, dialect, 5, "[#=-X9 (;:/.", limits);
     }
     assert!(runs > 300, "{runs}");
 }
@@ -135,7 +111,7 @@ fn corrupted_programs_never_panic() {
 /// moves or an error, never a panic.
 #[test]
 fn corrupted_corpus_programs_never_panic() {
-    use vpcut::{interpret, Dialect, Limits, Source};
+    use vpcut::{Dialect, Limits};
     let folders = [
         ("fanuc", Dialect::Fanuc),
         ("gsk", Dialect::Gsk980),
@@ -165,30 +141,51 @@ fn corrupted_corpus_programs_never_panic() {
         files.sort();
         for path in files {
             let name = path.file_name().unwrap().to_string_lossy().into_owned();
-            let chars: Vec<char> = std::fs::read_to_string(&path).unwrap().chars().collect();
-            for (i, bad) in (0..chars.len())
-                .step_by(3)
-                .zip("[#=-X9 (;:/.)]G,E".chars().cycle())
-            {
-                let mut c = chars.clone();
-                c[i] = bad;
-                let src = Source {
-                    name: name.clone(),
-                    text: c.into_iter().collect(),
-                };
-                let load = |n: &str| {
-                    std::fs::read_to_string(dir.join(n)).ok().map(|t| Source {
-                        name: n.into(),
-                        text: t,
-                    })
-                };
-                let r = std::panic::catch_unwind(|| {
-                    let _ = interpret(&src, dialect, &load, limits);
-                });
-                assert!(r.is_ok(), "{folder}/{name}: char {i} -> {bad:?} panicked");
-                runs += 1;
-            }
+            runs += corrupt_and_run(&dir, &name, dialect, 3, "[#=-X9 (;:/.)]G,E", limits);
         }
     }
     assert!(runs > 5000, "{runs}");
+}
+
+/// Run `file` (in `dir`, subprograms beside it) with every `step`-th character replaced in
+/// turn by one of `bad`, each variant under `catch_unwind`: a panic fails the test. Returns
+/// the number of variants run.
+fn corrupt_and_run(
+    dir: &std::path::Path,
+    file: &str,
+    dialect: vpcut::Dialect,
+    step: usize,
+    bad: &str,
+    limits: vpcut::Limits,
+) -> usize {
+    use vpcut::{interpret, Source};
+    let chars: Vec<char> = std::fs::read_to_string(dir.join(file))
+        .unwrap()
+        .chars()
+        .collect();
+    let mut runs = 0;
+    for (i, b) in (0..chars.len()).step_by(step).zip(bad.chars().cycle()) {
+        let mut c = chars.clone();
+        c[i] = b;
+        let src = Source {
+            name: file.into(),
+            text: c.into_iter().collect(),
+        };
+        let load = |n: &str| {
+            std::fs::read_to_string(dir.join(n)).ok().map(|t| Source {
+                name: n.into(),
+                text: t,
+            })
+        };
+        let r = std::panic::catch_unwind(|| {
+            let _ = interpret(&src, dialect, &load, limits);
+        });
+        assert!(
+            r.is_ok(),
+            "{}/{file}: char {i} -> {b:?} panicked",
+            dir.display()
+        );
+        runs += 1;
+    }
+    runs
 }
