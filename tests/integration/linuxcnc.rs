@@ -387,6 +387,46 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
     out
 }
 
+/// The reference programs of `dir` (`NAME.ngc` beside rs274's `NAME.canon`), sorted by
+/// name: the program as a source, rs274's moves and the scale its lengths were written in
+/// (x10000 for G20 programs, else x1000).
+fn reference_programs(dir: &std::path::Path) -> Vec<(String, Source, Vec<CanonMove>, f64)> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            name.strip_suffix(".ngc").map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    names
+        .into_iter()
+        .map(|name| {
+            let ngc = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
+            let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
+            let scale = if ngc.contains("G20") { 10000.0 } else { 1000.0 };
+            let want = canon_moves(&canon, scale);
+            let src = Source {
+                name: format!("{name}.ngc"),
+                text: ngc,
+            };
+            (name, src, want, scale)
+        })
+        .collect()
+}
+
+/// Whether a move's start and end (radii and z, unscaled) are rs274's to 1e-6.
+fn ends_match(m: &vpcut::Move, w: &CanonMove, scale: f64) -> bool {
+    let got = [
+        m.x_start / 2.0 / scale,
+        m.z_start / scale,
+        m.x_dia / 2.0 / scale,
+        m.z / scale,
+    ];
+    let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
+    (0..4).all(|c| (got[c] - exp[c]).abs() <= 1e-6)
+}
+
 /// Issue 17's proof: seeded random programs (`tests/data/linuxcnc/random/gen.py`, seed 17):
 /// 64 G76 cycles (taper modes L0..L3 in turn with E, Q, H, R, I/J/K, internal and external,
 /// G7 and G8, G20 and G21, towards -Z and +Z) and 32 programs of straight and tapered G33
@@ -397,32 +437,17 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
 /// starts (0 after a rapid; continued over back-to-back synchronised moves).
 #[test]
 fn random_g76_and_g33_match_linuxcnc_move_for_move() {
-    let dir = root().join("tests/data/linuxcnc/random");
-    let mut names: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .filter_map(|e| {
-            let name = e.unwrap().file_name().into_string().unwrap();
-            name.strip_suffix(".ngc").map(str::to_string)
-        })
-        .collect();
-    names.sort();
-    let count = |p: &str| names.iter().filter(|n| n.starts_with(p)).count();
+    let programs = reference_programs(&root().join("tests/data/linuxcnc/random"));
+    let count = |p: &str| programs.iter().filter(|(n, ..)| n.starts_with(p)).count();
     assert!(
         count("g76-") >= 60 && count("g33-") >= 30,
         "random programs missing"
     );
     let mut failures = Vec::new();
     let (mut n_moves, mut n_threads) = (0, 0);
-    for name in &names {
-        let ngc = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
-        let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
-        let scale = if ngc.contains("G20") { 10000.0 } else { 1000.0 };
-        let want = canon_moves(&canon, scale);
-        let src = Source {
-            name: format!("{name}.ngc"),
-            text: ngc,
-        };
-        let moves = match interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default()) {
+    for (name, src, want, scale) in &programs {
+        let scale = *scale;
+        let moves = match interpret(src, Dialect::Linuxcnc, &|_| None, Limits::default()) {
             Ok(m) => m,
             Err(e) => {
                 failures.push(format!("{name}: {e}"));
@@ -437,16 +462,9 @@ fn random_g76_and_g33_match_linuxcnc_move_for_move() {
             ));
             continue;
         }
-        for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
+        for (k, (m, w)) in moves.iter().zip(want).enumerate() {
             n_moves += 1;
-            let got = [
-                m.x_start / 2.0 / scale,
-                m.z_start / scale,
-                m.x_dia / 2.0 / scale,
-                m.z / scale,
-            ];
-            let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
-            let mut bad = (0..4).any(|c| (got[c] - exp[c]).abs() > 1e-6);
+            let mut bad = !ends_match(m, w, scale);
             bad |= (m.kind == MoveKind::Rapid) != w.rapid;
             if let Some(p) = w.path_lead {
                 let path = (w.to[0] - w.from[0]).hypot(w.to[1] - w.from[1]);
@@ -478,7 +496,7 @@ fn random_g76_and_g33_match_linuxcnc_move_for_move() {
         failures.is_empty(),
         "{} of {} programs differ from rs274:\n{}",
         failures.len(),
-        names.len(),
+        programs.len(),
         failures.join("\n")
     );
     assert!(n_moves > 3000 && n_threads > 1500, "{n_moves} {n_threads}");
@@ -577,39 +595,17 @@ fn corpus_matches_linuxcnc_move_for_move() {
 /// index the other way: `-360 path / K` mod 360.
 #[test]
 fn rigid_tapping_matches_linuxcnc() {
-    let dir = root().join("tests/data/linuxcnc/rigid-tap");
-    let mut names: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .filter_map(|e| {
-            let name = e.unwrap().file_name().into_string().unwrap();
-            name.strip_suffix(".ngc").map(str::to_string)
-        })
-        .collect();
-    names.sort();
-    assert!(names.len() >= 7, "{names:?}");
+    let programs = reference_programs(&root().join("tests/data/linuxcnc/rigid-tap"));
+    assert!(programs.len() >= 7, "{} programs", programs.len());
     let mut n_taps = 0;
-    for name in &names {
-        let ngc = std::fs::read_to_string(dir.join(format!("{name}.ngc"))).unwrap();
-        let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
-        let scale = if ngc.contains("G20") { 10000.0 } else { 1000.0 };
-        let want = canon_moves(&canon, scale);
-        let src = Source {
-            name: format!("{name}.ngc"),
-            text: ngc,
-        };
-        let moves = interpret(&src, Dialect::Linuxcnc, &|_| None, Limits::default())
+    for (name, src, want, scale) in &programs {
+        let scale = *scale;
+        let moves = interpret(src, Dialect::Linuxcnc, &|_| None, Limits::default())
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(moves.len(), want.len(), "{name}: {moves:#?}\n{want:#?}");
-        for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
-            let got = [
-                m.x_start / 2.0 / scale,
-                m.z_start / scale,
-                m.x_dia / 2.0 / scale,
-                m.z / scale,
-            ];
-            let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
+        for (k, (m, w)) in moves.iter().zip(want).enumerate() {
             let at = format!("{name} move {k}: {m:?}\n   vs rs274 {w:?}");
-            assert!((0..4).all(|c| (got[c] - exp[c]).abs() < 1e-6), "{at}");
+            assert!(ends_match(m, w, scale), "{at}");
             assert_eq!(m.kind == MoveKind::Rapid, w.rapid, "{at}");
             match w.path_lead {
                 Some(p) => {
