@@ -647,37 +647,11 @@ fn cannot_win(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::helix::{Helix, LeadLaw};
     use crate::model::thread::Side;
 
-    /// Seed 002's square equal-tooth screw (major 28, minor 22, pitch 7 + 1.5 t, tooth 3),
-    /// or with flank angles (`angles` deg) a trapezoid of the same pitches.
+    /// Seed 002's square (or trapezoid) equal-tooth screw.
     fn screw(side: Side, angles: f64) -> ThreadSpec {
-        let (root, crest) = match side {
-            Side::External => (11.0, 14.0),
-            Side::Internal => (14.0, 11.0),
-        };
-        ThreadSpec {
-            side,
-            root_radius: root,
-            crest_radius: crest,
-            pitch_radius: 12.5,
-            left_angle: angles.to_radians(),
-            right_angle: angles.to_radians(),
-            width: WidthRule::Tooth(3.0),
-            starts: 1,
-            helix: Helix {
-                z0: 0.0,
-                dir: -1.0,
-                law: LeadLaw {
-                    f: 7.0 - 0.75,
-                    k: 1.5,
-                },
-                theta0: 0.0,
-                spin: 1.0,
-            },
-            turns: 7.0,
-        }
+        crate::model::thread::seed002_screw(side, angles)
     }
 
     /// A small deterministic generator (64-bit LCG, the high bits).

@@ -741,33 +741,45 @@ impl ColumnIdeal {
     }
 }
 
+/// Seed 002's square equal-tooth screw (major 28, minor 22, pitch 7 + 1.5 t, tooth 3,
+/// 7 turns), or with flank angles (`angles` deg) a trapezoid of the same pitches: a fixture
+/// for the tests of the thread and of the comparison.
+#[cfg(test)]
+pub(crate) fn seed002_screw(side: Side, angles: f64) -> ThreadSpec {
+    let (root, crest) = match side {
+        Side::External => (11.0, 14.0),
+        Side::Internal => (14.0, 11.0),
+    };
+    ThreadSpec {
+        side,
+        root_radius: root,
+        crest_radius: crest,
+        pitch_radius: 12.5,
+        left_angle: angles.to_radians(),
+        right_angle: angles.to_radians(),
+        width: WidthRule::Tooth(3.0),
+        starts: 1,
+        helix: Helix {
+            z0: 0.0,
+            dir: -1.0,
+            law: crate::model::helix::LeadLaw {
+                f: 7.0 - 0.75,
+                k: 1.5,
+            },
+            theta0: 0.0,
+            spin: 1.0,
+        },
+        turns: 7.0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::model::helix::LeadLaw;
 
     fn square_equal_tooth() -> ThreadSpec {
-        ThreadSpec {
-            side: Side::External,
-            root_radius: 11.0,
-            crest_radius: 14.0,
-            pitch_radius: 12.5,
-            left_angle: 0.0,
-            right_angle: 0.0,
-            width: WidthRule::Tooth(3.0),
-            starts: 1,
-            helix: Helix {
-                z0: 0.0,
-                dir: -1.0,
-                law: LeadLaw {
-                    f: 7.0 - 0.75,
-                    k: 1.5,
-                },
-                theta0: 0.0,
-                spin: 1.0,
-            },
-            turns: 7.0,
-        }
+        seed002_screw(Side::External, 0.0)
     }
 
     #[test]
