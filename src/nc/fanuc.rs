@@ -923,14 +923,15 @@ impl Interp<'_> {
 }
 
 #[cfg(test)]
-mod tap_tests {
+pub(super) mod tap_tests {
     //! G84/M29 beyond the reviewed programs of `tests/data/nc/fanuc/tap-*`: every expected
     //! number derived by hand in the comments.
     use super::super::{
         interpret_with, Dialect, GcodeSystem, Move, MoveKind, NcError, Options, Settings, Source,
     };
 
-    fn run(text: &str, system: GcodeSystem) -> Result<Vec<Move>, NcError> {
+    /// Run `text` on the FANUC lathe in G-code system `system` (also `mrc_tests`'s runner).
+    pub(in crate::nc) fn run(text: &str, system: GcodeSystem) -> Result<Vec<Move>, NcError> {
         let src = Source {
             name: "T.NC".into(),
             text: text.into(),

@@ -249,20 +249,7 @@ fn cycles_in_gcode_systems_b_and_c_are_the_system_a_cycles() {
         )
     };
     let run_in = |system: GcodeSystem, text: &str| {
-        let src = Source {
-            name: "T.NC".into(),
-            text: text.into(),
-        };
-        let opts = Options {
-            settings: Settings {
-                gcode_system: system,
-                ..Settings::default()
-            },
-            ..Options::default()
-        };
-        interpret_with(&src, Dialect::Fanuc, &|_| None, &opts)
-            .unwrap_or_else(|e| panic!("{e}"))
-            .moves
+        super::fanuc::tap_tests::run(text, system).unwrap_or_else(|e| panic!("{e}"))
     };
     let a = run_in(GcodeSystem::A, &body([71, 70, 75, 75, 75]));
     assert!(a.len() > 20);
