@@ -344,20 +344,7 @@ fn colours_follow_the_report() {
     let d = &out.report.deviation;
     for (at, want) in [(&d.max_gouge_at, "blue"), (&d.max_leftover_at, "red")] {
         let at = at.as_ref().unwrap();
-        let th = at.angle_deg.to_radians();
-        // The nearest vertex on the cut surface (in the axial plane of that angle).
-        let (k, _) = scene
-            .stock
-            .positions
-            .iter()
-            .enumerate()
-            .map(|(k, p)| {
-                let a = (p[1] as f64).atan2(p[0] as f64);
-                let da = (a - th + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0;
-                (k, (p[2] as f64 - at.z_mm).abs() + 40.0 * da.abs())
-            })
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .unwrap();
+        let k = nearest_vertex(&scene, at.angle_deg, at.z_mm);
         let c = scene.stock.colors[k].map(i32::from);
         let got = if c[2] > c[0] + 40 {
             "blue"
@@ -608,21 +595,28 @@ fn vertex_colours_are_the_plots_bands() {
     assert!(d.max_gouge_mm > 5.0 * tol && d.max_leftover_mm > 5.0 * tol);
     for (at, want) in [(&d.max_gouge_at, bands[0]), (&d.max_leftover_at, bands[6])] {
         let at = at.as_ref().unwrap();
-        let th = at.angle_deg.to_radians();
-        let (k, _) = scene
-            .stock
-            .positions
-            .iter()
-            .enumerate()
-            .map(|(k, p)| {
-                let a = (p[1] as f64).atan2(p[0] as f64);
-                let da = (a - th + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0;
-                (k, (p[2] as f64 - at.z_mm).abs() + 40.0 * da.abs())
-            })
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .unwrap();
+        let k = nearest_vertex(&scene, at.angle_deg, at.z_mm);
         assert_eq!(scene.stock.colors[k], want, "vertex {k}");
     }
     let back = from_glb(&to_glb(&scene).unwrap()).unwrap();
     assert_eq!(back.stock.colors, scene.stock.colors);
+}
+
+/// The stock vertex nearest to the place at `angle_deg`, `z_mm` on the cut surface (in the
+/// axial plane of that angle; an angle's error weighs 40 mm per radian).
+fn nearest_vertex(scene: &vpcut::Scene, angle_deg: f64, z_mm: f64) -> usize {
+    let th = angle_deg.to_radians();
+    scene
+        .stock
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let a = (p[1] as f64).atan2(p[0] as f64);
+            let da = (a - th + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0;
+            (k, (p[2] as f64 - z_mm).abs() + 40.0 * da.abs())
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap()
+        .0
 }
