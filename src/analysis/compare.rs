@@ -13,6 +13,7 @@
 //! Volumes are exact per dexel in cylindrical coordinates, `|r1^2 - r2^2|/2 * dtheta * dz`,
 //! summed in a fixed order (columns, then cells) so they do not depend on the thread count.
 
+use super::runs;
 use crate::model::stock::{Grid, Stock, Surface};
 use crate::model::thread::{Flank, ThreadGroove, ThreadSpec, WidthRule};
 use glam::DVec2;
@@ -483,7 +484,12 @@ impl<'a> Comparer<'a> {
             open: None,
             found: Vec::new(),
         };
-        for (k, &hi32) in ideal_h.iter().enumerate() {
+        // Runs of cells with the same cut, the same ideal height, one segment and one
+        // groove: their volumes are the same values summed in cell order, and the middle
+        // of a run over a flat is decided at once (`runs::safe_middle`).
+        let n_cmp = ideal_h.len();
+        let mut k = 0;
+        while k < n_cmp {
             let j = j0 + k;
             let z = grid.z(j);
             if !started || z >= next_groove {
@@ -504,7 +510,24 @@ impl<'a> Comparer<'a> {
                     floors = prior.floors(key);
                 }
             }
+            while next_seg <= z {
+                seg += 1;
+                next_seg = seg_end(seg);
+            }
             let qj = col[j];
+            let hi32 = ideal_h[k];
+            let mut e = k + 1;
+            while e < n_cmp
+                && col[j0 + e].to_bits() == qj.to_bits()
+                && ideal_h[e].to_bits() == hi32.to_bits()
+            {
+                let ze = grid.z(j0 + e);
+                if ze >= next_groove || ze >= next_seg {
+                    break;
+                }
+                e += 1;
+            }
+            let m = e - k;
             let r_cut = sense * (qj as f64 + q_blank);
             let h_cut = thread.height(r_cut);
             let h_ideal = hi32 as f64;
@@ -517,57 +540,98 @@ impl<'a> Comparer<'a> {
             if qj.to_bits() != last_cut.0 {
                 last_cut = (qj.to_bits(), removed(qj));
             }
-            out.compared_dexels += 1;
-            td.compared += 1;
+            out.compared_dexels += m as u64;
+            td.compared += m as u64;
             let v = last_cut.1;
-            out.total_removed_volume += v;
-            out.removed_volume += v;
-            out.ideal_removed_volume += ideal_removed;
+            // Adding +0 leaves a sum of non-negative terms unchanged.
+            if v != 0.0 {
+                for _ in 0..m {
+                    out.total_removed_volume += v;
+                    out.removed_volume += v;
+                }
+            }
+            if ideal_removed != 0.0 {
+                for _ in 0..m {
+                    out.ideal_removed_volume += ideal_removed;
+                }
+            }
             let gap = h_cut - h_ideal;
+            let z_last = grid.z(j0 + e - 1);
             // Flats: how far the whole root (crest) of this crossing stays above (below)
             // its ideal height, measured radially.
-            while next_seg <= z {
-                seg += 1;
-                next_seg = seg_end(seg);
-            }
             match flats[seg] {
-                Some(true) if hi32 == 0.0 => flat.add(seg, true, whole[seg], gap, z, groove),
-                Some(false) if hi32 == depth => flat.add(seg, false, whole[seg], -gap, z, groove),
+                Some(true) if hi32 == 0.0 => {
+                    flat.add(seg, true, whole[seg], gap, z, groove);
+                    flat.add(seg, true, whole[seg], gap, z_last, groove);
+                }
+                Some(false) if hi32 == depth => {
+                    flat.add(seg, false, whole[seg], -gap, z, groove);
+                    flat.add(seg, false, whole[seg], -gap, z_last, groove);
+                }
                 _ => flat.close(),
             }
             if gap == 0.0 {
+                k = e;
                 continue;
             }
             let vol = (r_ideal * r_ideal - r_cut * r_cut).abs() * 0.5 * cell;
             let (slots, before) = if gap < 0.0 {
-                td.gouge_volume += vol;
+                for _ in 0..m {
+                    td.gouge_volume += vol;
+                }
                 (&mut td.gouge, &floors.0)
             } else {
-                td.leftover_volume += vol;
+                for _ in 0..m {
+                    td.leftover_volume += vol;
+                }
                 (&mut td.leftover, &floors.1)
             };
-            // The normal distance never exceeds the radial gap: skip points that cannot
-            // beat the maximum seen so far, in this column or in those before it in the
-            // tile ([`Prior`]), on any flank they can be nearest to.
-            let mut floor = [0.0; 4];
-            for f in 0..4 {
-                floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+            // The middle of the run, proven unable to beat the extremes so far.
+            let (sa, sb) = if self.prunes() && m > 2 {
+                let mut floor = [f64::NEG_INFINITY; 4];
+                for f in 0..4 {
+                    floor[f] = slots[f]
+                        .map_or(f64::NEG_INFINITY, |e| e.value)
+                        .max(before[f]);
+                }
+                let run = runs::Run {
+                    z_of: |i: usize| grid.z(j + i),
+                    m,
+                    dz: grid.dz,
+                    h: h_cut,
+                    ideal_h: h_ideal,
+                    seg,
+                };
+                runs::safe_middle(&ideal, &kinds, &run, &floor)
+            } else {
+                (0, 0)
+            };
+            for i in (0..sa).chain(sb.max(sa)..m) {
+                let z = grid.z(j + i);
+                // The normal distance never exceeds the radial gap: skip points that
+                // cannot beat the maximum seen so far, in this column or in those before
+                // it in the tile ([`Prior`]), on any flank they can be nearest to.
+                let mut floor = [0.0; 4];
+                for f in 0..4 {
+                    floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+                }
+                if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
+                    continue;
+                }
+                let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
+                Extreme::keep_max(
+                    &mut slots[flank.index()],
+                    Extreme {
+                        value: d,
+                        theta,
+                        z,
+                        turn: key.1,
+                        start: key.0,
+                        flank,
+                    },
+                );
             }
-            if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
-                continue;
-            }
-            let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
-            Extreme::keep_max(
-                &mut slots[flank.index()],
-                Extreme {
-                    value: d,
-                    theta,
-                    z,
-                    turn: key.1,
-                    start: key.0,
-                    flank,
-                },
-            );
+            k = e;
         }
         for &qj in &col[j1..] {
             out.total_removed_volume += removed(qj);
@@ -666,14 +730,15 @@ mod tests {
         }
     }
 
-    /// The pruned comparison (points that cannot beat the extremes by their radial gap, in
-    /// this column or in those before it in the tile, are skipped) gives exactly the extremes,
-    /// volumes and flats of computing every point's distance, on cuts of every kind: runs
-    /// of random length at random offsets from the ideal (gouges and leftovers, deep and
-    /// shallow, walls moved), on square and trapezoid, external and internal threads.
-    #[test]
-    fn pruning_changes_nothing() {
-        let mut rng = Lcg(20);
+    /// Cuts a column: `(column index, its ideal, the thread, its stored values)`.
+    type Cutter<'a> =
+        dyn FnMut(usize, &crate::model::thread::ColumnIdeal, &ThreadSpec, &mut [f32]) + 'a;
+
+    /// Compare `n_theta` columns cut by `cut(column index, ideal, column)` both pruned (as a
+    /// tile runs, against the extremes of the columns before it) and with every distance
+    /// computed, merged in column order, on square and trapezoid, external and internal
+    /// threads; the two must be equal, extremes (values, places, flanks), volumes and flats.
+    fn check_pruning(n_theta: usize, dz: f64, cut: &mut Cutter<'_>) {
         for (side, angles) in [
             (Side::External, 0.0),
             (Side::External, 15.0),
@@ -681,12 +746,13 @@ mod tests {
             (Side::Internal, 30.0),
         ] {
             let thread = screw(side, angles);
+            let n_z = (96.0 / dz).round() as usize;
             let grid = Grid {
-                n_theta: 24,
-                n_z: 4800,
+                n_theta,
+                n_z,
                 theta0: 0.0,
-                z0: -92.0 + 0.01,
-                dz: 0.02,
+                z0: -92.0 + 0.5 * dz,
+                dz,
             };
             let surface = match side {
                 Side::External => Surface::Outer,
@@ -702,27 +768,12 @@ mod tests {
                 (Prior::default(), Deviation::default(), Deviation::default());
             for i in 0..grid.n_theta {
                 let ideal = thread.column(grid.theta(i), grid.z(0), grid.z(grid.n_z - 1));
-                // Runs of cells: the ideal shifted along z by up to 1 mm and offset in
-                // height by up to 2 mm (clamped to the blank and one depth below the
-                // root), or left uncut.
                 let mut col = vec![0f32; grid.n_z];
-                let mut j = 0;
-                while j < grid.n_z {
-                    let len = 1 + (rng.next() * 400.0) as usize;
-                    let (shift, off) = ((rng.next() - 0.5) * 2.0, (rng.next() - 0.5) * 4.0);
-                    let uncut = rng.next() < 0.1;
-                    for c in col.iter_mut().skip(j).take(len) {
-                        if !uncut {
-                            let z = grid.z(j) + shift;
-                            let h = (ideal.height_at(z) + off).clamp(-3.0, 3.0);
-                            let r = thread.radius(h);
-                            *c = (surface.sense() * r - q_blank).min(0.0) as f32;
-                        }
-                        j += 1;
-                    }
+                cut(i, &ideal, &thread, &mut col);
+                for c in col.iter_mut() {
+                    // Stored values are signed radii from the blank, never beyond it.
+                    *c = c.min(0.0);
                 }
-                // Pruned as a tile runs (against the extremes of the columns before it),
-                // and every distance computed; merged in column order.
                 cmp.exhaustive = false;
                 let d = cmp.column(i, &col, &prior);
                 prior.add(&d);
@@ -734,5 +785,92 @@ mod tests {
             assert!(every.max_gouge().is_some() && every.max_leftover().is_some());
             assert!(every.turns.len() >= 7, "{}", every.turns.len());
         }
+    }
+
+    /// The stored value of height `h` above the root, for the fixture's blank.
+    fn stored(thread: &ThreadSpec, h: f64) -> f32 {
+        let (sense, q_blank) = match thread.side {
+            Side::External => (1.0, 14.0),
+            Side::Internal => (-1.0, -11.0),
+        };
+        (sense * thread.radius(h) - q_blank) as f32
+    }
+
+    /// Level cuts, the runs the comparison decides a whole run at a time
+    /// (`runs::safe_middle`): runs of random length at one height, either a random one or
+    /// exactly a root, a crest, half the depth or the blank (an uncut groove: level with the
+    /// crest corners, where the vertex rule decides), with some columns repeating the one
+    /// before so that extremes tie across columns and the first must keep them; and at
+    /// 0.01 and 0.013 mm spacings (cells on and off the walls).
+    #[test]
+    fn run_decisions_change_nothing() {
+        for (seed, dz) in [(31u64, 0.02), (32, 0.013), (33, 0.01)] {
+            let mut rng = Lcg(seed);
+            let mut last: Vec<f32> = Vec::new();
+            let mut cut = |_: usize,
+                           _: &crate::model::thread::ColumnIdeal,
+                           thread: &ThreadSpec,
+                           col: &mut [f32]| {
+                if !last.is_empty() && rng.next() < 0.4 {
+                    col.copy_from_slice(&last);
+                    return;
+                }
+                let depth = thread.depth();
+                let mut j = 0;
+                while j < col.len() {
+                    let len = 1 + (rng.next() * 1500.0) as usize;
+                    let pick = rng.next();
+                    let h = if pick < 0.2 {
+                        0.0
+                    } else if pick < 0.4 {
+                        depth
+                    } else if pick < 0.5 {
+                        0.5 * depth
+                    } else if pick < 0.6 {
+                        f64::NAN
+                    } else {
+                        (rng.next() * 1.4 - 0.2) * depth
+                    };
+                    for c in col.iter_mut().skip(j).take(len) {
+                        *c = if h.is_nan() { 0.0 } else { stored(thread, h) };
+                    }
+                    j += len;
+                }
+                last = col.to_vec();
+            };
+            check_pruning(16, dz, &mut cut);
+        }
+    }
+
+    /// The pruned comparison (points that cannot beat the extremes by their radial gap, in
+    /// this column or in those before it in the tile, are skipped) gives exactly the extremes,
+    /// volumes and flats of computing every point's distance, on cuts of every kind: runs
+    /// of random length at random offsets from the ideal (gouges and leftovers, deep and
+    /// shallow, walls moved), on square and trapezoid, external and internal threads.
+    #[test]
+    fn pruning_changes_nothing() {
+        let mut rng = Lcg(20);
+        let mut cut = |_: usize,
+                       ideal: &crate::model::thread::ColumnIdeal,
+                       thread: &ThreadSpec,
+                       col: &mut [f32]| {
+            // Runs of cells: the ideal shifted along z by up to 1 mm and offset in height
+            // by up to 2 mm (clamped to the blank and one depth below the root), or left
+            // uncut.
+            let mut j = 0;
+            while j < col.len() {
+                let len = 1 + (rng.next() * 400.0) as usize;
+                let (shift, off) = ((rng.next() - 0.5) * 2.0, (rng.next() - 0.5) * 4.0);
+                let uncut = rng.next() < 0.1;
+                for c in col.iter_mut().skip(j).take(len) {
+                    if !uncut {
+                        let z = -92.0 + 0.01 + 0.02 * j as f64 + shift;
+                        *c = stored(thread, (ideal.height_at(z) + off).clamp(-3.0, 3.0));
+                    }
+                    j += 1;
+                }
+            }
+        };
+        check_pruning(24, 0.02, &mut cut);
     }
 }
