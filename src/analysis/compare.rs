@@ -418,14 +418,10 @@ impl<'a> Comparer<'a> {
             (j1 > j0).then_some((lo, hi, j0, j1))
         });
         let Some((lo, hi, j0, j1)) = range else {
-            for &qj in col.iter() {
-                out.total_removed_volume += removed(qj);
-            }
+            out.total_removed_volume = sum_removed(out.total_removed_volume, col, &removed);
             return out;
         };
-        for &qj in &col[..j0] {
-            out.total_removed_volume += removed(qj);
-        }
+        out.total_removed_volume = sum_removed(out.total_removed_volume, &col[..j0], &removed);
         out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
         let mut ideal_h = vec![0f32; j1 - j0];
         ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
@@ -486,8 +482,9 @@ impl<'a> Comparer<'a> {
         };
         // Runs of cells with the same cut, the same ideal height, one segment and one
         // groove: their volumes are the same values summed in cell order, and the middle
-        // of a run over a flat is decided at once (`runs::safe_middle`).
+        // of a run over a flat is decided at once (`runs::danger`).
         let n_cmp = ideal_h.len();
+        let mut danger: Vec<(usize, usize)> = Vec::new();
         let mut k = 0;
         while k < n_cmp {
             let j = j0 + k;
@@ -516,17 +513,11 @@ impl<'a> Comparer<'a> {
             }
             let qj = col[j];
             let hi32 = ideal_h[k];
-            let mut e = k + 1;
-            while e < n_cmp
-                && col[j0 + e].to_bits() == qj.to_bits()
-                && ideal_h[e].to_bits() == hi32.to_bits()
-            {
-                let ze = grid.z(j0 + e);
-                if ze >= next_groove || ze >= next_seg {
-                    break;
-                }
-                e += 1;
-            }
+            // The run ends before the first cell at or past the next groove or segment
+            // change (as the walk above decides it), or where the cut or ideal changes.
+            let limit = first_at_or_past(grid, j, j1, next_groove.min(next_seg)) - j0;
+            let (qb, hb) = (qj.to_bits(), hi32.to_bits());
+            let e = k + 1 + same_run(&col[j + 1..j0 + limit], &ideal_h[k + 1..limit], qb, hb);
             let m = e - k;
             let r_cut = sense * (qj as f64 + q_blank);
             let h_cut = thread.height(r_cut);
@@ -545,15 +536,12 @@ impl<'a> Comparer<'a> {
             let v = last_cut.1;
             // Adding +0 leaves a sum of non-negative terms unchanged.
             if v != 0.0 {
-                for _ in 0..m {
-                    out.total_removed_volume += v;
-                    out.removed_volume += v;
-                }
+                out.total_removed_volume = runs::add_repeated(out.total_removed_volume, v, m);
+                out.removed_volume = runs::add_repeated(out.removed_volume, v, m);
             }
             if ideal_removed != 0.0 {
-                for _ in 0..m {
-                    out.ideal_removed_volume += ideal_removed;
-                }
+                out.ideal_removed_volume =
+                    runs::add_repeated(out.ideal_removed_volume, ideal_removed, m);
             }
             let gap = h_cut - h_ideal;
             let z_last = grid.z(j0 + e - 1);
@@ -576,18 +564,15 @@ impl<'a> Comparer<'a> {
             }
             let vol = (r_ideal * r_ideal - r_cut * r_cut).abs() * 0.5 * cell;
             let (slots, before) = if gap < 0.0 {
-                for _ in 0..m {
-                    td.gouge_volume += vol;
-                }
+                td.gouge_volume = runs::add_repeated(td.gouge_volume, vol, m);
                 (&mut td.gouge, &floors.0)
             } else {
-                for _ in 0..m {
-                    td.leftover_volume += vol;
-                }
+                td.leftover_volume = runs::add_repeated(td.leftover_volume, vol, m);
                 (&mut td.leftover, &floors.1)
             };
-            // The middle of the run, proven unable to beat the extremes so far.
-            let (sa, sb) = if self.prunes() && m > 2 {
+            // The points of the run that may beat the extremes so far; the others are
+            // proven unable to (`runs::danger`).
+            if self.prunes() && m > 2 {
                 let mut floor = [f64::NEG_INFINITY; 4];
                 for f in 0..4 {
                     floor[f] = slots[f]
@@ -602,11 +587,12 @@ impl<'a> Comparer<'a> {
                     ideal_h: h_ideal,
                     seg,
                 };
-                runs::safe_middle(&ideal, &kinds, &run, &floor)
+                runs::danger(&ideal, &kinds, &run, &floor, &mut danger);
             } else {
-                (0, 0)
-            };
-            for i in (0..sa).chain(sb.max(sa)..m) {
+                danger.clear();
+                danger.push((0, m));
+            }
+            for i in danger.iter().flat_map(|&(a, b)| a..b) {
                 let z = grid.z(j + i);
                 // The normal distance never exceeds the radial gap: skip points that
                 // cannot beat the maximum seen so far, in this column or in those before
@@ -633,9 +619,7 @@ impl<'a> Comparer<'a> {
             }
             k = e;
         }
-        for &qj in &col[j1..] {
-            out.total_removed_volume += removed(qj);
-        }
+        out.total_removed_volume = sum_removed(out.total_removed_volume, &col[j1..], &removed);
         if started {
             out.turns.entry(key).or_default().merge(&td);
         }
@@ -651,6 +635,70 @@ impl<'a> Comparer<'a> {
         }
         out
     }
+}
+
+/// `sum` plus the volume `removed` of each cell of `col`, in cell order (runs of equal
+/// cells at once, [`runs::add_repeated`]; uncut cells add +0 and are skipped).
+fn sum_removed(mut sum: f64, col: &[f32], removed: &impl Fn(f32) -> f64) -> f64 {
+    let mut k = 0;
+    while k < col.len() {
+        let b = col[k].to_bits();
+        let m = 1 + col[k + 1..]
+            .iter()
+            .position(|c| c.to_bits() != b)
+            .unwrap_or(col.len() - k - 1);
+        let v = removed(col[k]);
+        if v != 0.0 {
+            sum = runs::add_repeated(sum, v, m);
+        }
+        k += m;
+    }
+    sum
+}
+
+/// How many leading cells of `cut` and `ideal` (as long as each other) hold the bits
+/// `qb` and `hb`: sixteen cells compared at a time (vectorized), then one by one.
+fn same_run(cut: &[f32], ideal: &[f32], qb: u32, hb: u32) -> usize {
+    let n = cut.len().min(ideal.len());
+    let mut i = 0;
+    while i + 16 <= n {
+        let mut differ = false;
+        for t in 0..16 {
+            differ |= (cut[i + t].to_bits() != qb) | (ideal[i + t].to_bits() != hb);
+        }
+        if differ {
+            break;
+        }
+        i += 16;
+    }
+    while i < n && cut[i].to_bits() == qb && ideal[i].to_bits() == hb {
+        i += 1;
+    }
+    i
+}
+
+/// The first cell index in `(j, end]` whose z is at or past `limit` (`end` if none), as a
+/// cell-by-cell walk comparing `grid.z` with `limit` finds it (`grid.z` increases with
+/// the index).
+fn first_at_or_past(grid: &Grid, j: usize, end: usize, limit: f64) -> usize {
+    let lo = j + 1;
+    // Past the last cell (an infinite limit among them): none.
+    if lo >= end || grid.z(end - 1) < limit {
+        return end.max(lo);
+    }
+    let est = ((limit - grid.z0) / grid.dz).ceil();
+    let mut e = if est >= lo as f64 {
+        (est as usize).min(end)
+    } else {
+        lo
+    };
+    while e > lo && grid.z(e - 1) >= limit {
+        e -= 1;
+    }
+    while e < end && grid.z(e) < limit {
+        e += 1;
+    }
+    e
 }
 
 /// Whether a point at `z` in segment `seg` with radial gap `g` to the ideal cannot beat the
@@ -797,7 +845,7 @@ mod tests {
     }
 
     /// Level cuts, the runs the comparison decides a whole run at a time
-    /// (`runs::safe_middle`): runs of random length at one height, either a random one or
+    /// (`runs::danger`): runs of random length at one height, either a random one or
     /// exactly a root, a crest, half the depth or the blank (an uncut groove: level with the
     /// crest corners, where the vertex rule decides), with some columns repeating the one
     /// before so that extremes tie across columns and the first must keep them; and at
