@@ -338,6 +338,11 @@ impl Deviation {
     }
 }
 
+thread_local! {
+    /// [`Comparer::column`]'s ideal heights, reused from column to column.
+    static IDEAL_HEIGHTS: std::cell::RefCell<Vec<f32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// The comparison of one grid's columns, one column at a time: [`compare`] runs it over a
 /// whole stock, the streaming pipeline on each column of a tile while it is in cache.
 pub(crate) struct Comparer<'a> {
@@ -423,7 +428,11 @@ impl<'a> Comparer<'a> {
         };
         out.total_removed_volume = sum_removed(out.total_removed_volume, &col[..j0], &removed);
         out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
-        let mut ideal_h = vec![0f32; j1 - j0];
+        // The ideal heights of the compared cells, in a buffer kept per thread (a fresh
+        // one per column costs its pages' first touch every time).
+        let mut ideal_h = IDEAL_HEIGHTS.with(|b| std::mem::take(&mut *b.borrow_mut()));
+        ideal_h.clear();
+        ideal_h.resize(j1 - j0, 0.0);
         ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
         let depth = thread.depth() as f32;
         let kinds: Vec<Flank> = (0..ideal.verts.len() - 1)
@@ -623,6 +632,7 @@ impl<'a> Comparer<'a> {
         if started {
             out.turns.entry(key).or_default().merge(&td);
         }
+        IDEAL_HEIGHTS.with(|b| *b.borrow_mut() = ideal_h);
         flat.close();
         for (k0, e) in flat.found {
             let td = out.turns.entry(k0).or_default();

@@ -422,7 +422,8 @@ pub(crate) fn add_repeated(mut x: f64, v: f64, mut n: usize) -> f64 {
         }
         let top = f64::from_bits(((e + 1) as u64) << 52);
         // v = q ulp + r, 0 <= r < ulp; all exact (scaling by a power of two, floor).
-        let q = (v / ulp).floor();
+        // (v / ulp < 2^51 here: truncation is the floor, without a libm call.)
+        let q = ((v / ulp) as u64) as f64;
         let r = v - q * ulp;
         if r == 0.5 * ulp {
             x += v;
@@ -439,7 +440,7 @@ pub(crate) fn add_repeated(mut x: f64, v: f64, mut n: usize) -> f64 {
         }
         // Whole steps that stay strictly below the next binade (one short, for safety
         // against the division's rounding).
-        let room = ((top - x) / step).floor() - 1.0;
+        let room = (((top - x) / step) as u64) as f64 - 1.0;
         if room < 1.0 {
             x += v;
             n -= 1;
