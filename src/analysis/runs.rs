@@ -19,8 +19,9 @@
 //! - for a segment that can be nearest and whose flank's maximum is below `u`, a point
 //!   nearest to it may beat that maximum only if its distance to the segment does (the
 //!   distance to a segment is convex along the run: the points within the maximum form
-//!   one interval, found by bisection from the run's point nearest to the segment) and
-//!   its distance to both sides does (an interval, found by bisection too).
+//!   one interval, found by bisection from the run's point nearest to the segment), is at
+//!   most `g` (another interval) and its distance to both sides beats it too (an
+//!   interval, found by bisection as well).
 //!
 //! The points left (a few ranges, at a run's ends or around a wall's far side) are
 //! compared one by one, exactly as before: the extremes, and which point holds each, are
@@ -127,12 +128,17 @@ pub(crate) fn danger<F: Fn(usize) -> f64>(
         if i1 >= i2 {
             return true;
         }
-        match within(run, s0, s1, c, (i1, i2)) {
+        // Nor can a point farther than `g` from the segment be nearest to it (its
+        // distance is at most `g`): those within it form an interval too.
+        let Some((x1, x2)) = within(run, s0, s1, g * (1.0 + REL) + ABS, (i1, i2)) else {
+            return true;
+        };
+        match within(run, s0, s1, c, (x1, x2)) {
             Some((w1, w2)) => {
-                out.push((i1, w1));
-                out.push((w2, i2));
+                out.push((x1, w1));
+                out.push((w2, x2));
             }
-            None => out.push((i1, i2)),
+            None => out.push((x1, x2)),
         }
         true
     };
