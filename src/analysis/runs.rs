@@ -420,16 +420,18 @@ pub(crate) fn add_repeated(mut x: f64, v: f64, mut n: usize) -> f64 {
             continue;
         }
         let e = (x.to_bits() >> 52) as i64; // biased exponent, x normal and positive
-        let ulp = f64::from_bits(((e - 52).max(1) as u64) << 52);
-        if e - 52 < 1 {
+        if e < 53 {
             x += v;
             n -= 1;
             continue;
         }
+        // ulp = 2^(e - 1075) and its inverse 2^(1075 - e), both normal here.
+        let ulp = f64::from_bits(((e - 52) as u64) << 52);
+        let inv_ulp = f64::from_bits(((2098 - e) as u64) << 52);
         let top = f64::from_bits(((e + 1) as u64) << 52);
-        // v = q ulp + r, 0 <= r < ulp; all exact (scaling by a power of two, floor).
-        // (v / ulp < 2^51 here: truncation is the floor, without a libm call.)
-        let q = ((v / ulp) as u64) as f64;
+        // v = q ulp + r, 0 <= r < ulp; all exact (scaling by a power of two; v / ulp <
+        // 2^51 here, so truncation is the floor, without a libm call).
+        let q = ((v * inv_ulp) as u64) as f64;
         let r = v - q * ulp;
         if r == 0.5 * ulp {
             x += v;
@@ -444,15 +446,21 @@ pub(crate) fn add_repeated(mut x: f64, v: f64, mut n: usize) -> f64 {
         if step == 0.0 {
             return x;
         }
-        // Whole steps that stay strictly below the next binade (one short, for safety
-        // against the division's rounding).
-        let room = (((top - x) / step) as u64) as f64 - 1.0;
+        // Whole steps that stay strictly below the next binade: all `n` when even their
+        // rounded product leaves a margin, else as many as the quotient allows (one
+        // short, for safety against its rounding).
+        let span = top - x;
+        let room = if (n as f64) * step < span * (1.0 - 1e-15) {
+            n as f64
+        } else {
+            (((span / step) as u64) as f64 - 1.0).min(n as f64)
+        };
         if room < 1.0 {
             x += v;
             n -= 1;
             continue;
         }
-        let k = (room as usize).min(n);
+        let k = room as usize;
         x += k as f64 * step;
         n -= k;
     }
@@ -523,6 +531,29 @@ mod tests {
             assert_eq!(add_repeated(x, v, n).to_bits(), serial(x, v, n).to_bits());
             cases += 1;
         }
-        assert_eq!(cases, 22_000);
+        // Sums that reach the next binade exactly after k0 steps (and one before, one
+        // after, a few after): the steps taken at once must stop short of it.
+        for _ in 0..4_000 {
+            let e = (rng.next() * 60.0) as i32 - 30;
+            let top = 2f64.powi(e + 1);
+            let ulp = 2f64.powi(e - 52);
+            let step = ulp * (1.0 + (rng.next() * 1e6).floor());
+            let k0 = 4 + (rng.next() * 5_000.0) as usize;
+            let x = top - k0 as f64 * step;
+            if x < top / 2.0 {
+                continue;
+            }
+            // The term: the step itself, or off it by less than half an ulp.
+            let v = step + ulp * 0.49 * (rng.next() - 0.5);
+            for n in [k0 - 1, k0, k0 + 1, k0 + 7] {
+                assert_eq!(
+                    add_repeated(x, v, n).to_bits(),
+                    serial(x, v, n).to_bits(),
+                    "edge x={x:e} v={v:e} n={n}"
+                );
+            }
+            cases += 1;
+        }
+        assert!(cases > 23_000, "{cases}");
     }
 }
