@@ -163,6 +163,27 @@ pub(crate) fn measure_by(
         .collect()
 }
 
+/// The most heap memory one generator of `cells` cells holds at once, its ideal column
+/// (`ideal_bytes`, with `features` features) aside (bytes): the cut, its heights and the
+/// ideal's heights (`f32` each); the intervals of the cut and of the ideal (at most one per
+/// feature and one at each end, doubled for a vector's growth: a cut split by ridges has
+/// more, a few per turn); the features in the window, their matches and the turns.
+pub(crate) fn generator_bytes(cells: usize, features: usize) -> u64 {
+    use std::mem::size_of;
+    let cells = cells.max(2) as u64;
+    let f = features as u64 + 2;
+    3 * cells * size_of::<f32>() as u64
+        + 2 * 2 * 2 * f * size_of::<Interval>() as u64
+        + f * (size_of::<Feature>()
+            + size_of::<(Option<Interval>, Option<Interval>, bool)>()
+            + 2 * size_of::<TurnMeasure>()) as u64
+}
+
+/// The axial cells of a measurement column over `window` at `spacing`.
+pub(crate) fn generator_cells(window: (f64, f64), spacing: f64) -> usize {
+    ((window.1 - window.0) / spacing).floor().max(2.0) as usize
+}
+
 fn measure_generator(
     thread: &ThreadSpec,
     cut: &(dyn Fn(&mut [f32], Column) + Sync),
@@ -173,7 +194,7 @@ fn measure_generator(
 ) -> Vec<TurnMeasure> {
     let spacing = cfg.spacing;
     let (z_lo, z_hi) = window;
-    let n = ((z_hi - z_lo) / spacing).floor().max(2.0) as usize;
+    let n = generator_cells(window, spacing);
     let surface = match thread.side {
         Side::External => Surface::Outer,
         Side::Internal => Surface::Inner,

@@ -96,53 +96,279 @@ pub(super) fn measure_window(job: &Job, window: (f64, f64)) -> ((f64, f64), f64)
 /// is about a minute of work on two cores).
 const MAX_GRID_DEXELS: u64 = 20_000_000_000;
 
-/// Check what a run on `grid` (`requested` dexels on `surfaces` surfaces) would hold at
-/// once against the budget `limit`: the whole grid when it is kept (`keep`; twice with
-/// swept bodies, `twice`), else a column per thread (two with swept bodies). Then the
-/// grid's own size against [`MAX_GRID_DEXELS`].
+/// Bytes of a dexel: the unit of the budget (`max_dexels` dexels are `4 max_dexels` bytes).
+pub(super) const DEXEL_BYTES: u64 = 4;
+
+/// When a run holds a [`Term`]: all along, while the columns are cut and compared, or
+/// while the measurement generators run (after the columns: the two never overlap).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Phase {
+    Run,
+    Columns,
+    Measure,
+}
+
+/// One thing a run holds: its bytes, what it is, and when.
+#[derive(Clone, Debug)]
+pub(super) struct Term {
+    pub(super) bytes: u64,
+    pub(super) what: String,
+    pub(super) phase: Phase,
+}
+
+/// What a run holds that grows with the part (cells, columns, turns, passes, moves), term
+/// by term: the budget is on its peak, `Run` terms plus the larger of the two phases.
+/// What does not grow with the part (the job, the report's fixed fields) is left out.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Footprint {
+    pub(super) terms: Vec<Term>,
+}
+
+impl Footprint {
+    /// Add a term (none of zero bytes).
+    pub(super) fn add(&mut self, phase: Phase, bytes: u64, what: impl Into<String>) {
+        if bytes > 0 {
+            self.terms.push(Term {
+                bytes,
+                what: what.into(),
+                phase,
+            });
+        }
+    }
+
+    fn sum(&self, phase: Phase) -> u64 {
+        self.terms
+            .iter()
+            .filter(|t| t.phase == phase)
+            .fold(0u64, |a, t| a.saturating_add(t.bytes))
+    }
+
+    /// The larger of the two phases.
+    fn peak_phase(&self) -> Phase {
+        if self.sum(Phase::Measure) > self.sum(Phase::Columns) {
+            Phase::Measure
+        } else {
+            Phase::Columns
+        }
+    }
+
+    /// The bytes held at once at the peak.
+    pub(super) fn held(&self) -> u64 {
+        self.sum(Phase::Run)
+            .saturating_add(self.sum(self.peak_phase()))
+    }
+
+    /// The peak's terms in words, each with its size.
+    pub(super) fn describe(&self) -> String {
+        let peak = self.peak_phase();
+        let list = |phase: Phase| {
+            self.terms
+                .iter()
+                .filter(|t| t.phase == phase)
+                .map(|t| format!("{} ({})", t.what, bytes_readable(t.bytes)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let during = match peak {
+            Phase::Columns => "while the columns are cut",
+            _ => "while the generators are measured",
+        };
+        let (all, some) = (list(Phase::Run), list(peak));
+        match (all.is_empty(), some.is_empty()) {
+            (false, false) => format!("{all}; {during}: {some}"),
+            (false, true) => all,
+            (true, false) => format!("{during}: {some}"),
+            (true, true) => "nothing".to_string(),
+        }
+    }
+}
+
+/// Bytes as a person reads them: three significant digits in B, kB, MB or GB (1000s).
+pub(super) fn bytes_readable(b: u64) -> String {
+    if b == u64::MAX {
+        return format!("more than {:.1e} bytes", u64::MAX as f64);
+    }
+    let (v, unit) = match b {
+        0..=999 => return format!("{b} bytes"),
+        1_000..=999_999 => (b as f64 / 1e3, "kB"),
+        1_000_000..=999_999_999 => (b as f64 / 1e6, "MB"),
+        _ => (b as f64 / 1e9, "GB"),
+    };
+    if v >= 100.0 {
+        format!("{v:.0} {unit}")
+    } else if v >= 10.0 {
+        format!("{v:.1} {unit}")
+    } else {
+        format!("{v:.2} {unit}")
+    }
+}
+
+/// What a run is, as far as its memory goes.
+pub(super) struct RunShape {
+    pub(super) grid: Grid,
+    /// Dexels of the whole grid (all surfaces).
+    pub(super) requested: u64,
+    pub(super) surfaces: u32,
+    /// The whole grid is kept (else streamed).
+    pub(super) keep: bool,
+    /// Swept bodies: the edges alone cut a second stock.
+    pub(super) twice: bool,
+    /// The thread's surface exists (else no column is cut).
+    pub(super) has_surface: bool,
+    /// Threads the columns and generators run on.
+    pub(super) threads: usize,
+    /// The program turned the thread's surface: a profile along z.
+    pub(super) turned: bool,
+    /// The passes prepared for the sweep (with the bodies' tables, and without them, as
+    /// each measurement generator prepares them), bytes; 0 before they are built.
+    pub(super) prepared: (u64, u64),
+    /// A milling path's moves.
+    pub(super) mill_moves: Option<usize>,
+    /// A column's ideal over the grid: its heap bytes, vertices and turns (grooves and
+    /// features).
+    pub(super) ideal: (u64, usize, usize),
+    /// Measurement cells per generator and generators, if any.
+    pub(super) measure: Option<(usize, usize)>,
+}
+
+/// What a run of `shape` holds that grows with the part.
+pub(super) fn footprint(s: &RunShape) -> Footprint {
+    use std::mem::size_of;
+    let grid = &s.grid;
+    let n_z = grid.n_z as u64;
+    let threads = s.threads.max(1) as u64;
+    let mut f = Footprint::default();
+    let (ideal_bytes, verts, keys) = (s.ideal.0, s.ideal.1 as u64, s.ideal.2 as u64);
+    if s.keep {
+        f.add(
+            Phase::Run,
+            s.requested.saturating_mul(DEXEL_BYTES),
+            format!(
+                "the whole grid, {} angular x {} axial x {} surface(s), as the model, pictures and plots need it",
+                grid.n_theta,
+                readable(n_z),
+                s.surfaces
+            ),
+        );
+        if s.twice {
+            f.add(
+                Phase::Run,
+                s.requested.saturating_mul(DEXEL_BYTES),
+                "its cut by the edges alone",
+            );
+        }
+    }
+    if s.turned {
+        f.add(
+            Phase::Run,
+            n_z * size_of::<f32>() as u64,
+            "the turned profile",
+        );
+    }
+    f.add(Phase::Run, s.prepared.0, "the passes' bodies prepared");
+    if let Some(m) = s.mill_moves {
+        f.add(
+            Phase::Run,
+            (m * size_of::<crate::kernel::mill::MoveCut>()) as u64,
+            "the figures per move",
+        );
+    }
+    if s.has_surface && n_z > 0 {
+        let in_flight = threads.min(grid.n_theta.max(1) as u64);
+        if !s.keep {
+            let per = if s.twice { 2 } else { 1 };
+            f.add(
+                Phase::Columns,
+                in_flight * per * n_z * DEXEL_BYTES,
+                format!(
+                    "{} column(s) of {} axial cells, {per} per thread on {in_flight} thread(s); the {} angular columns are streamed",
+                    in_flight * per,
+                    readable(n_z),
+                    grid.n_theta
+                ),
+            );
+        }
+        // Per thread: the comparison's ideal (its polyline, per-vertex tables, heights per
+        // cell, the extremes so far per turn); with bodies, the cells they cut deeper (a
+        // vector that may double past every cell) and a mesh body's section bounds; a
+        // milling column's snapshot of the cells a move may change (doubled: it grows).
+        let mut per_thread = ideal_bytes
+            + verts * 8
+            + n_z * size_of::<f32>() as u64
+            + super::columns::btree_bytes(keys, size_of::<((u32, i64), [f64; 8])>());
+        if s.twice {
+            per_thread += 2 * n_z * size_of::<usize>() as u64 + 2 * n_z * size_of::<f32>() as u64;
+        }
+        if s.mill_moves.is_some() {
+            per_thread += 2 * n_z * size_of::<f32>() as u64;
+        }
+        f.add(
+            Phase::Columns,
+            in_flight * per_thread,
+            format!("each thread's comparison of a column with the ideal, {} turn(s)", keys),
+        );
+        let wave = super::columns::wave_columns(grid, s.threads) as u64;
+        f.add(
+            Phase::Columns,
+            wave * super::columns::column_out_bytes(keys, s.twice, s.mill_moves),
+            format!("the results of a wave of {wave} column(s)"),
+        );
+    }
+    if let Some((cells, generators)) = s.measure {
+        let in_flight = threads.min(generators.max(1) as u64);
+        let one = crate::analysis::measure::generator_bytes(cells, keys as usize)
+            + ideal_bytes
+            + s.prepared.1;
+        f.add(
+            Phase::Measure,
+            in_flight * one,
+            format!(
+                "{in_flight} measurement generator(s) of {} cells at a time",
+                readable(cells as u64)
+            ),
+        );
+    }
+    f
+}
+
+/// A column's ideal over the grid (at the thread's start angle; another angle's differs by
+/// at most a groove and a feature per start): its heap bytes, vertices and turns (grooves
+/// and features, the keys of a column's results), each with a margin of those.
+pub(super) fn ideal_size(thread: &ThreadSpec, grid: &Grid) -> (u64, usize, usize) {
+    use crate::model::thread::{Feature, ThreadGroove, Vertex};
+    use std::mem::size_of;
+    if grid.n_z == 0 {
+        return (0, 0, 0);
+    }
+    let ideal = thread.column(thread.helix.theta0, grid.z(0), grid.z(grid.n_z - 1));
+    let margin = 4 * (thread.starts as usize + 1);
+    let verts = ideal.verts.capacity() + 2 * margin;
+    let bytes = verts * size_of::<Vertex>()
+        + (ideal.features.capacity() + margin) * size_of::<Feature>()
+        + (ideal.grooves.capacity() + margin) * size_of::<ThreadGroove>();
+    (
+        bytes as u64,
+        verts,
+        ideal.grooves.len() + ideal.features.len() + 2 * margin,
+    )
+}
+
+/// Check what a run holds at once (`footprint`) against the budget of `limit` dexels of
+/// [`DEXEL_BYTES`] each; then the grid's own size (`requested` dexels on `surfaces`
+/// surfaces) against [`MAX_GRID_DEXELS`].
 pub(super) fn check_budget(
     grid: Grid,
     requested: u64,
     limit: u64,
     surfaces: u32,
-    keep: bool,
-    twice: bool,
+    footprint: &Footprint,
 ) -> Result<(), SimError> {
-    let (held, held_as) = if keep {
-        let held = requested.saturating_add(if twice { grid.dexels() as u64 } else { 0 });
-        (
-            held,
-            format!(
-                "the whole grid, {} angular x {} axial x {surfaces} surface(s){}, as the model, pictures and plots need it",
-                grid.n_theta,
-                readable(grid.n_z as u64),
-                if twice {
-                    " and its cut by the edges alone"
-                } else {
-                    ""
-                }
-            ),
-        )
-    } else {
-        let per = if twice { 2 } else { 1 };
-        let in_flight = rayon::current_num_threads().max(1).min(grid.n_theta.max(1));
-        (
-            (in_flight as u64)
-                .saturating_mul(per)
-                .saturating_mul(grid.n_z as u64),
-            format!(
-                "{} column(s) of {} axial cells, {per} per thread on {in_flight} thread(s); the {} angular columns are streamed",
-                in_flight as u64 * per,
-                readable(grid.n_z as u64),
-                grid.n_theta
-            ),
-        )
-    };
-    if held > limit {
+    let held = footprint.held();
+    if held > limit.saturating_mul(DEXEL_BYTES) {
         return Err(SimError::DexelBudget {
-            held,
+            bytes: held,
             limit,
-            held_as,
+            held_as: footprint.describe(),
             requested,
             angular: grid.n_theta,
             axial: grid.n_z,
