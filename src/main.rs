@@ -210,6 +210,48 @@ fn parse_threads(s: &str) -> Result<usize, String> {
     Ok(n)
 }
 
+/// The largest dexel budget (the job key's range): 4 PB.
+const MAX_DEXEL_BUDGET: f64 = 1e15;
+
+/// A dexel budget as a count is written on a shop floor: `400000000`, `400_000_000` (an
+/// underscore only between digits, as in TOML), or scientific notation that is a whole
+/// number (`4e8`, `4.0e8`, `2.5E8`); from 0 (which refuses every run and says what it
+/// would hold) to 1e15. Not negatives, fractions (`1.5`), `nan` or `inf`.
+fn parse_dexels(s: &str) -> Result<u64, String> {
+    let bytes = s.as_bytes();
+    let digit = |k: usize| bytes.get(k).is_some_and(u8::is_ascii_digit);
+    let underscores_ok = bytes
+        .iter()
+        .enumerate()
+        .all(|(k, &b)| b != b'_' || (k > 0 && digit(k - 1) && digit(k + 1)));
+    let numeric = !s.is_empty()
+        && underscores_ok
+        && s.bytes()
+            .all(|b| b.is_ascii_digit() || b"_.eE+-".contains(&b))
+        && s.bytes().any(|b| b.is_ascii_digit());
+    let clean = s.replace('_', "");
+    let value = match clean.parse::<f64>() {
+        Ok(v) if numeric => v,
+        _ => {
+            return Err(format!(
+                "expected a whole number of dexels (400000000, 400_000_000 or 4e8), not `{s}`"
+            ))
+        }
+    };
+    if !(0.0..=MAX_DEXEL_BUDGET).contains(&value) {
+        return Err(format!(
+            "expected a number of dexels from 0 to 1e15, not `{s}`"
+        ));
+    }
+    if value.fract() != 0.0 {
+        return Err(format!(
+            "expected a whole number of dexels, not `{s}` (a dexel is 4 bytes)"
+        ));
+    }
+    // A plain integer is read exactly; a float that is whole and at most 1e15 is exact.
+    Ok(clean.parse::<u64>().unwrap_or(value as u64))
+}
+
 fn parse_finite(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
@@ -353,12 +395,15 @@ struct SimulateArgs {
     /// Exit with code 1 when the verdict is fail (for CI).
     #[arg(long)]
     check: bool,
-    /// Dexel budget: the dexels the run holds at once (4 bytes each); the job is refused
-    /// before allocating when it needs more. Without --gltf, --png/--renders or --plots
-    /// the columns are streamed (a column per thread is held, two with rubbing tool
-    /// bodies); with them the whole grid is held (both surfaces, and the edges' cut with
-    /// rubbing bodies). Default: the job's [simulation] max_dexels, else 2e8 (0.8 GB).
-    #[arg(long, value_name = "N")]
+    /// Memory budget, in dexels of 4 bytes (2e8 is 800 MB): the run is refused before it
+    /// allocates the stock when what it would hold at once is more, and the error says
+    /// what that is, term by term. Counted: the stock (the whole grid, both surfaces, and
+    /// the edges' cut with rubbing tool bodies, when --gltf, --png/--renders or --plots
+    /// need it; else a column per thread, two with rubbing bodies), each thread's
+    /// comparison, the results of a wave of columns, the bodies' tables, the turned
+    /// profile, the measurement generators. Written 400000000, 400_000_000, 4e8 or 4.0e8.
+    /// Default: the job's [simulation] max_dexels, else 2e8.
+    #[arg(long, value_name = "N", value_parser = parse_dexels)]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores). Results do
     /// not depend on it.
@@ -457,8 +502,8 @@ struct CheckArgs {
     /// The job files (TOML).
     #[arg(required = true, value_name = "JOB")]
     jobs: Vec<PathBuf>,
-    /// Dexel budget per job (see `simulate --max-dexels`).
-    #[arg(long, value_name = "N")]
+    /// Memory budget per job, in dexels of 4 bytes (see `simulate --max-dexels`).
+    #[arg(long, value_name = "N", value_parser = parse_dexels)]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores).
     #[arg(long, short = 'j', value_name = "N", value_parser = parse_threads)]

@@ -761,8 +761,7 @@ pub(crate) struct Ray {
 impl Ray {
     /// The heap memory the ray holds (bytes).
     pub(crate) fn heap_bytes(&self) -> u64 {
-        ((self.lower.capacity() + self.upper.capacity()) * std::mem::size_of::<(f64, f64)>())
-            as u64
+        ((self.lower.capacity() + self.upper.capacity()) * std::mem::size_of::<(f64, f64)>()) as u64
     }
 
     /// Cut `seg` (cells at offsets `v_start + k dz`). The material side meets the body at

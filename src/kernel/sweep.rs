@@ -105,10 +105,17 @@ impl<'a> GridSweep<'a> {
         let mut tables = 0;
         for p in &self.prepared {
             without += p.body.as_ref().map_or(0, Sections::heap_bytes);
-            without += p.rays.iter().flatten().chain(&p.edge_ray).map(Ray::heap_bytes).sum::<u64>();
-            without += p.rays.as_ref().map_or(0, |r| {
-                (r.capacity() * std::mem::size_of::<Ray>()) as u64
-            });
+            without += p
+                .rays
+                .iter()
+                .flatten()
+                .chain(&p.edge_ray)
+                .map(Ray::heap_bytes)
+                .sum::<u64>();
+            without += p
+                .rays
+                .as_ref()
+                .map_or(0, |r| (r.capacity() * std::mem::size_of::<Ray>()) as u64);
             tables += p.tables.as_ref().map_or(0, Tables::heap_bytes);
         }
         (without + tables, without)

@@ -74,18 +74,16 @@ pub(super) fn btree_bytes(entries: u64, entry: usize) -> u64 {
     leaves * node + internal * (node + 12 * 8)
 }
 
-/// The most heap memory one column's results hold (bytes), on a column whose ideal
-/// has `keys` turns (grooves and features, either start): the comparison's extremes per
-/// turn, the interference's (`twice`), a milling column's figures per move that changed
-/// it (`mill_moves`, at most every move, doubled for the vector's growth).
-pub(super) fn column_out_bytes(keys: u64, twice: bool, mill_moves: Option<usize>) -> u64 {
+/// The most heap memory one column's results hold (bytes): the comparison's extremes per
+/// turn (`keys` turns), the body interference's (`bodies`: its turns, the grooves' and the
+/// run-in's and run-out's features), a milling column's figures per move that changed it
+/// (`mill_moves`: at most every move, doubled for the vector's growth).
+pub(super) fn column_out_bytes(keys: u64, bodies: Option<u64>, mill_moves: Option<usize>) -> u64 {
     use std::mem::size_of;
     let dev = btree_bytes(keys, size_of::<((u32, i64), compare::TurnDeviation)>());
-    let hits = if twice {
-        btree_bytes(keys, size_of::<((u32, i64), [Option<interference::Hit>; 4])>())
-    } else {
-        0
-    };
+    let hits = bodies.map_or(0, |k| {
+        btree_bytes(k, size_of::<((u32, i64), [Option<interference::Hit>; 4])>())
+    });
     let mill = mill_moves.map_or(0, |m| {
         2 * m as u64 * size_of::<(usize, crate::kernel::mill::MoveCut)>() as u64
     });

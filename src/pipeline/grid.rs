@@ -224,9 +224,8 @@ pub(super) struct RunShape {
     pub(super) prepared: (u64, u64),
     /// A milling path's moves.
     pub(super) mill_moves: Option<usize>,
-    /// A column's ideal over the grid: its heap bytes, vertices and turns (grooves and
-    /// features).
-    pub(super) ideal: (u64, usize, usize),
+    /// A column's ideal over the grid.
+    pub(super) ideal: IdealSize,
     /// Measurement cells per generator and generators, if any.
     pub(super) measure: Option<(usize, usize)>,
 }
@@ -238,7 +237,13 @@ pub(super) fn footprint(s: &RunShape) -> Footprint {
     let n_z = grid.n_z as u64;
     let threads = s.threads.max(1) as u64;
     let mut f = Footprint::default();
-    let (ideal_bytes, verts, keys) = (s.ideal.0, s.ideal.1 as u64, s.ideal.2 as u64);
+    let IdealSize {
+        bytes: ideal_bytes,
+        verts,
+        grooves,
+        features,
+    } = s.ideal;
+    let keys = grooves + 1;
     if s.keep {
         f.add(
             Phase::Run,
@@ -305,18 +310,22 @@ pub(super) fn footprint(s: &RunShape) -> Footprint {
         f.add(
             Phase::Columns,
             in_flight * per_thread,
-            format!("each thread's comparison of a column with the ideal, {} turn(s)", keys),
+            format!("each thread's comparison of a column with the ideal, {grooves} turn(s)"),
         );
         let wave = super::columns::wave_columns(grid, s.threads) as u64;
         f.add(
             Phase::Columns,
-            wave * super::columns::column_out_bytes(keys, s.twice, s.mill_moves),
+            wave * super::columns::column_out_bytes(
+                keys,
+                s.twice.then_some(keys + features),
+                s.mill_moves,
+            ),
             format!("the results of a wave of {wave} column(s)"),
         );
     }
     if let Some((cells, generators)) = s.measure {
         let in_flight = threads.min(generators.max(1) as u64);
-        let one = crate::analysis::measure::generator_bytes(cells, keys as usize)
+        let one = crate::analysis::measure::generator_bytes(cells, features as usize)
             + ideal_bytes
             + s.prepared.1;
         f.add(
@@ -332,25 +341,39 @@ pub(super) fn footprint(s: &RunShape) -> Footprint {
 }
 
 /// A column's ideal over the grid (at the thread's start angle; another angle's differs by
-/// at most a groove and a feature per start): its heap bytes, vertices and turns (grooves
-/// and features, the keys of a column's results), each with a margin of those.
-pub(super) fn ideal_size(thread: &ThreadSpec, grid: &Grid) -> (u64, usize, usize) {
+/// at most a groove and a feature per start): its heap bytes, vertices, grooves and
+/// features, each with a margin of those.
+pub(super) fn ideal_size(thread: &ThreadSpec, grid: &Grid) -> IdealSize {
     use crate::model::thread::{Feature, ThreadGroove, Vertex};
     use std::mem::size_of;
     if grid.n_z == 0 {
-        return (0, 0, 0);
+        return IdealSize::default();
     }
     let ideal = thread.column(thread.helix.theta0, grid.z(0), grid.z(grid.n_z - 1));
-    let margin = 4 * (thread.starts as usize + 1);
+    let margin = 2 * (thread.starts as usize + 1);
     let verts = ideal.verts.capacity() + 2 * margin;
     let bytes = verts * size_of::<Vertex>()
         + (ideal.features.capacity() + margin) * size_of::<Feature>()
         + (ideal.grooves.capacity() + margin) * size_of::<ThreadGroove>();
-    (
-        bytes as u64,
-        verts,
-        ideal.grooves.len() + ideal.features.len() + 2 * margin,
-    )
+    IdealSize {
+        bytes: bytes as u64,
+        verts: verts as u64,
+        grooves: (ideal.grooves.len() + margin) as u64,
+        features: (ideal.features.len() + margin) as u64,
+    }
+}
+
+/// A column's ideal as far as memory goes (see [`ideal_size`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct IdealSize {
+    /// Heap bytes of its polyline, features and grooves.
+    pub(super) bytes: u64,
+    /// Vertices.
+    pub(super) verts: u64,
+    /// Grooves: the turns a column's comparison has (one more for the points before).
+    pub(super) grooves: u64,
+    /// Features: with the grooves, the turns of the body interference.
+    pub(super) features: u64,
 }
 
 /// Check what a run holds at once (`footprint`) against the budget of `limit` dexels of

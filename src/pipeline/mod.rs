@@ -269,13 +269,7 @@ fn run(job: &Job, opts: &SimOptions, keep: bool) -> Result<Run, SimError> {
         let e = edges.as_ref().map_or(0, |e| e.heap_bytes().0);
         shape.prepared = (a + e, b);
     }
-    grid::check_budget(
-        grid,
-        requested,
-        limit,
-        surfaces,
-        &grid::footprint(&shape),
-    )?;
+    grid::check_budget(grid, requested, limit, surfaces, &grid::footprint(&shape))?;
     let mut stock = if keep {
         Some(blank_stock(job, grid)?)
     } else {

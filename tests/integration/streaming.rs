@@ -77,9 +77,15 @@ fn the_dexel_budget_error_states_the_memory_held() {
         panic!("{msg}")
     };
     assert!(bytes > 4 * n_theta * n_z, "{msg}");
-    assert!(msg.contains("the whole grid, 72 angular x 2000 axial x 1 surface(s)"), "{msg}");
+    assert!(
+        msg.contains("the whole grid, 72 angular x 2000 axial x 1 surface(s)"),
+        "{msg}"
+    );
     assert!(msg.contains("(576 kB)"), "{msg}");
-    assert!(msg.contains("over the budget of 0 bytes (0 dexels of 4 bytes)"), "{msg}");
+    assert!(
+        msg.contains("over the budget of 0 bytes (0 dexels of 4 bytes)"),
+        "{msg}"
+    );
     // A budget of the bytes stated, in dexels, admits the run; one dexel less does not.
     let dexels = bytes.div_ceil(4);
     assert!(simulate(&j, &opts(dexels)).is_ok());
