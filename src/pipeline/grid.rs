@@ -158,7 +158,8 @@ impl Footprint {
             .saturating_add(self.sum(self.peak_phase()))
     }
 
-    /// The peak's terms in words, each with its size.
+    /// The terms in words, each with its size: the whole run's, then each phase's, the
+    /// peak's named.
     pub(super) fn describe(&self) -> String {
         let peak = self.peak_phase();
         let list = |phase: Phase| {
@@ -169,21 +170,29 @@ impl Footprint {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        let during = match peak {
-            Phase::Columns => "while the columns are cut",
-            _ => "while the generators are measured",
-        };
-        let (all, some) = (list(Phase::Run), list(peak));
-        match (all.is_empty(), some.is_empty()) {
-            (false, false) => format!("{all}; {during}: {some}"),
-            (false, true) => all,
-            (true, false) => format!("{during}: {some}"),
-            (true, true) => "nothing".to_string(),
+        let mut parts = vec![list(Phase::Run)];
+        for (phase, during) in [
+            (Phase::Columns, "while the columns are cut"),
+            (Phase::Measure, "then while the generators are measured"),
+        ] {
+            let terms = list(phase);
+            if !terms.is_empty() {
+                let mark = if phase == peak { ", the peak" } else { "" };
+                parts.push(format!("{during}{mark}: {terms}"));
+            }
+        }
+        parts.retain(|p| !p.is_empty());
+        if parts.is_empty() {
+            "nothing".to_string()
+        } else {
+            parts.join("; ")
         }
     }
 }
 
-/// Bytes as a person reads them: three significant digits in B, kB, MB or GB (1000s).
+/// Bytes as a person reads them: three significant digits in B, kB, MB, GB or TB
+/// (1000s), beyond that in scientific notation, and a count capped at the integer's limit
+/// as "more than" it.
 pub(super) fn bytes_readable(b: u64) -> String {
     if b == u64::MAX {
         return format!("more than {:.1e} bytes", u64::MAX as f64);
@@ -192,7 +201,9 @@ pub(super) fn bytes_readable(b: u64) -> String {
         0..=999 => return format!("{b} bytes"),
         1_000..=999_999 => (b as f64 / 1e3, "kB"),
         1_000_000..=999_999_999 => (b as f64 / 1e6, "MB"),
-        _ => (b as f64 / 1e9, "GB"),
+        1_000_000_000..=999_999_999_999 => (b as f64 / 1e9, "GB"),
+        1_000_000_000_000..=999_999_999_999_999 => (b as f64 / 1e12, "TB"),
+        _ => return format!("{:.2e} bytes", b as f64),
     };
     if v >= 100.0 {
         format!("{v:.0} {unit}")
@@ -233,9 +244,13 @@ pub(super) struct RunShape {
 /// What a run of `shape` holds that grows with the part.
 pub(super) fn footprint(s: &RunShape) -> Footprint {
     use std::mem::size_of;
+    // In u128: a grid of `usize::MAX` cells (a 1e-300 mm spacing) times a few bytes does
+    // not wrap; each term is capped at `u64::MAX` ("more than 1.8e19 bytes").
+    let cap = |x: u128| x.min(u64::MAX as u128) as u64;
     let grid = &s.grid;
-    let n_z = grid.n_z as u64;
-    let threads = s.threads.max(1) as u64;
+    let n_z = grid.n_z as u128;
+    let f32s = size_of::<f32>() as u128;
+    let threads = s.threads.max(1) as u128;
     let mut f = Footprint::default();
     let IdealSize {
         bytes: ideal_bytes,
@@ -245,50 +260,43 @@ pub(super) fn footprint(s: &RunShape) -> Footprint {
     } = s.ideal;
     let keys = grooves + 1;
     if s.keep {
+        let grid_bytes = cap(s.requested as u128 * DEXEL_BYTES as u128);
         f.add(
             Phase::Run,
-            s.requested.saturating_mul(DEXEL_BYTES),
+            grid_bytes,
             format!(
                 "the whole grid, {} angular x {} axial x {} surface(s), as the model, pictures and plots need it",
                 grid.n_theta,
-                readable(n_z),
+                readable(grid.n_z as u64),
                 s.surfaces
             ),
         );
         if s.twice {
-            f.add(
-                Phase::Run,
-                s.requested.saturating_mul(DEXEL_BYTES),
-                "its cut by the edges alone",
-            );
+            f.add(Phase::Run, grid_bytes, "its cut by the edges alone");
         }
     }
     if s.turned {
-        f.add(
-            Phase::Run,
-            n_z * size_of::<f32>() as u64,
-            "the turned profile",
-        );
+        f.add(Phase::Run, cap(n_z * f32s), "the turned profile");
     }
     f.add(Phase::Run, s.prepared.0, "the passes' bodies prepared");
     if let Some(m) = s.mill_moves {
         f.add(
             Phase::Run,
-            (m * size_of::<crate::kernel::mill::MoveCut>()) as u64,
+            cap(m as u128 * size_of::<crate::kernel::mill::MoveCut>() as u128),
             "the figures per move",
         );
     }
     if s.has_surface && n_z > 0 {
-        let in_flight = threads.min(grid.n_theta.max(1) as u64);
+        let in_flight = threads.min(grid.n_theta.max(1) as u128);
         if !s.keep {
             let per = if s.twice { 2 } else { 1 };
             f.add(
                 Phase::Columns,
-                in_flight * per * n_z * DEXEL_BYTES,
+                cap(in_flight * per * n_z * DEXEL_BYTES as u128),
                 format!(
                     "{} column(s) of {} axial cells, {per} per thread on {in_flight} thread(s); the {} angular columns are streamed",
                     in_flight * per,
-                    readable(n_z),
+                    readable(grid.n_z as u64),
                     grid.n_theta
                 ),
             );
@@ -297,40 +305,41 @@ pub(super) fn footprint(s: &RunShape) -> Footprint {
         // cell, the extremes so far per turn); with bodies, the cells they cut deeper (a
         // vector that may double past every cell) and a mesh body's section bounds; a
         // milling column's snapshot of the cells a move may change (doubled: it grows).
-        let mut per_thread = ideal_bytes
-            + verts * 8
-            + n_z * size_of::<f32>() as u64
-            + super::columns::btree_bytes(keys, size_of::<((u32, i64), [f64; 8])>());
+        let mut per_thread = ideal_bytes as u128
+            + verts as u128 * 8
+            + n_z * f32s
+            + super::columns::btree_bytes(keys, size_of::<((u32, i64), [f64; 8])>()) as u128;
         if s.twice {
-            per_thread += 2 * n_z * size_of::<usize>() as u64 + 2 * n_z * size_of::<f32>() as u64;
+            per_thread += 2 * n_z * size_of::<usize>() as u128 + 2 * n_z * f32s;
         }
         if s.mill_moves.is_some() {
-            per_thread += 2 * n_z * size_of::<f32>() as u64;
+            per_thread += 2 * n_z * f32s;
         }
         f.add(
             Phase::Columns,
-            in_flight * per_thread,
+            cap(in_flight * per_thread),
             format!("each thread's comparison of a column with the ideal, {grooves} turn(s)"),
         );
-        let wave = super::columns::wave_columns(grid, s.threads) as u64;
+        let wave = super::columns::wave_columns(grid, s.threads) as u128;
+        let out = super::columns::column_out_bytes(
+            keys,
+            s.twice.then_some(keys + features),
+            s.mill_moves,
+        );
         f.add(
             Phase::Columns,
-            wave * super::columns::column_out_bytes(
-                keys,
-                s.twice.then_some(keys + features),
-                s.mill_moves,
-            ),
+            cap(wave * out as u128),
             format!("the results of a wave of {wave} column(s)"),
         );
     }
     if let Some((cells, generators)) = s.measure {
-        let in_flight = threads.min(generators.max(1) as u64);
-        let one = crate::analysis::measure::generator_bytes(cells, features as usize)
-            + ideal_bytes
-            + s.prepared.1;
+        let in_flight = threads.min(generators.max(1) as u128);
+        let one = crate::analysis::measure::generator_bytes(cells, features as usize) as u128
+            + ideal_bytes as u128
+            + s.prepared.1 as u128;
         f.add(
             Phase::Measure,
-            in_flight * one,
+            cap(in_flight * one),
             format!(
                 "{in_flight} measurement generator(s) of {} cells at a time",
                 readable(cells as u64)
