@@ -33,15 +33,70 @@ pub(crate) struct Interval {
     pub hi_open: bool,
 }
 
-/// Intervals where `inside(h)` holds on a sampled column, with flank crossings at `level`
-/// found by linear interpolation.
-pub(crate) fn intervals(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) -> Vec<Interval> {
-    let inside = |x: f32| {
-        if tooth {
+/// The smallest `f32` whose value is above `level` (`strict`) or at least `level`: for an
+/// `f32` `x` (not NaN), `x as f64 > level` is `x >= above(level, true)` and
+/// `x as f64 >= level` is `x >= above(level, false)` (the conversion is exact and
+/// monotone). `level` is not NaN.
+fn above(level: f64, strict: bool) -> f32 {
+    let beyond = |x: f32| {
+        if strict {
             x as f64 > level
         } else {
-            (x as f64) < level
+            x as f64 >= level
         }
+    };
+    // The nearest f32 is within half a step of `level`: the answer is it or a neighbour.
+    let c = level as f32;
+    if beyond(c) {
+        let d = c.next_down();
+        if beyond(d) {
+            d
+        } else {
+            c
+        }
+    } else {
+        c.next_up()
+    }
+}
+
+/// Cells of one state skipped at a time: a chunk's cells are tested together (no branch
+/// per cell: vectorised).
+const SCAN_CHUNK: usize = 32;
+
+/// The first cell from `from` on whose state (`x >= t` where `ge`, else `x < t`) is not
+/// `state`, or `h.len()`.
+fn next_change(h: &[f32], from: usize, t: f32, ge: bool, state: bool) -> usize {
+    let test = |x: f32| if ge { x >= t } else { x < t };
+    let mut j = from;
+    while let Some(chunk) = h.get(j..j + SCAN_CHUNK) {
+        let changed = chunk.iter().fold(false, |any, &x| any | (test(x) != state));
+        if changed {
+            break;
+        }
+        j += SCAN_CHUNK;
+    }
+    while j < h.len() && test(h[j]) == state {
+        j += 1;
+    }
+    j
+}
+
+/// Intervals where the column is inside a feature (above `level` for a tooth, below it for
+/// a groove) on a sampled column, with flank crossings at `level` found by linear
+/// interpolation. The cells' states are one `f32` comparison each with a threshold that
+/// gives exactly the `f64` comparison's answer ([`above`]), so runs of one state are
+/// skipped a chunk at a time; the crossings are computed as before.
+pub(crate) fn intervals(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) -> Vec<Interval> {
+    let mut out = Vec::new();
+    if level.is_nan() {
+        return out;
+    }
+    // Inside: `x as f64 > level` (tooth), or `x as f64 < level` (groove), that is not
+    // `x as f64 >= level`; NaN cells are outside either way.
+    let (t, ge) = if tooth {
+        (above(level, true), true)
+    } else {
+        (above(level, false), false)
     };
     let cross = |j: usize| {
         // Crossing between cells j-1 and j.
@@ -49,29 +104,32 @@ pub(crate) fn intervals(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) ->
         let u = if b != a { (level - a) / (b - a) } else { 0.5 };
         z0 + (j as f64 - 1.0 + u.clamp(0.0, 1.0)) * dz
     };
-    let mut out = Vec::new();
     let mut open: Option<(f64, bool)> = None;
-    for (j, &hj) in h.iter().enumerate() {
-        let now = inside(hj);
-        match (&open, now) {
-            (None, true) => {
-                open = Some(if j == 0 {
+    let mut j = 0;
+    loop {
+        let k = next_change(h, j, t, ge, open.is_some());
+        if k >= h.len() {
+            break;
+        }
+        match open {
+            None => {
+                open = Some(if k == 0 {
                     (z0, true)
                 } else {
-                    (cross(j), false)
+                    (cross(k), false)
                 });
             }
-            (Some((lo, lo_open)), false) => {
+            Some((lo, lo_open)) => {
                 out.push(Interval {
-                    lo: *lo,
-                    hi: cross(j),
-                    lo_open: *lo_open,
+                    lo,
+                    hi: cross(k),
+                    lo_open,
                     hi_open: false,
                 });
                 open = None;
             }
-            _ => {}
         }
+        j = k + 1;
     }
     if let Some((lo, lo_open)) = open {
         out.push(Interval {
@@ -404,6 +462,122 @@ pub(crate) fn pitch_level(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The intervals cell by cell, each state an `f64` comparison: the oracle of
+    /// [`intervals`]' thresholds and chunked scan.
+    fn intervals_by_cell(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) -> Vec<Interval> {
+        let inside = |x: f32| {
+            if tooth {
+                x as f64 > level
+            } else {
+                (x as f64) < level
+            }
+        };
+        let cross = |j: usize| {
+            let (a, b) = (h[j - 1] as f64, h[j] as f64);
+            let u = if b != a { (level - a) / (b - a) } else { 0.5 };
+            z0 + (j as f64 - 1.0 + u.clamp(0.0, 1.0)) * dz
+        };
+        let mut out = Vec::new();
+        let mut open: Option<(f64, bool)> = None;
+        for (j, &hj) in h.iter().enumerate() {
+            match (&open, inside(hj)) {
+                (None, true) => {
+                    open = Some(if j == 0 {
+                        (z0, true)
+                    } else {
+                        (cross(j), false)
+                    });
+                }
+                (Some((lo, lo_open)), false) => {
+                    out.push(Interval {
+                        lo: *lo,
+                        hi: cross(j),
+                        lo_open: *lo_open,
+                        hi_open: false,
+                    });
+                    open = None;
+                }
+                _ => {}
+            }
+        }
+        if let Some((lo, lo_open)) = open {
+            out.push(Interval {
+                lo,
+                hi: z0 + (h.len() as f64 - 1.0) * dz,
+                lo_open,
+                hi_open: true,
+            });
+        }
+        out
+    }
+
+    /// Randomized: columns of runs (long and short, across chunk edges) of values at the
+    /// level, the f32 neighbours around it, far from it, NaN and infinities; levels that are
+    /// f32 values, between them, and extreme; both features. The same intervals, bit for
+    /// bit, as the cell-by-cell oracle.
+    #[test]
+    fn chunked_intervals_match_the_cell_by_cell_oracle() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for case in 0..4000 {
+            let level = match case % 6 {
+                0 => 0.75,
+                1 => 0.1,
+                2 => (next() % 1000) as f64 * 1e-3 + 1e-12,
+                3 => f32::MAX as f64 * 2.0,
+                4 => -1e-40,
+                _ => (next() % 2000) as f64 * 1e-3 - 1.0,
+            };
+            let c = level as f32;
+            let near = [
+                c,
+                c.next_up(),
+                c.next_down(),
+                c.next_up().next_up(),
+                c.next_down().next_down(),
+            ];
+            let n = (next() % 300) as usize;
+            let mut h = Vec::with_capacity(n);
+            while h.len() < n {
+                let run = 1 + (next() % 70) as usize;
+                let v = match next() % 8 {
+                    0 => f32::NAN,
+                    1 => f32::INFINITY,
+                    2 => f32::NEG_INFINITY,
+                    3 => (next() % 3000) as f32 * 1e-3 - 1.0,
+                    _ => near[(next() % 5) as usize],
+                };
+                for _ in 0..run.min(n - h.len()) {
+                    h.push(v);
+                }
+            }
+            for tooth in [false, true] {
+                let (a, b) = (
+                    intervals(&h, -2.0, 5e-4, level, tooth),
+                    intervals_by_cell(&h, -2.0, 5e-4, level, tooth),
+                );
+                let bits = |v: &[Interval]| {
+                    v.iter()
+                        .map(|i| (i.lo.to_bits(), i.hi.to_bits(), i.lo_open, i.hi_open))
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(
+                    bits(&a),
+                    bits(&b),
+                    "case {case}, level {level}, tooth {tooth}"
+                );
+            }
+        }
+        // A NaN level: nothing is inside.
+        assert!(intervals(&[0.0, 1.0], 0.0, 1.0, f64::NAN, true).is_empty());
+        assert!(intervals_by_cell(&[0.0, 1.0], 0.0, 1.0, f64::NAN, true).is_empty());
+    }
 
     #[test]
     fn pitch_level_of_a_sixty_degree_groove() {
