@@ -48,15 +48,31 @@ fn above(level: f64, strict: bool) -> f32 {
     // The nearest f32 is within half a step of `level`: the answer is it or a neighbour.
     let c = level as f32;
     if beyond(c) {
-        let d = c.next_down();
+        let d = step(c, false);
         if beyond(d) {
             d
         } else {
             c
         }
     } else {
-        c.next_up()
+        step(c, true)
     }
+}
+
+/// The next `f32` up (towards +inf) or down from `x` (`f32::next_up`/`next_down`, which
+/// came after the crate's minimum Rust version); NaN and the infinity in the direction
+/// stay.
+fn step(x: f32, up: bool) -> f32 {
+    if x.is_nan() || x == if up { f32::INFINITY } else { f32::NEG_INFINITY } {
+        return x;
+    }
+    if x == 0.0 {
+        let tiny = f32::from_bits(1);
+        return if up { tiny } else { -tiny };
+    }
+    let b = x.to_bits();
+    // Away from zero the bits count up, towards it down (sign and magnitude).
+    f32::from_bits(if (x > 0.0) == up { b + 1 } else { b - 1 })
 }
 
 /// Cells of one state skipped at a time: a chunk's cells are tested together (no branch
@@ -537,10 +553,10 @@ mod tests {
             let c = level as f32;
             let near = [
                 c,
-                c.next_up(),
-                c.next_down(),
-                c.next_up().next_up(),
-                c.next_down().next_down(),
+                step(c, true),
+                step(c, false),
+                step(step(c, true), true),
+                step(step(c, false), false),
             ];
             let n = (next() % 300) as usize;
             let mut h = Vec::with_capacity(n);
@@ -574,6 +590,14 @@ mod tests {
                 );
             }
         }
+        // The steps against the bits of known neighbours.
+        assert_eq!(step(1.0, true), 1.0 + f32::EPSILON);
+        assert_eq!(step(1.0 + f32::EPSILON, false), 1.0);
+        assert_eq!(step(-1.0, false), -1.0 - f32::EPSILON);
+        assert_eq!(step(f32::MAX, true), f32::INFINITY);
+        assert_eq!(step(f32::NEG_INFINITY, true), f32::MIN);
+        assert_eq!(step(0.0, false), -f32::from_bits(1));
+        assert_eq!(step(-0.0, true), f32::from_bits(1));
         // A NaN level: nothing is inside.
         assert!(intervals(&[0.0, 1.0], 0.0, 1.0, f64::NAN, true).is_empty());
         assert!(intervals_by_cell(&[0.0, 1.0], 0.0, 1.0, f64::NAN, true).is_empty());
