@@ -229,12 +229,21 @@ pub(crate) fn measure_by(
     use rayon::prelude::*;
     (0..cfg.generators.max(1))
         .into_par_iter()
-        .map(|g| {
+        .map_init(Buffers::default, |bufs, g| {
             let theta = thread.helix.theta0
                 + std::f64::consts::TAU * g as f64 / cfg.generators.max(1) as f64;
-            measure_generator(thread, cut, blank_q, window, cfg, theta)
+            measure_generator(thread, cut, blank_q, window, cfg, theta, bufs)
         })
         .collect()
+}
+
+/// A generator's columns (the cut, its heights, the ideal's heights), kept by a worker
+/// from one generator to the next: their pages are touched once, not per generator.
+#[derive(Default)]
+struct Buffers {
+    q: Vec<f32>,
+    cut_h: Vec<f32>,
+    ideal_h: Vec<f32>,
 }
 
 /// The most heap memory one generator of `cells` cells holds at once, its ideal column
@@ -265,6 +274,7 @@ fn measure_generator(
     window: (f64, f64),
     cfg: MeasureConfig,
     theta: f64,
+    bufs: &mut Buffers,
 ) -> Vec<TurnMeasure> {
     let spacing = cfg.spacing;
     let (z_lo, z_hi) = window;
@@ -274,7 +284,9 @@ fn measure_generator(
         Side::Internal => Surface::Inner,
     };
     let sense = surface.sense();
-    let mut q = vec![0f32; n];
+    let Buffers { q, cut_h, ideal_h } = bufs;
+    q.clear();
+    q.resize(n, 0.0);
     let column = Column {
         theta,
         z0: z_lo,
@@ -282,14 +294,17 @@ fn measure_generator(
         q_blank: blank_q,
         surface,
     };
-    cut(&mut q, column);
-    let cut_h: Vec<f32> = q
-        .iter()
-        .map(|&v| thread.height(sense * (v as f64 + blank_q)) as f32)
-        .collect();
+    cut(q, column);
+    cut_h.clear();
+    cut_h.extend(
+        q.iter()
+            .map(|&v| thread.height(sense * (v as f64 + blank_q)) as f32),
+    );
     let ideal = thread.column(theta, z_lo, z_hi);
-    let mut ideal_h = vec![0f32; n];
-    ideal.fill_heights(z_lo, spacing, 0, &mut ideal_h);
+    ideal_h.clear();
+    ideal_h.resize(n, 0.0);
+    ideal.fill_heights(z_lo, spacing, 0, ideal_h);
+    let (cut_h, ideal_h) = (&cut_h[..], &ideal_h[..]);
     let tooth = matches!(thread.width, WidthRule::Tooth(_));
     let level = thread.pitch_height();
     // Flanks outside this generator's thread span border the run-in and run-out, which
@@ -302,8 +317,8 @@ fn measure_generator(
         }
         ivs
     };
-    let cut_iv = clip(intervals(&cut_h, z_lo, spacing, level, tooth));
-    let ideal_iv = clip(intervals(&ideal_h, z_lo, spacing, level, tooth));
+    let cut_iv = clip(intervals(cut_h, z_lo, spacing, level, tooth));
+    let ideal_iv = clip(intervals(ideal_h, z_lo, spacing, level, tooth));
 
     // Features in the window, in t order per start (z falls with t).
     let whole = thread.turns + 1e-9;
@@ -398,8 +413,8 @@ fn measure_generator(
                 .map(|l| 2.0 * thread.radius(l))
         };
         out.push(TurnMeasure {
-            pitch_diameter: d2(&cut_h),
-            ideal_pitch_diameter: d2(&ideal_h),
+            pitch_diameter: d2(cut_h),
+            ideal_pitch_diameter: d2(ideal_h),
             start: f.start,
             turn: f.turn(),
             t: f.t,
