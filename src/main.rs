@@ -16,6 +16,7 @@ mod cli;
 use anyhow::Context as _;
 use clap::{Parser, Subcommand};
 use cli::ci::{self, Case, Checked, Failed, Place};
+use cli::count::parse_dexels;
 use cli::html::Html;
 use cli::inputs::{self, Inputs};
 use cli::output::{Allow, Outputs, Slot};
@@ -353,12 +354,15 @@ struct SimulateArgs {
     /// Exit with code 1 when the verdict is fail (for CI).
     #[arg(long)]
     check: bool,
-    /// Dexel budget: the dexels the run holds at once (4 bytes each); the job is refused
-    /// before allocating when it needs more. Without --gltf, --png/--renders or --plots
-    /// the columns are streamed (a column per thread is held, two with rubbing tool
-    /// bodies); with them the whole grid is held (both surfaces, and the edges' cut with
-    /// rubbing bodies). Default: the job's [simulation] max_dexels, else 2e8 (0.8 GB).
-    #[arg(long, value_name = "N")]
+    /// Memory budget, in dexels of 4 bytes (2e8 is 800 MB): the run is refused before it
+    /// allocates the stock when what it would hold at once is more, and the error says
+    /// what that is, term by term. Counted: the stock (the whole grid, both surfaces, and
+    /// the edges' cut with rubbing tool bodies, when --gltf, --png/--renders or --plots
+    /// need it; else a column per thread, two with rubbing bodies), each thread's
+    /// comparison, the results of a wave of columns, the bodies' tables, the turned
+    /// profile, the measurement generators. Written 400000000, 400_000_000, 4e8 or 4.0e8.
+    /// Default: the job's [simulation] max_dexels, else 2e8.
+    #[arg(long, value_name = "N", value_parser = parse_dexels)]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores). Results do
     /// not depend on it.
@@ -457,8 +461,8 @@ struct CheckArgs {
     /// The job files (TOML).
     #[arg(required = true, value_name = "JOB")]
     jobs: Vec<PathBuf>,
-    /// Dexel budget per job (see `simulate --max-dexels`).
-    #[arg(long, value_name = "N")]
+    /// Memory budget per job, in dexels of 4 bytes (see `simulate --max-dexels`).
+    #[arg(long, value_name = "N", value_parser = parse_dexels)]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores).
     #[arg(long, short = 'j', value_name = "N", value_parser = parse_threads)]
