@@ -524,9 +524,15 @@ impl<'a> Comparer<'a> {
             let hi32 = ideal_h[k];
             // The run ends before the first cell at or past the next groove or segment
             // change (as the walk above decides it), or where the cut or ideal changes.
-            let limit = first_at_or_past(grid, j, j1, next_groove.min(next_seg)) - j0;
             let (qb, hb) = (qj.to_bits(), hi32.to_bits());
-            let e = k + 1 + same_run(&col[j + 1..j0 + limit], &ideal_h[k + 1..limit], qb, hb);
+            // (Most runs on a slanted flank are one cell long: known without the limit.)
+            let e = if k + 1 < n_cmp && col[j + 1].to_bits() == qb && ideal_h[k + 1].to_bits() == hb
+            {
+                let limit = first_at_or_past(grid, j, j1, next_groove.min(next_seg)) - j0;
+                k + 1 + same_run(&col[j + 1..j0 + limit], &ideal_h[k + 1..limit], qb, hb)
+            } else {
+                k + 1
+            };
             let m = e - k;
             let r_cut = sense * (qj as f64 + q_blank);
             let h_cut = thread.height(r_cut);
@@ -553,17 +559,20 @@ impl<'a> Comparer<'a> {
                     runs::add_repeated(out.ideal_removed_volume, ideal_removed, m);
             }
             let gap = h_cut - h_ideal;
-            let z_last = grid.z(j0 + e - 1);
             // Flats: how far the whole root (crest) of this crossing stays above (below)
-            // its ideal height, measured radially.
+            // its ideal height, measured radially (the run's first and last cells).
             match flats[seg] {
                 Some(true) if hi32 == 0.0 => {
                     flat.add(seg, true, whole[seg], gap, z, groove);
-                    flat.add(seg, true, whole[seg], gap, z_last, groove);
+                    if m > 1 {
+                        flat.add(seg, true, whole[seg], gap, grid.z(j0 + e - 1), groove);
+                    }
                 }
                 Some(false) if hi32 == depth => {
                     flat.add(seg, false, whole[seg], -gap, z, groove);
-                    flat.add(seg, false, whole[seg], -gap, z_last, groove);
+                    if m > 1 {
+                        flat.add(seg, false, whole[seg], -gap, grid.z(j0 + e - 1), groove);
+                    }
                 }
                 _ => flat.close(),
             }
@@ -581,7 +590,8 @@ impl<'a> Comparer<'a> {
             };
             // The points of the run that may beat the extremes so far; the others are
             // proven unable to (`runs::danger`).
-            if self.prunes() && m > 2 {
+            let whole = [(0, m)];
+            let ranges: &[(usize, usize)] = if self.prunes() && m > 2 {
                 let mut floor = [f64::NEG_INFINITY; 4];
                 for f in 0..4 {
                     floor[f] = slots[f]
@@ -597,34 +607,38 @@ impl<'a> Comparer<'a> {
                     seg,
                 };
                 runs::danger(&ideal, &kinds, &run, &floor, &mut danger);
+                &danger
             } else {
-                danger.clear();
-                danger.push((0, m));
-            }
-            for i in danger.iter().flat_map(|&(a, b)| a..b) {
-                let z = grid.z(j + i);
-                // The normal distance never exceeds the radial gap: skip points that
-                // cannot beat the maximum seen so far, in this column or in those before
-                // it in the tile ([`Prior`]), on any flank they can be nearest to.
-                let mut floor = [0.0; 4];
-                for f in 0..4 {
-                    floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+                &whole
+            };
+            for &(ra, rb) in ranges {
+                for i in ra..rb {
+                    let z = grid.z(j + i);
+                    // The normal distance never exceeds the radial gap: skip points that
+                    // cannot beat the maximum seen so far, in this column or in those before
+                    // it in the tile ([`Prior`]), on any flank they can be nearest to.
+                    let mut floor = [0.0; 4];
+                    for f in 0..4 {
+                        floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+                    }
+                    if self.prunes()
+                        && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor)
+                    {
+                        continue;
+                    }
+                    let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
+                    Extreme::keep_max(
+                        &mut slots[flank.index()],
+                        Extreme {
+                            value: d,
+                            theta,
+                            z,
+                            turn: key.1,
+                            start: key.0,
+                            flank,
+                        },
+                    );
                 }
-                if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
-                    continue;
-                }
-                let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
-                Extreme::keep_max(
-                    &mut slots[flank.index()],
-                    Extreme {
-                        value: d,
-                        theta,
-                        z,
-                        turn: key.1,
-                        start: key.0,
-                        flank,
-                    },
-                );
             }
             k = e;
         }
@@ -696,9 +710,10 @@ fn first_at_or_past(grid: &Grid, j: usize, end: usize, limit: f64) -> usize {
     if lo >= end || grid.z(end - 1) < limit {
         return end.max(lo);
     }
-    let est = ((limit - grid.z0) / grid.dz).ceil();
+    // An estimate (truncated: no libm call), corrected by the walks below.
+    let est = (limit - grid.z0) / grid.dz;
     let mut e = if est >= lo as f64 {
-        (est as usize).min(end)
+        (est as usize).clamp(lo, end)
     } else {
         lo
     };

@@ -410,7 +410,20 @@ fn within<F: Fn(usize) -> f64>(
 /// tie goes to the even neighbour, which alternates): the sum advances by that one step
 /// until it would reach the next binade. Those steps are taken at once (`k * step` and
 /// `x + k * step` are multiples of `ulp` below `2^(e+1)`: exact); the rest one by one.
-pub(crate) fn add_repeated(mut x: f64, v: f64, mut n: usize) -> f64 {
+#[inline(always)]
+pub(crate) fn add_repeated(x: f64, v: f64, n: usize) -> f64 {
+    match n {
+        0 => x,
+        1 => x + v,
+        2 => x + v + v,
+        3 => x + v + v + v,
+        _ => add_many(x, v, n),
+    }
+}
+
+/// [`add_repeated`] for longer runs.
+#[inline(never)]
+fn add_many(mut x: f64, v: f64, mut n: usize) -> f64 {
     debug_assert!(x >= 0.0 && v >= 0.0 && x.is_finite() && v.is_finite());
     while n > 0 {
         // Small counts, sums not yet normal, or steps not small against the sum: add.
