@@ -794,16 +794,29 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let opts = vpcut::SimOptions {
         max_dexels: args.max_dexels,
     };
-    // Only the model, the pictures and the plots need the whole grid: without them the
-    // columns are streamed (the same report, memory that does not grow with the part).
-    let needs_grid =
-        gltf_slot.is_some() || pictures.is_some() || plot_slots.is_some() || html.is_some();
-    let (mut report, mut grids) = progress
+    let e = if args.gltf_full {
+        Some(0.0)
+    } else {
+        args.gltf_tolerance
+    };
+    // Only the pictures, the plots and the page need the whole grid: without them the
+    // columns are streamed (the same report, memory that does not grow with the part),
+    // and the model alone is meshed as they stream (the same bytes).
+    let pictured = pictures.is_some() || plot_slots.is_some() || html.is_some();
+    let model_alone = gltf_slot.is_some() && !pictured;
+    let (mut report, mut grids, mut meshed) = progress
         .stage("simulating: sweep, compare, measure", || {
-            if needs_grid {
-                vpcut::simulate(&job, &opts).map(|o| (o.report.clone(), Some(o)))
+            if model_alone {
+                let scene = vpcut::SceneOptions {
+                    mesh_tolerance: e,
+                    ideal: args.gltf_ideal,
+                };
+                vpcut::simulate_meshed(&job, &opts, &scene)
+                    .map(|m| (m.report.clone(), None, Some(m)))
+            } else if pictured {
+                vpcut::simulate(&job, &opts).map(|o| (o.report.clone(), Some(o), None))
             } else {
-                vpcut::simulate_report(&job, &opts).map(|r| (r, None))
+                vpcut::simulate_report(&job, &opts).map(|r| (r, None, None))
             }
         })
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
@@ -811,14 +824,12 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some(o) = &mut grids {
         o.report = report.clone();
     }
+    if let Some(m) = &mut meshed {
+        m.report = report.clone();
+    }
     if let Some(slot) = report_slot {
         outs.put(slot, report.to_json().as_bytes())?;
     }
-    let e = if args.gltf_full {
-        Some(0.0)
-    } else {
-        args.gltf_tolerance
-    };
     // Pictures use the default mesh and the ideal (drawn on section planes); the model
     // shares that mesh unless it asks for another tolerance.
     let picture_scene = (pictures.is_some() || html.is_some()).then(|| {
@@ -844,8 +855,9 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
                 ));
             }
         }
-        let scene = match (&picture_scene, e) {
-            (Some(s), None) => vpcut::Scene {
+        let scene = match (meshed.take(), &picture_scene, e) {
+            (Some(m), _, _) => m.into_scene(),
+            (None, Some(s), None) => vpcut::Scene {
                 ideal: if args.gltf_ideal {
                     s.ideal.clone()
                 } else {

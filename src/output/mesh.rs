@@ -35,13 +35,13 @@ use crate::job::Job;
 use crate::model::geom::segment_distance2;
 use crate::model::helix::Hand;
 use crate::model::pass::Pass;
-use crate::model::stock::{Stock, Surface};
+use crate::model::stock::{Grid, Stock, Surface};
 use crate::model::thread::{Side, ThreadSpec};
 use crate::model::tool::Tool;
 use crate::output::plot::{signed_deviation, surface_colour, BLANK, BODY_RUB};
 use crate::output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 use crate::pipeline::Outcome;
-use crate::report::r6;
+use crate::report::{r6, Report};
 use glam::DVec2;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -65,11 +65,36 @@ pub struct SceneOptions {
 pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
     let tol = job.sim.tolerance;
     let legend = legend(&out.deviation, tol);
-    let e = opts.mesh_tolerance.unwrap_or(tol).max(0.0);
+    let e = mesh_tolerance(job, opts);
     let stock = stock_mesh_with(&out.stock, out.edge_stock.as_ref(), &job.thread, legend, e);
+    let s = surface(&job.thread);
+    let focus = focus(&out.deviation, &out.stock.grid, tol, |i, j| {
+        out.stock.radius(s, i, j)
+    });
+    finish_scene(job, &Shape::of(&out.stock), opts, legend, stock, focus, &out.report)
+}
+
+/// The stock mesh's tolerance: the asked one, else the job's.
+pub(crate) fn mesh_tolerance(job: &Job, opts: &SceneOptions) -> f64 {
+    opts.mesh_tolerance.unwrap_or(job.sim.tolerance).max(0.0)
+}
+
+/// The scene around a stock mesh: the ideal sheet if asked, the toolpath, the tool, the
+/// legend, the focus, and the report's summary.
+pub(crate) fn finish_scene(
+    job: &Job,
+    shape: &Shape,
+    opts: &SceneOptions,
+    legend: Legend,
+    stock: Mesh,
+    focus: Option<Focus>,
+    report: &Report,
+) -> Scene {
+    let tol = job.sim.tolerance;
+    let e = mesh_tolerance(job, opts);
     let ideal = opts
         .ideal
-        .then(|| ideal_mesh(&job.thread, &out.stock, e.max(tol)));
+        .then(|| ideal_sheet(&job.thread, shape, e.max(tol)));
     Scene {
         stock,
         ideal,
@@ -86,14 +111,14 @@ pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
             None => tool_mesh(job),
         },
         legend,
-        focus: focus(&out.deviation, &out.stock, &job.thread, tol),
-        summary: out.report.summary_json(legend.scale_mm),
+        focus,
+        summary: report.summary_json(legend.scale_mm),
     }
 }
 
 /// The colour scale: the tolerance, and the largest deviation (at least twice the
 /// tolerance, and as the report rounds it), as the developed view uses.
-fn legend(dev: &Deviation, tol: f64) -> Legend {
+pub(crate) fn legend(dev: &Deviation, tol: f64) -> Legend {
     let worst = |e: Option<Extreme>| r6(e.map_or(0.0, |e| e.value));
     Legend {
         tolerance_mm: tol,
@@ -103,9 +128,13 @@ fn legend(dev: &Deviation, tol: f64) -> Legend {
     }
 }
 
-/// The worst deviation beyond the tolerance, on the cut surface: the exact extreme's dexel
-/// (its value as the report rounds it).
-fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Option<Focus> {
+/// The worst deviation beyond the tolerance and its dexel (column, cell), as the report
+/// rounds it.
+pub(crate) fn worst(
+    dev: &Deviation,
+    grid: &Grid,
+    tol: f64,
+) -> Option<(&'static str, Extreme, usize, usize)> {
     let (gouge, leftover) = (dev.max_gouge(), dev.max_leftover());
     let value = |e: &Option<Extreme>| r6(e.map_or(0.0, |e| e.value));
     let (kind, e) = if value(&gouge) >= value(&leftover) {
@@ -116,7 +145,6 @@ fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Optio
     if r6(e.value) <= tol {
         return None;
     }
-    let grid = stock.grid;
     let i = ((e.theta - grid.theta0) / grid.dtheta())
         .round()
         .rem_euclid(grid.n_theta as f64) as usize
@@ -124,7 +152,20 @@ fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Optio
     let j = ((e.z - grid.z0) / grid.dz)
         .round()
         .clamp(0.0, (grid.n_z - 1) as f64) as usize;
-    let r = stock.radius(surface(thread), i, j)?;
+    Some((kind, e, i, j))
+}
+
+/// The worst deviation beyond the tolerance, on the cut surface: the exact extreme's dexel
+/// (its value as the report rounds it), `radius(i, j)` the thread surface's radius at
+/// column `i`, cell `j`.
+pub(crate) fn focus(
+    dev: &Deviation,
+    grid: &Grid,
+    tol: f64,
+    radius: impl Fn(usize, usize) -> Option<f64>,
+) -> Option<Focus> {
+    let (kind, e, i, j) = worst(dev, grid, tol)?;
+    let r = radius(i, j)?;
     Some(Focus {
         kind: kind.to_string(),
         value_mm: r6(e.value),
@@ -134,7 +175,7 @@ fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Optio
     })
 }
 
-fn surface(thread: &ThreadSpec) -> Surface {
+pub(crate) fn surface(thread: &ThreadSpec) -> Surface {
     match thread.side {
         Side::External => Surface::Outer,
         Side::Internal => Surface::Inner,
@@ -147,18 +188,18 @@ fn point(r: f64, theta: f64, z: f64) -> [f32; 3] {
 
 /// The kept columns for a mesh tolerance `e`: every column for `e = 0`, else evenly spread
 /// columns whose spacing keeps the chord and the twist of a helical wall under `e/2`.
-pub(crate) fn kept_columns(stock: &Stock, thread: &ThreadSpec, e: f64) -> Vec<usize> {
-    let n = stock.grid.n_theta;
+pub(crate) fn kept_columns(shape: &Shape, thread: &ThreadSpec, e: f64) -> Vec<usize> {
+    let n = shape.grid.n_theta;
     if e <= 0.0 {
         return (0..n).collect();
     }
-    let r_max = stock
-        .blank_outer
+    let r_max = shape
+        .outer
         .max(thread.crest_radius.max(thread.root_radius));
     let r_min = thread
         .crest_radius
         .min(thread.root_radius)
-        .max(stock.blank_inner)
+        .max(shape.inner)
         .max(1e-3);
     let law = thread.helix.law;
     let lead = law.lead(0.0).abs().max(law.lead(thread.turns).abs());
@@ -182,7 +223,7 @@ pub(crate) fn kept_columns(stock: &Stock, thread: &ThreadSpec, e: f64) -> Vec<us
 
 /// One profile of the mesh: the kept samples of a column.
 #[derive(Clone, Debug)]
-struct Profile {
+pub(crate) struct Profile {
     /// (z, r) of each vertex, z increasing.
     zr: Vec<(f64, f64)>,
     colors: Vec<[u8; 3]>,
@@ -355,37 +396,139 @@ fn helical_shift(thread: &ThreadSpec, z: f64, dtheta: f64) -> f64 {
     sign * lead * dtheta / TAU
 }
 
-/// What the profiles of one surface are built from.
-struct Surfacer<'a> {
+/// Where the profiles read the dexels: the whole stock, or the columns a streamed run
+/// holds (`output::stream`).
+pub(crate) trait Dexels: Sync {
+    /// The stored values (`q - q_blank`) of surface `s` at unwrapped column `u`.
+    fn column(&self, s: Surface, u: usize) -> &[f32];
+    /// The edges' cut there, when tool bodies were swept.
+    fn edge(&self, s: Surface, u: usize) -> Option<&[f32]>;
+}
+
+/// The whole stock (and the edges' cut) as [`Dexels`].
+struct WholeStock<'a> {
     stock: &'a Stock,
-    /// The stock as the edges alone cut it, when tool bodies were swept.
     edge: Option<&'a Stock>,
+}
+
+impl Dexels for WholeStock<'_> {
+    fn column(&self, s: Surface, u: usize) -> &[f32] {
+        let (n, n_z) = (self.stock.grid.n_theta, self.stock.grid.n_z);
+        let i = u % n;
+        &self.stock.surface(s).expect("surface present")[i * n_z..(i + 1) * n_z]
+    }
+
+    fn edge(&self, s: Surface, u: usize) -> Option<&[f32]> {
+        let (n, n_z) = (self.stock.grid.n_theta, self.stock.grid.n_z);
+        let i = u % n;
+        self.edge
+            .and_then(|e| e.surface(s))
+            .map(|q| &q[i * n_z..(i + 1) * n_z])
+    }
+}
+
+/// The grid and the blank's radii: what the mesh's columns and window depend on.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shape {
+    pub(crate) grid: Grid,
+    pub(crate) outer: f64,
+    pub(crate) inner: f64,
+}
+
+impl Shape {
+    pub(crate) fn of(stock: &Stock) -> Shape {
+        Shape {
+            grid: stock.grid,
+            outer: stock.blank_outer,
+            inner: stock.blank_inner,
+        }
+    }
+
+    /// The surfaces the blank has.
+    pub(crate) fn surfaces(&self) -> Vec<Surface> {
+        let mut v = vec![Surface::Outer];
+        if self.inner > 0.0 {
+            v.push(Surface::Inner);
+        }
+        v
+    }
+
+    fn blank_q(&self, s: Surface) -> f64 {
+        match s {
+            Surface::Outer => self.outer,
+            Surface::Inner => -self.inner,
+        }
+    }
+
+    /// The axial span of the cells.
+    fn window(&self) -> (f64, f64) {
+        let grid = self.grid;
+        (
+            grid.z(0) - 0.5 * grid.dz,
+            grid.z(grid.n_z - 1) + 0.5 * grid.dz,
+        )
+    }
+}
+
+/// What the profiles of one surface are built from.
+pub(crate) struct Surfacer<'a> {
+    grid: Grid,
+    /// The surface's blank value (`q_blank`).
+    q0: f64,
+    dexels: &'a dyn Dexels,
     thread: &'a ThreadSpec,
     s: Surface,
     compared: bool,
-    legend: Legend,
+    /// The tolerance (the colours' bands).
+    tol: f64,
     e: f64,
     window: (f64, f64),
 }
 
+/// A surfacer per surface of the blank (outer first).
+pub(crate) fn surfacers<'a>(
+    shape: &Shape,
+    dexels: &'a dyn Dexels,
+    thread: &'a ThreadSpec,
+    tol: f64,
+    e: f64,
+) -> Vec<Surfacer<'a>> {
+    shape
+        .surfaces()
+        .into_iter()
+        .map(|s| Surfacer {
+            grid: shape.grid,
+            q0: shape.blank_q(s),
+            dexels,
+            thread,
+            s,
+            compared: s == surface(thread),
+            tol,
+            e,
+            window: shape.window(),
+        })
+        .collect()
+}
+
 impl Surfacer<'_> {
-    /// The raw dexel polyline `(z, r)` of column `i`.
-    fn points(&self, i: usize) -> Vec<(f64, f64)> {
-        let grid = self.stock.grid;
-        let q = self.stock.surface(self.s).expect("surface present");
-        let q0 = self.stock.blank_q(self.s);
+    /// The raw dexel polyline `(z, r)` of unwrapped column `u`.
+    fn points(&self, u: usize) -> Vec<(f64, f64)> {
+        let grid = self.grid;
+        let q0 = self.q0;
         let sense = self.s.sense();
-        q[i * grid.n_z..(i + 1) * grid.n_z]
+        self.dexels
+            .column(self.s, u)
             .iter()
             .enumerate()
             .map(|(j, &v)| (grid.z(j), sense * (v as f64 + q0)))
             .collect()
     }
 
-    /// The profile of column `i`, simplified to `e/2` (every sample for `e = 0`).
-    fn profile(&self, i: usize) -> Profile {
-        let grid = self.stock.grid;
-        let pts = self.points(i);
+    /// The profile of unwrapped column `u`, simplified to `e/2` (every sample for `e = 0`).
+    pub(crate) fn profile(&self, u: usize) -> Profile {
+        let grid = self.grid;
+        let i = u % grid.n_theta;
+        let pts = self.points(u);
         let ideal = self.compared.then(|| {
             self.thread
                 .column(grid.theta(i), self.window.0, self.window.1)
@@ -414,13 +557,10 @@ impl Surfacer<'_> {
             simplify(&pts, &forced, 0.5 * self.e, &mut keep);
             keep
         };
-        let tol = self.legend.tolerance_mm;
+        let tol = self.tol;
         // Dexels a tool body cut past its edge get their own colour.
-        let edge = self.edge.and_then(|e| e.surface(self.s)).map(|q| {
-            let n_z = grid.n_z;
-            &q[i * n_z..(i + 1) * n_z]
-        });
-        let own = &self.stock.surface(self.s).expect("surface present")[i * grid.n_z..];
+        let edge = self.dexels.edge(self.s, u);
+        let own = self.dexels.column(self.s, u);
         let rubbed = |j: usize| {
             edge.is_some_and(|e| self.s.sense() * (e[j] as f64 - own[j] as f64) > RUB_MM)
         };
@@ -446,19 +586,6 @@ impl Surfacer<'_> {
         Profile { zr, colors }
     }
 
-    /// Unwrapped column `u` (may exceed `n_theta` for the closing strip) to its angle.
-    fn theta(&self, u: usize) -> f64 {
-        self.stock.grid.theta0 + self.stock.grid.dtheta() * u as f64
-    }
-
-    /// The strip's rungs between unwrapped columns `ua < ub`.
-    fn rungs(&self, ua: usize, a: &Profile, ub: usize, b: &Profile) -> Vec<(u32, u32)> {
-        let dtheta = self.theta(ub) - self.theta(ua);
-        let za: Vec<f64> = a.zr.iter().map(|v| v.0).collect();
-        let zb: Vec<f64> = b.zr.iter().map(|v| v.0).collect();
-        rungs(&za, &zb, |z| helical_shift(self.thread, z, dtheta), 0.0)
-    }
-
     /// Columns to add between kept unwrapped columns `ua < ub` so that the strip's section
     /// at the middle skipped column stays within `limit` of that column's dexels, checked
     /// again on both halves after a split.
@@ -474,26 +601,76 @@ impl Surfacer<'_> {
             return Vec::new();
         }
         let um = (ua + ub) / 2;
-        let n = self.stock.grid.n_theta;
         let u = (um - ua) as f64 / (ub - ua) as f64;
-        let section: Vec<(f64, f64)> = self
-            .rungs(ua, a, ub, b)
+        let section: Vec<(f64, f64)> = strip_rungs(&self.grid, self.thread, ua, a, ub, b)
             .iter()
             .map(|&(i, j)| {
                 let (p, q) = (a.zr[i as usize], b.zr[j as usize]);
                 (p.0 + u * (q.0 - p.0), p.1 + u * (q.1 - p.1))
             })
             .collect();
-        if !strays(&section, &self.points(um % n), limit) {
+        if !strays(&section, &self.points(um), limit) {
             return Vec::new();
         }
-        let m = self.profile(um % n);
+        let m = self.profile(um);
         let mut out = self.refine(ua, a, um, &m, limit);
         let right = self.refine(um, &m, ub, b, limit);
         out.push((um, m));
         out.extend(right);
         out
     }
+}
+
+/// The strip's rungs between unwrapped columns `ua < ub`.
+fn strip_rungs(
+    grid: &Grid,
+    thread: &ThreadSpec,
+    ua: usize,
+    a: &Profile,
+    ub: usize,
+    b: &Profile,
+) -> Vec<(u32, u32)> {
+    let theta = |u: usize| grid.theta0 + grid.dtheta() * u as f64;
+    let dtheta = theta(ub) - theta(ua);
+    let za: Vec<f64> = a.zr.iter().map(|v| v.0).collect();
+    let zb: Vec<f64> = b.zr.iter().map(|v| v.0).collect();
+    rungs(&za, &zb, |z| helical_shift(thread, z, dtheta), 0.0)
+}
+
+/// A mesh column: its (unwrapped) index and its profile on every surface of the blank.
+pub(crate) type MeshColumn = (usize, Vec<Profile>);
+
+/// The columns the refinement adds between kept unwrapped columns `ua < ub` (profiles
+/// `a` and `b`, one per surface), in column order: wherever a surface's strip strays more
+/// than `3e/4` from the dexels of a skipped column (recursively), on every surface (both
+/// surfaces of a tube use the same columns: the end annuli join them pairwise).
+pub(crate) fn refined(
+    sfs: &[Surfacer<'_>],
+    ua: usize,
+    a: &[Profile],
+    ub: usize,
+    b: &[Profile],
+) -> Vec<MeshColumn> {
+    let Some(e) = sfs.first().map(|sf| sf.e).filter(|&e| e > 0.0) else {
+        return Vec::new();
+    };
+    let mut found: Vec<Vec<(usize, Profile)>> = sfs
+        .iter()
+        .enumerate()
+        .map(|(s, sf)| sf.refine(ua, &a[s], ub, &b[s], 0.75 * e))
+        .collect();
+    let mut cols: Vec<usize> = found.iter().flatten().map(|c| c.0).collect();
+    cols.sort_unstable();
+    cols.dedup();
+    let mut out: Vec<MeshColumn> = cols.iter().map(|&u| (u, Vec::new())).collect();
+    for (sf, mine) in sfs.iter().zip(&mut found) {
+        let mut mine = std::mem::take(mine).into_iter().peekable();
+        for (u, ps) in &mut out {
+            let p = mine.next_if(|c| c.0 == *u).map(|(_, p)| p);
+            ps.push(p.unwrap_or_else(|| sf.profile(*u)));
+        }
+    }
+    out
 }
 
 /// A body cut deeper than this past its edge (mm) is coloured as a rub.
@@ -518,81 +695,65 @@ pub(crate) fn stock_mesh_with(
     legend: Legend,
     e: f64,
 ) -> Mesh {
-    let grid = stock.grid;
-    let n = grid.n_theta;
-    let window = (
-        grid.z(0) - 0.5 * grid.dz,
-        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
-    );
-    let surfacers: Vec<Surfacer<'_>> = [Surface::Outer, Surface::Inner]
-        .into_iter()
-        .filter(|s| stock.surface(*s).is_some())
-        .map(|s| Surfacer {
-            stock,
-            edge,
-            thread,
-            s,
-            compared: s == surface(thread),
-            legend,
-            e,
-            window,
+    let shape = Shape::of(stock);
+    let dexels = WholeStock { stock, edge };
+    let sfs = surfacers(&shape, &dexels, thread, legend.tolerance_mm, e);
+    let n = shape.grid.n_theta;
+    let kept = kept_columns(&shape, thread, 0.5 * e);
+    let profiles: Vec<Vec<Profile>> = kept
+        .par_iter()
+        .map(|&u| sfs.iter().map(|sf| sf.profile(u)).collect())
+        .collect();
+    let m = kept.len();
+    let added: Vec<Vec<MeshColumn>> = (0..m)
+        .into_par_iter()
+        .map(|k| {
+            let ub = if k + 1 < m { kept[k + 1] } else { kept[0] + n };
+            refined(&sfs, kept[k], &profiles[k], ub, &profiles[(k + 1) % m])
         })
         .collect();
-    // Both surfaces of a tube use the same columns (the end annuli join them pairwise):
-    // refine each, then build what one surface's refinement did not.
-    let mut cols = kept_columns(stock, thread, 0.5 * e);
-    let mut built: Vec<Vec<(usize, Profile)>> = Vec::new();
-    for sf in &surfacers {
-        let profiles: Vec<Profile> = cols.par_iter().map(|&i| sf.profile(i)).collect();
-        let m = cols.len();
-        let added: Vec<Vec<(usize, Profile)>> = if e > 0.0 {
-            (0..m)
-                .into_par_iter()
-                .map(|k| {
-                    let ub = if k + 1 < m { cols[k + 1] } else { cols[0] + n };
-                    sf.refine(cols[k], &profiles[k], ub, &profiles[(k + 1) % m], 0.75 * e)
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let mut all: Vec<(usize, Profile)> = cols.iter().copied().zip(profiles).collect();
-        all.extend(added.into_iter().flatten().map(|(u, p)| (u % n, p)));
-        all.sort_by_key(|c| c.0);
-        built.push(all);
+    let mut columns: Vec<MeshColumn> = Vec::new();
+    for ((&u, p), add) in kept.iter().zip(profiles).zip(added) {
+        columns.push((u, p));
+        columns.extend(add);
     }
-    cols = built.iter().flatten().map(|c| c.0).collect();
-    cols.sort_unstable();
-    cols.dedup();
+    assemble(&shape, thread, columns)
+}
+
+/// The watertight mesh from every column's profiles (in column order, each on every
+/// surface of the blank): strips between neighbouring columns, end faces.
+pub(crate) fn assemble(shape: &Shape, thread: &ThreadSpec, columns: Vec<MeshColumn>) -> Mesh {
+    let grid = shape.grid;
+    let n = grid.n_theta;
+    let window = shape.window();
+    let surfaces = shape.surfaces();
+    let cols: Vec<usize> = columns.iter().map(|c| c.0).collect();
     let m = cols.len();
+    let mut per: Vec<Vec<Profile>> = surfaces.iter().map(|_| Vec::with_capacity(m)).collect();
+    for (_, ps) in columns {
+        for (s, p) in per.iter_mut().zip(ps) {
+            s.push(p);
+        }
+    }
     let mut mesh = Mesh::default();
     // Per surface: first vertex and vertex count of every column's profile.
     let mut layout: Vec<Vec<(u32, usize)>> = Vec::new();
-    for (sf, mine) in surfacers.iter().zip(built) {
-        let mut mine = mine.into_iter().peekable();
-        let profiles: Vec<Profile> = cols
-            .iter()
-            .map(|&i| mine.next_if(|c| c.0 == i).map(|(_, p)| p))
-            .collect::<Vec<_>>()
-            .into_par_iter()
-            .zip(cols.par_iter())
-            .map(|(p, &i)| p.unwrap_or_else(|| sf.profile(i)))
-            .collect();
+    for (s, profiles) in surfaces.iter().zip(&per) {
         let mut lay = Vec::with_capacity(m);
         for (p, &i) in profiles.iter().zip(&cols) {
             lay.push((mesh.positions.len() as u32, p.zr.len()));
-            let theta = grid.theta(i);
+            let theta = grid.theta(i % n);
             mesh.positions
                 .extend(p.zr.iter().map(|&(z, r)| point(r, theta, z)));
             mesh.colors.extend_from_slice(&p.colors);
         }
-        let flip = sf.s == Surface::Inner;
+        let flip = *s == Surface::Inner;
         let strips: Vec<Vec<u32>> = (0..m)
             .into_par_iter()
             .map(|k| {
                 let k1 = (k + 1) % m;
                 let ub = if k1 == 0 { cols[0] + n } else { cols[k1] };
-                let r = sf.rungs(cols[k], &profiles[k], ub, &profiles[k1]);
+                let r = strip_rungs(&grid, thread, cols[k], &profiles[k], ub, &profiles[k1]);
                 let mut out = Vec::with_capacity(3 * r.len());
                 strip_triangles(&r, lay[k].0, lay[k1].0, flip, &mut out);
                 out
@@ -646,8 +807,13 @@ pub(crate) fn stock_mesh_with(
 /// column's compared span. Where the drawing's thread begins or ends abruptly (its first
 /// and last groove) the sheet ends with it instead of joining different grooves.
 pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
-    let grid = stock.grid;
-    let cols = kept_columns(stock, thread, e);
+    ideal_sheet(thread, &Shape::of(stock), e)
+}
+
+/// [`ideal_mesh`] on the grid and blank of `shape`.
+pub(crate) fn ideal_sheet(thread: &ThreadSpec, shape: &Shape, e: f64) -> Mesh {
+    let grid = shape.grid;
+    let cols = kept_columns(shape, thread, e);
     let (lo, hi) = (
         grid.z(0) - 0.5 * grid.dz,
         grid.z(grid.n_z - 1) + 0.5 * grid.dz,

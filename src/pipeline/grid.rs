@@ -98,14 +98,16 @@ const MAX_GRID_DEXELS: u64 = 20_000_000_000;
 
 /// Check what a run on `grid` (`requested` dexels on `surfaces` surfaces) would hold at
 /// once against the budget `limit`: the whole grid when it is kept (`keep`; twice with
-/// swept bodies, `twice`), else a column per thread (two with swept bodies). Then the
-/// grid's own size against [`MAX_GRID_DEXELS`].
+/// swept bodies, `twice`), else `columns` columns per thread (1; a mesh interval's when
+/// the model is meshed streamed), twice with swept bodies. Then the grid's own size
+/// against [`MAX_GRID_DEXELS`].
 pub(super) fn check_budget(
     grid: Grid,
     requested: u64,
     limit: u64,
     surfaces: u32,
     keep: bool,
+    columns: usize,
     twice: bool,
 ) -> Result<(), SimError> {
     let (held, held_as) = if keep {
@@ -124,16 +126,21 @@ pub(super) fn check_budget(
             ),
         )
     } else {
-        let per = if twice { 2 } else { 1 };
+        let per = columns.max(1) as u64 * if twice { 2 } else { 1 };
         let in_flight = rayon::current_num_threads().max(1).min(grid.n_theta.max(1));
         (
             (in_flight as u64)
                 .saturating_mul(per)
                 .saturating_mul(grid.n_z as u64),
             format!(
-                "{} column(s) of {} axial cells, {per} per thread on {in_flight} thread(s); the {} angular columns are streamed",
+                "{} column(s) of {} axial cells, {per} per thread on {in_flight} thread(s){}; the {} angular columns are streamed",
                 in_flight as u64 * per,
                 readable(grid.n_z as u64),
+                if columns > 1 {
+                    format!(" (the model's mesh holds the {columns} columns of its widest interval between kept columns, and their simplified profiles)")
+                } else {
+                    String::new()
+                },
                 grid.n_theta
             ),
         )
