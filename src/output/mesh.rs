@@ -231,7 +231,7 @@ pub(crate) struct Profile {
 
 /// Douglas-Peucker on the polyline `(z_j, r_j)` between forced indices: keep the fewest
 /// samples so that every sample lies within `eps` of the kept polyline (2D distance).
-fn simplify(pts: &[(f64, f64)], forced: &[usize], eps: f64, out: &mut Vec<usize>) {
+fn simplify(pts: Samples<'_>, forced: &[usize], eps: f64, out: &mut Vec<usize>) {
     out.clear();
     let mut stack: Vec<(usize, usize)> = Vec::new();
     for w in forced.windows(2) {
@@ -241,10 +241,9 @@ fn simplify(pts: &[(f64, f64)], forced: &[usize], eps: f64, out: &mut Vec<usize>
             if b <= a + 1 {
                 continue;
             }
-            let (worst, at) = pts[a + 1..b]
-                .iter()
-                .enumerate()
-                .map(|(k, &p)| (seg_dist2(p, pts[a], pts[b]), a + 1 + k))
+            let (pa, pb) = (pts.at(a), pts.at(b));
+            let (worst, at) = (a + 1..b)
+                .map(|j| (seg_dist2(pts.at(j), pa, pb), j))
                 .fold((0.0, a), |m, x| if x.0 > m.0 { x } else { m });
             if worst > eps * eps {
                 stack.push((at, b));
@@ -260,26 +259,62 @@ fn simplify(pts: &[(f64, f64)], forced: &[usize], eps: f64, out: &mut Vec<usize>
     out.dedup();
 }
 
+/// The raw dexel polyline `(z, r)` of one column of one surface, each sample computed
+/// when it is read.
+#[derive(Clone, Copy)]
+struct Samples<'a> {
+    q: &'a [f32],
+    grid: Grid,
+    sense: f64,
+    q0: f64,
+}
+
+impl<'a> Samples<'a> {
+    fn len(&self) -> usize {
+        self.q.len()
+    }
+
+    fn is_empty(&self) -> bool {
+        self.q.is_empty()
+    }
+
+    /// Sample `j`.
+    #[inline]
+    fn at(&self, j: usize) -> (f64, f64) {
+        (self.grid.z(j), self.sense * (self.q[j] as f64 + self.q0))
+    }
+
+    fn iter(self) -> impl Iterator<Item = (f64, f64)> + 'a {
+        (0..self.q.len()).map(move |j| self.at(j))
+    }
+}
+
 /// Squared distance from `p` to the segment `[a, b]` in the axial plane.
 fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     segment_distance2(DVec2::from(p), DVec2::from(a), DVec2::from(b))
 }
 
 /// Whether some sample of `pts` lies further than `limit` from the polyline `line` (both
-/// in the axial plane; `line` need not be monotone in z). Segments are binned by z.
-fn strays(line: &[(f64, f64)], pts: &[(f64, f64)], limit: f64) -> bool {
+/// in the axial plane; `line` need not be monotone in z). Segments are binned by z; a
+/// sample is first tried against the segments around its z (walking along `line` as the
+/// samples advance in z) whose bins hold its own, and only when none of them is near does
+/// it look through its bin (the segments whose bins hold it, indexed when many samples
+/// need them): the answer is the bins' alone.
+fn strays(line: &[(f64, f64)], pts: Samples<'_>, limit: f64) -> bool {
     if line.len() < 2 || pts.is_empty() {
         return !pts.is_empty();
     }
     let lo = line
         .iter()
-        .chain(pts)
+        .copied()
+        .chain(pts.iter())
         .map(|p| p.0)
         .fold(f64::INFINITY, f64::min)
         - limit;
     let hi = line
         .iter()
-        .chain(pts)
+        .copied()
+        .chain(pts.iter())
         .map(|p| p.0)
         .fold(f64::NEG_INFINITY, f64::max)
         + limit;
@@ -288,36 +323,79 @@ fn strays(line: &[(f64, f64)], pts: &[(f64, f64)], limit: f64) -> bool {
         .max(1e-9);
     let nb = (((hi - lo) / width).ceil() as usize).max(1);
     let bin = |z: f64| (((z - lo) / width) as usize).min(nb - 1);
+    // The z span of each segment, widened by the limit: its bins are those of its ends
+    // (`bin` is monotone), so a sample inside it is in one of them.
+    let spans: Vec<(f64, f64)> = line
+        .windows(2)
+        .map(|w| (w[0].0.min(w[1].0) - limit, w[0].0.max(w[1].0) + limit))
+        .collect();
+    let range = |k: usize| bin(spans[k].0)..=bin(spans[k].1);
+    let segments = spans.len();
     // Segments per bin, in one flat array (counts, prefix sums, fill).
-    let range = |w: &[(f64, f64)]| {
-        let (a, b) = (w[0].0.min(w[1].0) - limit, w[0].0.max(w[1].0) + limit);
-        bin(a)..=bin(b)
+    let index = || {
+        let mut start = vec![0u32; nb + 1];
+        for k in 0..segments {
+            for b in range(k) {
+                start[b + 1] += 1;
+            }
+        }
+        for b in 0..nb {
+            start[b + 1] += start[b];
+        }
+        let mut fill = start.clone();
+        let mut segs = vec![0u32; start[nb] as usize];
+        for k in 0..segments {
+            for b in range(k) {
+                segs[fill[b] as usize] = k as u32;
+                fill[b] += 1;
+            }
+        }
+        (start, segs)
     };
-    let mut start = vec![0u32; nb + 1];
-    for w in line.windows(2) {
-        for b in range(w) {
-            start[b + 1] += 1;
-        }
-    }
-    for b in 0..nb {
-        start[b + 1] += start[b];
-    }
-    let mut fill = start.clone();
-    let mut segs = vec![0u32; start[nb] as usize];
-    for (k, w) in line.windows(2).enumerate() {
-        for b in range(w) {
-            segs[fill[b] as usize] = k as u32;
-            fill[b] += 1;
-        }
-    }
+    let mut bins: Option<(Vec<u32>, Vec<u32>)> = None;
+    let mut ranges: Option<Vec<std::ops::RangeInclusive<usize>>> = None;
+    let mut slow = 0;
     let l2 = limit * limit;
-    pts.iter().any(|&p| {
+    let near = |p: (f64, f64), k: usize| seg_dist2(p, line[k], line[k + 1]) <= l2;
+    let mut k = 0;
+    for p in pts.iter() {
+        while k + 1 < segments && line[k + 1].0 < p.0 {
+            k += 1;
+        }
+        // The segment whose z span holds the sample, then its neighbours.
+        let around = [Some(k), (k + 1 < segments).then_some(k + 1), k.checked_sub(1)];
+        if around
+            .into_iter()
+            .flatten()
+            .any(|k| spans[k].0 <= p.0 && p.0 <= spans[k].1 && near(p, k))
+        {
+            continue;
+        }
+        // The segments of the sample's bin: the first few times by their bins (often the
+        // first such sample strays), then through the index.
         let b = bin(p.0);
-        !segs[start[b] as usize..start[b + 1] as usize]
-            .iter()
-            .any(|&k| seg_dist2(p, line[k as usize], line[k as usize + 1]) <= l2)
-    })
+        slow += 1;
+        let near_one = if slow <= SCAN_SAMPLES {
+            let ranges = ranges.get_or_insert_with(|| (0..segments).map(range).collect());
+            ranges
+                .iter()
+                .enumerate()
+                .any(|(k, r)| r.contains(&b) && near(p, k))
+        } else {
+            let (start, segs) = bins.get_or_insert_with(index);
+            segs[start[b] as usize..start[b + 1] as usize]
+                .iter()
+                .any(|&k| near(p, k as usize))
+        };
+        if !near_one {
+            return true;
+        }
+    }
+    false
 }
+
+/// Samples of a column checked against every segment's bins before the bins are indexed.
+const SCAN_SAMPLES: usize = 32;
 
 /// The rungs of the strip between two profiles: pairs `(i, j)` of vertices joined by an
 /// edge, from `(0, 0)` to the last pair. The walk advances on whichever profile's next
@@ -512,16 +590,13 @@ pub(crate) fn surfacers<'a>(
 
 impl Surfacer<'_> {
     /// The raw dexel polyline `(z, r)` of unwrapped column `u`.
-    fn points(&self, u: usize) -> Vec<(f64, f64)> {
-        let grid = self.grid;
-        let q0 = self.q0;
-        let sense = self.s.sense();
-        self.dexels
-            .column(self.s, u)
-            .iter()
-            .enumerate()
-            .map(|(j, &v)| (grid.z(j), sense * (v as f64 + q0)))
-            .collect()
+    fn points(&self, u: usize) -> Samples<'_> {
+        Samples {
+            q: self.dexels.column(self.s, u),
+            grid: self.grid,
+            sense: self.s.sense(),
+            q0: self.q0,
+        }
     }
 
     /// The profile of unwrapped column `u`, simplified to `e/2` (every sample for `e = 0`).
@@ -554,7 +629,7 @@ impl Surfacer<'_> {
             forced.sort_unstable();
             forced.dedup();
             let mut keep = Vec::new();
-            simplify(&pts, &forced, 0.5 * self.e, &mut keep);
+            simplify(pts, &forced, 0.5 * self.e, &mut keep);
             keep
         };
         let tol = self.tol;
@@ -572,12 +647,15 @@ impl Surfacer<'_> {
                 }
                 let d = ideal
                     .as_ref()
-                    .and_then(|id| signed_deviation(self.thread, id, pts[j].0, pts[j].1));
+                    .and_then(|id| {
+                        let (z, r) = pts.at(j);
+                        signed_deviation(self.thread, id, z, r)
+                    });
                 // The blank is stored as zero: any other value was cut.
                 surface_colour(d, own[j] != 0.0, tol)
             })
             .collect();
-        let mut zr: Vec<(f64, f64)> = keep.iter().map(|&j| pts[j]).collect();
+        let mut zr: Vec<(f64, f64)> = keep.iter().map(|&j| pts.at(j)).collect();
         // The first and last samples stand for their whole cells: the surface reaches the
         // window's ends.
         zr[0].0 = self.window.0;
@@ -609,7 +687,7 @@ impl Surfacer<'_> {
                 (p.0 + u * (q.0 - p.0), p.1 + u * (q.1 - p.1))
             })
             .collect();
-        if !strays(&section, &self.points(um), limit) {
+        if !strays(&section, self.points(um), limit) {
             return Vec::new();
         }
         let m = self.profile(um);
