@@ -354,10 +354,11 @@ struct SimulateArgs {
     #[arg(long)]
     check: bool,
     /// Dexel budget: the dexels the run holds at once (4 bytes each); the job is refused
-    /// before allocating when it needs more. Without --gltf, --png/--renders or --plots
+    /// before allocating when it needs more. Without --png/--renders, --plots or --html
     /// the columns are streamed (a column per thread is held, two with rubbing tool
-    /// bodies); with them the whole grid is held (both surfaces, and the edges' cut with
-    /// rubbing bodies). Default: the job's [simulation] max_dexels, else 2e8 (0.8 GB).
+    /// bodies; with --gltf the columns from one of the model's kept columns to the next);
+    /// with them the whole grid is held (both surfaces, and the edges' cut with rubbing
+    /// bodies). Default: the job's [simulation] max_dexels, else 2e8 (0.8 GB).
     #[arg(long, value_name = "N")]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores). Results do

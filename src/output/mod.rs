@@ -7,6 +7,7 @@ pub(crate) mod glb;
 pub(crate) mod html;
 pub(crate) mod mesh;
 pub(crate) mod plot;
+pub(crate) mod profile;
 pub(crate) mod render;
 pub(crate) mod scene;
 pub(crate) mod stream;

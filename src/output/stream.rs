@@ -15,9 +15,10 @@ use crate::job::Job;
 use crate::model::stock::Surface;
 use crate::model::thread::ThreadSpec;
 use crate::output::mesh::{
-    assemble, finish_scene, focus, kept_columns, legend, mesh_tolerance, refined, surface,
-    surfacers, worst, Dexels, MeshColumn, Profile, SceneOptions, Shape,
+    assemble, finish_scene, focus, kept_columns, legend, mesh_tolerance, surface, worst,
+    SceneOptions,
 };
+use crate::output::profile::{refined, surfacers, Dexels, MeshColumn, Profile, Shape};
 use crate::output::scene::Scene;
 use crate::pipeline::{plan_grid, simulate_with, Held, SimError, SimOptions, Sink};
 use crate::report::Report;
