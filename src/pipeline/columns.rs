@@ -388,7 +388,7 @@ impl Pipeline<'_> {
         let wave = WAVE_TILES * rayon::current_num_threads().max(1);
         let mut parts = Vec::with_capacity(sink.bounds().len());
         for w in units.chunks(wave) {
-            let done: Vec<Option<(Vec<ColumnOut>, Vec<S::Part>)>> = w
+            let done: Vec<Option<UnitOut<S>>> = w
                 .par_iter()
                 .map_init(
                     || {
@@ -426,7 +426,7 @@ impl Pipeline<'_> {
         ks: std::ops::Range<usize>,
         main: &mut [f32],
         mut edge: Option<&mut [f32]>,
-    ) -> (Vec<ColumnOut>, Vec<S::Part>) {
+    ) -> UnitOut<S> {
         let (n, n_z) = (self.grid.n_theta, self.grid.n_z);
         let bounds = sink.bounds();
         let mut prior = compare::Prior::default();
@@ -472,6 +472,9 @@ impl Pipeline<'_> {
         (outs, parts)
     }
 }
+
+/// A unit's results: its columns' (in column order) and its intervals' parts.
+type UnitOut<S> = (Vec<ColumnOut>, Vec<<S as Sink>::Part>);
 
 /// The end of interval `k` (the next one's first column, or `n` for the last).
 fn end(bounds: &[usize], k: usize, n: usize) -> usize {
