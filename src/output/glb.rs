@@ -182,9 +182,8 @@ impl Writer {
         }
         let positions = self.positions(&mesh.positions);
         // Each sRGB byte's 16-bit linear value, once (a model has millions of vertices).
-        let linear: [[u8; 2]; 256] = std::array::from_fn(|c| {
-            ((to_linear(c as u8) * 65535.0).round() as u16).to_le_bytes()
-        });
+        let linear: [[u8; 2]; 256] =
+            std::array::from_fn(|c| ((to_linear(c as u8) * 65535.0).round() as u16).to_le_bytes());
         let colours: Vec<u8> = mesh
             .colors
             .iter()
