@@ -154,8 +154,9 @@ impl<'a> Operation<'a> {
 }
 
 /// Simulate a job: cut, compare, measure, check, report. The whole grid is kept and
-/// returned (the model, the pictures and the plots need it); [`simulate_report`] streams
-/// the columns instead and returns the same report holding only a column per thread.
+/// returned (the pictures, the plots and the page read any dexel; the model alone is
+/// meshed while the columns stream, `output::stream`); [`simulate_report`] streams the
+/// columns instead and returns the same report holding only a column per thread.
 pub fn simulate(job: &Job, opts: &SimOptions) -> Result<Outcome, SimError> {
     let run = run::<NoSink>(job, opts, true, None)?;
     Ok(Outcome {
