@@ -137,7 +137,10 @@ pub(super) fn check_budget(
                 in_flight as u64 * per,
                 readable(grid.n_z as u64),
                 if columns > 1 {
-                    format!(" (the model's mesh holds the {columns} columns of its widest interval between kept columns, and their simplified profiles)")
+                    format!(
+                        " (the model is meshed as they stream: the columns from one of its kept columns to the next, at most {columns}{}; the mesh's profiles come on top)",
+                        if twice { ", and the edges' cut of each" } else { "" }
+                    )
                 } else {
                     String::new()
                 },

@@ -137,7 +137,10 @@ fn the_streamed_mesh_budget_counts_the_interval_buffers() {
     // ends) on each of 2 threads.
     assert!(held % (2 * n_z) == 0 && held / (2 * n_z) >= 2, "{msg}");
     assert!(held < 72 * n_z / 4, "{msg}");
-    assert!(msg.contains("the model's mesh holds the"), "{msg}");
+    assert!(
+        msg.contains("the model is meshed as they stream: the columns from one of its kept columns to the next, at most"),
+        "{msg}"
+    );
     assert!(in_pool(2, || simulate_meshed(&j, &opts(held), &mesh)).is_ok());
     assert!(in_pool(2, || simulate_meshed(&j, &opts(held - 1), &mesh)).is_err());
 }
