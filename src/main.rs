@@ -16,6 +16,7 @@ mod cli;
 use anyhow::Context as _;
 use clap::{Parser, Subcommand};
 use cli::ci::{self, Case, Checked, Failed, Place};
+use cli::count::parse_dexels;
 use cli::html::Html;
 use cli::inputs::{self, Inputs};
 use cli::output::{Allow, Outputs, Slot};
@@ -353,13 +354,16 @@ struct SimulateArgs {
     /// Exit with code 1 when the verdict is fail (for CI).
     #[arg(long)]
     check: bool,
-    /// Dexel budget: the dexels the run holds at once (4 bytes each); the job is refused
-    /// before allocating when it needs more. Without --png/--renders, --plots or --html
-    /// the columns are streamed (a column per thread is held, two with rubbing tool
-    /// bodies; with --gltf the columns from one of the model's kept columns to the next);
-    /// with them the whole grid is held (both surfaces, and the edges' cut with rubbing
-    /// bodies). Default: the job's [simulation] max_dexels, else 2e8 (0.8 GB).
-    #[arg(long, value_name = "N")]
+    /// Memory budget, in dexels of 4 bytes (2e8 is 800 MB): the run is refused before it
+    /// allocates the stock when what it would hold at once is more, and the error says
+    /// what that is, term by term. Counted: the stock (the whole grid, both surfaces, and
+    /// the edges' cut with rubbing tool bodies, when --png/--renders, --plots or --html
+    /// need it; else a column per thread, two with rubbing bodies, and with --gltf the
+    /// columns from one of the model's kept columns to the next), each thread's
+    /// comparison, the results of a wave of columns, the bodies' tables, the turned
+    /// profile, the measurement generators. Written 400000000, 400_000_000, 4e8 or 4.0e8.
+    /// Default: the job's [simulation] max_dexels, else 2e8.
+    #[arg(long, value_name = "N", value_parser = parse_dexels)]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores). Results do
     /// not depend on it.
@@ -458,8 +462,8 @@ struct CheckArgs {
     /// The job files (TOML).
     #[arg(required = true, value_name = "JOB")]
     jobs: Vec<PathBuf>,
-    /// Dexel budget per job (see `simulate --max-dexels`).
-    #[arg(long, value_name = "N")]
+    /// Memory budget per job, in dexels of 4 bytes (see `simulate --max-dexels`).
+    #[arg(long, value_name = "N", value_parser = parse_dexels)]
     max_dexels: Option<u64>,
     /// Number of worker threads (default: all cores; at most 4 x the cores).
     #[arg(long, short = 'j', value_name = "N", value_parser = parse_threads)]
@@ -801,18 +805,16 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
         args.gltf_tolerance
     };
     // Only the pictures, the plots and the page need the whole grid: without them the
-    // columns are streamed (the same report, memory that does not grow with the part),
-    // and the model alone is meshed as they stream (the same bytes).
+    // columns stream (the same report; the model alone meshed as they stream, same bytes).
     let pictured = pictures.is_some() || plot_slots.is_some() || html.is_some();
-    let model_alone = gltf_slot.is_some() && !pictured;
+    let model = vpcut::SceneOptions {
+        mesh_tolerance: e,
+        ideal: args.gltf_ideal,
+    };
     let (mut report, mut grids, mut meshed) = progress
         .stage("simulating: sweep, compare, measure", || {
-            if model_alone {
-                let scene = vpcut::SceneOptions {
-                    mesh_tolerance: e,
-                    ideal: args.gltf_ideal,
-                };
-                vpcut::simulate_meshed(&job, &opts, &scene)
+            if gltf_slot.is_some() && !pictured {
+                vpcut::simulate_meshed(&job, &opts, &model)
                     .map(|m| (m.report.clone(), None, Some(m)))
             } else if pictured {
                 vpcut::simulate(&job, &opts).map(|o| (o.report.clone(), Some(o), None))
@@ -825,9 +827,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some(o) = &mut grids {
         o.report = report.clone();
     }
-    if let Some(m) = &mut meshed {
-        m.report = report.clone();
-    }
+    meshed.iter_mut().for_each(|m| m.report = report.clone());
     if let Some(slot) = report_slot {
         outs.put(slot, report.to_json().as_bytes())?;
     }
@@ -867,14 +867,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
                 ..s.clone()
             },
             _ => progress.stage("meshing the part for the model", || {
-                vpcut::build_scene(
-                    &job,
-                    grids.as_ref().expect("the grid was kept"),
-                    &vpcut::SceneOptions {
-                        mesh_tolerance: e,
-                        ideal: args.gltf_ideal,
-                    },
-                )
+                vpcut::build_scene(&job, grids.as_ref().expect("the grid was kept"), &model)
             }),
         };
         let glb = progress.stage("encoding the model", || vpcut::to_glb(&scene))?;

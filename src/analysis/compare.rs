@@ -13,6 +13,7 @@
 //! Volumes are exact per dexel in cylindrical coordinates, `|r1^2 - r2^2|/2 * dtheta * dz`,
 //! summed in a fixed order (columns, then cells) so they do not depend on the thread count.
 
+use super::runs;
 use crate::model::stock::{Grid, Stock, Surface};
 use crate::model::thread::{Flank, ThreadGroove, ThreadSpec, WidthRule};
 use glam::DVec2;
@@ -337,6 +338,11 @@ impl Deviation {
     }
 }
 
+thread_local! {
+    /// [`Comparer::column`]'s ideal heights, reused from column to column.
+    static IDEAL_HEIGHTS: std::cell::RefCell<Vec<f32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// The comparison of one grid's columns, one column at a time: [`compare`] runs it over a
 /// whole stock, the streaming pipeline on each column of a tile while it is in cache.
 pub(crate) struct Comparer<'a> {
@@ -417,16 +423,16 @@ impl<'a> Comparer<'a> {
             (j1 > j0).then_some((lo, hi, j0, j1))
         });
         let Some((lo, hi, j0, j1)) = range else {
-            for &qj in col.iter() {
-                out.total_removed_volume += removed(qj);
-            }
+            out.total_removed_volume = sum_removed(out.total_removed_volume, col, &removed);
             return out;
         };
-        for &qj in &col[..j0] {
-            out.total_removed_volume += removed(qj);
-        }
+        out.total_removed_volume = sum_removed(out.total_removed_volume, &col[..j0], &removed);
         out.compared_z = Some((grid.z(j0), grid.z(j1 - 1)));
-        let mut ideal_h = vec![0f32; j1 - j0];
+        // The ideal heights of the compared cells, in a buffer kept per thread (a fresh
+        // one per column costs its pages' first touch every time).
+        let mut ideal_h = IDEAL_HEIGHTS.with(|b| std::mem::take(&mut *b.borrow_mut()));
+        ideal_h.clear();
+        ideal_h.resize(j1 - j0, 0.0);
         ideal.fill_heights(grid.z0, grid.dz, j0, &mut ideal_h);
         let depth = thread.depth() as f32;
         let kinds: Vec<Flank> = (0..ideal.verts.len() - 1)
@@ -483,7 +489,13 @@ impl<'a> Comparer<'a> {
             open: None,
             found: Vec::new(),
         };
-        for (k, &hi32) in ideal_h.iter().enumerate() {
+        // Runs of cells with the same cut, the same ideal height, one segment and one
+        // groove: their volumes are the same values summed in cell order, and the middle
+        // of a run over a flat is decided at once (`runs::danger`).
+        let n_cmp = ideal_h.len();
+        let mut danger: Vec<(usize, usize)> = Vec::new();
+        let mut k = 0;
+        while k < n_cmp {
             let j = j0 + k;
             let z = grid.z(j);
             if !started || z >= next_groove {
@@ -504,7 +516,18 @@ impl<'a> Comparer<'a> {
                     floors = prior.floors(key);
                 }
             }
+            while next_seg <= z {
+                seg += 1;
+                next_seg = seg_end(seg);
+            }
             let qj = col[j];
+            let hi32 = ideal_h[k];
+            // The run ends before the first cell at or past the next groove or segment
+            // change (as the walk above decides it), or where the cut or ideal changes.
+            let limit = first_at_or_past(grid, j, j1, next_groove.min(next_seg)) - j0;
+            let (qb, hb) = (qj.to_bits(), hi32.to_bits());
+            let e = k + 1 + same_run(&col[j + 1..j0 + limit], &ideal_h[k + 1..limit], qb, hb);
+            let m = e - k;
             let r_cut = sense * (qj as f64 + q_blank);
             let h_cut = thread.height(r_cut);
             let h_ideal = hi32 as f64;
@@ -517,64 +540,99 @@ impl<'a> Comparer<'a> {
             if qj.to_bits() != last_cut.0 {
                 last_cut = (qj.to_bits(), removed(qj));
             }
-            out.compared_dexels += 1;
-            td.compared += 1;
+            out.compared_dexels += m as u64;
+            td.compared += m as u64;
             let v = last_cut.1;
-            out.total_removed_volume += v;
-            out.removed_volume += v;
-            out.ideal_removed_volume += ideal_removed;
+            // Adding +0 leaves a sum of non-negative terms unchanged.
+            if v != 0.0 {
+                out.total_removed_volume = runs::add_repeated(out.total_removed_volume, v, m);
+                out.removed_volume = runs::add_repeated(out.removed_volume, v, m);
+            }
+            if ideal_removed != 0.0 {
+                out.ideal_removed_volume =
+                    runs::add_repeated(out.ideal_removed_volume, ideal_removed, m);
+            }
             let gap = h_cut - h_ideal;
+            let z_last = grid.z(j0 + e - 1);
             // Flats: how far the whole root (crest) of this crossing stays above (below)
             // its ideal height, measured radially.
-            while next_seg <= z {
-                seg += 1;
-                next_seg = seg_end(seg);
-            }
             match flats[seg] {
-                Some(true) if hi32 == 0.0 => flat.add(seg, true, whole[seg], gap, z, groove),
-                Some(false) if hi32 == depth => flat.add(seg, false, whole[seg], -gap, z, groove),
+                Some(true) if hi32 == 0.0 => {
+                    flat.add(seg, true, whole[seg], gap, z, groove);
+                    flat.add(seg, true, whole[seg], gap, z_last, groove);
+                }
+                Some(false) if hi32 == depth => {
+                    flat.add(seg, false, whole[seg], -gap, z, groove);
+                    flat.add(seg, false, whole[seg], -gap, z_last, groove);
+                }
                 _ => flat.close(),
             }
             if gap == 0.0 {
+                k = e;
                 continue;
             }
             let vol = (r_ideal * r_ideal - r_cut * r_cut).abs() * 0.5 * cell;
             let (slots, before) = if gap < 0.0 {
-                td.gouge_volume += vol;
+                td.gouge_volume = runs::add_repeated(td.gouge_volume, vol, m);
                 (&mut td.gouge, &floors.0)
             } else {
-                td.leftover_volume += vol;
+                td.leftover_volume = runs::add_repeated(td.leftover_volume, vol, m);
                 (&mut td.leftover, &floors.1)
             };
-            // The normal distance never exceeds the radial gap: skip points that cannot
-            // beat the maximum seen so far, in this column or in those before it in the
-            // tile ([`Prior`]), on any flank they can be nearest to.
-            let mut floor = [0.0; 4];
-            for f in 0..4 {
-                floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+            // The points of the run that may beat the extremes so far; the others are
+            // proven unable to (`runs::danger`).
+            if self.prunes() && m > 2 {
+                let mut floor = [f64::NEG_INFINITY; 4];
+                for f in 0..4 {
+                    floor[f] = slots[f]
+                        .map_or(f64::NEG_INFINITY, |e| e.value)
+                        .max(before[f]);
+                }
+                let run = runs::Run {
+                    z_of: |i: usize| grid.z(j + i),
+                    m,
+                    dz: grid.dz,
+                    h: h_cut,
+                    ideal_h: h_ideal,
+                    seg,
+                };
+                runs::danger(&ideal, &kinds, &run, &floor, &mut danger);
+            } else {
+                danger.clear();
+                danger.push((0, m));
             }
-            if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
-                continue;
+            for i in danger.iter().flat_map(|&(a, b)| a..b) {
+                let z = grid.z(j + i);
+                // The normal distance never exceeds the radial gap: skip points that
+                // cannot beat the maximum seen so far, in this column or in those before
+                // it in the tile ([`Prior`]), on any flank they can be nearest to.
+                let mut floor = [0.0; 4];
+                for f in 0..4 {
+                    floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+                }
+                if self.prunes() && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
+                    continue;
+                }
+                let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
+                Extreme::keep_max(
+                    &mut slots[flank.index()],
+                    Extreme {
+                        value: d,
+                        theta,
+                        z,
+                        turn: key.1,
+                        start: key.0,
+                        flank,
+                    },
+                );
             }
-            let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
-            Extreme::keep_max(
-                &mut slots[flank.index()],
-                Extreme {
-                    value: d,
-                    theta,
-                    z,
-                    turn: key.1,
-                    start: key.0,
-                    flank,
-                },
-            );
+            k = e;
         }
-        for &qj in &col[j1..] {
-            out.total_removed_volume += removed(qj);
-        }
+        out.total_removed_volume = sum_removed(out.total_removed_volume, &col[j1..], &removed);
         if started {
             out.turns.entry(key).or_default().merge(&td);
         }
+        IDEAL_HEIGHTS.with(|b| *b.borrow_mut() = ideal_h);
         flat.close();
         for (k0, e) in flat.found {
             let td = out.turns.entry(k0).or_default();
@@ -587,6 +645,70 @@ impl<'a> Comparer<'a> {
         }
         out
     }
+}
+
+/// `sum` plus the volume `removed` of each cell of `col`, in cell order (runs of equal
+/// cells at once, [`runs::add_repeated`]; uncut cells add +0 and are skipped).
+fn sum_removed(mut sum: f64, col: &[f32], removed: &impl Fn(f32) -> f64) -> f64 {
+    let mut k = 0;
+    while k < col.len() {
+        let b = col[k].to_bits();
+        let m = 1 + col[k + 1..]
+            .iter()
+            .position(|c| c.to_bits() != b)
+            .unwrap_or(col.len() - k - 1);
+        let v = removed(col[k]);
+        if v != 0.0 {
+            sum = runs::add_repeated(sum, v, m);
+        }
+        k += m;
+    }
+    sum
+}
+
+/// How many leading cells of `cut` and `ideal` (as long as each other) hold the bits
+/// `qb` and `hb`: sixteen cells compared at a time (vectorized), then one by one.
+fn same_run(cut: &[f32], ideal: &[f32], qb: u32, hb: u32) -> usize {
+    let n = cut.len().min(ideal.len());
+    let mut i = 0;
+    while i + 16 <= n {
+        let mut differ = false;
+        for t in 0..16 {
+            differ |= (cut[i + t].to_bits() != qb) | (ideal[i + t].to_bits() != hb);
+        }
+        if differ {
+            break;
+        }
+        i += 16;
+    }
+    while i < n && cut[i].to_bits() == qb && ideal[i].to_bits() == hb {
+        i += 1;
+    }
+    i
+}
+
+/// The first cell index in `(j, end]` whose z is at or past `limit` (`end` if none), as a
+/// cell-by-cell walk comparing `grid.z` with `limit` finds it (`grid.z` increases with
+/// the index).
+fn first_at_or_past(grid: &Grid, j: usize, end: usize, limit: f64) -> usize {
+    let lo = j + 1;
+    // Past the last cell (an infinite limit among them): none.
+    if lo >= end || grid.z(end - 1) < limit {
+        return end.max(lo);
+    }
+    let est = ((limit - grid.z0) / grid.dz).ceil();
+    let mut e = if est >= lo as f64 {
+        (est as usize).min(end)
+    } else {
+        lo
+    };
+    while e > lo && grid.z(e - 1) >= limit {
+        e -= 1;
+    }
+    while e < end && grid.z(e) < limit {
+        e += 1;
+    }
+    e
 }
 
 /// Whether a point at `z` in segment `seg` with radial gap `g` to the ideal cannot beat the
@@ -666,14 +788,15 @@ mod tests {
         }
     }
 
-    /// The pruned comparison (points that cannot beat the extremes by their radial gap, in
-    /// this column or in those before it in the tile, are skipped) gives exactly the extremes,
-    /// volumes and flats of computing every point's distance, on cuts of every kind: runs
-    /// of random length at random offsets from the ideal (gouges and leftovers, deep and
-    /// shallow, walls moved), on square and trapezoid, external and internal threads.
-    #[test]
-    fn pruning_changes_nothing() {
-        let mut rng = Lcg(20);
+    /// Cuts a column: `(column index, its ideal, the thread, its stored values)`.
+    type Cutter<'a> =
+        dyn FnMut(usize, &crate::model::thread::ColumnIdeal, &ThreadSpec, &mut [f32]) + 'a;
+
+    /// Compare `n_theta` columns cut by `cut(column index, ideal, column)` both pruned (as a
+    /// tile runs, against the extremes of the columns before it) and with every distance
+    /// computed, merged in column order, on square and trapezoid, external and internal
+    /// threads; the two must be equal, extremes (values, places, flanks), volumes and flats.
+    fn check_pruning(n_theta: usize, dz: f64, cut: &mut Cutter<'_>) {
         for (side, angles) in [
             (Side::External, 0.0),
             (Side::External, 15.0),
@@ -681,12 +804,13 @@ mod tests {
             (Side::Internal, 30.0),
         ] {
             let thread = screw(side, angles);
+            let n_z = (96.0 / dz).round() as usize;
             let grid = Grid {
-                n_theta: 24,
-                n_z: 4800,
+                n_theta,
+                n_z,
                 theta0: 0.0,
-                z0: -92.0 + 0.01,
-                dz: 0.02,
+                z0: -92.0 + 0.5 * dz,
+                dz,
             };
             let surface = match side {
                 Side::External => Surface::Outer,
@@ -702,27 +826,12 @@ mod tests {
                 (Prior::default(), Deviation::default(), Deviation::default());
             for i in 0..grid.n_theta {
                 let ideal = thread.column(grid.theta(i), grid.z(0), grid.z(grid.n_z - 1));
-                // Runs of cells: the ideal shifted along z by up to 1 mm and offset in
-                // height by up to 2 mm (clamped to the blank and one depth below the
-                // root), or left uncut.
                 let mut col = vec![0f32; grid.n_z];
-                let mut j = 0;
-                while j < grid.n_z {
-                    let len = 1 + (rng.next() * 400.0) as usize;
-                    let (shift, off) = ((rng.next() - 0.5) * 2.0, (rng.next() - 0.5) * 4.0);
-                    let uncut = rng.next() < 0.1;
-                    for c in col.iter_mut().skip(j).take(len) {
-                        if !uncut {
-                            let z = grid.z(j) + shift;
-                            let h = (ideal.height_at(z) + off).clamp(-3.0, 3.0);
-                            let r = thread.radius(h);
-                            *c = (surface.sense() * r - q_blank).min(0.0) as f32;
-                        }
-                        j += 1;
-                    }
+                cut(i, &ideal, &thread, &mut col);
+                for c in col.iter_mut() {
+                    // Stored values are signed radii from the blank, never beyond it.
+                    *c = c.min(0.0);
                 }
-                // Pruned as a tile runs (against the extremes of the columns before it),
-                // and every distance computed; merged in column order.
                 cmp.exhaustive = false;
                 let d = cmp.column(i, &col, &prior);
                 prior.add(&d);
@@ -734,5 +843,92 @@ mod tests {
             assert!(every.max_gouge().is_some() && every.max_leftover().is_some());
             assert!(every.turns.len() >= 7, "{}", every.turns.len());
         }
+    }
+
+    /// The stored value of height `h` above the root, for the fixture's blank.
+    fn stored(thread: &ThreadSpec, h: f64) -> f32 {
+        let (sense, q_blank) = match thread.side {
+            Side::External => (1.0, 14.0),
+            Side::Internal => (-1.0, -11.0),
+        };
+        (sense * thread.radius(h) - q_blank) as f32
+    }
+
+    /// Level cuts, the runs the comparison decides a whole run at a time
+    /// (`runs::danger`): runs of random length at one height, either a random one or
+    /// exactly a root, a crest, half the depth or the blank (an uncut groove: level with the
+    /// crest corners, where the vertex rule decides), with some columns repeating the one
+    /// before so that extremes tie across columns and the first must keep them; and at
+    /// 0.01 and 0.013 mm spacings (cells on and off the walls).
+    #[test]
+    fn run_decisions_change_nothing() {
+        for (seed, dz) in [(31u64, 0.02), (32, 0.013), (33, 0.01)] {
+            let mut rng = Lcg(seed);
+            let mut last: Vec<f32> = Vec::new();
+            let mut cut = |_: usize,
+                           _: &crate::model::thread::ColumnIdeal,
+                           thread: &ThreadSpec,
+                           col: &mut [f32]| {
+                if !last.is_empty() && rng.next() < 0.4 {
+                    col.copy_from_slice(&last);
+                    return;
+                }
+                let depth = thread.depth();
+                let mut j = 0;
+                while j < col.len() {
+                    let len = 1 + (rng.next() * 1500.0) as usize;
+                    let pick = rng.next();
+                    let h = if pick < 0.2 {
+                        0.0
+                    } else if pick < 0.4 {
+                        depth
+                    } else if pick < 0.5 {
+                        0.5 * depth
+                    } else if pick < 0.6 {
+                        f64::NAN
+                    } else {
+                        (rng.next() * 1.4 - 0.2) * depth
+                    };
+                    for c in col.iter_mut().skip(j).take(len) {
+                        *c = if h.is_nan() { 0.0 } else { stored(thread, h) };
+                    }
+                    j += len;
+                }
+                last = col.to_vec();
+            };
+            check_pruning(16, dz, &mut cut);
+        }
+    }
+
+    /// The pruned comparison (points that cannot beat the extremes by their radial gap, in
+    /// this column or in those before it in the tile, are skipped) gives exactly the extremes,
+    /// volumes and flats of computing every point's distance, on cuts of every kind: runs
+    /// of random length at random offsets from the ideal (gouges and leftovers, deep and
+    /// shallow, walls moved), on square and trapezoid, external and internal threads.
+    #[test]
+    fn pruning_changes_nothing() {
+        let mut rng = Lcg(20);
+        let mut cut = |_: usize,
+                       ideal: &crate::model::thread::ColumnIdeal,
+                       thread: &ThreadSpec,
+                       col: &mut [f32]| {
+            // Runs of cells: the ideal shifted along z by up to 1 mm and offset in height
+            // by up to 2 mm (clamped to the blank and one depth below the root), or left
+            // uncut.
+            let mut j = 0;
+            while j < col.len() {
+                let len = 1 + (rng.next() * 400.0) as usize;
+                let (shift, off) = ((rng.next() - 0.5) * 2.0, (rng.next() - 0.5) * 4.0);
+                let uncut = rng.next() < 0.1;
+                for c in col.iter_mut().skip(j).take(len) {
+                    if !uncut {
+                        let z = -92.0 + 0.01 + 0.02 * j as f64 + shift;
+                        *c = stored(thread, (ideal.height_at(z) + off).clamp(-3.0, 3.0));
+                    }
+                    j += 1;
+                }
+            }
+        };
+        check_pruning(24, 0.02, &mut cut);
     }
 }

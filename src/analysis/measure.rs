@@ -33,15 +33,86 @@ pub(crate) struct Interval {
     pub hi_open: bool,
 }
 
-/// Intervals where `inside(h)` holds on a sampled column, with flank crossings at `level`
-/// found by linear interpolation.
-pub(crate) fn intervals(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) -> Vec<Interval> {
-    let inside = |x: f32| {
-        if tooth {
+/// The smallest `f32` whose value is above `level` (`strict`) or at least `level`: for an
+/// `f32` `x` (not NaN), `x as f64 > level` is `x >= above(level, true)` and
+/// `x as f64 >= level` is `x >= above(level, false)` (the conversion is exact and
+/// monotone). `level` is not NaN.
+fn above(level: f64, strict: bool) -> f32 {
+    let beyond = |x: f32| {
+        if strict {
             x as f64 > level
         } else {
-            (x as f64) < level
+            x as f64 >= level
         }
+    };
+    // The nearest f32 is within half a step of `level`: the answer is it or a neighbour.
+    let c = level as f32;
+    if beyond(c) {
+        let d = step(c, false);
+        if beyond(d) {
+            d
+        } else {
+            c
+        }
+    } else {
+        step(c, true)
+    }
+}
+
+/// The next `f32` up (towards +inf) or down from `x` (`f32::next_up`/`next_down`, which
+/// came after the crate's minimum Rust version); NaN and the infinity in the direction
+/// stay.
+fn step(x: f32, up: bool) -> f32 {
+    if x.is_nan() || x == if up { f32::INFINITY } else { f32::NEG_INFINITY } {
+        return x;
+    }
+    if x == 0.0 {
+        let tiny = f32::from_bits(1);
+        return if up { tiny } else { -tiny };
+    }
+    let b = x.to_bits();
+    // Away from zero the bits count up, towards it down (sign and magnitude).
+    f32::from_bits(if (x > 0.0) == up { b + 1 } else { b - 1 })
+}
+
+/// Cells of one state skipped at a time: a chunk's cells are tested together (no branch
+/// per cell: vectorised).
+const SCAN_CHUNK: usize = 32;
+
+/// The first cell from `from` on whose state (`x >= t` where `ge`, else `x < t`) is not
+/// `state`, or `h.len()`.
+fn next_change(h: &[f32], from: usize, t: f32, ge: bool, state: bool) -> usize {
+    let test = |x: f32| if ge { x >= t } else { x < t };
+    let mut j = from;
+    while let Some(chunk) = h.get(j..j + SCAN_CHUNK) {
+        let changed = chunk.iter().fold(false, |any, &x| any | (test(x) != state));
+        if changed {
+            break;
+        }
+        j += SCAN_CHUNK;
+    }
+    while j < h.len() && test(h[j]) == state {
+        j += 1;
+    }
+    j
+}
+
+/// Intervals where the column is inside a feature (above `level` for a tooth, below it for
+/// a groove) on a sampled column, with flank crossings at `level` found by linear
+/// interpolation. The cells' states are one `f32` comparison each with a threshold that
+/// gives exactly the `f64` comparison's answer ([`above`]), so runs of one state are
+/// skipped a chunk at a time; the crossings are computed as before.
+pub(crate) fn intervals(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) -> Vec<Interval> {
+    let mut out = Vec::new();
+    if level.is_nan() {
+        return out;
+    }
+    // Inside: `x as f64 > level` (tooth), or `x as f64 < level` (groove), that is not
+    // `x as f64 >= level`; NaN cells are outside either way.
+    let (t, ge) = if tooth {
+        (above(level, true), true)
+    } else {
+        (above(level, false), false)
     };
     let cross = |j: usize| {
         // Crossing between cells j-1 and j.
@@ -49,29 +120,32 @@ pub(crate) fn intervals(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) ->
         let u = if b != a { (level - a) / (b - a) } else { 0.5 };
         z0 + (j as f64 - 1.0 + u.clamp(0.0, 1.0)) * dz
     };
-    let mut out = Vec::new();
     let mut open: Option<(f64, bool)> = None;
-    for (j, &hj) in h.iter().enumerate() {
-        let now = inside(hj);
-        match (&open, now) {
-            (None, true) => {
-                open = Some(if j == 0 {
+    let mut j = 0;
+    loop {
+        let k = next_change(h, j, t, ge, open.is_some());
+        if k >= h.len() {
+            break;
+        }
+        match open {
+            None => {
+                open = Some(if k == 0 {
                     (z0, true)
                 } else {
-                    (cross(j), false)
+                    (cross(k), false)
                 });
             }
-            (Some((lo, lo_open)), false) => {
+            Some((lo, lo_open)) => {
                 out.push(Interval {
-                    lo: *lo,
-                    hi: cross(j),
-                    lo_open: *lo_open,
+                    lo,
+                    hi: cross(k),
+                    lo_open,
                     hi_open: false,
                 });
                 open = None;
             }
-            _ => {}
         }
+        j = k + 1;
     }
     if let Some((lo, lo_open)) = open {
         out.push(Interval {
@@ -155,12 +229,42 @@ pub(crate) fn measure_by(
     use rayon::prelude::*;
     (0..cfg.generators.max(1))
         .into_par_iter()
-        .map(|g| {
+        .map_init(Buffers::default, |bufs, g| {
             let theta = thread.helix.theta0
                 + std::f64::consts::TAU * g as f64 / cfg.generators.max(1) as f64;
-            measure_generator(thread, cut, blank_q, window, cfg, theta)
+            measure_generator(thread, cut, blank_q, window, cfg, theta, bufs)
         })
         .collect()
+}
+
+/// A generator's columns (the cut, its heights, the ideal's heights), kept by a worker
+/// from one generator to the next: their pages are touched once, not per generator.
+#[derive(Default)]
+struct Buffers {
+    q: Vec<f32>,
+    cut_h: Vec<f32>,
+    ideal_h: Vec<f32>,
+}
+
+/// The most heap memory one generator of `cells` cells holds at once, its ideal column
+/// (`ideal_bytes`, with `features` features) aside (bytes): the cut, its heights and the
+/// ideal's heights (`f32` each); the intervals of the cut and of the ideal (at most one per
+/// feature and one at each end, doubled for a vector's growth: a cut split by ridges has
+/// more, a few per turn); the features in the window, their matches and the turns.
+pub(crate) fn generator_bytes(cells: usize, features: usize) -> u64 {
+    use std::mem::size_of;
+    let cells = cells.max(2) as u64;
+    let f = features as u64 + 2;
+    3 * cells * size_of::<f32>() as u64
+        + 2 * 2 * 2 * f * size_of::<Interval>() as u64
+        + f * (size_of::<Feature>()
+            + size_of::<(Option<Interval>, Option<Interval>, bool)>()
+            + 2 * size_of::<TurnMeasure>()) as u64
+}
+
+/// The axial cells of a measurement column over `window` at `spacing`.
+pub(crate) fn generator_cells(window: (f64, f64), spacing: f64) -> usize {
+    ((window.1 - window.0) / spacing).floor().max(2.0) as usize
 }
 
 fn measure_generator(
@@ -170,16 +274,19 @@ fn measure_generator(
     window: (f64, f64),
     cfg: MeasureConfig,
     theta: f64,
+    bufs: &mut Buffers,
 ) -> Vec<TurnMeasure> {
     let spacing = cfg.spacing;
     let (z_lo, z_hi) = window;
-    let n = ((z_hi - z_lo) / spacing).floor().max(2.0) as usize;
+    let n = generator_cells(window, spacing);
     let surface = match thread.side {
         Side::External => Surface::Outer,
         Side::Internal => Surface::Inner,
     };
     let sense = surface.sense();
-    let mut q = vec![0f32; n];
+    let Buffers { q, cut_h, ideal_h } = bufs;
+    q.clear();
+    q.resize(n, 0.0);
     let column = Column {
         theta,
         z0: z_lo,
@@ -187,14 +294,17 @@ fn measure_generator(
         q_blank: blank_q,
         surface,
     };
-    cut(&mut q, column);
-    let cut_h: Vec<f32> = q
-        .iter()
-        .map(|&v| thread.height(sense * (v as f64 + blank_q)) as f32)
-        .collect();
+    cut(q, column);
+    cut_h.clear();
+    cut_h.extend(
+        q.iter()
+            .map(|&v| thread.height(sense * (v as f64 + blank_q)) as f32),
+    );
     let ideal = thread.column(theta, z_lo, z_hi);
-    let mut ideal_h = vec![0f32; n];
-    ideal.fill_heights(z_lo, spacing, 0, &mut ideal_h);
+    ideal_h.clear();
+    ideal_h.resize(n, 0.0);
+    ideal.fill_heights(z_lo, spacing, 0, ideal_h);
+    let (cut_h, ideal_h) = (&cut_h[..], &ideal_h[..]);
     let tooth = matches!(thread.width, WidthRule::Tooth(_));
     let level = thread.pitch_height();
     // Flanks outside this generator's thread span border the run-in and run-out, which
@@ -207,8 +317,8 @@ fn measure_generator(
         }
         ivs
     };
-    let cut_iv = clip(intervals(&cut_h, z_lo, spacing, level, tooth));
-    let ideal_iv = clip(intervals(&ideal_h, z_lo, spacing, level, tooth));
+    let cut_iv = clip(intervals(cut_h, z_lo, spacing, level, tooth));
+    let ideal_iv = clip(intervals(ideal_h, z_lo, spacing, level, tooth));
 
     // Features in the window, in t order per start (z falls with t).
     let whole = thread.turns + 1e-9;
@@ -303,8 +413,8 @@ fn measure_generator(
                 .map(|l| 2.0 * thread.radius(l))
         };
         out.push(TurnMeasure {
-            pitch_diameter: d2(&cut_h),
-            ideal_pitch_diameter: d2(&ideal_h),
+            pitch_diameter: d2(cut_h),
+            ideal_pitch_diameter: d2(ideal_h),
             start: f.start,
             turn: f.turn(),
             t: f.t,
@@ -383,6 +493,130 @@ pub(crate) fn pitch_level(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The intervals cell by cell, each state an `f64` comparison: the oracle of
+    /// [`intervals`]' thresholds and chunked scan.
+    fn intervals_by_cell(h: &[f32], z0: f64, dz: f64, level: f64, tooth: bool) -> Vec<Interval> {
+        let inside = |x: f32| {
+            if tooth {
+                x as f64 > level
+            } else {
+                (x as f64) < level
+            }
+        };
+        let cross = |j: usize| {
+            let (a, b) = (h[j - 1] as f64, h[j] as f64);
+            let u = if b != a { (level - a) / (b - a) } else { 0.5 };
+            z0 + (j as f64 - 1.0 + u.clamp(0.0, 1.0)) * dz
+        };
+        let mut out = Vec::new();
+        let mut open: Option<(f64, bool)> = None;
+        for (j, &hj) in h.iter().enumerate() {
+            match (&open, inside(hj)) {
+                (None, true) => {
+                    open = Some(if j == 0 {
+                        (z0, true)
+                    } else {
+                        (cross(j), false)
+                    });
+                }
+                (Some((lo, lo_open)), false) => {
+                    out.push(Interval {
+                        lo: *lo,
+                        hi: cross(j),
+                        lo_open: *lo_open,
+                        hi_open: false,
+                    });
+                    open = None;
+                }
+                _ => {}
+            }
+        }
+        if let Some((lo, lo_open)) = open {
+            out.push(Interval {
+                lo,
+                hi: z0 + (h.len() as f64 - 1.0) * dz,
+                lo_open,
+                hi_open: true,
+            });
+        }
+        out
+    }
+
+    /// Randomized: columns of runs (long and short, across chunk edges) of values at the
+    /// level, the f32 neighbours around it, far from it, NaN and infinities; levels that are
+    /// f32 values, between them, and extreme; both features. The same intervals, bit for
+    /// bit, as the cell-by-cell oracle.
+    #[test]
+    fn chunked_intervals_match_the_cell_by_cell_oracle() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for case in 0..4000 {
+            let level = match case % 6 {
+                0 => 0.75,
+                1 => 0.1,
+                2 => (next() % 1000) as f64 * 1e-3 + 1e-12,
+                3 => f32::MAX as f64 * 2.0,
+                4 => -1e-40,
+                _ => (next() % 2000) as f64 * 1e-3 - 1.0,
+            };
+            let c = level as f32;
+            let near = [
+                c,
+                step(c, true),
+                step(c, false),
+                step(step(c, true), true),
+                step(step(c, false), false),
+            ];
+            let n = (next() % 300) as usize;
+            let mut h = Vec::with_capacity(n);
+            while h.len() < n {
+                let run = 1 + (next() % 70) as usize;
+                let v = match next() % 8 {
+                    0 => f32::NAN,
+                    1 => f32::INFINITY,
+                    2 => f32::NEG_INFINITY,
+                    3 => (next() % 3000) as f32 * 1e-3 - 1.0,
+                    _ => near[(next() % 5) as usize],
+                };
+                for _ in 0..run.min(n - h.len()) {
+                    h.push(v);
+                }
+            }
+            for tooth in [false, true] {
+                let (a, b) = (
+                    intervals(&h, -2.0, 5e-4, level, tooth),
+                    intervals_by_cell(&h, -2.0, 5e-4, level, tooth),
+                );
+                let bits = |v: &[Interval]| {
+                    v.iter()
+                        .map(|i| (i.lo.to_bits(), i.hi.to_bits(), i.lo_open, i.hi_open))
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(
+                    bits(&a),
+                    bits(&b),
+                    "case {case}, level {level}, tooth {tooth}"
+                );
+            }
+        }
+        // The steps against the bits of known neighbours.
+        assert_eq!(step(1.0, true), 1.0 + f32::EPSILON);
+        assert_eq!(step(1.0 + f32::EPSILON, false), 1.0);
+        assert_eq!(step(-1.0, false), -1.0 - f32::EPSILON);
+        assert_eq!(step(f32::MAX, true), f32::INFINITY);
+        assert_eq!(step(f32::NEG_INFINITY, true), f32::MIN);
+        assert_eq!(step(0.0, false), -f32::from_bits(1));
+        assert_eq!(step(-0.0, true), f32::from_bits(1));
+        // A NaN level: nothing is inside.
+        assert!(intervals(&[0.0, 1.0], 0.0, 1.0, f64::NAN, true).is_empty());
+        assert!(intervals_by_cell(&[0.0, 1.0], 0.0, 1.0, f64::NAN, true).is_empty());
+    }
 
     #[test]
     fn pitch_level_of_a_sixty_degree_groove() {

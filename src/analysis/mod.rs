@@ -7,3 +7,4 @@ pub(crate) mod compare;
 pub(crate) mod findings;
 pub(crate) mod interference;
 pub(crate) mod measure;
+pub(crate) mod runs;

@@ -1,8 +1,9 @@
 //! The binary's own modules (not part of the library): output files written all or nothing,
 //! input files read with good messages, the terminal (closed pipes, colour, progress) and
-//! the CI formats, the HTML report.
+//! the CI formats, the HTML report, counts as they are written (`--max-dexels 4e8`).
 
 pub(crate) mod ci;
+pub(crate) mod count;
 pub(crate) mod html;
 pub(crate) mod inputs;
 pub(crate) mod output;

@@ -187,7 +187,12 @@ pub(super) fn check_numbers(src: &str, file: &str, doc: &ImDocument<&str>) -> Re
                 file,
                 &n.path,
                 n.span,
-                format!("expected a number from {lo} to {hi}, got {}", shown(v)),
+                format!(
+                    "expected a number from {} to {}, got {}",
+                    shown(lo),
+                    shown(hi),
+                    shown(v)
+                ),
             ));
         }
     }
@@ -349,4 +354,47 @@ where
             })
         }
     }
+}
+
+/// The dexel budget, a count a person may write as an integer (`400000000`,
+/// `400_000_000`) or in scientific notation, which TOML reads as a float (`4e8`, `4.0e8`):
+/// a float is taken when it is a whole number. Fractions (`1.5`), `nan`, `inf`, and
+/// numbers outside the key's range ([`range_of`]: negatives) are refused.
+pub(super) fn count<'de, D>(d: D) -> Result<Option<u64>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+{
+    struct Count;
+    impl serde::de::Visitor<'_> for Count {
+        type Value = u64;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a whole number (400000000, 400_000_000 or 4e8)")
+        }
+        fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<u64, E> {
+            self.visit_f64(v as f64).map(|_| v)
+        }
+        fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<u64, E> {
+            self.visit_f64(v as f64)
+        }
+        fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<u64, E> {
+            let (lo, hi) = range_of("simulation.max_dexels");
+            if !v.is_finite() || v.fract() != 0.0 {
+                Err(E::custom(format!(
+                    "expected a whole number (400000000, 400_000_000 or 4e8), got {}",
+                    shown(v)
+                )))
+            } else if v < lo || v > hi {
+                Err(E::custom(format!(
+                    "expected a whole number from {} to {}, got {}",
+                    shown(lo),
+                    shown(hi),
+                    shown(v)
+                )))
+            } else {
+                // Whole and at most 1e15 (below 2^53): exact.
+                Ok(v as u64)
+            }
+        }
+    }
+    d.deserialize_any(Count).map(Some)
 }

@@ -340,6 +340,7 @@ pub(super) struct RawSimulation {
     pub(super) tolerance: f64,
     #[serde(default, deserialize_with = "keys::fixed")]
     pub(super) z_range: Option<[f64; 2]>,
+    #[serde(default, deserialize_with = "keys::count")]
     pub(super) max_dexels: Option<u64>,
     #[serde(default = "default_measure_spacing")]
     pub(super) measure_spacing: f64,

@@ -443,6 +443,13 @@ fn reaches_out(
 }
 
 impl Sections {
+    /// The heap memory the sections hold (bytes; a mesh body's solid is the tool's).
+    pub(crate) fn heap_bytes(&self) -> u64 {
+        (self.samples.capacity() * std::mem::size_of::<(f64, f64, f64)>()
+            + self.faces.capacity() * std::mem::size_of::<Face>()
+            + self.corners.rates.capacity() * std::mem::size_of::<Rate>()) as u64
+    }
+
     /// The body's angular extent (the last sample's angle).
     fn phi_max(&self) -> f64 {
         self.samples.last().map_or(0.0, |&(dt, _, _)| dt * TAU)
@@ -752,6 +759,11 @@ pub(crate) struct Ray {
 }
 
 impl Ray {
+    /// The heap memory the ray holds (bytes).
+    pub(crate) fn heap_bytes(&self) -> u64 {
+        ((self.lower.capacity() + self.upper.capacity()) * std::mem::size_of::<(f64, f64)>()) as u64
+    }
+
     /// Cut `seg` (cells at offsets `v_start + k dz`). The material side meets the body at
     /// the highest lower bound (the smallest radius outside, the largest inside), so a cell
     /// is cut to it where that does not exceed the lowest upper bound. The lines are moved
@@ -883,6 +895,18 @@ pub(crate) fn fmax(a: f32, b: f32) -> f32 {
 }
 
 impl Tables {
+    /// The heap memory the tables hold (bytes).
+    pub(crate) fn heap_bytes(&self) -> u64 {
+        let entries: usize = self
+            .bins
+            .iter()
+            .flatten()
+            .flatten()
+            .map(|t| t.entries.capacity() * std::mem::size_of::<f32>())
+            .sum();
+        (self.bins.capacity() * std::mem::size_of::<[Option<Table>; 2]>() + entries) as u64
+    }
+
     /// Cut a column (cells `z0 + j dz`) with the tables of a crossing at revolution
     /// `t <= t_last` whose edge tip centre stands at `z_tip`; returns the tables applied and
     /// the cells they touched.

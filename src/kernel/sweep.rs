@@ -97,6 +97,30 @@ impl<'a> GridSweep<'a> {
         }
     }
 
+    /// The heap memory the prepared passes hold (bytes): the bodies' sections, their rays
+    /// and tables. [`sweep_column`] prepares the same but the tables:
+    /// `(with tables, without)`.
+    pub(crate) fn heap_bytes(&self) -> (u64, u64) {
+        let mut without = (self.prepared.capacity() * std::mem::size_of::<Prepared>()) as u64;
+        let mut tables = 0;
+        for p in &self.prepared {
+            without += p.body.as_ref().map_or(0, Sections::heap_bytes);
+            without += p
+                .rays
+                .iter()
+                .flatten()
+                .chain(&p.edge_ray)
+                .map(Ray::heap_bytes)
+                .sum::<u64>();
+            without += p
+                .rays
+                .as_ref()
+                .map_or(0, |r| (r.capacity() * std::mem::size_of::<Ray>()) as u64);
+            tables += p.tables.as_ref().map_or(0, Tables::heap_bytes);
+        }
+        (without + tables, without)
+    }
+
     /// Cut column `i` of the grid, held in `col` (`n_z` values, `q - q_blank`), in place.
     pub(crate) fn column(&self, i: usize, col: &mut [f32]) -> SweepStats {
         let g = &self.grid;

@@ -134,6 +134,43 @@ impl Sink for NoSink {
 /// Tiles per thread in a wave (see [`Pipeline::run`]).
 const WAVE_TILES: usize = 4;
 
+/// The columns whose results a wave holds at once, on `threads` threads, each unit of the
+/// wave running up to `extra` columns past its tile (0; a sink's units end with an
+/// interval: [`Pipeline::run_intervals`]).
+pub(super) fn wave_columns(grid: &Grid, threads: usize, extra: usize) -> usize {
+    let tile = compare::tile_columns(grid.n_theta);
+    (WAVE_TILES * threads.max(1) * (tile + extra)).min(grid.n_theta)
+}
+
+/// The heap memory of a B-tree map of `entries` entries of `entry` bytes, built in key
+/// order (bytes): leaves of 11 slots, at least 5 of them full (a split in key order leaves
+/// the left node with 5), an internal node per 6 leaves or fewer, each with 12 edges.
+pub(super) fn btree_bytes(entries: u64, entry: usize) -> u64 {
+    if entries == 0 {
+        return 0;
+    }
+    let node = 11 * entry as u64 + 16;
+    let leaves = entries / 5 + 1;
+    let internal = leaves / 5 + 1;
+    leaves * node + internal * (node + 12 * 8)
+}
+
+/// The most heap memory one column's results hold (bytes): the comparison's extremes per
+/// turn (`keys` turns), the body interference's (`bodies`: its turns, the grooves' and the
+/// run-in's and run-out's features), a milling column's figures per move that changed it
+/// (`mill_moves`: at most every move, doubled for the vector's growth).
+pub(super) fn column_out_bytes(keys: u64, bodies: Option<u64>, mill_moves: Option<usize>) -> u64 {
+    use std::mem::size_of;
+    let dev = btree_bytes(keys, size_of::<((u32, i64), compare::TurnDeviation)>());
+    let hits = bodies.map_or(0, |k| {
+        btree_bytes(k, size_of::<((u32, i64), [Option<interference::Hit>; 4])>())
+    });
+    let mill = mill_moves.map_or(0, |m| {
+        2 * m as u64 * size_of::<(usize, crate::kernel::mill::MoveCut)>() as u64
+    });
+    size_of::<ColumnOut>() as u64 + dev + hits + mill
+}
+
 /// Merge columns' results, in column order, into `m`.
 fn merge(m: &mut Merged, columns: impl IntoIterator<Item = ColumnOut>) {
     for c in columns {

@@ -15,7 +15,7 @@ use crate::analysis::checks;
 use crate::analysis::compare::{Comparer, Deviation};
 use crate::analysis::findings::{rank, FindingCounts, FindingKind};
 use crate::analysis::interference::{self, Measurer};
-use crate::analysis::measure::{measure_by, MeasureConfig};
+use crate::analysis::measure::{generator_cells, measure_by, MeasureConfig};
 use crate::job::{Job, MillJob};
 use crate::kernel::mill::{mill_column, GridMill};
 use crate::kernel::sweep::{sweep_column, Column, GridSweep};
@@ -42,14 +42,14 @@ pub struct SimOptions {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum SimError {
-    /// The run would hold more dexels in memory at once than allowed.
-    #[error("the run would hold {} dexels ({} MB) at once: {held_as}; over the budget of {}; coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels", readable(*held), readable(held.saturating_mul(4) / 1_000_000), readable(*limit))]
+    /// The run would hold more memory at once than the budget allows.
+    #[error("the run would hold {} at once: {held_as}; over the budget of {} ({} dexels of 4 bytes); coarsen [simulation] axial_spacing or angular_cells, narrow z_range, or raise --max-dexels", grid::bytes_readable(*bytes), grid::bytes_readable(limit.saturating_mul(grid::DEXEL_BYTES)), readable(*limit))]
     DexelBudget {
-        /// Dexels held at once (4 bytes each).
-        held: u64,
-        /// The budget.
+        /// Bytes held at once at the run's peak.
+        bytes: u64,
+        /// The budget, in dexels of 4 bytes (`max_dexels`).
         limit: u64,
-        /// What they are: the whole grid (its size and why) or the tiles in flight.
+        /// What they are, term by term, with their sizes.
         held_as: String,
         /// Dexels the whole grid has (all surfaces).
         requested: u64,
@@ -246,15 +246,36 @@ fn run<S: Sink>(
         Operation::Milling(_) => Vec::new(),
     };
     let twice = !swept.is_empty() && has_surface;
-    grid::check_budget(
+    let limit = opts.max_dexels.unwrap_or(job.sim.max_dexels);
+    let window = grid_window(&grid);
+    let ((m_lo, m_hi), spacing) = measure_window(job, window);
+    let (turned, q_floor) = match surface {
+        Surface::Outer => (&job.turning.outer, job.blank.bore / 2.0),
+        Surface::Inner => (&job.turning.inner, -job.blank.diameter / 2.0),
+    };
+    let mut shape = grid::RunShape {
         grid,
         requested,
-        opts.max_dexels.unwrap_or(job.sim.max_dexels),
         surfaces,
         keep,
-        sink.map_or(1, |s| columns::widest(s.bounds(), grid.n_theta) + 1),
         twice,
-    )?;
+        columns: sink.map_or(1, |s| columns::widest(s.bounds(), grid.n_theta) + 1),
+        has_surface,
+        threads: rayon::current_num_threads(),
+        turned: !turned.cuts.is_empty(),
+        prepared: (0, 0),
+        mill_moves: match op {
+            Operation::Milling(mj) => Some(mj.path.moves.len()),
+            Operation::Turning { .. } => None,
+        },
+        ideal: grid::ideal_size(thread, &grid),
+        measure: (m_hi > m_lo).then(|| {
+            (
+                generator_cells((m_lo, m_hi), spacing),
+                job.sim.measure_generators.max(1),
+            )
+        }),
+    };
     // Each pass crosses every column once per revolution, each mill sample reaches every
     // column at most once: bound the work before doing it.
     let placements = match op {
@@ -271,6 +292,24 @@ fn run<S: Sink>(
             columns: grid.n_theta,
         });
     }
+    // The passes prepared (the bodies' tables built: at most 64 MB a pass), then the
+    // budget on everything the run will hold, before the grid is allocated.
+    let edges: Vec<Tool> = job.tools.iter().map(Tool::edge_only).collect();
+    let cut = match op {
+        Operation::Turning { passes, tools } => Cutting::Turning {
+            sweep: GridSweep::new(grid, q_blank, surface, passes, tools),
+            edges: twice.then(|| GridSweep::new(grid, q_blank, surface, passes, &edges)),
+        },
+        Operation::Milling(mj) => {
+            Cutting::Milling(GridMill::new(grid, q_blank, surface, &mj.path, &mj.cutters))
+        }
+    };
+    if let Cutting::Turning { sweep, edges } = &cut {
+        let (a, b) = sweep.heap_bytes();
+        let e = edges.as_ref().map_or(0, |e| e.heap_bytes().0);
+        shape.prepared = (a + e, b);
+    }
+    grid::check_budget(grid, requested, limit, surfaces, &grid::footprint(&shape))?;
     let mut stock = if keep {
         Some(blank_stock(job, grid)?)
     } else {
@@ -284,27 +323,12 @@ fn run<S: Sink>(
     let t_setup = t_start.elapsed().as_secs_f64();
 
     let t0 = Instant::now();
-    let window = grid_window(&grid);
-    let edges: Vec<Tool> = job.tools.iter().map(Tool::edge_only).collect();
-    let cut = match op {
-        Operation::Turning { passes, tools } => Cutting::Turning {
-            sweep: GridSweep::new(grid, q_blank, surface, passes, tools),
-            edges: twice.then(|| GridSweep::new(grid, q_blank, surface, passes, &edges)),
-        },
-        Operation::Milling(mj) => {
-            Cutting::Milling(GridMill::new(grid, q_blank, surface, &mj.path, &mj.cutters))
-        }
-    };
     let mill_stats = match &cut {
         Cutting::Milling(m) => Some(m.stats()),
         Cutting::Turning { .. } => None,
     };
     // The program's turning moves on the thread's surface: one profile along z, clamped
     // into every column and every measurement generator (kernel::turn).
-    let (turned, q_floor) = match surface {
-        Surface::Outer => (&job.turning.outer, job.blank.bore / 2.0),
-        Surface::Inner => (&job.turning.inner, -job.blank.diameter / 2.0),
-    };
     let turned_profile = (!turned.cuts.is_empty())
         .then(|| turned.profile(grid.n_z, grid.z0, grid.dz, q_blank, q_floor));
     let pipe = Pipeline {
@@ -351,7 +375,6 @@ fn run<S: Sink>(
     let (t_sweep, t_compare) = (fused * share, fused * (1.0 - share));
 
     let t0 = Instant::now();
-    let ((m_lo, m_hi), spacing) = measure_window(job, window);
     let measures = if m_hi > m_lo {
         let cfg = MeasureConfig {
             spacing,

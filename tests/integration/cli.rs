@@ -143,7 +143,10 @@ fn dexel_budget_is_checked_before_allocating() {
     let (out, _, report) = simulate_text(&small("iso-m20x2.5-radial"), &["--max-dexels", "1000"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("over the budget of 1000"), "{err}");
+    assert!(
+        err.contains("over the budget of 4.00 kB (1000 dexels of 4 bytes)"),
+        "{err}"
+    );
     assert!(!report.exists());
 }
 

@@ -119,28 +119,33 @@ fn full_resolution_scenes_mesh_the_same_streamed() {
 }
 
 /// The streamed mesh's budget: a buffer of the widest interval between kept columns per
-/// thread (and the edges' cut beside it with rubbing bodies), far under the grid.
+/// thread (and the edges' cut beside it with rubbing bodies) instead of a column, far under
+/// the grid; the error says so, and a budget of the bytes stated admits the run.
 #[test]
 fn the_streamed_mesh_budget_counts_the_interval_buffers() {
     let j = crate::support::job(&small("seed002-equal-tooth"));
-    let n_z = 2000u64;
+    let (n_theta, n_z) = (72u64, 2000u64);
     let opts = |n: u64| SimOptions {
         max_dexels: Some(n),
     };
     let mesh = SceneOptions::default();
-    let err = in_pool(2, || simulate_meshed(&j, &opts(1), &mesh)).unwrap_err();
-    let msg = err.to_string();
-    let SimError::DexelBudget { held, .. } = err else {
-        panic!("{msg}")
+    let bytes_of = |e: SimError| match e {
+        SimError::DexelBudget { bytes, held_as, .. } => (bytes, held_as),
+        e => panic!("{e}"),
     };
+    let (report, _) = bytes_of(in_pool(2, || vpcut::simulate_report(&j, &opts(0))).unwrap_err());
+    let err = in_pool(2, || simulate_meshed(&j, &opts(0), &mesh)).unwrap_err();
+    let msg = err.to_string();
+    let (bytes, held_as) = bytes_of(err);
     // 72 columns, at least 16 kept: intervals of at most 5 columns, held whole (both
-    // ends) on each of 2 threads.
-    assert!(held % (2 * n_z) == 0 && held / (2 * n_z) >= 2, "{msg}");
-    assert!(held < 72 * n_z / 4, "{msg}");
+    // ends) on each of 2 threads, where the report holds one column per thread.
     assert!(
-        msg.contains("the model is meshed as they stream: the columns from one of its kept columns to the next, at most"),
+        held_as.contains("(the model is meshed as they stream: the columns from one of its kept columns to the next, at most"),
         "{msg}"
     );
-    assert!(in_pool(2, || simulate_meshed(&j, &opts(held), &mesh)).is_ok());
-    assert!(in_pool(2, || simulate_meshed(&j, &opts(held - 1), &mesh)).is_err());
+    assert!(bytes >= report, "{msg}");
+    assert!(bytes < report + 4 * n_theta * n_z / 4, "{msg}");
+    let dexels = bytes.div_ceil(4);
+    assert!(in_pool(2, || simulate_meshed(&j, &opts(dexels), &mesh)).is_ok());
+    assert!(in_pool(2, || simulate_meshed(&j, &opts(dexels - 1), &mesh)).is_err());
 }

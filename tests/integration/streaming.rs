@@ -60,7 +60,9 @@ fn streaming_matches_at_full_resolution() {
 }
 
 /// The budget counts what is held: the whole grid for a full-grid run (twice with swept
-/// bodies), a column per thread for a streaming one, and the error says which.
+/// bodies), a column per thread for a streaming one, each with what the comparison and
+/// the measurement hold, in bytes, and the error says which. (`tests/budget.rs` checks
+/// the bytes against a counting allocator.)
 #[test]
 fn the_dexel_budget_error_states_the_memory_held() {
     let j = crate::support::job(&small("seed002-equal-tooth"));
@@ -68,35 +70,41 @@ fn the_dexel_budget_error_states_the_memory_held() {
     let opts = |n: u64| SimOptions {
         max_dexels: Some(n),
     };
-    // The full grid: 72 x 2000 dexels, over a budget one less.
-    let err = simulate(&j, &opts(n_theta * n_z - 1)).unwrap_err();
+    // The full grid: 72 x 2000 dexels of 4 bytes, and the rest (on 2 threads, as the
+    // streamed run below).
+    let err = in_pool(2, || simulate(&j, &opts(0))).unwrap_err();
     let msg = err.to_string();
+    let SimError::DexelBudget { bytes, .. } = err else {
+        panic!("{msg}")
+    };
+    let kept = bytes;
+    assert!(bytes > 4 * n_theta * n_z, "{msg}");
     assert!(
-        matches!(err, SimError::DexelBudget { held, .. } if held == n_theta * n_z),
+        msg.contains("the whole grid, 72 angular x 2000 axial x 1 surface(s)"),
         "{msg}"
     );
+    assert!(msg.contains("(576 kB)"), "{msg}");
     assert!(
-        msg.contains("would hold 144000 dexels (0 MB) at once"),
+        msg.contains("over the budget of 0 bytes (0 dexels of 4 bytes)"),
         "{msg}"
     );
-    assert!(
-        msg.contains("the whole grid, 72 angular x 2000 axial"),
-        "{msg}"
-    );
-    assert!(simulate(&j, &opts(n_theta * n_z)).is_ok());
+    // A budget of the bytes stated, in dexels, admits the run; one dexel less does not.
+    let dexels = bytes.div_ceil(4);
+    assert!(simulate(&j, &opts(dexels)).is_ok());
+    assert!(simulate(&j, &opts(dexels - 1)).is_err());
     // Streamed: a column per thread.
-    let err = in_pool(2, || simulate_report(&j, &opts(2 * n_z - 1))).unwrap_err();
+    let err = in_pool(2, || simulate_report(&j, &opts(0))).unwrap_err();
     let msg = err.to_string();
-    assert!(
-        matches!(err, SimError::DexelBudget { held, .. } if held == 2 * n_z),
-        "{msg}"
-    );
-    assert!(msg.contains("would hold 4000 dexels"), "{msg}");
+    let SimError::DexelBudget { bytes, .. } = err else {
+        panic!("{msg}")
+    };
+    // Less than the kept run by the grid (the measurement generators are the peak of both).
+    assert_eq!(kept - bytes, 4 * n_theta * n_z, "{msg}");
     assert!(
         msg.contains("2 column(s) of 2000 axial cells, 1 per thread on 2 thread(s)"),
         "{msg}"
     );
-    assert!(in_pool(2, || simulate_report(&j, &opts(2 * n_z))).is_ok());
+    assert!(in_pool(2, || simulate_report(&j, &opts(bytes.div_ceil(4)))).is_ok());
     // With a rubbing body the edges' cut is held too: two columns per thread.
     let rub = crate::support::job(&small("seed000-tool-rub"));
     let err = in_pool(1, || simulate_report(&rub, &opts(1))).unwrap_err();
