@@ -23,14 +23,29 @@ pub(crate) struct Profile {
 
 /// Douglas-Peucker on the polyline `(z_j, r_j)` between forced indices: keep the fewest
 /// samples so that every sample lies within `eps` of the kept polyline (2D distance).
+///
+/// A stretch whose samples all have one stored value is flat: every sample lies on the
+/// chord (the foot's radius is the chord's exactly, `r + u 0`) up to the rounding of its z,
+/// a few ulps of the largest |z|, so its squared distance is at most `(8 eps_f64 z)^2`,
+/// far under `eps^2` when `eps` exceeds `1e-9 (1 + |z|)`: no sample can split it, and it
+/// is not searched.
 fn simplify(pts: Samples<'_>, forced: &[usize], eps: f64, out: &mut Vec<usize>) {
     out.clear();
+    let z_max = if pts.is_empty() {
+        0.0
+    } else {
+        pts.at(0).0.abs().max(pts.at(pts.len() - 1).0.abs())
+    };
+    let flat_ok = eps > 1e-9 * (1.0 + z_max);
     let mut stack: Vec<(usize, usize)> = Vec::new();
     for w in forced.windows(2) {
         out.push(w[0]);
         stack.push((w[0], w[1]));
         while let Some((a, b)) = stack.pop() {
             if b <= a + 1 {
+                continue;
+            }
+            if flat_ok && pts.q[a + 1..=b].iter().all(|&v| v == pts.q[a]) {
                 continue;
             }
             let (pa, pb) = (pts.at(a), pts.at(b));
