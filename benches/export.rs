@@ -1,13 +1,15 @@
 //! Criterion benchmarks of the export path on the seed scenes at their own resolution:
 //! mesh extraction from the dexel grid (one and two threads), `.glb` encoding, and the
-//! headless render of a 1024x768 picture with 4x MSAA. See benches/README.md.
+//! headless render of a 1024x768 picture with 4x MSAA, and the whole `--gltf` run streamed
+//! against the full grid. See benches/README.md.
 
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::time::Duration;
 use vpcut::{
-    build_scene, simulate, to_glb, Job, RenderOptions, Renderer, SceneOptions, SimOptions, View,
+    build_scene, simulate, simulate_meshed, simulate_report, to_glb, Job, RenderOptions, Renderer,
+    SceneOptions, SimOptions, View,
 };
 
 fn scene(name: &str) -> Job {
@@ -35,6 +37,28 @@ fn bench_mesh(c: &mut Criterion) {
         }
         let s = build_scene(&job, &out, &SceneOptions::default());
         g.bench_function("glb", |b| b.iter(|| to_glb(&s).unwrap()));
+        g.finish();
+    }
+}
+
+/// Issue 20, fourth round: the whole `--gltf` run streamed (`simulate_meshed`) against the
+/// full grid kept and meshed (`simulate` + `build_scene`) and the report alone
+/// (`simulate_report`), on the machine's threads.
+fn bench_streamed_model(c: &mut Criterion) {
+    for name in ["seed002-equal-tooth", "seed004-tr100x12"] {
+        let job = scene(name);
+        let (sim, mesh) = (SimOptions::default(), SceneOptions::default());
+        let mut g = c.benchmark_group(format!("model/{name}"));
+        g.sample_size(10).measurement_time(Duration::from_secs(10));
+        g.bench_function("report-only", |b| {
+            b.iter(|| simulate_report(&job, &sim).unwrap())
+        });
+        g.bench_function("streamed", |b| {
+            b.iter(|| simulate_meshed(&job, &sim, &mesh).unwrap().into_scene())
+        });
+        g.bench_function("full-grid", |b| {
+            b.iter(|| build_scene(&job, &simulate(&job, &sim).unwrap(), &mesh))
+        });
         g.finish();
     }
 }
@@ -73,5 +97,5 @@ fn bench_render(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench_mesh, bench_render);
+criterion_group!(benches, bench_mesh, bench_streamed_model, bench_render);
 criterion_main!(benches);

@@ -93,6 +93,7 @@ pub use output::render::{
     encode_png, RenderError, RenderOptions, Renderer, ToolpathMode, View, SHADER,
 };
 pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
+pub use output::stream::{simulate_meshed, Meshed};
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
     Finding, FindingCounts, FindingKind, InputFile, Painter, Report, SummaryStyle, Tone, TurnRow,

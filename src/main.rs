@@ -357,8 +357,9 @@ struct SimulateArgs {
     /// Memory budget, in dexels of 4 bytes (2e8 is 800 MB): the run is refused before it
     /// allocates the stock when what it would hold at once is more, and the error says
     /// what that is, term by term. Counted: the stock (the whole grid, both surfaces, and
-    /// the edges' cut with rubbing tool bodies, when --gltf, --png/--renders or --plots
-    /// need it; else a column per thread, two with rubbing bodies), each thread's
+    /// the edges' cut with rubbing tool bodies, when --png/--renders, --plots or --html
+    /// need it; else a column per thread, two with rubbing bodies, and with --gltf the
+    /// columns from one of the model's kept columns to the next), each thread's
     /// comparison, the results of a wave of columns, the bodies' tables, the turned
     /// profile, the measurement generators. Written 400000000, 400_000_000, 4e8 or 4.0e8.
     /// Default: the job's [simulation] max_dexels, else 2e8.
@@ -798,16 +799,27 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     let opts = vpcut::SimOptions {
         max_dexels: args.max_dexels,
     };
-    // Only the model, the pictures and the plots need the whole grid: without them the
-    // columns are streamed (the same report, memory that does not grow with the part).
-    let needs_grid =
-        gltf_slot.is_some() || pictures.is_some() || plot_slots.is_some() || html.is_some();
-    let (mut report, mut grids) = progress
+    let e = if args.gltf_full {
+        Some(0.0)
+    } else {
+        args.gltf_tolerance
+    };
+    // Only the pictures, the plots and the page need the whole grid: without them the
+    // columns stream (the same report; the model alone meshed as they stream, same bytes).
+    let pictured = pictures.is_some() || plot_slots.is_some() || html.is_some();
+    let model = vpcut::SceneOptions {
+        mesh_tolerance: e,
+        ideal: args.gltf_ideal,
+    };
+    let (mut report, mut grids, mut meshed) = progress
         .stage("simulating: sweep, compare, measure", || {
-            if needs_grid {
-                vpcut::simulate(&job, &opts).map(|o| (o.report.clone(), Some(o)))
+            if gltf_slot.is_some() && !pictured {
+                vpcut::simulate_meshed(&job, &opts, &model)
+                    .map(|m| (m.report.clone(), None, Some(m)))
+            } else if pictured {
+                vpcut::simulate(&job, &opts).map(|o| (o.report.clone(), Some(o), None))
             } else {
-                vpcut::simulate_report(&job, &opts).map(|r| (r, None))
+                vpcut::simulate_report(&job, &opts).map(|r| (r, None, None))
             }
         })
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.job.display()))?;
@@ -815,14 +827,10 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     if let Some(o) = &mut grids {
         o.report = report.clone();
     }
+    meshed.iter_mut().for_each(|m| m.report = report.clone());
     if let Some(slot) = report_slot {
         outs.put(slot, report.to_json().as_bytes())?;
     }
-    let e = if args.gltf_full {
-        Some(0.0)
-    } else {
-        args.gltf_tolerance
-    };
     // Pictures use the default mesh and the ideal (drawn on section planes); the model
     // shares that mesh unless it asks for another tolerance.
     let picture_scene = (pictures.is_some() || html.is_some()).then(|| {
@@ -848,8 +856,9 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
                 ));
             }
         }
-        let scene = match (&picture_scene, e) {
-            (Some(s), None) => vpcut::Scene {
+        let scene = match (meshed.take(), &picture_scene, e) {
+            (Some(m), _, _) => m.into_scene(),
+            (None, Some(s), None) => vpcut::Scene {
                 ideal: if args.gltf_ideal {
                     s.ideal.clone()
                 } else {
@@ -858,14 +867,7 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
                 ..s.clone()
             },
             _ => progress.stage("meshing the part for the model", || {
-                vpcut::build_scene(
-                    &job,
-                    grids.as_ref().expect("the grid was kept"),
-                    &vpcut::SceneOptions {
-                        mesh_tolerance: e,
-                        ideal: args.gltf_ideal,
-                    },
-                )
+                vpcut::build_scene(&job, grids.as_ref().expect("the grid was kept"), &model)
             }),
         };
         let glb = progress.stage("encoding the model", || vpcut::to_glb(&scene))?;

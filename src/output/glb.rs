@@ -181,11 +181,14 @@ impl Writer {
             return None;
         }
         let positions = self.positions(&mesh.positions);
+        // Each sRGB byte's 16-bit linear value, once (a model has millions of vertices).
+        let linear: [[u8; 2]; 256] =
+            std::array::from_fn(|c| ((to_linear(c as u8) * 65535.0).round() as u16).to_le_bytes());
         let colours: Vec<u8> = mesh
             .colors
             .iter()
             .flat_map(|c| {
-                let lin = |k: usize| ((to_linear(c[k]) * 65535.0).round() as u16).to_le_bytes();
+                let lin = |k: usize| linear[c[k] as usize];
                 [lin(0), lin(1), lin(2), u16::MAX.to_le_bytes()]
             })
             .flatten()

@@ -32,17 +32,18 @@
 
 use crate::analysis::compare::{Deviation, Extreme};
 use crate::job::Job;
-use crate::model::geom::segment_distance2;
 use crate::model::helix::Hand;
 use crate::model::pass::Pass;
-use crate::model::stock::{Stock, Surface};
+use crate::model::stock::{Grid, Stock, Surface};
 use crate::model::thread::{Side, ThreadSpec};
 use crate::model::tool::Tool;
-use crate::output::plot::{signed_deviation, surface_colour, BLANK, BODY_RUB};
+use crate::output::plot::BLANK;
+use crate::output::profile::{
+    refined, strip_rungs, surfacers, MeshColumn, Profile, Shape, WholeStock,
+};
 use crate::output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 use crate::pipeline::Outcome;
-use crate::report::r6;
-use glam::DVec2;
+use crate::report::{r6, Report};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -65,11 +66,44 @@ pub struct SceneOptions {
 pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
     let tol = job.sim.tolerance;
     let legend = legend(&out.deviation, tol);
-    let e = opts.mesh_tolerance.unwrap_or(tol).max(0.0);
+    let e = mesh_tolerance(job, opts);
     let stock = stock_mesh_with(&out.stock, out.edge_stock.as_ref(), &job.thread, legend, e);
+    let s = surface(&job.thread);
+    let focus = focus(&out.deviation, &out.stock.grid, tol, |i, j| {
+        out.stock.radius(s, i, j)
+    });
+    finish_scene(
+        job,
+        &Shape::of(&out.stock),
+        opts,
+        legend,
+        stock,
+        focus,
+        &out.report,
+    )
+}
+
+/// The stock mesh's tolerance: the asked one, else the job's.
+pub(crate) fn mesh_tolerance(job: &Job, opts: &SceneOptions) -> f64 {
+    opts.mesh_tolerance.unwrap_or(job.sim.tolerance).max(0.0)
+}
+
+/// The scene around a stock mesh: the ideal sheet if asked, the toolpath, the tool, the
+/// legend, the focus, and the report's summary.
+pub(crate) fn finish_scene(
+    job: &Job,
+    shape: &Shape,
+    opts: &SceneOptions,
+    legend: Legend,
+    stock: Mesh,
+    focus: Option<Focus>,
+    report: &Report,
+) -> Scene {
+    let tol = job.sim.tolerance;
+    let e = mesh_tolerance(job, opts);
     let ideal = opts
         .ideal
-        .then(|| ideal_mesh(&job.thread, &out.stock, e.max(tol)));
+        .then(|| ideal_sheet(&job.thread, shape, e.max(tol)));
     Scene {
         stock,
         ideal,
@@ -86,14 +120,14 @@ pub fn build_scene(job: &Job, out: &Outcome, opts: &SceneOptions) -> Scene {
             None => tool_mesh(job),
         },
         legend,
-        focus: focus(&out.deviation, &out.stock, &job.thread, tol),
-        summary: out.report.summary_json(legend.scale_mm),
+        focus,
+        summary: report.summary_json(legend.scale_mm),
     }
 }
 
 /// The colour scale: the tolerance, and the largest deviation (at least twice the
 /// tolerance, and as the report rounds it), as the developed view uses.
-fn legend(dev: &Deviation, tol: f64) -> Legend {
+pub(crate) fn legend(dev: &Deviation, tol: f64) -> Legend {
     let worst = |e: Option<Extreme>| r6(e.map_or(0.0, |e| e.value));
     Legend {
         tolerance_mm: tol,
@@ -103,9 +137,13 @@ fn legend(dev: &Deviation, tol: f64) -> Legend {
     }
 }
 
-/// The worst deviation beyond the tolerance, on the cut surface: the exact extreme's dexel
-/// (its value as the report rounds it).
-fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Option<Focus> {
+/// The worst deviation beyond the tolerance and its dexel (column, cell), as the report
+/// rounds it.
+pub(crate) fn worst(
+    dev: &Deviation,
+    grid: &Grid,
+    tol: f64,
+) -> Option<(&'static str, Extreme, usize, usize)> {
     let (gouge, leftover) = (dev.max_gouge(), dev.max_leftover());
     let value = |e: &Option<Extreme>| r6(e.map_or(0.0, |e| e.value));
     let (kind, e) = if value(&gouge) >= value(&leftover) {
@@ -116,7 +154,6 @@ fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Optio
     if r6(e.value) <= tol {
         return None;
     }
-    let grid = stock.grid;
     let i = ((e.theta - grid.theta0) / grid.dtheta())
         .round()
         .rem_euclid(grid.n_theta as f64) as usize
@@ -124,7 +161,20 @@ fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Optio
     let j = ((e.z - grid.z0) / grid.dz)
         .round()
         .clamp(0.0, (grid.n_z - 1) as f64) as usize;
-    let r = stock.radius(surface(thread), i, j)?;
+    Some((kind, e, i, j))
+}
+
+/// The worst deviation beyond the tolerance, on the cut surface: the exact extreme's dexel
+/// (its value as the report rounds it), `radius(i, j)` the thread surface's radius at
+/// column `i`, cell `j`.
+pub(crate) fn focus(
+    dev: &Deviation,
+    grid: &Grid,
+    tol: f64,
+    radius: impl Fn(usize, usize) -> Option<f64>,
+) -> Option<Focus> {
+    let (kind, e, i, j) = worst(dev, grid, tol)?;
+    let r = radius(i, j)?;
     Some(Focus {
         kind: kind.to_string(),
         value_mm: r6(e.value),
@@ -134,7 +184,7 @@ fn focus(dev: &Deviation, stock: &Stock, thread: &ThreadSpec, tol: f64) -> Optio
     })
 }
 
-fn surface(thread: &ThreadSpec) -> Surface {
+pub(crate) fn surface(thread: &ThreadSpec) -> Surface {
     match thread.side {
         Side::External => Surface::Outer,
         Side::Internal => Surface::Inner,
@@ -147,18 +197,16 @@ fn point(r: f64, theta: f64, z: f64) -> [f32; 3] {
 
 /// The kept columns for a mesh tolerance `e`: every column for `e = 0`, else evenly spread
 /// columns whose spacing keeps the chord and the twist of a helical wall under `e/2`.
-pub(crate) fn kept_columns(stock: &Stock, thread: &ThreadSpec, e: f64) -> Vec<usize> {
-    let n = stock.grid.n_theta;
+pub(crate) fn kept_columns(shape: &Shape, thread: &ThreadSpec, e: f64) -> Vec<usize> {
+    let n = shape.grid.n_theta;
     if e <= 0.0 {
         return (0..n).collect();
     }
-    let r_max = stock
-        .blank_outer
-        .max(thread.crest_radius.max(thread.root_radius));
+    let r_max = shape.outer.max(thread.crest_radius.max(thread.root_radius));
     let r_min = thread
         .crest_radius
         .min(thread.root_radius)
-        .max(stock.blank_inner)
+        .max(shape.inner)
         .max(1e-3);
     let law = thread.helix.law;
     let lead = law.lead(0.0).abs().max(law.lead(thread.turns).abs());
@@ -180,111 +228,18 @@ pub(crate) fn kept_columns(stock: &Stock, thread: &ThreadSpec, e: f64) -> Vec<us
     (0..m).map(|k| k * n / m).collect()
 }
 
-/// One profile of the mesh: the kept samples of a column.
-#[derive(Clone, Debug)]
-struct Profile {
-    /// (z, r) of each vertex, z increasing.
-    zr: Vec<(f64, f64)>,
-    colors: Vec<[u8; 3]>,
-}
-
-/// Douglas-Peucker on the polyline `(z_j, r_j)` between forced indices: keep the fewest
-/// samples so that every sample lies within `eps` of the kept polyline (2D distance).
-fn simplify(pts: &[(f64, f64)], forced: &[usize], eps: f64, out: &mut Vec<usize>) {
-    out.clear();
-    let mut stack: Vec<(usize, usize)> = Vec::new();
-    for w in forced.windows(2) {
-        out.push(w[0]);
-        stack.push((w[0], w[1]));
-        while let Some((a, b)) = stack.pop() {
-            if b <= a + 1 {
-                continue;
-            }
-            let (worst, at) = pts[a + 1..b]
-                .iter()
-                .enumerate()
-                .map(|(k, &p)| (seg_dist2(p, pts[a], pts[b]), a + 1 + k))
-                .fold((0.0, a), |m, x| if x.0 > m.0 { x } else { m });
-            if worst > eps * eps {
-                stack.push((at, b));
-                stack.push((a, at));
-                out.push(at);
-            }
-        }
-    }
-    if let Some(&last) = forced.last() {
-        out.push(last);
-    }
-    out.sort_unstable();
-    out.dedup();
-}
-
-/// Squared distance from `p` to the segment `[a, b]` in the axial plane.
-fn seg_dist2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    segment_distance2(DVec2::from(p), DVec2::from(a), DVec2::from(b))
-}
-
-/// Whether some sample of `pts` lies further than `limit` from the polyline `line` (both
-/// in the axial plane; `line` need not be monotone in z). Segments are binned by z.
-fn strays(line: &[(f64, f64)], pts: &[(f64, f64)], limit: f64) -> bool {
-    if line.len() < 2 || pts.is_empty() {
-        return !pts.is_empty();
-    }
-    let lo = line
-        .iter()
-        .chain(pts)
-        .map(|p| p.0)
-        .fold(f64::INFINITY, f64::min)
-        - limit;
-    let hi = line
-        .iter()
-        .chain(pts)
-        .map(|p| p.0)
-        .fold(f64::NEG_INFINITY, f64::max)
-        + limit;
-    let width = ((hi - lo) / (2 * pts.len()).max(1) as f64)
-        .max(limit)
-        .max(1e-9);
-    let nb = (((hi - lo) / width).ceil() as usize).max(1);
-    let bin = |z: f64| (((z - lo) / width) as usize).min(nb - 1);
-    // Segments per bin, in one flat array (counts, prefix sums, fill).
-    let range = |w: &[(f64, f64)]| {
-        let (a, b) = (w[0].0.min(w[1].0) - limit, w[0].0.max(w[1].0) + limit);
-        bin(a)..=bin(b)
-    };
-    let mut start = vec![0u32; nb + 1];
-    for w in line.windows(2) {
-        for b in range(w) {
-            start[b + 1] += 1;
-        }
-    }
-    for b in 0..nb {
-        start[b + 1] += start[b];
-    }
-    let mut fill = start.clone();
-    let mut segs = vec![0u32; start[nb] as usize];
-    for (k, w) in line.windows(2).enumerate() {
-        for b in range(w) {
-            segs[fill[b] as usize] = k as u32;
-            fill[b] += 1;
-        }
-    }
-    let l2 = limit * limit;
-    pts.iter().any(|&p| {
-        let b = bin(p.0);
-        !segs[start[b] as usize..start[b + 1] as usize]
-            .iter()
-            .any(|&k| seg_dist2(p, line[k as usize], line[k as usize + 1]) <= l2)
-    })
-}
-
 /// The rungs of the strip between two profiles: pairs `(i, j)` of vertices joined by an
 /// edge, from `(0, 0)` to the last pair. The walk advances on whichever profile's next
 /// vertex comes first in the helical coordinate halfway between the two generators
 /// (`shift(z)`: how far a helical feature at `z` moves from `a` to `b`), so a wall meets
 /// the same wall on the next generator. Positions within `eps` count as equal (the shift's
 /// own error), and equal ones go in the order of their runs of equal z.
-fn rungs(za: &[f64], zb: &[f64], shift: impl Fn(f64) -> f64, eps: f64) -> Vec<(u32, u32)> {
+pub(crate) fn rungs(
+    za: &[f64],
+    zb: &[f64],
+    shift: impl Fn(f64) -> f64,
+    eps: f64,
+) -> Vec<(u32, u32)> {
     // The rank of each vertex in its run of equal z (a vertical wall is two vertices at
     // one z): where two next vertices meet within `eps` after the shift, the one earlier
     // in its run goes first, so a wall's top pairs with the other wall's top and its foot
@@ -341,7 +296,7 @@ fn strip_triangles(rungs: &[(u32, u32)], oa: u32, ob: u32, flip: bool, out: &mut
 
 /// Axial shift of a feature at `z` from one generator to the next, `dtheta` further on:
 /// the thread's local lead over 2 pi, with the sign of its hand.
-fn helical_shift(thread: &ThreadSpec, z: f64, dtheta: f64) -> f64 {
+pub(crate) fn helical_shift(thread: &ThreadSpec, z: f64, dtheta: f64) -> f64 {
     let h = &thread.helix;
     let s = ((z - h.z0) * h.dir)
         .max(0.0)
@@ -354,150 +309,6 @@ fn helical_shift(thread: &ThreadSpec, z: f64, dtheta: f64) -> f64 {
     };
     sign * lead * dtheta / TAU
 }
-
-/// What the profiles of one surface are built from.
-struct Surfacer<'a> {
-    stock: &'a Stock,
-    /// The stock as the edges alone cut it, when tool bodies were swept.
-    edge: Option<&'a Stock>,
-    thread: &'a ThreadSpec,
-    s: Surface,
-    compared: bool,
-    legend: Legend,
-    e: f64,
-    window: (f64, f64),
-}
-
-impl Surfacer<'_> {
-    /// The raw dexel polyline `(z, r)` of column `i`.
-    fn points(&self, i: usize) -> Vec<(f64, f64)> {
-        let grid = self.stock.grid;
-        let q = self.stock.surface(self.s).expect("surface present");
-        let q0 = self.stock.blank_q(self.s);
-        let sense = self.s.sense();
-        q[i * grid.n_z..(i + 1) * grid.n_z]
-            .iter()
-            .enumerate()
-            .map(|(j, &v)| (grid.z(j), sense * (v as f64 + q0)))
-            .collect()
-    }
-
-    /// The profile of column `i`, simplified to `e/2` (every sample for `e = 0`).
-    fn profile(&self, i: usize) -> Profile {
-        let grid = self.stock.grid;
-        let pts = self.points(i);
-        let ideal = self.compared.then(|| {
-            self.thread
-                .column(grid.theta(i), self.window.0, self.window.1)
-        });
-        let n = pts.len();
-        let keep: Vec<usize> = if self.e <= 0.0 {
-            (0..n).collect()
-        } else {
-            // Forced: both ends, the samples either side of every ideal corner (colours
-            // follow the drawing), and one every 2 mm (colour interpolation stays local).
-            let mut forced = vec![0, n - 1];
-            if let Some(id) = &ideal {
-                for v in &id.verts {
-                    let x = (v.z - grid.z0) / grid.dz;
-                    if x > -1.0 && x < n as f64 {
-                        forced.push(x.floor().max(0.0) as usize);
-                        forced.push((x.ceil() as usize).min(n - 1));
-                    }
-                }
-            }
-            let step = ((2.0 / grid.dz).ceil() as usize).max(1);
-            forced.extend((0..n).step_by(step));
-            forced.sort_unstable();
-            forced.dedup();
-            let mut keep = Vec::new();
-            simplify(&pts, &forced, 0.5 * self.e, &mut keep);
-            keep
-        };
-        let tol = self.legend.tolerance_mm;
-        // Dexels a tool body cut past its edge get their own colour.
-        let edge = self.edge.and_then(|e| e.surface(self.s)).map(|q| {
-            let n_z = grid.n_z;
-            &q[i * n_z..(i + 1) * n_z]
-        });
-        let own = &self.stock.surface(self.s).expect("surface present")[i * grid.n_z..];
-        let rubbed = |j: usize| {
-            edge.is_some_and(|e| self.s.sense() * (e[j] as f64 - own[j] as f64) > RUB_MM)
-        };
-        let colors = keep
-            .iter()
-            .map(|&j| {
-                if rubbed(j) {
-                    return BODY_RUB;
-                }
-                let d = ideal
-                    .as_ref()
-                    .and_then(|id| signed_deviation(self.thread, id, pts[j].0, pts[j].1));
-                // The blank is stored as zero: any other value was cut.
-                surface_colour(d, own[j] != 0.0, tol)
-            })
-            .collect();
-        let mut zr: Vec<(f64, f64)> = keep.iter().map(|&j| pts[j]).collect();
-        // The first and last samples stand for their whole cells: the surface reaches the
-        // window's ends.
-        zr[0].0 = self.window.0;
-        let last = zr.len() - 1;
-        zr[last].0 = self.window.1;
-        Profile { zr, colors }
-    }
-
-    /// Unwrapped column `u` (may exceed `n_theta` for the closing strip) to its angle.
-    fn theta(&self, u: usize) -> f64 {
-        self.stock.grid.theta0 + self.stock.grid.dtheta() * u as f64
-    }
-
-    /// The strip's rungs between unwrapped columns `ua < ub`.
-    fn rungs(&self, ua: usize, a: &Profile, ub: usize, b: &Profile) -> Vec<(u32, u32)> {
-        let dtheta = self.theta(ub) - self.theta(ua);
-        let za: Vec<f64> = a.zr.iter().map(|v| v.0).collect();
-        let zb: Vec<f64> = b.zr.iter().map(|v| v.0).collect();
-        rungs(&za, &zb, |z| helical_shift(self.thread, z, dtheta), 0.0)
-    }
-
-    /// Columns to add between kept unwrapped columns `ua < ub` so that the strip's section
-    /// at the middle skipped column stays within `limit` of that column's dexels, checked
-    /// again on both halves after a split.
-    fn refine(
-        &self,
-        ua: usize,
-        a: &Profile,
-        ub: usize,
-        b: &Profile,
-        limit: f64,
-    ) -> Vec<(usize, Profile)> {
-        if ub <= ua + 1 {
-            return Vec::new();
-        }
-        let um = (ua + ub) / 2;
-        let n = self.stock.grid.n_theta;
-        let u = (um - ua) as f64 / (ub - ua) as f64;
-        let section: Vec<(f64, f64)> = self
-            .rungs(ua, a, ub, b)
-            .iter()
-            .map(|&(i, j)| {
-                let (p, q) = (a.zr[i as usize], b.zr[j as usize]);
-                (p.0 + u * (q.0 - p.0), p.1 + u * (q.1 - p.1))
-            })
-            .collect();
-        if !strays(&section, &self.points(um % n), limit) {
-            return Vec::new();
-        }
-        let m = self.profile(um % n);
-        let mut out = self.refine(ua, a, um, &m, limit);
-        let right = self.refine(um, &m, ub, b, limit);
-        out.push((um, m));
-        out.extend(right);
-        out
-    }
-}
-
-/// A body cut deeper than this past its edge (mm) is coloured as a rub.
-const RUB_MM: f64 = 1e-3;
 
 /// The closed, coloured mesh of the cut stock, within `e` (mm) of the dexel data.
 pub fn stock_mesh(stock: &Stock, thread: &ThreadSpec, legend: Legend, e: f64) -> Mesh {
@@ -518,81 +329,65 @@ pub(crate) fn stock_mesh_with(
     legend: Legend,
     e: f64,
 ) -> Mesh {
-    let grid = stock.grid;
-    let n = grid.n_theta;
-    let window = (
-        grid.z(0) - 0.5 * grid.dz,
-        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
-    );
-    let surfacers: Vec<Surfacer<'_>> = [Surface::Outer, Surface::Inner]
-        .into_iter()
-        .filter(|s| stock.surface(*s).is_some())
-        .map(|s| Surfacer {
-            stock,
-            edge,
-            thread,
-            s,
-            compared: s == surface(thread),
-            legend,
-            e,
-            window,
+    let shape = Shape::of(stock);
+    let dexels = WholeStock { stock, edge };
+    let sfs = surfacers(&shape, &dexels, thread, legend.tolerance_mm, e);
+    let n = shape.grid.n_theta;
+    let kept = kept_columns(&shape, thread, 0.5 * e);
+    let profiles: Vec<Vec<Profile>> = kept
+        .par_iter()
+        .map(|&u| sfs.iter().map(|sf| sf.profile(u)).collect())
+        .collect();
+    let m = kept.len();
+    let added: Vec<Vec<MeshColumn>> = (0..m)
+        .into_par_iter()
+        .map(|k| {
+            let ub = if k + 1 < m { kept[k + 1] } else { kept[0] + n };
+            refined(&sfs, kept[k], &profiles[k], ub, &profiles[(k + 1) % m])
         })
         .collect();
-    // Both surfaces of a tube use the same columns (the end annuli join them pairwise):
-    // refine each, then build what one surface's refinement did not.
-    let mut cols = kept_columns(stock, thread, 0.5 * e);
-    let mut built: Vec<Vec<(usize, Profile)>> = Vec::new();
-    for sf in &surfacers {
-        let profiles: Vec<Profile> = cols.par_iter().map(|&i| sf.profile(i)).collect();
-        let m = cols.len();
-        let added: Vec<Vec<(usize, Profile)>> = if e > 0.0 {
-            (0..m)
-                .into_par_iter()
-                .map(|k| {
-                    let ub = if k + 1 < m { cols[k + 1] } else { cols[0] + n };
-                    sf.refine(cols[k], &profiles[k], ub, &profiles[(k + 1) % m], 0.75 * e)
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let mut all: Vec<(usize, Profile)> = cols.iter().copied().zip(profiles).collect();
-        all.extend(added.into_iter().flatten().map(|(u, p)| (u % n, p)));
-        all.sort_by_key(|c| c.0);
-        built.push(all);
+    let mut columns: Vec<MeshColumn> = Vec::new();
+    for ((&u, p), add) in kept.iter().zip(profiles).zip(added) {
+        columns.push((u, p));
+        columns.extend(add);
     }
-    cols = built.iter().flatten().map(|c| c.0).collect();
-    cols.sort_unstable();
-    cols.dedup();
+    assemble(&shape, thread, columns)
+}
+
+/// The watertight mesh from every column's profiles (in column order, each on every
+/// surface of the blank): strips between neighbouring columns, end faces.
+pub(crate) fn assemble(shape: &Shape, thread: &ThreadSpec, columns: Vec<MeshColumn>) -> Mesh {
+    let grid = shape.grid;
+    let n = grid.n_theta;
+    let window = shape.window();
+    let surfaces = shape.surfaces();
+    let cols: Vec<usize> = columns.iter().map(|c| c.0).collect();
     let m = cols.len();
+    let mut per: Vec<Vec<Profile>> = surfaces.iter().map(|_| Vec::with_capacity(m)).collect();
+    for (_, ps) in columns {
+        for (s, p) in per.iter_mut().zip(ps) {
+            s.push(p);
+        }
+    }
     let mut mesh = Mesh::default();
     // Per surface: first vertex and vertex count of every column's profile.
     let mut layout: Vec<Vec<(u32, usize)>> = Vec::new();
-    for (sf, mine) in surfacers.iter().zip(built) {
-        let mut mine = mine.into_iter().peekable();
-        let profiles: Vec<Profile> = cols
-            .iter()
-            .map(|&i| mine.next_if(|c| c.0 == i).map(|(_, p)| p))
-            .collect::<Vec<_>>()
-            .into_par_iter()
-            .zip(cols.par_iter())
-            .map(|(p, &i)| p.unwrap_or_else(|| sf.profile(i)))
-            .collect();
+    for (s, profiles) in surfaces.iter().zip(&per) {
         let mut lay = Vec::with_capacity(m);
         for (p, &i) in profiles.iter().zip(&cols) {
             lay.push((mesh.positions.len() as u32, p.zr.len()));
-            let theta = grid.theta(i);
+            let theta = grid.theta(i % n);
             mesh.positions
                 .extend(p.zr.iter().map(|&(z, r)| point(r, theta, z)));
             mesh.colors.extend_from_slice(&p.colors);
         }
-        let flip = sf.s == Surface::Inner;
+        let flip = *s == Surface::Inner;
         let strips: Vec<Vec<u32>> = (0..m)
             .into_par_iter()
             .map(|k| {
                 let k1 = (k + 1) % m;
                 let ub = if k1 == 0 { cols[0] + n } else { cols[k1] };
-                let r = sf.rungs(cols[k], &profiles[k], ub, &profiles[k1]);
+                let r = strip_rungs(&grid, thread, cols[k], &profiles[k], ub, &profiles[k1]);
                 let mut out = Vec::with_capacity(3 * r.len());
                 strip_triangles(&r, lay[k].0, lay[k1].0, flip, &mut out);
                 out
@@ -646,8 +441,13 @@ pub(crate) fn stock_mesh_with(
 /// column's compared span. Where the drawing's thread begins or ends abruptly (its first
 /// and last groove) the sheet ends with it instead of joining different grooves.
 pub fn ideal_mesh(thread: &ThreadSpec, stock: &Stock, e: f64) -> Mesh {
-    let grid = stock.grid;
-    let cols = kept_columns(stock, thread, e);
+    ideal_sheet(thread, &Shape::of(stock), e)
+}
+
+/// [`ideal_mesh`] on the grid and blank of `shape`.
+pub(crate) fn ideal_sheet(thread: &ThreadSpec, shape: &Shape, e: f64) -> Mesh {
+    let grid = shape.grid;
+    let cols = kept_columns(shape, thread, e);
     let (lo, hi) = (
         grid.z(0) - 0.5 * grid.dz,
         grid.z(grid.n_z - 1) + 0.5 * grid.dz,

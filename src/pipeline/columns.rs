@@ -37,6 +37,13 @@ struct ColumnOut {
     seconds: (f64, f64),
 }
 
+/// What cutting a column gave: the sweep's counts, a milling column's figures, seconds.
+struct Cut {
+    stats: SweepStats,
+    mill: Option<MillColumn>,
+    seconds: f64,
+}
+
 /// The columns' results merged in column order.
 #[derive(Default)]
 pub(super) struct Merged {
@@ -52,13 +59,87 @@ pub(super) struct Merged {
     pub(super) seconds: (f64, f64),
 }
 
+/// The raw columns of one interval as a streamed run holds them for a [`Sink`]: the
+/// thread's surface at the unwrapped columns `first..=last` (`last` may be `n_theta`:
+/// column 0 again), relative to the blank, and with swept tool bodies the edges' cut
+/// beside them.
+pub(crate) struct Held<'a> {
+    /// The first (unwrapped) column.
+    pub(crate) first: usize,
+    n_z: usize,
+    cols: &'a [f32],
+    edges: Option<&'a [f32]>,
+}
+
+impl<'a> Held<'a> {
+    /// The last (unwrapped) column held.
+    pub(crate) fn last(&self) -> usize {
+        self.first + self.cols.len() / self.n_z.max(1) - 1
+    }
+
+    /// The dexels of unwrapped column `u` (`first <= u <= last`).
+    pub(crate) fn column(&self, u: usize) -> &'a [f32] {
+        let k = u - self.first;
+        &self.cols[k * self.n_z..(k + 1) * self.n_z]
+    }
+
+    /// The edges' cut of unwrapped column `u`, with swept tool bodies.
+    pub(crate) fn edge(&self, u: usize) -> Option<&'a [f32]> {
+        let k = u - self.first;
+        self.edges.map(|e| &e[k * self.n_z..(k + 1) * self.n_z])
+    }
+}
+
+/// What a streamed run hands its raw columns to, an interval at a time, besides comparing
+/// them (the model's mesh: `output::mesh`). The intervals depend only on the grid, so the
+/// parts, returned in interval order, do not depend on the thread count.
+pub(crate) trait Sink: Sync {
+    /// What one interval gives.
+    type Part: Send;
+    /// What one interval leaves for the next one on the same thread (fresh for each run
+    /// of consecutive intervals).
+    type Carry: Default;
+
+    /// The first column of every interval: 0 first, increasing, each below `n_theta`.
+    /// Interval `k` holds the columns from `bounds[k]` to `bounds[k + 1]` inclusive (the
+    /// last interval to `n_theta`: column 0 again).
+    fn bounds(&self) -> &[usize];
+
+    /// Interval `k`'s part, from its raw columns; `carry` is what the interval before it
+    /// left when it ran just before on this thread (else the default).
+    fn interval(&self, k: usize, held: &Held<'_>, carry: &mut Self::Carry) -> Self::Part;
+
+    /// After the run, from its exact deviation: a column to cut once more and return
+    /// (the model's focus reads a dexel of it).
+    fn probe(&self, dev: &Deviation) -> Option<usize>;
+}
+
+/// A run without a sink.
+pub(crate) enum NoSink {}
+
+impl Sink for NoSink {
+    type Part = ();
+    type Carry = ();
+    fn bounds(&self) -> &[usize] {
+        match *self {}
+    }
+    fn interval(&self, _: usize, _: &Held<'_>, _: &mut ()) {
+        match *self {}
+    }
+    fn probe(&self, _: &Deviation) -> Option<usize> {
+        match *self {}
+    }
+}
+
 /// Tiles per thread in a wave (see [`Pipeline::run`]).
 const WAVE_TILES: usize = 4;
 
-/// The columns whose results a wave holds at once, on `threads` threads.
-pub(super) fn wave_columns(grid: &Grid, threads: usize) -> usize {
+/// The columns whose results a wave holds at once, on `threads` threads, each unit of the
+/// wave running up to `extra` columns past its tile (0; a sink's units end with an
+/// interval: [`Pipeline::run_intervals`]).
+pub(super) fn wave_columns(grid: &Grid, threads: usize, extra: usize) -> usize {
     let tile = compare::tile_columns(grid.n_theta);
-    (WAVE_TILES * threads.max(1) * tile).min(grid.n_theta)
+    (WAVE_TILES * threads.max(1) * (tile + extra)).min(grid.n_theta)
 }
 
 /// The heap memory of a B-tree map of `entries` entries of `entry` bytes, built in key
@@ -131,7 +212,8 @@ impl Pipeline<'_> {
         matches!(&self.cut, Cutting::Turning { edges: Some(_), .. })
     }
 
-    /// Column `i`, held in `col` (and `edge`, the edges' cut): both are cut in place.
+    /// Column `i`, held in `col` (and `edge`, the edges' cut): both are cut in place,
+    /// then compared.
     fn column(
         &self,
         i: usize,
@@ -139,6 +221,14 @@ impl Pipeline<'_> {
         edge: Option<&mut [f32]>,
         prior: &mut compare::Prior,
     ) -> ColumnOut {
+        let mut edge = edge;
+        let cut = self.cut(i, col, edge.as_deref_mut());
+        self.compare(i, col, edge.as_deref(), cut, prior)
+    }
+
+    /// Cut column `i` in place in `col` (and `edge`, the edges' cut, beside it), clamped
+    /// to the turned profile.
+    fn cut(&self, i: usize, col: &mut [f32], edge: Option<&mut [f32]>) -> Cut {
         let t0 = Instant::now();
         let (stats, mill, edge) = match &self.cut {
             Cutting::Turning { sweep, edges } => {
@@ -161,25 +251,47 @@ impl Pipeline<'_> {
                 (stats, Some(c), None)
             }
         };
-        let mut edge = edge;
         if let Some(t) = self.turned {
             clamp_turned(col, t);
-            if let Some(e) = edge.as_deref_mut() {
+            if let Some(e) = edge {
                 clamp_turned(e, t);
             }
         }
+        Cut {
+            stats,
+            mill,
+            seconds: t0.elapsed().as_secs_f64(),
+        }
+    }
+
+    /// Compare cut column `i` (and measure its body interference from `edge`).
+    fn compare(
+        &self,
+        i: usize,
+        col: &[f32],
+        edge: Option<&[f32]>,
+        cut: Cut,
+        prior: &mut compare::Prior,
+    ) -> ColumnOut {
         let t1 = Instant::now();
         let dev = self.cmp.column(i, col, prior);
         prior.add(&dev);
         let hits = edge.map(|e| self.bodies.column(i, e, col));
-        let t2 = Instant::now();
         ColumnOut {
-            stats,
-            mill,
+            stats: cut.stats,
+            mill: cut.mill,
             dev,
             hits,
-            seconds: ((t1 - t0).as_secs_f64(), (t2 - t1).as_secs_f64()),
+            seconds: (cut.seconds, t1.elapsed().as_secs_f64()),
         }
+    }
+
+    /// Column `i` cut alone (no comparison) in a zeroed buffer, or `None` when its memory
+    /// cannot be had.
+    pub(super) fn cut_alone(&self, i: usize) -> Option<Vec<f32>> {
+        let mut col = column_buffer(self.grid.n_z)?;
+        self.cut(i, &mut col, None);
+        Some(col)
     }
 
     /// The columns from `first` on, held contiguously in `cols` (and `edges`).
@@ -288,4 +400,143 @@ impl Pipeline<'_> {
         }
         Ok(m)
     }
+
+    /// Run every column of `surface` streamed, an interval of `sink`'s at a time: each
+    /// thread takes units of consecutive intervals (at least a tile of columns, so the
+    /// units depend only on the grid) into a buffer of the widest interval's columns, cuts
+    /// and compares each column once in column order, and hands each interval's columns
+    /// to the sink; the interval's last column stays in the buffer as the next one's first
+    /// (a unit's very last column is cut twice: once more, uncompared, for its sink).
+    /// Results merged in column order, the parts returned in interval order.
+    pub(super) fn run_intervals<S: Sink>(
+        &self,
+        sink: &S,
+        mill: Option<MillStats>,
+    ) -> Result<(Merged, Vec<S::Part>), SimError> {
+        use rayon::prelude::*;
+        let (n, n_z) = (self.grid.n_theta, self.grid.n_z);
+        let twice = self.twice();
+        let mut m = Merged {
+            mill,
+            ..Merged::default()
+        };
+        let units = units(sink.bounds(), n);
+        let width = widest(sink.bounds(), n) + 1;
+        let wave = WAVE_TILES * rayon::current_num_threads().max(1);
+        let mut parts = Vec::with_capacity(sink.bounds().len());
+        for w in units.chunks(wave) {
+            let done: Vec<Option<UnitOut<S>>> = w
+                .par_iter()
+                .map_init(
+                    || {
+                        let main = column_buffer(width * n_z)?;
+                        let edge = if twice {
+                            Some(column_buffer(width * n_z)?)
+                        } else {
+                            None
+                        };
+                        Some((main, edge))
+                    },
+                    |bufs, unit| {
+                        let (main, edge) = bufs.as_mut()?;
+                        Some(self.unit(sink, unit.clone(), main, edge.as_deref_mut()))
+                    },
+                )
+                .collect();
+            for d in done {
+                let (cols, ps) = d.ok_or(SimError::OutOfMemory {
+                    bytes: (width * n_z) as u128 * 4 * if twice { 2 } else { 1 },
+                    angular: n,
+                    axial: n_z,
+                })?;
+                merge(&mut m, cols);
+                parts.extend(ps);
+            }
+        }
+        Ok((m, parts))
+    }
+
+    /// The intervals `ks` of `sink`, in order on one thread, in `main` (and `edge`).
+    fn unit<S: Sink>(
+        &self,
+        sink: &S,
+        ks: std::ops::Range<usize>,
+        main: &mut [f32],
+        mut edge: Option<&mut [f32]>,
+    ) -> UnitOut<S> {
+        let (n, n_z) = (self.grid.n_theta, self.grid.n_z);
+        let bounds = sink.bounds();
+        let mut prior = compare::Prior::default();
+        let mut carry = S::Carry::default();
+        let mut outs = Vec::new();
+        let mut parts = Vec::with_capacity(ks.len());
+        for k in ks.clone() {
+            let (a, b) = (bounds[k], end(bounds, k, n));
+            // The first interval of the unit cuts its first column; the others have it.
+            let from = if k == ks.start { a } else { a + 1 };
+            for u in from..=b {
+                let s = (u - a) * n_z..(u - a + 1) * n_z;
+                let col = &mut main[s.clone()];
+                col.fill(0.0);
+                let mut e = edge.as_deref_mut().map(|e| &mut e[s]);
+                if let Some(e) = e.as_deref_mut() {
+                    e.fill(0.0);
+                }
+                let cut = self.cut(u % n, col, e.as_deref_mut());
+                // Every column is compared once, in the unit that starts at or before it:
+                // the unit's last column is the next unit's first.
+                if u < b || k + 1 < ks.end {
+                    outs.push(self.compare(u % n, col, e.as_deref(), cut, &mut prior));
+                }
+            }
+            let held = (b - a + 1) * n_z;
+            parts.push(sink.interval(
+                k,
+                &Held {
+                    first: a,
+                    n_z,
+                    cols: &main[..held],
+                    edges: edge.as_deref().map(|e| &e[..held]),
+                },
+                &mut carry,
+            ));
+            let last = (b - a) * n_z..held;
+            main.copy_within(last.clone(), 0);
+            if let Some(e) = edge.as_deref_mut() {
+                e.copy_within(last, 0);
+            }
+        }
+        (outs, parts)
+    }
+}
+
+/// A unit's results: its columns' (in column order) and its intervals' parts.
+type UnitOut<S> = (Vec<ColumnOut>, Vec<<S as Sink>::Part>);
+
+/// The end of interval `k` (the next one's first column, or `n` for the last).
+fn end(bounds: &[usize], k: usize, n: usize) -> usize {
+    bounds.get(k + 1).copied().unwrap_or(n)
+}
+
+/// The most columns an interval spans past its first.
+pub(crate) fn widest(bounds: &[usize], n: usize) -> usize {
+    (0..bounds.len())
+        .map(|k| end(bounds, k, n) - bounds[k])
+        .max()
+        .unwrap_or(0)
+}
+
+/// Consecutive intervals grouped into units of at least a tile of columns (the last may
+/// be shorter): they depend only on the intervals and the grid.
+fn units(bounds: &[usize], n: usize) -> Vec<std::ops::Range<usize>> {
+    let tile = compare::tile_columns(n);
+    let mut out = Vec::new();
+    let mut k0 = 0;
+    for k in 0..bounds.len() {
+        if end(bounds, k, n) - bounds[k0] >= tile || k + 1 == bounds.len() {
+            out.push(k0..k + 1);
+            k0 = k + 1;
+        }
+    }
+    out
 }

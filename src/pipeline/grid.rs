@@ -224,6 +224,9 @@ pub(super) struct RunShape {
     pub(super) keep: bool,
     /// Swept bodies: the edges alone cut a second stock.
     pub(super) twice: bool,
+    /// Columns each thread holds when streamed: 1, or (the model meshed as the columns
+    /// stream) the widest interval from one kept column to the next, both ends.
+    pub(super) columns: usize,
     /// The thread's surface exists (else no column is cut).
     pub(super) has_surface: bool,
     /// Threads the columns and generators run on.
@@ -289,14 +292,23 @@ pub(super) fn footprint(s: &RunShape) -> Footprint {
     if s.has_surface && n_z > 0 {
         let in_flight = threads.min(grid.n_theta.max(1) as u128);
         if !s.keep {
-            let per = if s.twice { 2 } else { 1 };
+            let per = s.columns.max(1) as u128 * if s.twice { 2 } else { 1 };
             f.add(
                 Phase::Columns,
                 cap(in_flight * per * n_z * DEXEL_BYTES as u128),
                 format!(
-                    "{} column(s) of {} axial cells, {per} per thread on {in_flight} thread(s); the {} angular columns are streamed",
+                    "{} column(s) of {} axial cells, {per} per thread on {in_flight} thread(s){}; the {} angular columns are streamed",
                     in_flight * per,
                     readable(grid.n_z as u64),
+                    if s.columns > 1 {
+                        format!(
+                            " (the model is meshed as they stream: the columns from one of its kept columns to the next, at most {}{}; the mesh's profiles come on top)",
+                            s.columns,
+                            if s.twice { ", and the edges' cut of each" } else { "" }
+                        )
+                    } else {
+                        String::new()
+                    },
                     grid.n_theta
                 ),
             );
@@ -320,7 +332,7 @@ pub(super) fn footprint(s: &RunShape) -> Footprint {
             cap(in_flight * per_thread),
             format!("each thread's comparison of a column with the ideal, {grooves} turn(s)"),
         );
-        let wave = super::columns::wave_columns(grid, s.threads) as u128;
+        let wave = super::columns::wave_columns(grid, s.threads, s.columns.max(1) - 1) as u128;
         let out = super::columns::column_out_bytes(
             keys,
             s.twice.then_some(keys + features),

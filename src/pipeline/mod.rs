@@ -8,6 +8,7 @@ mod columns;
 mod grid;
 mod milling;
 
+pub(crate) use columns::{Held, Sink};
 pub use grid::plan_grid;
 
 use crate::analysis::checks;
@@ -22,7 +23,7 @@ use crate::model::pass::Pass;
 use crate::model::stock::{Stock, Surface};
 use crate::model::tool::Tool;
 use crate::report::{self, build_report, Report};
-use columns::{Cutting, Pipeline};
+use columns::{Cutting, NoSink, Pipeline};
 use grid::{blank_stock, grid_window, measure_window, thread_surface};
 use std::time::Instant;
 
@@ -153,10 +154,11 @@ impl<'a> Operation<'a> {
 }
 
 /// Simulate a job: cut, compare, measure, check, report. The whole grid is kept and
-/// returned (the model, the pictures and the plots need it); [`simulate_report`] streams
-/// the columns instead and returns the same report holding only a column per thread.
+/// returned (the pictures, the plots and the page read any dexel; the model alone is
+/// meshed while the columns stream, `output::stream`); [`simulate_report`] streams the
+/// columns instead and returns the same report holding only a column per thread.
 pub fn simulate(job: &Job, opts: &SimOptions) -> Result<Outcome, SimError> {
-    let run = run(job, opts, true)?;
+    let run = run::<NoSink>(job, opts, true, None)?;
     Ok(Outcome {
         report: run.report,
         stock: run.stock.expect("a full-grid run keeps its stock"),
@@ -172,20 +174,57 @@ pub fn simulate(job: &Job, opts: &SimOptions) -> Result<Outcome, SimError> {
 /// held does not grow with the number of angular cells, and the dexel budget applies to
 /// what is held.
 pub fn simulate_report(job: &Job, opts: &SimOptions) -> Result<Report, SimError> {
-    run(job, opts, false).map(|r| r.report)
+    run::<NoSink>(job, opts, false, None).map(|r| r.report)
 }
 
-/// What [`run`] gives: the report, the exact deviation, and the stocks when kept.
-struct Run {
+/// A streamed run whose raw columns also went to a [`Sink`].
+pub(crate) struct Streamed<P> {
+    /// The report, byte for byte [`simulate`]'s.
+    pub(crate) report: Report,
+    /// The exact deviation.
+    pub(crate) deviation: Deviation,
+    /// The sink's parts, in interval order.
+    pub(crate) parts: Vec<P>,
+    /// The column the sink asked for after the run, cut again (relative to the blank).
+    pub(crate) probe: Option<(usize, Vec<f32>)>,
+}
+
+/// Simulate a job streamed as [`simulate_report`] does, handing the thread's surface to
+/// `sink` an interval of columns at a time while they are held (the model's mesh). The
+/// dexel budget counts a buffer of the widest interval per thread.
+pub(crate) fn simulate_with<S: Sink>(
+    job: &Job,
+    opts: &SimOptions,
+    sink: &S,
+) -> Result<Streamed<S::Part>, SimError> {
+    let run = run(job, opts, false, Some(sink))?;
+    Ok(Streamed {
+        report: run.report,
+        deviation: run.deviation,
+        parts: run.parts,
+        probe: run.probe,
+    })
+}
+
+/// What [`run`] gives: the report, the exact deviation, the stocks when kept, and a
+/// sink's parts and probe.
+struct Run<P> {
     report: Report,
     deviation: Deviation,
     stock: Option<Stock>,
     edge_stock: Option<Stock>,
+    parts: Vec<P>,
+    probe: Option<(usize, Vec<f32>)>,
 }
 
-/// The run behind [`simulate`] (`keep`: the whole grid, returned) and
-/// [`simulate_report`] (streamed).
-fn run(job: &Job, opts: &SimOptions, keep: bool) -> Result<Run, SimError> {
+/// The run behind [`simulate`] (`keep`: the whole grid, returned), [`simulate_report`]
+/// (streamed) and [`simulate_with`] (streamed through a sink's intervals).
+fn run<S: Sink>(
+    job: &Job,
+    opts: &SimOptions,
+    keep: bool,
+    sink: Option<&S>,
+) -> Result<Run<S::Part>, SimError> {
     let t_start = Instant::now();
     let op = Operation::of(job);
     let (grid, requested) = plan_grid(job)?;
@@ -220,6 +259,7 @@ fn run(job: &Job, opts: &SimOptions, keep: bool) -> Result<Run, SimError> {
         surfaces,
         keep,
         twice,
+        columns: sink.map_or(1, |s| columns::widest(s.bounds(), grid.n_theta) + 1),
         has_surface,
         threads: rayon::current_num_threads(),
         turned: !turned.cuts.is_empty(),
@@ -298,13 +338,30 @@ fn run(job: &Job, opts: &SimOptions, keep: bool) -> Result<Run, SimError> {
         grid,
         turned: turned_profile.as_deref(),
     };
-    let merged = if has_surface {
-        pipe.run(surface, stock.as_mut(), edge_stock.as_mut(), mill_stats)?
-    } else {
-        columns::Merged {
-            mill: mill_stats,
-            ..columns::Merged::default()
-        }
+    let (merged, parts) = match sink {
+        Some(s) if has_surface => pipe.run_intervals(s, mill_stats)?,
+        _ if has_surface => (
+            pipe.run(surface, stock.as_mut(), edge_stock.as_mut(), mill_stats)?,
+            Vec::new(),
+        ),
+        _ => (
+            columns::Merged {
+                mill: mill_stats,
+                ..columns::Merged::default()
+            },
+            Vec::new(),
+        ),
+    };
+    let probe = match sink.and_then(|s| s.probe(&merged.dev)) {
+        Some(i) if has_surface && i < grid.n_theta => Some((
+            i,
+            pipe.cut_alone(i).ok_or(SimError::OutOfMemory {
+                bytes: grid.n_z as u128 * 4,
+                angular: grid.n_theta,
+                axial: grid.n_z,
+            })?,
+        )),
+        _ => None,
     };
     // Cutting and comparing run fused: their wall time is split in proportion to their
     // CPU time.
@@ -394,5 +451,7 @@ fn run(job: &Job, opts: &SimOptions, keep: bool) -> Result<Run, SimError> {
         deviation: merged.dev,
         stock,
         edge_stock,
+        parts,
+        probe,
     })
 }

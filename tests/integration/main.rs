@@ -39,6 +39,8 @@ mod real_programs;
 mod render;
 /// Bad input never panics.
 mod robust;
+/// `--gltf` alone: the model meshed as the columns stream, the full grid's bytes.
+mod streamed_mesh;
 mod streaming;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;
