@@ -164,15 +164,15 @@ fn strays(line: &[(f64, f64)], pts: Samples<'_>, limit: f64) -> bool {
     let mut slow = 0;
     let l2 = limit * limit;
     let near = |p: (f64, f64), k: usize| seg_dist2(p, line[k], line[k + 1]) <= l2;
-    let mut k = 0;
-    for p in pts.iter() {
-        while k + 1 < segments && line[k + 1].0 < p.0 {
-            k += 1;
+    // Whether sample `p` strays, `k` walking along the line as the samples advance.
+    let mut stray = |p: (f64, f64), k: &mut usize| -> bool {
+        while *k + 1 < segments && line[*k + 1].0 < p.0 {
+            *k += 1;
         }
         // The segment whose z span holds the sample, then its neighbours.
         let around = [
-            Some(k),
-            (k + 1 < segments).then_some(k + 1),
+            Some(*k),
+            (*k + 1 < segments).then_some(*k + 1),
             k.checked_sub(1),
         ];
         if around
@@ -180,7 +180,7 @@ fn strays(line: &[(f64, f64)], pts: Samples<'_>, limit: f64) -> bool {
             .flatten()
             .any(|k| spans[k].0 <= p.0 && p.0 <= spans[k].1 && near(p, k))
         {
-            continue;
+            return false;
         }
         // The segments of the sample's bin: the first few times by their bins (often the
         // first such sample strays), then through the index.
@@ -198,9 +198,46 @@ fn strays(line: &[(f64, f64)], pts: Samples<'_>, limit: f64) -> bool {
                 .iter()
                 .any(|&k| near(p, k as usize))
         };
-        if !near_one {
+        !near_one
+    };
+    // Samples with one stored value (one radius) in a row along a segment lie within the
+    // limit of it when the row's two ends do, with a margin over the rounding (the
+    // distance to a segment is convex along the row): such rows are passed at once, the
+    // other samples one by one.
+    let l2_row = (limit * (1.0 - 1e-9)) * (limit * (1.0 - 1e-9));
+    let n = pts.len();
+    let mut k = 0;
+    let mut i = 0;
+    while i < n {
+        let pa = pts.at(i);
+        while k + 1 < segments && line[k + 1].0 < pa.0 {
+            k += 1;
+        }
+        let (s0, s1) = (line[k], line[k + 1]);
+        if s0.0 <= pa.0 && pa.0 <= s1.0 && seg_dist2(pa, s0, s1) <= l2_row {
+            // The last sample of the row on this segment's z span.
+            let bits = pts.q[i].to_bits();
+            let mut last = i;
+            while last + 1 < n && pts.q[last + 1].to_bits() == bits && pts.at(last + 1).0 <= s1.0 {
+                last += 1;
+            }
+            if last > i + 1 && seg_dist2(pts.at(last), s0, s1) <= l2_row {
+                i = last + 1;
+                continue;
+            }
+            // Not passed at once: the row's samples one by one (not scanned again).
+            for j in i..=last {
+                if stray(pts.at(j), &mut k) {
+                    return true;
+                }
+            }
+            i = last + 1;
+            continue;
+        }
+        if stray(pa, &mut k) {
             return true;
         }
+        i += 1;
     }
     false
 }
@@ -505,6 +542,75 @@ mod tests {
         }
     }
 
+    /// Rows of one stored value along long segments (a flat cut under a level or sloping
+    /// stretch of the strip), off the line by 0.5 to 1.25 times the limit: `strays` (which
+    /// passes a row at once when both its ends are near one segment) against the
+    /// definition, sample by sample.
+    #[test]
+    fn rows_along_long_segments_against_the_definition() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let (mut yes, mut no) = (0, 0);
+        for case in 0..300 {
+            let n_z = 400;
+            let grid = Grid {
+                n_theta: 8,
+                n_z,
+                theta0: 0.0,
+                z0: 0.0,
+                dz: 0.01,
+            };
+            let limit = 0.01;
+            // Four segments, level or sloping by up to 0.02 (rows meet them at an angle).
+            let mut line = vec![(-0.05, 10.0)];
+            for s in 1..=4 {
+                let slope = if case % 2 == 0 {
+                    0.0
+                } else {
+                    rng.range(-0.02, 0.02)
+                };
+                let (z, r) = *line.last().unwrap();
+                let z1 = if s == 4 { 4.05 } else { z + 1.0 };
+                line.push((z1, r + slope * (z1 - z)));
+            }
+            let base = |z: f64| {
+                line.windows(2)
+                    .find(|w| w[0].0 <= z && z <= w[1].0)
+                    .map(|w| w[0].1 + (z - w[0].0) / (w[1].0 - w[0].0) * (w[1].1 - w[0].1))
+                    .unwrap()
+            };
+            let spread = if case % 4 < 2 { 1.25 } else { 0.98 };
+            let mut q = vec![0f32; n_z];
+            let mut j = 0;
+            while j < n_z {
+                let len = 1 + (rng.next() * 120.0) as usize;
+                let off =
+                    rng.range(0.5, spread) * limit * if rng.next() < 0.5 { 1.0 } else { -1.0 };
+                let v = (base(grid.z(j)) + off - 9.5) as f32;
+                for c in q.iter_mut().skip(j).take(len) {
+                    *c = v;
+                }
+                j += len;
+            }
+            let pts = Samples {
+                q: &q,
+                grid,
+                sense: 1.0,
+                q0: 9.5,
+            };
+            let l2 = limit * limit;
+            let want = pts
+                .iter()
+                .any(|p| line.windows(2).all(|w| seg_dist2(p, w[0], w[1]) > l2));
+            assert_eq!(strays(&line, pts, limit), want, "case {case}");
+            if want {
+                yes += 1;
+            } else {
+                no += 1;
+            }
+        }
+        assert!(yes > 30 && no > 30, "{yes} straying, {no} not");
+    }
+
     /// `strays` (the walk along the line, the bins scanned, then indexed) against the
     /// definition: some sample farther than the limit from every segment. Random
     /// polylines with vertical walls and steps back in z (where the walk's segment is not
@@ -544,10 +650,28 @@ mod tests {
                     .map(|w| w[0].1 + (z - w[0].0) / (w[1].0 - w[0].0) * (w[1].1 - w[0].1))
                     .unwrap_or(line[0].1)
             };
-            let noise = [0.0, 0.5, 1.0, 3.0][case % 4] * limit;
-            let q: Vec<f32> = (0..n_z)
+            let noise = if case % 8 >= 6 {
+                0.0
+            } else {
+                [0.0, 0.5, 1.0, 3.0][case % 4] * limit
+            };
+            let mut q: Vec<f32> = (0..n_z)
                 .map(|j| (base(grid.z(j)) + rng.range(-noise, noise) - 9.5) as f32)
                 .collect();
+            // Half the cases hold values in rows (a flat cut): rows near the line at
+            // both ends, across its vertices and walls, and off it.
+            if case % 8 >= 4 {
+                for j in 1..n_z {
+                    if rng.next() < 0.93 {
+                        q[j] = q[j - 1];
+                    } else if case % 8 >= 6 {
+                        // A new row off the line by about the limit.
+                        let off = rng.range(0.5, 1.25) * limit;
+                        let off = if rng.next() < 0.5 { off } else { -off };
+                        q[j] = (base(grid.z(j)) + off - 9.5) as f32;
+                    }
+                }
+            }
             let pts = Samples {
                 q: &q,
                 grid,
