@@ -91,6 +91,7 @@ impl<'a> Samples<'a> {
         (self.grid.z(j), self.sense * (self.q[j] as f64 + self.q0))
     }
 
+    #[cfg(test)]
     fn iter(self) -> impl Iterator<Item = (f64, f64)> + 'a {
         (0..self.q.len()).map(move |j| self.at(j))
     }
@@ -111,20 +112,10 @@ fn strays(line: &[(f64, f64)], pts: Samples<'_>, limit: f64) -> bool {
     if line.len() < 2 || pts.is_empty() {
         return !pts.is_empty();
     }
-    let lo = line
-        .iter()
-        .copied()
-        .chain(pts.iter())
-        .map(|p| p.0)
-        .fold(f64::INFINITY, f64::min)
-        - limit;
-    let hi = line
-        .iter()
-        .copied()
-        .chain(pts.iter())
-        .map(|p| p.0)
-        .fold(f64::NEG_INFINITY, f64::max)
-        + limit;
+    // The samples' z increase with their index: their extremes are the first and last.
+    let (z_first, z_last) = (pts.grid.z(0), pts.grid.z(pts.len() - 1));
+    let lo = line.iter().map(|p| p.0).fold(z_first.min(z_last), f64::min) - limit;
+    let hi = line.iter().map(|p| p.0).fold(z_first.max(z_last), f64::max) + limit;
     let width = ((hi - lo) / (2 * pts.len()).max(1) as f64)
         .max(limit)
         .max(1e-9);
@@ -217,10 +208,26 @@ fn strays(line: &[(f64, f64)], pts: Samples<'_>, limit: f64) -> bool {
         if s0.0 <= pa.0 && pa.0 <= s1.0 && seg_dist2(pa, s0, s1) <= l2_row {
             // The last sample of the row on this segment's z span.
             let bits = pts.q[i].to_bits();
-            let mut last = i;
-            while last + 1 < n && pts.q[last + 1].to_bits() == bits && pts.at(last + 1).0 <= s1.0 {
-                last += 1;
+            // The last sample at or before the segment's end (an estimate by division,
+            // settled on the grid's own z).
+            let g = &pts.grid;
+            let est = ((s1.0 - g.z0) / g.dz).max(0.0);
+            let mut end = if est < (n - 1) as f64 {
+                est as usize
+            } else {
+                n - 1
             }
+            .max(i);
+            while end > i && g.z(end) > s1.0 {
+                end -= 1;
+            }
+            while end + 1 < n && g.z(end + 1) <= s1.0 {
+                end += 1;
+            }
+            let last = i + pts.q[i + 1..=end]
+                .iter()
+                .take_while(|v| v.to_bits() == bits)
+                .count();
             if last > i + 1 && seg_dist2(pts.at(last), s0, s1) <= l2_row {
                 i = last + 1;
                 continue;
