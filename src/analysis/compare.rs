@@ -784,23 +784,12 @@ fn cannot_win(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::Lcg;
     use crate::model::thread::Side;
 
     /// Seed 002's square (or trapezoid) equal-tooth screw.
     fn screw(side: Side, angles: f64) -> ThreadSpec {
         crate::model::thread::seed002_screw(side, angles)
-    }
-
-    /// A small deterministic generator (64-bit LCG, the high bits).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
     }
 
     /// Cuts a column: `(column index, its ideal, the thread, its stored values)`.

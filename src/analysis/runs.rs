@@ -483,18 +483,7 @@ fn add_many(mut x: f64, v: f64, mut n: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A small deterministic generator (64-bit LCG, the high bits).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::analysis::Lcg;
 
     /// The closed form equals the serial sum bit for bit: random sums and terms over many
     /// magnitudes (terms from far below an ulp of the sum to above it), terms exactly half

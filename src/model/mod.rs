@@ -10,3 +10,23 @@ pub(crate) mod solid;
 pub(crate) mod stock;
 pub(crate) mod thread;
 pub(crate) mod tool;
+
+/// A small deterministic generator for tests (xorshift64*).
+#[cfg(test)]
+pub(crate) struct Rng(pub(crate) u64);
+
+#[cfg(test)]
+impl Rng {
+    /// The next value in [0, 1).
+    pub(crate) fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A value in [a, b).
+    pub(crate) fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.next()
+    }
+}

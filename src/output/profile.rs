@@ -533,20 +533,29 @@ const RUB_MM: f64 = 1e-3;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Rng;
 
-    /// A small deterministic generator (xorshift64*).
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, a: f64, b: f64) -> f64 {
-            a + (b - a) * self.next()
-        }
+    /// `strays` on stored values `q` (radius `q + 9.5`) against the definition, some sample
+    /// farther than `limit` from every segment; the answer.
+    fn strays_as_defined(
+        line: &[(f64, f64)],
+        q: &[f32],
+        grid: Grid,
+        limit: f64,
+        case: usize,
+    ) -> bool {
+        let pts = Samples {
+            q,
+            grid,
+            sense: 1.0,
+            q0: 9.5,
+        };
+        let l2 = limit * limit;
+        let want = pts
+            .iter()
+            .any(|p| line.windows(2).all(|w| seg_dist2(p, w[0], w[1]) > l2));
+        assert_eq!(strays(line, pts, limit), want, "case {case}");
+        want
     }
 
     /// Rows of one stored value along long segments (a flat cut under a level or sloping
@@ -598,18 +607,7 @@ mod tests {
                 }
                 j += len;
             }
-            let pts = Samples {
-                q: &q,
-                grid,
-                sense: 1.0,
-                q0: 9.5,
-            };
-            let l2 = limit * limit;
-            let want = pts
-                .iter()
-                .any(|p| line.windows(2).all(|w| seg_dist2(p, w[0], w[1]) > l2));
-            assert_eq!(strays(&line, pts, limit), want, "case {case}");
-            if want {
+            if strays_as_defined(&line, &q, grid, limit, case) {
                 yes += 1;
             } else {
                 no += 1;
@@ -679,18 +677,7 @@ mod tests {
                     }
                 }
             }
-            let pts = Samples {
-                q: &q,
-                grid,
-                sense: 1.0,
-                q0: 9.5,
-            };
-            let l2 = limit * limit;
-            let want = pts
-                .iter()
-                .any(|p| line.windows(2).all(|w| seg_dist2(p, w[0], w[1]) > l2));
-            assert_eq!(strays(&line, pts, limit), want, "case {case}");
-            if want {
+            if strays_as_defined(&line, &q, grid, limit, case) {
                 yes += 1;
             } else {
                 no += 1;

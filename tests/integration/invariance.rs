@@ -1,15 +1,8 @@
 //! Same answer whatever the thread count; a left-hand thread is the mirror of a right-hand one.
 
+use crate::support::in_pool;
 use crate::support::{job, report_json, scene_text, with};
 use vpcut::{simulate, SimOptions};
-
-fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(f)
-}
 
 /// The report (timing aside) and every dexel are bit-identical with 1 and 2 threads, with
 /// planar edges and with a rubbing tool body (its interference table included).

@@ -7,18 +7,11 @@
 //! a tube, a rubbing tool body (the edge stock's colours) and thread milling. The report
 //! is the full-grid run's, byte for byte; the dexel budget counts the interval buffers.
 
+use crate::support::in_pool;
 use crate::support::{report_json, scene_job, scenes, small};
 use vpcut::{
     build_scene, simulate, simulate_meshed, to_glb, Job, Scene, SceneOptions, SimError, SimOptions,
 };
-
-fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(f)
-}
 
 /// A report as the tests compare it (timing, version and inputs aside).
 fn json(r: &vpcut::Report) -> String {

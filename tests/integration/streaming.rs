@@ -2,16 +2,9 @@
 //! gives the report of the full-grid run (`simulate`), byte for byte, for any thread
 //! count; the dexel budget is on the memory a run holds, and says so.
 
+use crate::support::in_pool;
 use crate::support::{report_json, scene_job, scenes, small};
 use vpcut::{simulate, simulate_report, Job, SimError, SimOptions};
-
-fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(f)
-}
 
 /// A report as the tests compare it (timing, version and inputs aside).
 fn json(r: vpcut::Report) -> String {

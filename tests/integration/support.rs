@@ -159,3 +159,12 @@ pub(crate) fn has_diagnostic(text: &str, head: &str, at: &str) -> bool {
         w[0].starts_with(head) && place.starts_with("--> ") && place.ends_with(at)
     })
 }
+
+/// Run `f` in a pool of `threads` threads (the thread-count invariance tests).
+pub(crate) fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}

@@ -3,22 +3,8 @@
 //! sampling of the swept shape (a second method) on random tools and paths.
 
 use super::*;
+use crate::model::Rng;
 use std::f64::consts::{FRAC_1_SQRT_2, PI, SQRT_2};
-
-/// A small deterministic generator (xorshift64*).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
 
 fn tool(rn: f64, lead_deg: f64, trail_deg: f64) -> TurningTool {
     TurningTool {
