@@ -8,8 +8,8 @@ use crate::support::{job, root, run_scene, scene_job, scene_text, with, INTERNAL
 use std::collections::HashMap;
 use std::f64::consts::TAU;
 use vpcut::{
-    build_scene, from_glb, simulate, stock_mesh, to_glb, Legend, Mesh, SceneOptions, SimOptions,
-    Stock, Surface,
+    build_scene, from_glb, simulate, stock_mesh, to_glb, Job, Legend, Mesh, Outcome, Scene,
+    SceneOptions, SimOptions, Stock, Surface,
 };
 
 /// Every directed edge once and its reverse once: closed, manifold, consistently wound.
@@ -329,11 +329,9 @@ fn full_export_has_every_dexel() {
     }
 }
 
-/// The vertex colours say what the report says: on seed 002's misplaced grooves the
-/// vertex nearest the worst gouge is blue and the one nearest the worst leftover red;
-/// a cut within tolerance has no coloured vertex at all.
-#[test]
-fn colours_follow_the_report() {
+/// Seed 002's misplaced grooves (the paper's equal-groove passes, 3 mm off both ways) at
+/// 720 columns: the job, its simulation and its scene.
+fn misplaced_grooves() -> (Job, Outcome, Scene) {
     let text = with(
         &scene_text("seed002-equal-groove"),
         &[("simulation", "angular_cells", "720")],
@@ -341,6 +339,15 @@ fn colours_follow_the_report() {
     let j = job(&text);
     let out = simulate(&j, &SimOptions::default()).unwrap();
     let scene = build_scene(&j, &out, &SceneOptions::default());
+    (j, out, scene)
+}
+
+/// The vertex colours say what the report says: on seed 002's misplaced grooves the
+/// vertex nearest the worst gouge is blue and the one nearest the worst leftover red;
+/// a cut within tolerance has no coloured vertex at all.
+#[test]
+fn colours_follow_the_report() {
+    let (_, out, scene) = misplaced_grooves();
     let d = &out.report.deviation;
     for (at, want) in [(&d.max_gouge_at, "blue"), (&d.max_leftover_at, "red")] {
         let at = at.as_ref().unwrap();
@@ -564,13 +571,7 @@ fn the_ideal_sheet_is_the_closed_form_between_columns() {
 /// over-5x bands; and the colours read back from the `.glb` byte for byte.
 #[test]
 fn vertex_colours_are_the_plots_bands() {
-    let text = with(
-        &scene_text("seed002-equal-groove"),
-        &[("simulation", "angular_cells", "720")],
-    );
-    let j = job(&text);
-    let out = simulate(&j, &SimOptions::default()).unwrap();
-    let scene = build_scene(&j, &out, &SceneOptions::default());
+    let (j, out, scene) = misplaced_grooves();
     let tol = j.sim.tolerance;
     let bands: Vec<[u8; 3]> = [-10.0, -3.0, -1.5, 0.0, 1.5, 3.0, 10.0]
         .iter()
