@@ -61,6 +61,7 @@ mod toolpath;
 
 pub use analysis::compare::{compare, Deviation, Extreme, TurnDeviation};
 pub use analysis::measure::{measure, MeasureConfig, TurnMeasure};
+pub use analysis::place::Placement;
 pub use gen::{plan, post};
 pub use job::{FormName, Job, JobError, MillJob, SimConfig, DEFAULT_MAX_DEXELS};
 pub use kernel::mill::{
@@ -97,6 +98,7 @@ pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use output::stream::{simulate_meshed, Meshed};
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
-    Finding, FindingCounts, FindingKind, InputFile, Painter, Report, SummaryStyle, Tone, TurnRow,
-    Verdict, SCHEMA, VERSION,
+    Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo, GaugeLimits, InchView,
+    InputFile, LimitPair, OverWires, Painter, PlacementInfo, Range, Report, SummaryStyle, Tone,
+    TurnRow, Verdict, SCHEMA, VERSION,
 };

@@ -16,6 +16,11 @@ use std::fmt;
 pub enum FindingKind {
     /// A turn (or the whole thread) has no dexel on the simulated stock: it is not checked.
     NotCompared,
+    /// A gauge element of the thread's tolerance class (GO, NOT GO, major, minor, root
+    /// diameter) fails or cannot be decided.
+    Gauge,
+    /// The cut lies off the thread's given position (`thread.z_start`).
+    Placement,
     /// A pass cuts a helix of the other hand than the drawing's.
     Hand,
     /// A rapid move cuts material.
@@ -54,8 +59,10 @@ pub enum FindingKind {
 
 impl FindingKind {
     /// Every kind, in report order.
-    pub const ALL: [FindingKind; 18] = [
+    pub const ALL: [FindingKind; 20] = [
         FindingKind::NotCompared,
+        FindingKind::Gauge,
+        FindingKind::Placement,
         FindingKind::Hand,
         FindingKind::RapidCut,
         FindingKind::HeadLength,
@@ -79,6 +86,8 @@ impl FindingKind {
     pub fn name(self) -> &'static str {
         match self {
             FindingKind::NotCompared => "not_compared",
+            FindingKind::Gauge => "gauge",
+            FindingKind::Placement => "placement",
             FindingKind::Hand => "hand",
             FindingKind::RapidCut => "rapid_cut",
             FindingKind::HeadLength => "head_length",
@@ -106,6 +115,12 @@ impl FindingKind {
         match self {
             FindingKind::NotCompared => {
                 "Part of the thread lies on no simulated dexel: it is not checked."
+            }
+            FindingKind::Gauge => {
+                "A GO/NOT GO gauge or a diameter of the thread's tolerance class rejects the thread, or the simulation cannot decide it."
+            }
+            FindingKind::Placement => {
+                "The cut thread lies off the position the job gives it (thread.z_start)."
             }
             FindingKind::Hand => "A pass cuts the other hand than the drawing's thread.",
             FindingKind::RapidCut => "A rapid (G00) move removes material.",

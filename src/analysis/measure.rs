@@ -14,6 +14,7 @@
 //! one at `t = n`; its lead is the mean of the two same-side flank spacings, its groove
 //! and tooth are the pair that starts at its first feature.
 
+use crate::analysis::gauge::GaugeColumn;
 use crate::kernel::sweep::{sweep_column, Column};
 use crate::model::pass::Pass;
 use crate::model::stock::Surface;
@@ -201,6 +202,8 @@ pub struct MeasureConfig {
     /// Also measure the simple pitch diameter of each turn (constant pitch, grooves as
     /// features).
     pub pitch_diameter: bool,
+    /// Keep each generator's cut heights for the gauges ([`measure_kept`]).
+    pub keep_columns: bool,
 }
 
 /// Measure every whole turn on each generator; `generators[0]` is the reference one.
@@ -226,15 +229,40 @@ pub(crate) fn measure_by(
     window: (f64, f64),
     cfg: MeasureConfig,
 ) -> Vec<Vec<TurnMeasure>> {
+    measure_kept(thread, cut, blank_q, window, cfg).0
+}
+
+/// [`measure_by`], and each generator's cut heights when `cfg.keep_columns` (else empty).
+pub(crate) fn measure_kept(
+    thread: &ThreadSpec,
+    cut: &(dyn Fn(&mut [f32], Column) + Sync),
+    blank_q: f64,
+    window: (f64, f64),
+    cfg: MeasureConfig,
+) -> (Vec<Vec<TurnMeasure>>, Vec<GaugeColumn>) {
     use rayon::prelude::*;
-    (0..cfg.generators.max(1))
+    let both: Vec<(Vec<TurnMeasure>, Option<GaugeColumn>)> = (0..cfg.generators.max(1))
         .into_par_iter()
         .map_init(Buffers::default, |bufs, g| {
             let theta = thread.helix.theta0
                 + std::f64::consts::TAU * g as f64 / cfg.generators.max(1) as f64;
-            measure_generator(thread, cut, blank_q, window, cfg, theta, bufs)
+            let turns = measure_generator(thread, cut, blank_q, window, cfg, theta, bufs);
+            let kept = cfg.keep_columns.then(|| GaugeColumn {
+                theta,
+                z0: window.0,
+                dz: cfg.spacing,
+                h: bufs.cut_h.clone(),
+            });
+            (turns, kept)
         })
-        .collect()
+        .collect();
+    let mut turns = Vec::with_capacity(both.len());
+    let mut columns = Vec::new();
+    for (t, c) in both {
+        turns.push(t);
+        columns.extend(c);
+    }
+    (turns, columns)
 }
 
 /// A generator's columns (the cut, its heights, the ideal's heights), kept by a worker

@@ -5,8 +5,10 @@
 pub(crate) mod checks;
 pub(crate) mod compare;
 pub(crate) mod findings;
+pub(crate) mod gauge;
 pub(crate) mod interference;
 pub(crate) mod measure;
+pub(crate) mod place;
 pub(crate) mod runs;
 
 /// A small deterministic generator for the analysis tests (64-bit LCG, the high bits).

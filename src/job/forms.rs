@@ -296,10 +296,12 @@ pub(super) fn resolve_thread(
         }
     };
     let helix = Helix {
-        z0: cx.finite("thread.z_start", t.z_start)?,
+        z0: cx.finite("thread.z_start", t.z_start.unwrap_or(0.0))?,
         dir: -1.0,
         law,
-        theta0: cx.finite("thread.start_angle", t.start_angle)?.to_radians(),
+        theta0: cx
+            .finite("thread.start_angle", t.start_angle.unwrap_or(0.0))?
+            .to_radians(),
         spin: match t.hand {
             HandName::Right => 1.0,
             HandName::Left => -1.0,
@@ -325,37 +327,13 @@ pub(super) fn resolve_thread(
             Hand::Left
         }
     );
-    // The drawing's thread must lie on the blank: its pitch helix, from the first feature
-    // to the last, may reach past a face by half a lead at most (a groove cut through
-    // the face); a thread off the stock could never be cut, and would compare nothing.
-    {
-        let (z_first, z_last) = (spec.helix.z0, spec.helix.z(turns));
-        let (b_lo, b_hi) = (blank.z_front - blank.length, blank.z_front);
-        let slack = 0.5 * law.lead(0.0).max(law.lead(turns));
-        let (t_lo, t_hi) = (z_first.min(z_last), z_first.max(z_last));
-        if t_hi > b_hi + slack || t_lo < b_lo - slack {
-            let start_off = z_first < b_lo - slack || z_first > b_hi + slack;
-            let key = if start_off {
-                "thread.z_start"
-            } else if t.length.is_some() {
-                "thread.length"
-            } else if t.turns.is_some() {
-                "thread.turns"
-            } else {
-                "thread.pitch"
-            };
-            return Err(cx.err(
-                key,
-                format!(
-                    "the thread runs from z {} to z {} (its first to its last turn), off the blank (z {} to {}): the stock cannot hold it; expected a thread on the blank, reaching past a face by at most half a lead ({} mm)",
-                    fmt_mm(z_first),
-                    fmt_mm(z_last),
-                    fmt_mm(b_lo),
-                    fmt_mm(b_hi),
-                    fmt_mm(slack)
-                ),
-            ));
-        }
+    // The drawing's thread must have something on the blank: a thread may start in front
+    // of a face or run out through one (a through-threaded part, a program that starts a
+    // pre-cut turn early), and what lies on the blank is compared; a thread wholly off the
+    // stock could never be cut and would compare nothing. Without `z_start` the thread is
+    // placed on the cut later (`analysis::place`), on the blank by construction.
+    if t.z_start.is_some() {
+        on_blank(&spec, blank, cx, t)?;
     }
     // Shapes that cannot exist.
     let hp = spec.pitch_height();
@@ -397,4 +375,42 @@ pub(super) fn resolve_thread(
     }
     let _ = p_max;
     Ok((spec, t.form))
+}
+
+/// Whether any of the thread, from its first feature to its last with half a lead of
+/// groove either side, lies on the blank; the error names the key to change.
+pub(super) fn on_blank(
+    spec: &ThreadSpec,
+    blank: &Blank,
+    cx: &Ctx,
+    t: &RawThread,
+) -> Result<(), JobError> {
+    let law = spec.helix.law;
+    let turns = spec.turns;
+    let (z_first, z_last) = (spec.helix.z0, spec.helix.z(turns));
+    let (b_lo, b_hi) = (blank.z_front - blank.length, blank.z_front);
+    let slack = 0.5 * law.lead(0.0).max(law.lead(turns));
+    let (t_lo, t_hi) = (z_first.min(z_last) - slack, z_first.max(z_last) + slack);
+    if t_hi > b_lo && t_lo < b_hi {
+        return Ok(());
+    }
+    let key = if t.z_start.is_some() {
+        "thread.z_start"
+    } else if t.length.is_some() {
+        "thread.length"
+    } else if t.turns.is_some() {
+        "thread.turns"
+    } else {
+        "thread.pitch"
+    };
+    Err(cx.err(
+        key,
+        format!(
+            "the thread runs from z {} to z {} (its first to its last turn), wholly off the blank (z {} to {}): nothing of it can be cut; expected a thread with at least part of a groove on the blank",
+            fmt_mm(z_first),
+            fmt_mm(z_last),
+            fmt_mm(b_lo),
+            fmt_mm(b_hi),
+        ),
+    ))
 }

@@ -31,6 +31,7 @@ mod forms;
 mod keys;
 mod mill;
 mod parse;
+mod place;
 mod process;
 mod program;
 mod schema;
@@ -172,8 +173,17 @@ pub struct Job {
     /// The drawing's limits of the pitch diameter (a tolerance class such as ISO 965 6H):
     /// checked on the measured simple pitch diameter of every turn (milling jobs).
     pub pitch_diameter_limits: Option<(f64, f64)>,
+    /// The thread's tolerance class (`[thread] designation` or `class`): the gauges judge
+    /// the thread against it.
+    pub thread_class: Option<crate::model::tolerance::ThreadClass>,
     /// The plan of `[process] kind = "plan"`, whose passes are [`Job::passes`].
     pub plan: Option<crate::gen::plan::Plan>,
+    /// Where the thread was placed on the cut (no `thread.z_start`), or how far the cut
+    /// lies from the given one (constant lead); `None` where nothing was fitted.
+    pub placement: Option<crate::analysis::place::Placement>,
+    /// Whether the thread's position comes from the cut: no `thread.z_start`, and passes
+    /// that the thread does not generate.
+    pub(crate) fit_thread: bool,
     /// The turning tools (`kind = "turning"`) the program's T words select.
     pub(crate) turning_tools: Vec<TurningTool>,
     /// What the program's turning moves cut, and its rapids that meet material.
@@ -210,10 +220,12 @@ impl Job {
         let cx = Ctx::parse(src, file)?;
         let Parsed { job, program } = parse::resolve(cx.raw()?, &cx, load, strict)?;
         // Step 2: the program stage.
-        let job = match program {
+        let mut job = match program {
             Some(pending) => job.run_program(pending, load, &cx)?,
             None => job,
         };
+        let fit_it = job.fit_thread;
+        job.place(fit_it);
         if job.mill.is_none() && job.passes.is_empty() {
             return Err(cx.err(
                 "pass",
@@ -318,7 +330,10 @@ impl Job {
             plan: None,
             ..self.clone()
         };
-        job.run_program(Pending::Lathe(program), &load, &cx)
+        let mut job = job.run_program(Pending::Lathe(program), &load, &cx)?;
+        let fit_it = job.fit_thread;
+        job.place(fit_it);
+        Ok(job)
     }
 }
 

@@ -154,6 +154,9 @@ pub(super) fn resolve(
             mill: None,
             pitch_diameter_limits,
             plan: None,
+            placement: None,
+            thread_class: None,
+            fit_thread: raw.thread.z_start.is_none(),
             turning_tools: Vec::new(),
             turning: Default::default(),
         };
@@ -213,6 +216,9 @@ pub(super) fn resolve(
         mill: None,
         pitch_diameter_limits: None,
         plan,
+        placement: None,
+        thread_class: None,
+        fit_thread: raw.thread.z_start.is_none() && raw.process.is_none(),
         turning_tools,
         turning: Default::default(),
     };

@@ -164,10 +164,8 @@ pub(super) struct RawThread {
     pub(super) hand: HandName,
     #[serde(default = "one")]
     pub(super) starts: u32,
-    #[serde(default)]
-    pub(super) z_start: f64,
-    #[serde(default)]
-    pub(super) start_angle: f64,
+    pub(super) z_start: Option<f64>,
+    pub(super) start_angle: Option<f64>,
     pub(super) pitch: RawPitch,
     pub(super) length: Option<f64>,
     pub(super) turns: Option<f64>,

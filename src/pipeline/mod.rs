@@ -14,8 +14,9 @@ pub use grid::plan_grid;
 use crate::analysis::checks;
 use crate::analysis::compare::{Comparer, Deviation};
 use crate::analysis::findings::{rank, FindingCounts, FindingKind};
+use crate::analysis::gauge;
 use crate::analysis::interference::{self, Measurer};
-use crate::analysis::measure::{generator_cells, measure_by, MeasureConfig};
+use crate::analysis::measure::{generator_cells, measure_kept, MeasureConfig};
 use crate::job::{Job, MillJob};
 use crate::kernel::mill::{mill_column, GridMill};
 use crate::kernel::sweep::{sweep_column, Column, GridSweep};
@@ -112,6 +113,15 @@ fn readable(n: u64) -> String {
     } else {
         n.to_string()
     }
+}
+
+/// The class the gauges judge the job's thread by: a thread with a class, of constant
+/// lead and equal groove width (the gauges' perfect thread).
+fn gauge_class(job: &Job) -> Option<&crate::model::tolerance::ThreadClass> {
+    use crate::model::thread::WidthRule;
+    job.thread_class.as_ref().filter(|_| {
+        job.thread.helix.law.k == 0.0 && matches!(job.thread.width, WidthRule::Groove(_))
+    })
 }
 
 /// The result of a simulation.
@@ -375,11 +385,13 @@ fn run<S: Sink>(
     let (t_sweep, t_compare) = (fused * share, fused * (1.0 - share));
 
     let t0 = Instant::now();
-    let measures = if m_hi > m_lo {
+    let gauged = gauge_class(job);
+    let (measures, kept) = if m_hi > m_lo {
         let cfg = MeasureConfig {
             spacing,
             generators: job.sim.measure_generators,
-            pitch_diameter: matches!(op, Operation::Milling(_)),
+            pitch_diameter: matches!(op, Operation::Milling(_)) || gauged.is_some(),
+            keep_columns: gauged.is_some(),
         };
         match op {
             Operation::Turning { passes, tools } => {
@@ -387,16 +399,18 @@ fn run<S: Sink>(
                     sweep_column(q, c, passes, tools);
                     turned.clamp(q, c.z0, c.dz, c.q_blank, q_floor);
                 };
-                measure_by(thread, &cut, q_blank, (m_lo, m_hi), cfg)
+                measure_kept(thread, &cut, q_blank, (m_lo, m_hi), cfg)
             }
             Operation::Milling(mj) => {
                 let cut = |q: &mut [f32], c: Column| mill_column(q, c, &mj.path, &mj.cutters);
-                measure_by(thread, &cut, q_blank, (m_lo, m_hi), cfg)
+                measure_kept(thread, &cut, q_blank, (m_lo, m_hi), cfg)
             }
         }
     } else {
-        Vec::new()
+        (Vec::new(), Vec::new())
     };
+    let gauge = gauged.map(|class| gauge::judge(thread, class, &kept, &measures, spacing));
+    drop(kept);
     let t_measure = t0.elapsed().as_secs_f64();
 
     let (machine_issues, bodies) = match op {
@@ -436,6 +450,11 @@ fn run<S: Sink>(
     );
     if let (Operation::Milling(mj), Some(stats)) = (op, &merged.mill) {
         milling::add_mill(&mut report, job, mj, stats, &measures, surface);
+        report.verdict = rank(&mut report.findings);
+        report.finding_counts = FindingCounts::of(&report.findings);
+    }
+    if let (Some(class), Some(g)) = (gauged, &gauge) {
+        report::add_gauge(&mut report, class, g, &measures);
         report.verdict = rank(&mut report.findings);
         report.finding_counts = FindingCounts::of(&report.findings);
     }

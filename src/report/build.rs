@@ -265,6 +265,24 @@ pub(crate) fn build_report(
             "no dexel of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
         ));
     }
+    // A given z_start the cut does not follow: the ideal is kept where the job puts it.
+    if let Some(off) = job.placement.and_then(|p| p.offset) {
+        if off.abs() > tol {
+            let mut f = Finding::new(
+                FindingKind::Placement,
+                Severity::Warning,
+                format!(
+                    "the cut thread lies {:.4} mm {} of thread.z_start = {} (the nearest equivalent position): the comparison keeps the given position; leave z_start out to place the thread on the cut",
+                    off.abs(),
+                    if off > 0.0 { "in front (+z)" } else { "behind (-z)" },
+                    r6(thread.helix.z0)
+                ),
+            );
+            f.value = Some(r6(off));
+            f.unit = Some("mm");
+            findings.push(f);
+        }
+    }
     let verdict = rank(&mut findings);
     let gouge = dev.max_gouge();
     let leftover = dev.max_leftover();
@@ -300,6 +318,10 @@ pub(crate) fn build_report(
             lead_at_start_mm: r6(thread.helix.law.f),
             lead_change_mm: r6(thread.helix.law.k),
             turns: r6(thread.turns),
+            placement: job
+                .placement
+                .as_ref()
+                .map(|p| report::PlacementInfo::of(p, job.fit_thread)),
         },
         stock: report::StockInfo {
             angular_cells: grid.n_theta,
@@ -316,6 +338,7 @@ pub(crate) fn build_report(
             z_max_mm: r6(grid.z(grid.n_z - 1)),
         },
         passes: job.passes.len(),
+        gauge: None,
         kernel: {
             // The swept bodies' sections (the same the sweep used).
             let swept = bodies.map_or(&[][..], |b| &b.2[..]);

@@ -10,7 +10,12 @@ use serde::Serialize;
 use std::fmt::Write as _;
 
 mod build;
+mod gauge;
 pub(crate) use build::build_report;
+pub(crate) use gauge::add_gauge;
+pub use gauge::{
+    GaugeElementInfo, GaugeInfo, GaugeLimits, InchView, LimitPair, OverWires, PlacementInfo, Range,
+};
 
 /// The schema tag.
 pub const SCHEMA: &str = "vpcut.report/1";
@@ -96,6 +101,9 @@ pub struct Report {
     pub measurement: MeasurementInfo,
     /// Deviation totals.
     pub deviation: DeviationInfo,
+    /// The thread against its tolerance class (a job with `designation` or `class`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gauge: Option<GaugeInfo>,
     /// Per turn (and start).
     pub turns: Vec<TurnRow>,
     /// Where a tool body cut beyond its edge's swept groove: present (maybe empty) for
@@ -138,6 +146,9 @@ pub struct ThreadInfo {
     pub lead_change_mm: f64,
     /// Number of turns.
     pub turns: f64,
+    /// Where the thread was placed on the cut, or the cut's offset from the given place.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub placement: Option<PlacementInfo>,
 }
 
 /// The stock grid.
@@ -510,6 +521,9 @@ impl Report {
                     "  nothing compared: the thread is not on the simulated stock"
                 );
             }
+        }
+        if let Some(g) = &self.gauge {
+            s.push_str(&gauge::summary(g));
         }
         let o = |v: Option<f64>| v.map_or("      -".to_string(), |x| format!("{:>7}", num(x, 3)));
         // A measured cell, painted when it misses its ideal by more than the tolerance (or

@@ -1,0 +1,70 @@
+//! The thread placed on the cut (`analysis::place`) once the job's passes are known: a job
+//! that does not fix `thread.z_start` has its ideal thread's first feature put where the
+//! cut's grooves are, and a job that fixes it has the cut's offset from it measured
+//! (constant lead). Jobs whose passes the thread itself generates (`[process]`) need no fit.
+
+use super::Job;
+use crate::analysis::place::{fit, Placement};
+use crate::kernel::mill::mill_column;
+use crate::kernel::sweep::{sweep_column, Column};
+use crate::model::stock::Surface;
+use crate::model::thread::Side;
+
+impl Job {
+    /// The cut of one free-standing column by the job's operation: the passes with their
+    /// tools and the program's turning moves (lathe), or the mill's path (`q` holds
+    /// `q - q_blank`, cut in place). The measurement generators cut the same way.
+    pub(crate) fn cut_column(&self, q: &mut [f32], c: Column) {
+        match &self.mill {
+            Some(mj) => mill_column(q, c, &mj.path, &mj.cutters),
+            None => {
+                sweep_column(q, c, &self.passes, &self.tools);
+                let (turned, q_floor) = match c.surface {
+                    Surface::Outer => (&self.turning.outer, self.blank.bore / 2.0),
+                    Surface::Inner => (&self.turning.inner, -self.blank.diameter / 2.0),
+                };
+                turned.clamp(q, c.z0, c.dz, c.q_blank, q_floor);
+            }
+        }
+    }
+
+    /// Place the thread on the cut (`fit`: `z_start` was not given) or measure the cut's
+    /// offset from the given one (constant lead only: a variable-lead screw's is not
+    /// needed and would cost a long column).
+    pub(super) fn place(&mut self, fit_it: bool) {
+        let thread = &self.thread;
+        if !fit_it && thread.helix.law.k != 0.0 {
+            return;
+        }
+        let b = &self.blank;
+        let window = self
+            .sim
+            .z_range
+            .unwrap_or((b.z_front - b.length, b.z_front));
+        let q_blank = match thread.side {
+            Side::External => b.diameter / 2.0,
+            Side::Internal => -b.bore / 2.0,
+        };
+        if thread.side == Side::Internal && b.bore <= 0.0 {
+            return;
+        }
+        let given = (!fit_it).then_some(thread.helix.z0);
+        let cut = |q: &mut [f32], c: Column| self.cut_column(q, c);
+        let found = fit(
+            thread,
+            &cut,
+            q_blank,
+            window,
+            self.sim.measure_spacing,
+            given,
+        );
+        self.placement = found;
+        match found {
+            Some(Placement { z_start, .. }) if fit_it => self.thread.helix.z0 = z_start,
+            // Nothing of the thread's width at its pitch line: the thread is put at the
+            // front face, where the comparison shows what the cut lacks.
+            None if fit_it => self.thread.helix.z0 = window.1,
+            _ => {}
+        }
+    }
+}
