@@ -500,8 +500,19 @@ pub(crate) fn pitch_level(
         }
         Some(cross(r - 1, r) - cross(l + 1, l))
     };
-    let (mut lo, mut hi) = (0.0, depth);
-    if width(hi)? < half_pitch || width(lo)? > half_pitch {
+    // The groove is closed at any level below both neighbouring crests (within a pitch
+    // either side): the top of the search is the lower crest (less 1 nm), never above the
+    // depth. A crest turned below the drawing's (or stored as an f32 a rounding under it)
+    // still bounds a groove whose width can be found.
+    let reach = ((2.0 * half_pitch / dz).ceil() as usize).max(1);
+    let peak = |a: usize, b: usize| {
+        h[a..b]
+            .iter()
+            .fold(f64::NEG_INFINITY, |m, &x| m.max(x as f64))
+    };
+    let crest = peak(jc.saturating_sub(reach), jc + 1).min(peak(jc, (jc + reach + 1).min(h.len())));
+    let (mut lo, mut hi) = (0.0, depth.min(crest - 1e-6));
+    if hi <= lo || width(hi)? < half_pitch || width(lo)? > half_pitch {
         return None;
     }
     for _ in 0..60 {

@@ -68,3 +68,39 @@ impl Job {
         }
     }
 }
+
+/// The ideal thread moved to the middle of its class's zone (what the deviation colours
+/// and the planner aim at): the flanks to the middle of the pitch-diameter zone, measured
+/// at the same pitch line (the groove widens by the flanks' slopes times the radial move),
+/// the crest to the middle of its diameter's zone (major outside, minor inside) where both
+/// limits are set. The root stays at the form's. A constant-lead, equal-groove thread only
+/// (the classes' threads).
+pub(super) fn zone_middle(
+    thread: &mut crate::model::thread::ThreadSpec,
+    class: &crate::model::tolerance::ThreadClass,
+) {
+    use crate::model::thread::WidthRule;
+    let WidthRule::Groove(w) = thread.width else {
+        return;
+    };
+    if thread.helix.law.k != 0.0 {
+        return;
+    }
+    let basic = class.basic_pitch_diameter;
+    let Some(mid) = class.pitch_diameter.mid() else {
+        return;
+    };
+    // Away from the material: external threads get smaller, internal ones larger.
+    let away = match thread.side {
+        Side::External => 0.5 * (basic - mid),
+        Side::Internal => 0.5 * (mid - basic),
+    };
+    thread.width = WidthRule::Groove(w + away * thread.widening());
+    let crest = match thread.side {
+        Side::External => class.major_diameter,
+        Side::Internal => class.minor_diameter,
+    };
+    if crest.min.is_finite() && crest.max.is_finite() {
+        thread.crest_radius = 0.25 * (crest.min + crest.max);
+    }
+}

@@ -7,6 +7,9 @@ mod support;
 mod bodies;
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
+/// The gauges' verdict (GO/NOT GO, functional diameter) against hand derivations, and its
+/// independence of where the cut starts.
+mod gauging;
 /// The glTF export against closed forms, the dexel data, the report and itself.
 mod gltf;
 /// The scenes' reports against reviewed goldens and hand-derived expectations.

@@ -59,6 +59,7 @@ fn v_pass_job(dz: f64, cells: usize, shift: f64) -> String {
         major_diameter = 20.0
         pitch = 2.5
         length = 30.0
+        z_start = 0.0
         [[tool]]
         id = 1
         kind = "threading"

@@ -648,7 +648,7 @@ fn exact_fit_tools_of_standard_forms_are_accepted() {
 fn a_thread_that_is_not_on_the_blank_never_passes() {
     let sim = "axial_spacing = 0.02\nangular_cells = 90";
     let text = |z_start: f64| square_3_turns(0.0, z_start, "", sim);
-    for z in [200.0, -5000.0, 8.0, -75.0] {
+    for z in [200.0, -5000.0, 40.0, -75.0] {
         let e = vpcut::Job::from_toml(&text(z), "off.toml").expect_err("off the blank");
         let msg = e.to_string();
         assert!(
@@ -656,6 +656,12 @@ fn a_thread_that_is_not_on_the_blank_never_passes() {
             "{msg}"
         );
     }
+    // A thread that starts in front of the face (a through-threaded part, a program that
+    // starts a turn early) is compared where it lies on the blank: here the passes cut
+    // it elsewhere, and the verdict says so.
+    let job = vpcut::Job::from_toml(&text(8.0), "front.toml").expect("partly on the blank");
+    let r = simulate(&job, &SimOptions::default()).unwrap().report;
+    assert_eq!(r.verdict, Verdict::Fail);
     // On the blank, but the simulated window holds none of it.
     let mut job = vpcut::Job::from_toml(&text(-10.0), "w.toml").unwrap();
     job.sim.z_range = Some((-59.0, -55.0));
