@@ -17,10 +17,11 @@
 //!   `Rc1/2`, `Rp1/2`.
 //!
 //! Case: ISO 965 tells the side by a position letter's case (lower external, upper
-//! internal). A designation with no lower-case letter at all (`M30X2-6G`) cannot say it
-//! for G and H: vpcut then takes the side the job gives, and otherwise refuses (E and F are
-//! external in any case: ISO 965 has no internal E or F). Tr's C and E are external and H
-//! internal in any case.
+//! internal). A designation written all in capitals, the `x` too (`M30X2-6G`), cannot say
+//! it for G and H: vpcut then takes the side the job gives, and otherwise refuses (E and F
+//! are external in any case: ISO 965 has no internal E or F). `M20-6H` has no letter ISO
+//! writes in lower case: it is ISO's internal 6H. Tr's C and E are external and H internal
+//! in any case.
 
 use super::iso965::{self, MetricClass};
 use super::unified::{self, Series, UnifiedClass};
@@ -176,7 +177,11 @@ pub fn parse(text: &str) -> Result<Designation, StandardError> {
             "expected a thread designation of at most {MAX_LEN} characters"
         )));
     }
-    let all_caps = !t.chars().any(|c| c.is_lowercase());
+    // Capitals mean nothing only where a letter ISO writes in lower case is in capitals too
+    // (the `x` between diameter and pitch, Ph's h): `M20-6H` is ISO's internal 6H.
+    let upper = t.to_uppercase();
+    let all_caps = !t.chars().any(|c| c.is_lowercase())
+        && (upper.contains('X') || upper.contains("PH"));
     let mut c = Cursor::new(t);
     let first = c.peek().map(|ch| ch.to_ascii_uppercase());
     let second = c.peek_at(1).map(|ch| ch.to_ascii_uppercase());
@@ -204,7 +209,7 @@ struct Tail {
     left_hand: bool,
 }
 
-fn tail(c: &mut Cursor, groups: bool) -> Result<Tail, StandardError> {
+fn tail(c: &mut Cursor, groups: bool, class_what: &str) -> Result<Tail, StandardError> {
     let mut out = Tail {
         class: None,
         group: None,
@@ -263,11 +268,11 @@ fn tail(c: &mut Cursor, groups: bool) -> Result<Tail, StandardError> {
         } else {
             at(c);
             let what = if groups {
-                "a tolerance class (6g, 6H), a length of engagement (S, N, L or mm) or LH, in that order"
+                format!("{class_what}, a length of engagement (S, N, L or mm) or LH, in that order")
             } else {
-                "a tolerance class or LH"
+                format!("{class_what} or LH")
             };
-            return Err(c.expected(what));
+            return Err(c.expected(&what));
         }
     }
 }
@@ -404,13 +409,18 @@ fn metric(c: &mut Cursor) -> Result<Designation, StandardError> {
         c.skip_ws();
         c.eat_word("LH")
     };
-    let tl = tail(c, true)?;
+    let tl = tail(c, true, "a tolerance class (6g, 6H)")?;
     let class = match &tl.class {
         None => ClassSpec::None,
         Some((s, at)) => match s.split_once('/') {
             Some((a, b)) => {
                 let i = metric_class(a).map_err(|e| at_token(c.text, *at, e))?;
-                let e = metric_class(b).map_err(|e| at_token(c.text, *at, e))?;
+                let mut e = metric_class(b).map_err(|e| at_token(c.text, *at, e))?;
+                if !c.text.chars().any(char::is_lowercase) {
+                    // In capitals the second class of a fit is the external one.
+                    e.pitch.1 = e.pitch.1.to_ascii_lowercase();
+                    e.crest.1 = e.crest.1.to_ascii_lowercase();
+                }
                 if !i.internal() || e.internal() {
                     return Err(token_error(
                         c.text,
@@ -510,7 +520,7 @@ fn trapezoidal(c: &mut Cursor) -> Result<Designation, StandardError> {
     check_pitch(c.text, d, p)?;
     c.skip_ws();
     let lh_early = c.eat_word("LH");
-    let tl = tail(c, false)?;
+    let tl = tail(c, false, "a tolerance class (7e, 7H)")?;
     let class = match &tl.class {
         None => ClassSpec::None,
         Some((s, at)) => match s.split_once('/') {
@@ -672,7 +682,7 @@ fn inch(c: &mut Cursor) -> Result<Designation, StandardError> {
             return Err(c.expected("`-` and the threads per inch before the series (1/2-13 UNC)"));
         }
     };
-    let tl = tail(c, false)?;
+    let tl = tail(c, false, "a class (2A, 2B)")?;
     let (major, class) = match standard {
         Standard::Unified(series) => {
             unified::check_series(series, d, tpi, &size)
@@ -766,7 +776,7 @@ fn pipe_g(c: &mut Cursor) -> Result<Designation, StandardError> {
             c.i += 1;
         }
     }
-    let tl = tail(c, false)?;
+    let tl = tail(c, false, "the class A or B (ISO 228-1)")?;
     if let Some((s, at)) = &tl.class {
         return Err(token_error(
             c.text,
@@ -819,7 +829,7 @@ fn pipe_r(c: &mut Cursor) -> Result<Designation, StandardError> {
             pipe::sizes('R')
         )));
     };
-    let tl = tail(c, false)?;
+    let tl = tail(c, false, "no class (ISO 7-1 has none)")?;
     if let Some((s, at)) = &tl.class {
         return Err(token_error(
             c.text,

@@ -344,14 +344,14 @@ impl Designation {
         match self.form() {
             Form::IsoMetric | Form::Unified => self.major - 0.649_519_052_838_329 * p,
             Form::Trapezoidal | Form::Acme => self.major - 0.5 * p,
-            Form::Whitworth => self.major - pipe::WHITWORTH_DEPTH * p,
+            Form::Whitworth => self.major - pipe::whitworth_depth(p),
         }
     }
 
     /// The basic minor diameter (mm) of a Whitworth profile (its root and crest rounded:
-    /// d − 1.280654P); the other forms' come from the job's form data.
+    /// d − 2h, h = 0.640327P); the other forms' come from the job's form data.
     pub fn whitworth_minor(&self) -> f64 {
-        self.major - 2.0 * pipe::WHITWORTH_DEPTH * self.pitch
+        self.major - 2.0 * pipe::whitworth_depth(self.pitch)
     }
 }
 

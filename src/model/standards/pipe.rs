@@ -90,8 +90,12 @@ const R_SIZES: [&str; 15] = [
     "5", "6",
 ];
 
-/// The Whitworth form's thread height over the pitch (h = 2H/3, H = 0.960491P).
-pub(super) const WHITWORTH_DEPTH: f64 = 0.640_327;
+/// The Whitworth form's thread height h = 2H/3 = 0.640327P (H = 0.960491P), to 0.001 mm
+/// as ISO 228-1 Table 1 prints it (G1: h 1.479, d1 = 33.249 − 2.958 = 30.291; unrounded
+/// 30.292).
+pub(super) fn whitworth_depth(p: f64) -> f64 {
+    round3(0.640_327 * p)
+}
 
 /// An NPT size: (outside diameter in, threads per inch, L1 in).
 pub(super) fn npt_size(size: &str) -> Option<(f64, f64, f64)> {
@@ -177,8 +181,8 @@ pub(super) fn g_limits(
     let (n, d, group) =
         g_size(size).ok_or_else(|| StandardError::new(format!("G{size} is not an ISO 228-1 size")))?;
     let p = 25.4 / n;
-    let d2 = d - WHITWORTH_DEPTH * p;
-    let d1 = d - 2.0 * WHITWORTH_DEPTH * p;
+    let d2 = d - whitworth_depth(p);
+    let d1 = d - 2.0 * whitworth_depth(p);
     let (td, td1) = G_TOLERANCES[group];
     let (internal, pitch_diameter, major, minor) = match class {
         None => (
