@@ -97,7 +97,18 @@ pub(super) fn resolve(
             ));
         },
     };
-    let (thread, form) = resolve_thread(&raw.thread, &blank, cx)?;
+    let (thread, form, thread_class) = resolve_thread(&raw.thread, &blank, cx)?;
+    if raw.thread.pitch_diameter_limits.is_some() && thread_class.is_some() {
+        let by = if raw.thread.designation.is_some() {
+            "designation"
+        } else {
+            "class"
+        };
+        return Err(cx.err(
+            "thread.pitch_diameter_limits",
+            format!("the thread's `{by}` already gives the pitch diameter's limits: give `pitch_diameter_limits` or the class, not both"),
+        ));
+    }
     // The grid must resolve the thread (and a pitch far below the spacing would make the
     // ideal profile of each column enormous).
     let p_min = thread
@@ -153,6 +164,7 @@ pub(super) fn resolve(
             pass_blocks: Vec::new(),
             mill: None,
             pitch_diameter_limits,
+            thread_class,
             plan: None,
             turning_tools: Vec::new(),
             turning: Default::default(),
@@ -212,6 +224,7 @@ pub(super) fn resolve(
         pass_blocks: Vec::new(),
         mill: None,
         pitch_diameter_limits: None,
+        thread_class,
         plan,
         turning_tools,
         turning: Default::default(),

@@ -7,6 +7,8 @@ mod support;
 mod bodies;
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
+/// `[thread] designation` and `class`: scenes rewritten with designations, contradictions.
+mod designations;
 /// The glTF export against closed forms, the dexel data, the report and itself.
 mod gltf;
 /// The scenes' reports against reviewed goldens and hand-derived expectations.
