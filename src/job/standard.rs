@@ -196,7 +196,10 @@ fn designated(t: &RawThread, text: &str, cx: &Ctx) -> Result<Named, JobError> {
             format!("the form `{}`", form.name()),
         ));
     }
-    if let Some(m) = t.major_diameter.filter(|m| (m - d.major).abs() > 1e-6 * d.major.max(1.0)) {
+    if let Some(m) = t
+        .major_diameter
+        .filter(|m| (m - d.major).abs() > 1e-6 * d.major.max(1.0))
+    {
         return Err(contradiction(
             "major_diameter",
             num(m),
@@ -282,7 +285,15 @@ fn designated(t: &RawThread, text: &str, cx: &Ctx) -> Result<Named, JobError> {
             return Err(contradiction(
                 "side",
                 format!("\"{}\"", side_name(side)),
-                format!("the class {} of an {} thread", c.class, side_name(if c.internal { Side::Internal } else { Side::External })),
+                format!(
+                    "the class {} of an {} thread",
+                    c.class,
+                    side_name(if c.internal {
+                        Side::Internal
+                    } else {
+                        Side::External
+                    })
+                ),
             ));
         }
     }
@@ -301,7 +312,11 @@ fn designated(t: &RawThread, text: &str, cx: &Ctx) -> Result<Named, JobError> {
 }
 
 /// The designation's class for the job's side.
-fn class_of(d: &Designation, side: Option<Side>, cx: &Ctx) -> Result<Option<ThreadClass>, JobError> {
+fn class_of(
+    d: &Designation,
+    side: Option<Side>,
+    cx: &Ctx,
+) -> Result<Option<ThreadClass>, JobError> {
     if matches!(
         d.standard,
         Standard::PipeParallelInternal | Standard::PipeTaper { .. }

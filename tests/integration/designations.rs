@@ -29,31 +29,68 @@ fn class(job: &Job) -> &ThreadClass {
     job.thread_class.as_ref().expect("a tolerance class")
 }
 
+/// A scene rewritten: its name, the `[thread]` keys the designation replaces, the
+/// designation, and the scene's own `pitch_diameter_limits` where it wrote the class's.
+type Rewrite = (
+    &'static str,
+    &'static [&'static str],
+    &'static str,
+    Option<[f64; 2]>,
+);
+
 #[test]
 fn scene_jobs_with_a_designation_give_the_same_thread() {
     // (scene, keys the designation replaces, designation, the scene's own
     // `pitch_diameter_limits` when it wrote the class's by hand).
-    let rows: [(&str, &[&str], &str, Option<[f64; 2]>); 6] = [
-        ("iso-m20x2.5-radial", &["form", "major_diameter", "pitch"], "M20-6g", None),
-        ("turned-m20x2.5-fanuc", &["form", "major_diameter", "pitch"], "M20x2.5", None),
+    let rows: [Rewrite; 6] = [
+        (
+            "iso-m20x2.5-radial",
+            &["form", "major_diameter", "pitch"],
+            "M20-6g",
+            None,
+        ),
+        (
+            "turned-m20x2.5-fanuc",
+            &["form", "major_diameter", "pitch"],
+            "M20x2.5",
+            None,
+        ),
         (
             "seed003-g76-2in-12tpi",
             &["form", "major_diameter", "pitch"],
             "2-12 UN-2A",
             None,
         ),
-        ("seed004-tr100x12", &["form", "major_diameter", "pitch"], "Tr100x12", None),
+        (
+            "seed004-tr100x12",
+            &["form", "major_diameter", "pitch"],
+            "Tr100x12",
+            None,
+        ),
         // The nut's crest is the drilled bore (18.38, inside 6H's D1 18.376..18.676): with
         // the class the bore is the crest without `minor_diameter`.
         (
             "seed001-m20x1.5-thread-mill",
-            &["form", "major_diameter", "pitch", "side", "minor_diameter", "pitch_diameter_limits"],
+            &[
+                "form",
+                "major_diameter",
+                "pitch",
+                "side",
+                "minor_diameter",
+                "pitch_diameter_limits",
+            ],
             "M20x1.5-6H",
             Some([19.026, 19.216]),
         ),
         (
             "m20x1.5-external-comb-mill",
-            &["form", "major_diameter", "pitch", "side", "pitch_diameter_limits"],
+            &[
+                "form",
+                "major_diameter",
+                "pitch",
+                "side",
+                "pitch_diameter_limits",
+            ],
             "M20x1.5-6h",
             Some([18.886, 19.026]),
         ),
@@ -61,7 +98,11 @@ fn scene_jobs_with_a_designation_give_the_same_thread() {
     for (scene, remove, designation, limits) in rows {
         let text = scene_text(scene);
         let before = scene_job_text(scene, &text).unwrap_or_else(|e| panic!("{scene}: {e}"));
-        let new = rewrite(&text, remove, &[("designation", &format!("\"{designation}\""))]);
+        let new = rewrite(
+            &text,
+            remove,
+            &[("designation", &format!("\"{designation}\""))],
+        );
         let after = scene_job_text(scene, &new).unwrap_or_else(|e| panic!("{scene}: {e}"));
         assert_eq!(after.thread, before.thread, "{scene}");
         assert_eq!(after.form, before.form, "{scene}");
@@ -69,14 +110,19 @@ fn scene_jobs_with_a_designation_give_the_same_thread() {
         if let Some([lo, hi]) = limits {
             let c = class(&after);
             assert!(
-                (c.pitch_diameter.min - lo).abs() < 1e-9 && (c.pitch_diameter.max - hi).abs() < 1e-9,
+                (c.pitch_diameter.min - lo).abs() < 1e-9
+                    && (c.pitch_diameter.max - hi).abs() < 1e-9,
                 "{scene}: {} gives {:?}, the scene wrote [{lo}, {hi}]",
                 designation,
                 c.pitch_diameter
             );
         }
         // The keys the designation fills may stay beside it when they agree.
-        let both = rewrite(&text, &[], &[("designation", &format!("\"{designation}\""))]);
+        let both = rewrite(
+            &text,
+            &[],
+            &[("designation", &format!("\"{designation}\""))],
+        );
         let both = rewrite(&both, &["pitch_diameter_limits"], &[]);
         let again = scene_job_text(scene, &both).unwrap_or_else(|e| panic!("{scene}: {e}"));
         assert_eq!(again.thread, before.thread, "{scene} with its keys beside");
@@ -102,7 +148,11 @@ fn a_designation_only_thread_simulates_as_the_explicit_one() {
     let c = class(&job);
     assert_eq!((c.class.as_str(), c.internal), ("6g", false));
     // The length of engagement (N up to 30 mm for M20x2.5) is at most the thread's 25 mm.
-    assert!((c.engagement_length - 25.0).abs() < 1e-9, "{}", c.engagement_length);
+    assert!(
+        (c.engagement_length - 25.0).abs() < 1e-9,
+        "{}",
+        c.engagement_length
+    );
 }
 
 const NUT: &str = r#"
@@ -142,13 +192,19 @@ fn a_tap_drill_bore_within_d1_is_the_crest() {
     let e = Job::from_toml(&NUT.replace("bore = 10.7", "bore = 11.1"), "nut.toml")
         .unwrap_err()
         .to_string();
-    assert!(e.contains("`blank.bore`") && e.contains("D1 max = 11.0236"), "{e}");
+    assert!(
+        e.contains("`blank.bore`") && e.contains("D1 max = 11.0236"),
+        "{e}"
+    );
     let plain = NUT.replace(
         "designation = \"1/2-13 UNC-2B\"",
         "side = \"internal\"\nform = \"unified\"\nmajor_diameter = 12.7\npitch = 1.9538461538461538",
     );
     let e = Job::from_toml(&plain, "nut.toml").unwrap_err().to_string();
-    assert!(e.contains("`thread.minor_diameter`") && e.contains("no larger than its minor"), "{e}");
+    assert!(
+        e.contains("`thread.minor_diameter`") && e.contains("no larger than its minor"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -165,7 +221,10 @@ fn an_external_class_accepts_a_bar_turned_within_its_major_diameter() {
     let e = Job::from_toml(&with(&new, &[("blank", "diameter", "19.5")]), "j.toml")
         .unwrap_err()
         .to_string();
-    assert!(e.contains("`blank.diameter`") && e.contains("19.623"), "{e}");
+    assert!(
+        e.contains("`blank.diameter`") && e.contains("19.623"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -177,34 +236,133 @@ fn contradictions_name_both_keys() {
         rewrite(&base, &["form", "major_diameter", "pitch"], &add)
     };
     let cases: Vec<(String, &[&str])> = vec![
-        (des("\"M20x2.5-6g\"", &[("major_diameter", "21.0")]), &["`thread.major_diameter`", "`major_diameter = 21`", "`designation = \"M20x2.5-6g\"`", "20 mm"]),
-        (des("\"M20x2.5-6g\"", &[("pitch", "2.0")]), &["`thread.pitch`", "`pitch = 2`", "a pitch of 2.5 mm"]),
-        (des("\"M20x2.5-6g\"", &[("form", "\"unified\"")]), &["`thread.form`", "the form `iso-metric`"]),
-        (des("\"M20x2.5-6g\"", &[("side", "\"internal\"")]), &["`thread.side`", "`side = \"internal\"`", "an external thread"]),
-        (des("\"M20x2.5-6g\"", &[("hand", "\"left\"")]), &["`thread.hand`", "right-hand thread (no LH)"]),
-        (des("\"M20x2.5-6g-LH\"", &[("hand", "\"right\"")]), &["`thread.hand`", "left-hand thread (LH)"]),
-        (des("\"M20x2.5-6g\"", &[("starts", "2")]), &["`thread.starts`", "1 start"]),
-        (des("\"M20x2.5-6g\"", &[("flank_angle", "55.0")]), &["`thread.flank_angle`", "60 degrees"]),
-        (des("\"M20x2.5-6g\"", &[("pitch", "{ first = 2.5, increment = 0.1, turns = 5 }")]), &["`thread.pitch`", "pitch series contradicts"]),
-        (des("\"M20x2.5-6g\"", &[("class", "\"6g\"")]), &["`thread.class`", "both give the class"]),
-        (des("\"M20x2.5-6g\"", &[("pitch_diameter_limits", "[18.2, 18.3]")]), &["`thread.pitch_diameter_limits`", "not both"]),
-        (des("\"M20x2.5-6g\"", &[("class", "\"6g\"")]), &["write it in the designation"]),
-        (des("\"M20x2.5-6H/6g\"", &[]), &["`thread.designation`", "is a fit", "give `side"]),
-        (des("\"M20X2.5-6G\"", &[]), &["`thread.designation`", "capitals", "side"]),
-        (des("\"M20x2.5-6k\"", &[]), &["`thread.designation`", "expected e, f, g or h"]),
-        (des("\"M20x2.5 UNC\"", &[]), &["`thread.designation`", "expected"]),
-        (des("\"1/2-14 NPT\"", &[]), &["`thread.designation`", "taper threads are not simulated yet"]),
-        (des("\"R1/2\"", &[]), &["taper threads are not simulated yet"]),
-        (des("\"Tr20x4-8c\"", &[]), &["`thread.designation`", "not in vpcut", "public"]),
-        (rewrite(&base, &["form"], &[]), &["`thread.form`", "expected `form`", "`designation`"]),
-        (rewrite(&base, &["major_diameter"], &[]), &["`thread.major_diameter`", "missing"]),
-        (rewrite(&base, &["pitch"], &[]), &["`thread.pitch`", "missing"]),
-        (rewrite(&base, &[], &[("class", "\"6H\""), ("side", "\"external\"")]), &["`thread.side`", "contradicts `class = \"6H\"`"]),
-        (rewrite(&base, &[], &[("class", "\"6d\"")]), &["`thread.class`", "expected e, f, g or h"]),
-        (rewrite(&base, &["form"], &[("form", "\"square\""), ("class", "\"6g\"")]), &["`thread.class`", "not `square`"]),
+        (
+            des("\"M20x2.5-6g\"", &[("major_diameter", "21.0")]),
+            &[
+                "`thread.major_diameter`",
+                "`major_diameter = 21`",
+                "`designation = \"M20x2.5-6g\"`",
+                "20 mm",
+            ],
+        ),
+        (
+            des("\"M20x2.5-6g\"", &[("pitch", "2.0")]),
+            &["`thread.pitch`", "`pitch = 2`", "a pitch of 2.5 mm"],
+        ),
+        (
+            des("\"M20x2.5-6g\"", &[("form", "\"unified\"")]),
+            &["`thread.form`", "the form `iso-metric`"],
+        ),
+        (
+            des("\"M20x2.5-6g\"", &[("side", "\"internal\"")]),
+            &[
+                "`thread.side`",
+                "`side = \"internal\"`",
+                "an external thread",
+            ],
+        ),
+        (
+            des("\"M20x2.5-6g\"", &[("hand", "\"left\"")]),
+            &["`thread.hand`", "right-hand thread (no LH)"],
+        ),
+        (
+            des("\"M20x2.5-6g-LH\"", &[("hand", "\"right\"")]),
+            &["`thread.hand`", "left-hand thread (LH)"],
+        ),
+        (
+            des("\"M20x2.5-6g\"", &[("starts", "2")]),
+            &["`thread.starts`", "1 start"],
+        ),
+        (
+            des("\"M20x2.5-6g\"", &[("flank_angle", "55.0")]),
+            &["`thread.flank_angle`", "60 degrees"],
+        ),
+        (
+            des(
+                "\"M20x2.5-6g\"",
+                &[("pitch", "{ first = 2.5, increment = 0.1, turns = 5 }")],
+            ),
+            &["`thread.pitch`", "pitch series contradicts"],
+        ),
+        (
+            des("\"M20x2.5-6g\"", &[("class", "\"6g\"")]),
+            &["`thread.class`", "both give the class"],
+        ),
+        (
+            des(
+                "\"M20x2.5-6g\"",
+                &[("pitch_diameter_limits", "[18.2, 18.3]")],
+            ),
+            &["`thread.pitch_diameter_limits`", "not both"],
+        ),
+        (
+            des("\"M20x2.5-6g\"", &[("class", "\"6g\"")]),
+            &["write it in the designation"],
+        ),
+        (
+            des("\"M20x2.5-6H/6g\"", &[]),
+            &["`thread.designation`", "is a fit", "give `side"],
+        ),
+        (
+            des("\"M20X2.5-6G\"", &[]),
+            &["`thread.designation`", "capitals", "side"],
+        ),
+        (
+            des("\"M20x2.5-6k\"", &[]),
+            &["`thread.designation`", "expected e, f, g or h"],
+        ),
+        (
+            des("\"M20x2.5 UNC\"", &[]),
+            &["`thread.designation`", "expected"],
+        ),
+        (
+            des("\"1/2-14 NPT\"", &[]),
+            &[
+                "`thread.designation`",
+                "taper threads are not simulated yet",
+            ],
+        ),
+        (
+            des("\"R1/2\"", &[]),
+            &["taper threads are not simulated yet"],
+        ),
+        (
+            des("\"Tr20x4-8c\"", &[]),
+            &["`thread.designation`", "not in vpcut", "public"],
+        ),
+        (
+            rewrite(&base, &["form"], &[]),
+            &["`thread.form`", "expected `form`", "`designation`"],
+        ),
+        (
+            rewrite(&base, &["major_diameter"], &[]),
+            &["`thread.major_diameter`", "missing"],
+        ),
+        (
+            rewrite(&base, &["pitch"], &[]),
+            &["`thread.pitch`", "missing"],
+        ),
+        (
+            rewrite(&base, &[], &[("class", "\"6H\""), ("side", "\"external\"")]),
+            &["`thread.side`", "contradicts `class = \"6H\"`"],
+        ),
+        (
+            rewrite(&base, &[], &[("class", "\"6d\"")]),
+            &["`thread.class`", "expected e, f, g or h"],
+        ),
+        (
+            rewrite(
+                &base,
+                &["form"],
+                &[("form", "\"square\""), ("class", "\"6g\"")],
+            ),
+            &["`thread.class`", "not `square`"],
+        ),
     ];
     for (text, want) in cases {
-        let e = Job::from_toml(&text, "job.toml").expect_err(&text).to_string();
+        let e = Job::from_toml(&text, "job.toml")
+            .expect_err(&text)
+            .to_string();
         for w in want {
             assert!(e.contains(w), "`{e}` does not say `{w}`");
         }
@@ -219,7 +377,10 @@ fn sides_fits_and_the_class_key() {
     let fit = rewrite(
         &base,
         &["form", "major_diameter", "pitch"],
-        &[("designation", "\"M20x2.5-6H/6g\""), ("side", "\"external\"")],
+        &[
+            ("designation", "\"M20x2.5-6H/6g\""),
+            ("side", "\"external\""),
+        ],
     );
     let job = Job::from_toml(&fit, "j.toml").unwrap();
     assert_eq!(class(&job).class, "6g");
@@ -234,7 +395,11 @@ fn sides_fits_and_the_class_key() {
     let key = with(&base, &[("thread", "class", "\"6g\"")]);
     let a = Job::from_toml(&key, "j.toml").unwrap();
     let b = Job::from_toml(
-        &rewrite(&base, &["form", "major_diameter", "pitch"], &[("designation", "\"M20x2.5-6g\"")]),
+        &rewrite(
+            &base,
+            &["form", "major_diameter", "pitch"],
+            &[("designation", "\"M20x2.5-6g\"")],
+        ),
         "j.toml",
     )
     .unwrap();
@@ -251,7 +416,11 @@ fn sides_fits_and_the_class_key() {
         ],
     );
     let c = Job::from_toml(&odd, "j.toml").unwrap_or_else(|e| panic!("{e}"));
-    assert!(class(&c).source.contains("formulas"), "{}", class(&c).source);
+    assert!(
+        class(&c).source.contains("formulas"),
+        "{}",
+        class(&c).source
+    );
     // A G thread: Whitworth 55°, simulated as a `v` form with ISO 228-1's basic profile.
     let g = r#"
         [blank]

@@ -180,8 +180,8 @@ pub fn parse(text: &str) -> Result<Designation, StandardError> {
     // Capitals mean nothing only where a letter ISO writes in lower case is in capitals too
     // (the `x` between diameter and pitch, Ph's h): `M20-6H` is ISO's internal 6H.
     let upper = t.to_uppercase();
-    let all_caps = !t.chars().any(|c| c.is_lowercase())
-        && (upper.contains('X') || upper.contains("PH"));
+    let all_caps =
+        !t.chars().any(|c| c.is_lowercase()) && (upper.contains('X') || upper.contains("PH"));
     let mut c = Cursor::new(t);
     let first = c.peek().map(|ch| ch.to_ascii_uppercase());
     let second = c.peek_at(1).map(|ch| ch.to_ascii_uppercase());
@@ -263,7 +263,10 @@ fn tail(c: &mut Cursor, groups: bool, class_what: &str) -> Result<Tail, Standard
             if n.i != c.i {
                 return Err(n.expected("a length of engagement (mm)"));
             }
-        } else if out.class.is_none() && out.group.is_none() && token.starts_with(|ch: char| ch.is_ascii_digit()) {
+        } else if out.class.is_none()
+            && out.group.is_none()
+            && token.starts_with(|ch: char| ch.is_ascii_digit())
+        {
             out.class = Some((token, start));
         } else {
             at(c);
@@ -513,7 +516,11 @@ fn trapezoidal(c: &mut Cursor) -> Result<Designation, StandardError> {
             return Err(c.expected("`)` after the pitch"));
         }
         let n = whole_starts(c.text, lead, p)?;
-        (p, n, format!("Tr{}x{}(P{})", fmt_num(d), fmt_num(lead), fmt_num(p)))
+        (
+            p,
+            n,
+            format!("Tr{}x{}(P{})", fmt_num(d), fmt_num(lead), fmt_num(p)),
+        )
     } else {
         (lead, 1, format!("Tr{}x{}", fmt_num(d), fmt_num(lead)))
     };

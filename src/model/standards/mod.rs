@@ -254,9 +254,7 @@ impl Designation {
             })
         };
         let class = match (&self.class, self.standard) {
-            (ClassSpec::None, Standard::PipeParallel) => {
-                pipe::g_limits(t, &self.size, None)?
-            }
+            (ClassSpec::None, Standard::PipeParallel) => pipe::g_limits(t, &self.size, None)?,
             (ClassSpec::None, Standard::Npt) => {
                 pipe::npt_limits(t, &self.size, side.is_some_and(internal))?
             }
@@ -294,7 +292,11 @@ impl Designation {
     }
 
     /// A metric class as meant: a designation in capitals reads G and H by `side`.
-    fn metric_case(&self, c: MetricClass, side: Option<Side>) -> Result<MetricClass, StandardError> {
+    fn metric_case(
+        &self,
+        c: MetricClass,
+        side: Option<Side>,
+    ) -> Result<MetricClass, StandardError> {
         if !self.all_caps {
             return Ok(c);
         }

@@ -86,8 +86,8 @@ const G_TOLERANCES: [(f64, f64); 5] = [
 /// ISO 7-1 sizes: those of ISO 228-1 less 5/8, 7/8, 1 1/8, 1 3/4, 2 1/4, 2 3/4, 3 1/2,
 /// 4 1/2 and 5 1/2.
 const R_SIZES: [&str; 15] = [
-    "1/16", "1/8", "1/4", "3/8", "1/2", "3/4", "1", "1 1/4", "1 1/2", "2", "2 1/2", "3", "4",
-    "5", "6",
+    "1/16", "1/8", "1/4", "3/8", "1/2", "3/4", "1", "1 1/4", "1 1/2", "2", "2 1/2", "3", "4", "5",
+    "6",
 ];
 
 /// The Whitworth form's thread height h = 2H/3 = 0.640327P (H = 0.960491P), to 0.001 mm
@@ -106,7 +106,9 @@ pub(super) fn npt_size(size: &str) -> Option<(f64, f64, f64)> {
 
 /// A G (ISO 228-1) size: (threads per inch, major diameter mm, tolerance group).
 pub(super) fn g_size(size: &str) -> Option<(f64, f64, usize)> {
-    G.iter().find(|s| s.0 == size).map(|&(_, n, d, g)| (n, d, g))
+    G.iter()
+        .find(|s| s.0 == size)
+        .map(|&(_, n, d, g)| (n, d, g))
 }
 
 /// Whether ISO 7-1 has `size`.
@@ -139,8 +141,8 @@ pub(super) fn npt_limits(
     size: &str,
     internal: bool,
 ) -> Result<ThreadClass, StandardError> {
-    let (d, n, l1) = npt_size(size)
-        .ok_or_else(|| StandardError::new(format!("{size} is not an NPT size")))?;
+    let (d, n, l1) =
+        npt_size(size).ok_or_else(|| StandardError::new(format!("{size} is not an NPT size")))?;
     let (_, e1) = npt_e0_e1(d, n, l1);
     let p = 1.0 / n;
     let mm = |v: f64| v * 25.4;
@@ -178,8 +180,8 @@ pub(super) fn g_limits(
     size: &str,
     class: Option<char>,
 ) -> Result<ThreadClass, StandardError> {
-    let (n, d, group) =
-        g_size(size).ok_or_else(|| StandardError::new(format!("G{size} is not an ISO 228-1 size")))?;
+    let (n, d, group) = g_size(size)
+        .ok_or_else(|| StandardError::new(format!("G{size} is not an ISO 228-1 size")))?;
     let p = 25.4 / n;
     let d2 = d - whitworth_depth(p);
     let d1 = d - 2.0 * whitworth_depth(p);

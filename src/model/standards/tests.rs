@@ -105,7 +105,12 @@ fn metric_limits_are_the_published_ones() {
         // Yamawa catalogue "Comparison of pitch diameter tolerance" (µm above the basic
         // pitch diameter): 6G M5x0.8 +24 to +149, M3x0.5 +20 to +120, M4x0.7 +22 to +140;
         // 5H M1x0.25 0 to +56, 4H 0 to +45.
-        m("M5x0.8-6G", [4.480 + 0.024, 4.480 + 0.149], [5.024, N], [N, N]),
+        m(
+            "M5x0.8-6G",
+            [4.480 + 0.024, 4.480 + 0.149],
+            [5.024, N],
+            [N, N],
+        ),
         m("M3x0.5-6G", [2.675 + 0.020, 2.675 + 0.120], [N, N], [N, N]),
         m("M4x0.7-6G", [3.545 + 0.022, 3.545 + 0.140], [N, N], [N, N]),
         m("M1x0.25-5H", [0.838, 0.838 + 0.056], [N, N], [N, N]),
@@ -147,10 +152,7 @@ fn metric_6f_follows_iso_965_1_formula() {
         let f = class(&format!("{d}-6f"), None);
         let g = class(&format!("{d}-6g"), None);
         let es_f = (f.pitch_diameter.max - f.basic_pitch_diameter) * 1000.0;
-        assert!(
-            (es_f + 30.0 + 11.0 * p).abs() <= 3.5,
-            "{d}-6f es {es_f}"
-        );
+        assert!((es_f + 30.0 + 11.0 * p).abs() <= 3.5, "{d}-6f es {es_f}");
         close(
             "6f Td2 = 6g Td2",
             f.pitch_diameter.max - f.pitch_diameter.min,
@@ -174,7 +176,10 @@ fn fits_take_the_side_and_capitals_need_one() {
     let caps = parse("M30X2-6G").unwrap();
     assert_eq!(caps.implied_side(), None);
     let e = caps.class(None).unwrap_err().message;
-    assert!(e.contains("capitals") && e.contains("6G") && e.contains("6g"), "{e}");
+    assert!(
+        e.contains("capitals") && e.contains("6G") && e.contains("6g"),
+        "{e}"
+    );
     assert_eq!(
         caps.class(Some(Side::External)).unwrap().unwrap(),
         ThreadClass {
@@ -184,7 +189,10 @@ fn fits_take_the_side_and_capitals_need_one() {
     );
     assert!(caps.class(Some(Side::Internal)).unwrap().unwrap().internal);
     // E is external in capitals too (ISO 965 has no internal E).
-    assert_eq!(parse("M20X2-6E").unwrap().implied_side(), Some(Side::External));
+    assert_eq!(
+        parse("M20X2-6E").unwrap().implied_side(),
+        Some(Side::External)
+    );
 }
 
 /// A published Unified row (inches): designation, pitch diameter, major, minor (min, max),
@@ -196,14 +204,29 @@ fn unified_limits_are_the_published_ones() {
     let rows = [
         // efunda.com "Unified Screw Threads, Standard Series" (ASME B1.1 Table 2).
         Inch("#0-80 UNF-2A", [0.0496, 0.0514], [0.0563, 0.0595], [N, N]),
-        Inch("#0-80 UNF-2B", [0.0519, 0.0542], [0.0600, N], [0.0465, 0.0514]),
+        Inch(
+            "#0-80 UNF-2B",
+            [0.0519, 0.0542],
+            [0.0600, N],
+            [0.0465, 0.0514],
+        ),
         Inch("#0-80 UNF-3A", [0.0506, 0.0519], [0.0568, 0.0600], [N, N]),
-        Inch("#0-80 UNF-3B", [0.0519, 0.0536], [0.0600, N], [0.0465, 0.0514]),
+        Inch(
+            "#0-80 UNF-3B",
+            [0.0519, 0.0536],
+            [0.0600, N],
+            [0.0465, 0.0514],
+        ),
         Inch("#1-64 UNC-2A", [0.0603, 0.0623], [0.0686, 0.0724], [N, N]),
         Inch("#1-64 UNC-3B", [0.0629, 0.0648], [0.0730, N], [0.0561, N]),
         Inch("#1-72 UNF-2A", [0.0615, 0.0634], [0.0689, 0.0724], [N, N]),
         Inch("#2-56 UNC-2A", [0.0717, 0.0738], [0.0813, 0.0854], [N, N]),
-        Inch("#2-56 UNC-2B", [0.0744, 0.0772], [0.0860, N], [0.0667, 0.0737]),
+        Inch(
+            "#2-56 UNC-2B",
+            [0.0744, 0.0772],
+            [0.0860, N],
+            [0.0667, 0.0737],
+        ),
         Inch("#2-56 UNC-3A", [0.0728, 0.0744], [0.0819, 0.0860], [N, N]),
         Inch("#2-64 UNF-3A", [0.0744, 0.0759], [0.0822, 0.0860], [N, N]),
         Inch("#3-48 UNC-2A", [0.0825, 0.0848], [0.0938, 0.0983], [N, N]),
@@ -214,11 +237,21 @@ fn unified_limits_are_the_published_ones() {
         Inch("1/4-20 UNC-2A", [0.2127, 0.2164], [0.2408, 0.2489], [N, N]),
         Inch("1/4-20 UNC-3A", [0.2147, 0.2175], [0.2419, 0.2500], [N, N]),
         Inch("1/4-20 UNC-1B", [0.2175, 0.2248], [N, N], [0.196, 0.207]),
-        Inch("1/4-20 UNC-2B", [0.2175, 0.2223], [0.2500, N], [0.196, 0.207]),
+        Inch(
+            "1/4-20 UNC-2B",
+            [0.2175, 0.2223],
+            [0.2500, N],
+            [0.196, 0.207],
+        ),
         Inch("1/4-20 UNC-3B", [0.2175, 0.2211], [N, N], [0.1959, 0.2067]),
         // Machinery's Handbook 31st ed. Tables 3 to 6 (ASME B1.1-2019's worked examples):
         // 1/2-28 UNEF-2A/2B and 19/64-36 UNS-2A/2B.
-        Inch("1/2-28 UNEF-2A", [0.4720, 0.4757], [0.4924, 0.4989], [N, 0.4602]),
+        Inch(
+            "1/2-28 UNEF-2A",
+            [0.4720, 0.4757],
+            [0.4924, 0.4989],
+            [N, 0.4602],
+        ),
         Inch("1/2-28 UNEF-2B", [N, N], [N, N], [0.461, N]),
         Inch("19/64-36 UNS-2A", [N, N], [N, 0.2960], [N, 0.2659]),
         Inch("19/64-36 UNS-2B", [0.2789, N], [N, N], [0.267, 0.273]),
@@ -249,10 +282,21 @@ fn unified_limits_are_the_published_ones() {
     // The tap-drill bore of 1/2-13 UNC-2B: 10.7 mm lies within D1 (10.592 to 11.024 mm).
     let c = class("1/2-13 UNC-2B", None);
     assert!(c.minor_diameter.contains(10.7));
-    limits("1/2-13 UNC-2B D1 (mm)", c.minor_diameter, 10.5918, 11.0236, 1e-9);
+    limits(
+        "1/2-13 UNC-2B D1 (mm)",
+        c.minor_diameter,
+        10.5918,
+        11.0236,
+        1e-9,
+    );
     // B1.1 §5.1: LE = D for UNC/UNF and 8-UN, 9P for UNEF, 12-UN and finer, UNS.
     close("LE 1/2-13 UNC", c.engagement_length, 12.7, 1e-12);
-    close("LE 1-8 UN", class("1-8 UN-2A", None).engagement_length, 25.4, 1e-12);
+    close(
+        "LE 1-8 UN",
+        class("1-8 UN-2A", None).engagement_length,
+        25.4,
+        1e-12,
+    );
     close(
         "LE 1/2-28 UNEF",
         class("1/2-28 UNEF-2A", None).engagement_length,
@@ -266,7 +310,13 @@ fn unified_limits_are_the_published_ones() {
 fn unified_formulas_match_class_for() {
     // `class = "2A"` with the size given as numbers (the form's table placement): the same
     // limits as the designation for sizes of the standard series.
-    for d in ["1/4-20 UNC-2A", "3/4-16 UNF-3A", "#10-32 UNF-2B", "1-8 UN-2A", "1/2-13 UNC-2B"] {
+    for d in [
+        "1/4-20 UNC-2A",
+        "3/4-16 UNF-3A",
+        "#10-32 UNF-2B",
+        "1-8 UN-2A",
+        "1/2-13 UNC-2B",
+    ] {
         let des = parse(d).unwrap();
         let a = des.class(None).unwrap().unwrap();
         let text = d.rsplit('-').next().unwrap();
@@ -303,7 +353,10 @@ fn iso965_tables_follow_their_formulas() {
             );
         }
     }
-    assert!(worst > 1.05, "the check is not vacuous: worst ratio {worst}");
+    assert!(
+        worst > 1.05,
+        "the check is not vacuous: worst ratio {worst}"
+    );
     // Table 2 rounds the lengths of engagement down or up by up to 13.5 % (11.2–22.4 mm,
     // P 1.75: S up to 6 mm where 2.24 P d^0.2 = 6.81).
     for (what, table, formula) in iso965::engagement_and_formula() {
@@ -322,7 +375,10 @@ fn the_formula_check_catches_the_public_copys_typos() {
     let d_geo = |lo: f64, hi: f64| (lo * hi).sqrt();
     let typos = [
         // Td2(4), 180–355 mm, P 4: 198.
-        (198.0, 0.63 * iso965::td2_6_formula(4.0, d_geo(180.0, 355.0))),
+        (
+            198.0,
+            0.63 * iso965::td2_6_formula(4.0, d_geo(180.0, 355.0)),
+        ),
         // Td2(9), 11.2–22.4 mm, P 1.25: 365.
         (365.0, 2.0 * iso965::td2_6_formula(1.25, d_geo(11.2, 22.4))),
         // Td2(9), 45–90 mm, P 2: 335.
@@ -346,19 +402,51 @@ fn trapezoidal_limits_are_the_published_ones() {
         ("Tr8x1.5-7e", [7.013, 7.183], [7.850, 8.0], [5.921, 6.200]),
         ("Tr10x2-7e", [8.739, 8.929], [9.820, 10.0], [7.191, 7.500]),
         ("Tr11x3-7e", [9.203, 9.415], [10.764, 11.0], [7.150, 7.500]),
-        ("Tr12x2-7e", [10.729, 10.929], [11.820, 12.0], [9.179, 9.500]),
-        ("Tr16x4-7e", [13.640, 13.905], [15.700, 16.0], [11.074, 11.500]),
-        ("Tr22x5-7e", [19.114, 19.394], [21.665, 22.0], [16.044, 16.500]),
-        ("Tr24x5-7e", [21.094, 21.394], [23.665, 24.0], [18.019, 18.500]),
+        (
+            "Tr12x2-7e",
+            [10.729, 10.929],
+            [11.820, 12.0],
+            [9.179, 9.500],
+        ),
+        (
+            "Tr16x4-7e",
+            [13.640, 13.905],
+            [15.700, 16.0],
+            [11.074, 11.500],
+        ),
+        (
+            "Tr22x5-7e",
+            [19.114, 19.394],
+            [21.665, 22.0],
+            [16.044, 16.500],
+        ),
+        (
+            "Tr24x5-7e",
+            [21.094, 21.394],
+            [23.665, 24.0],
+            [18.019, 18.500],
+        ),
         ("Tr10x2-8c", [8.614, 8.850], [9.820, 10.0], [7.055, 7.500]),
     ];
     for (d, pd, major, minor) in rows {
         let c = class(d, None);
         limits(&format!("{d} d2"), c.pitch_diameter, pd[0], pd[1], 0.0006);
-        limits(&format!("{d} d"), c.major_diameter, major[0], major[1], 0.0006);
+        limits(
+            &format!("{d} d"),
+            c.major_diameter,
+            major[0],
+            major[1],
+            0.0006,
+        );
         // Td3 = 1.25 Td2 + |es| often ends in half a µm (Tr10x2: 308.5): the published
         // rows round those ties either way (7.191, and Tr25x3's 21.103).
-        limits(&format!("{d} d3"), c.minor_diameter, minor[0], minor[1], 0.0011);
+        limits(
+            &format!("{d} d3"),
+            c.minor_diameter,
+            minor[0],
+            minor[1],
+            0.0011,
+        );
     }
     // No public source: refused, saying so.
     for (d, side) in [
@@ -368,7 +456,10 @@ fn trapezoidal_limits_are_the_published_ones() {
         ("Tr10x2-7H/7e", Some(Side::Internal)),
     ] {
         let e = parse(d).unwrap().class(side).unwrap_err().message;
-        assert!(e.contains("not in vpcut") && e.contains("public"), "{d}: {e}");
+        assert!(
+            e.contains("not in vpcut") && e.contains("public"),
+            "{d}: {e}"
+        );
     }
 }
 
@@ -378,7 +469,12 @@ fn acme_classes_are_refused_and_read() {
     assert_eq!((d.major, d.pitch), (25.4, 25.4 / 8.0));
     let e = d.class(None).unwrap_err().message;
     assert!(e.contains("B1.5") && e.contains("public"), "{e}");
-    assert!(parse("1-8 ACME-7G").unwrap().class(None).unwrap_err().message.contains("2G"));
+    assert!(parse("1-8 ACME-7G")
+        .unwrap()
+        .class(None)
+        .unwrap_err()
+        .message
+        .contains("2G"));
 }
 
 #[test]
@@ -446,7 +542,13 @@ fn g_threads_are_the_published_ones() {
         ("G2 B", 59.25, 59.61),
         ("G2 1/2 A", 74.75, 75.18),
     ] {
-        limits(&format!("{d} d"), class(d, None).major_diameter, min, max, 0.0051);
+        limits(
+            &format!("{d} d"),
+            class(d, None).major_diameter,
+            min,
+            max,
+            0.0051,
+        );
     }
     // Class B has twice class A's pitch diameter tolerance, at the same maximum
     // (ring-plug-thread-gages.com "Class A vs B").
@@ -464,7 +566,14 @@ fn root_zone_follows_iso_965_1_and_length_groups() {
     // ISO 965-1 §11 (amesweb.info "Metric thread profile form formulas"): d3 min =
     // d1 + es − 2z, z = H/4 + Td2/2 − P/8; d3 max = d1 + es − 2y. Independent of the
     // code's route through the truncations, for every pitch of the M coarse series.
-    for (n, p) in [(3.0, 0.5), (6.0, 1.0), (10.0, 1.5), (20.0, 2.5), (36.0, 4.0), (64.0, 6.0)] {
+    for (n, p) in [
+        (3.0, 0.5),
+        (6.0, 1.0),
+        (10.0, 1.5),
+        (20.0, 2.5),
+        (36.0, 4.0),
+        (64.0, 6.0),
+    ] {
         let c = class(&format!("M{n}-6g"), None);
         let h = 3f64.sqrt() / 2.0 * p;
         let es = c.major_diameter.max - n;
@@ -486,7 +595,12 @@ fn root_zone_follows_iso_965_1_and_length_groups() {
     close("N", class("M20x2-6g", None).engagement_length, 24.0, 1e-12);
     close("S", class("M20x2-6g-S", None).engagement_length, 8.0, 1e-12);
     assert!(class("M20x2-6g-L", None).engagement_length.is_infinite());
-    close("40", class("M20x2-6g-40", None).engagement_length, 40.0, 1e-12);
+    close(
+        "40",
+        class("M20x2-6g-40", None).engagement_length,
+        40.0,
+        1e-12,
+    );
 }
 
 #[test]
@@ -494,7 +608,10 @@ fn class_for_gives_the_tables_on_table_and_the_formulas_off_it() {
     // On the tables: `class = "6g"` with M20 x 2.5 is the designation's class.
     let a = class("M20x2.5-6g", None);
     let b = class_for(Form::IsoMetric, 20.0, 2.5, 1, "6g").unwrap();
-    assert_eq!((a.pitch_diameter, a.major_diameter), (b.pitch_diameter, b.major_diameter));
+    assert_eq!(
+        (a.pitch_diameter, a.major_diameter),
+        (b.pitch_diameter, b.major_diameter)
+    );
     // Off them: FED-STD-H28/21B example 3's M29x1.25 Td2(4) = 0.08681 mm.
     let c = class_for(Form::IsoMetric, 29.0, 1.25, 1, "4g").unwrap();
     close(
@@ -505,8 +622,12 @@ fn class_for_gives_the_tables_on_table_and_the_formulas_off_it() {
     );
     assert!(c.source.contains("formulas"));
     // An unknown position is refused with what was expected.
-    let e = class_for(Form::IsoMetric, 20.0, 2.5, 1, "6d").unwrap_err().message;
+    let e = class_for(Form::IsoMetric, 20.0, 2.5, 1, "6d")
+        .unwrap_err()
+        .message;
     assert!(e.contains("expected e, f, g or h"), "{e}");
-    let e = class_for(Form::Unified, 12.7, 25.4 / 13.0, 1, "2C").unwrap_err().message;
+    let e = class_for(Form::Unified, 12.7, 25.4 / 13.0, 1, "2C")
+        .unwrap_err()
+        .message;
     assert!(e.contains("1A, 2A, 3A"), "{e}");
 }

@@ -64,7 +64,8 @@ const PITCH_TOLERANCES: [(usize, f64, u8, u16); 12] = [
 /// Published major-diameter tolerances of the external thread (always grade 4, position
 /// h): (pitch mm, Td µm): engineersedge.com (TR8x1.5: 8.000 − 7.850 = 150; TR10x2: 180;
 /// TR11x3: 236; TR16x4: 300; TR320x5: 335), the same as ISO 965-1's Td(4).
-const MAJOR_TOLERANCES: [(f64, u16); 5] = [(1.5, 150), (2.0, 180), (3.0, 236), (4.0, 300), (5.0, 335)];
+const MAJOR_TOLERANCES: [(f64, u16); 5] =
+    [(1.5, 150), (2.0, 180), (3.0, 236), (4.0, 300), (5.0, 335)];
 
 fn same(a: f64, b: f64) -> bool {
     (a - b).abs() < 1e-9

@@ -162,10 +162,7 @@ fn same(a: f64, b: f64) -> bool {
 
 /// The series' threads per inch for basic major diameter `d` (in), if it lists the size.
 pub(super) fn series_tpi(series: Series, d: f64) -> Option<f64> {
-    table(series)
-        .iter()
-        .find(|s| same(s.0, d))
-        .map(|s| s.1)
+    table(series).iter().find(|s| same(s.0, d)).map(|s| s.1)
 }
 
 /// Checks that `d`-`tpi` belongs to `series`; the message says what the series has.
@@ -265,7 +262,12 @@ pub(super) struct InchLimits {
 
 /// B1.1 §5.8 and Tables 3 to 6: the limits of `d`-`tpi` (basic major diameter in inches)
 /// in `class`.
-pub(super) fn inch_limits(d: f64, tpi: f64, series: Option<Series>, class: UnifiedClass) -> InchLimits {
+pub(super) fn inch_limits(
+    d: f64,
+    tpi: f64,
+    series: Option<Series>,
+    class: UnifiedClass,
+) -> InchLimits {
     let p = round_even(1.0 / tpi, 8);
     let d = round_even(d, 4);
     let le = engagement(series, d, tpi);
