@@ -262,10 +262,15 @@ fn designated(t: &RawThread, text: &str, cx: &Ctx) -> Result<Named, JobError> {
     let implied = d.implied_side();
     if let (Some(s), Some(i)) = (given_side, implied) {
         if s != i {
+            let hint = if d.standard == Standard::PipeParallel && i == Side::Internal {
+                " (ISO 228-1 writes an external thread with its class: G1/2 A or G1/2 B)"
+            } else {
+                ""
+            };
             return Err(contradiction(
                 "side",
                 format!("\"{}\"", side_name(s)),
-                format!("an {} thread", side_name(i)),
+                format!("an {} thread{hint}", side_name(i)),
             ));
         }
     }

@@ -331,6 +331,10 @@ fn contradictions_name_both_keys() {
             &["`thread.designation`", "not in vpcut", "public"],
         ),
         (
+            des("\"G3/4\"", &[("side", "\"external\"")]),
+            &["`thread.side`", "an internal thread", "G1/2 A or G1/2 B"],
+        ),
+        (
             rewrite(&base, &["form"], &[]),
             &["`thread.form`", "expected `form`", "`designation`"],
         ),
@@ -384,6 +388,17 @@ fn sides_fits_and_the_class_key() {
     );
     let job = Job::from_toml(&fit, "j.toml").unwrap();
     assert_eq!(class(&job).class, "6g");
+    // Keys the designation does not fix override its basic profile: the root here.
+    let root = rewrite(
+        &base,
+        &["form", "major_diameter", "pitch"],
+        &[
+            ("designation", "\"M20x2.5-6g\""),
+            ("minor_diameter", "17.0"),
+        ],
+    );
+    let job = Job::from_toml(&root, "j.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert!((job.thread.root_radius - 8.5).abs() < 1e-12);
     // Capitals read by the side.
     let caps = rewrite(
         &base,
