@@ -73,6 +73,10 @@ pub use model::helix::{Hand, Helix, LeadLaw, Spindle};
 pub use model::pass::Pass;
 pub use model::setup::{Blank, ChainLink, Machine};
 pub use model::solid::{prism, Face, Solid, SolidError};
+pub use model::standards::{
+    class_for, parse as parse_designation, Designation, Engagement, Form as StandardForm, Series,
+    Standard, StandardError,
+};
 pub use model::stock::{Grid, Stock, Surface};
 pub use model::thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};
 pub use model::tolerance::{RootZone, SizeLimits, ThreadClass, UnitSystem};

@@ -27,8 +27,12 @@
 //!   pitch line) against the class's limits.
 //!
 //! Every value within the simulation's own resolution of a limit is `undecided`, never a
-//! pass: the resolution is the measurement's axial spacing times the flank's slope
-//! (`cot(a/2)`) on diameter plus the stock's `f32` rounding, stated in the report.
+//! pass. The resolution is the stored radii's `f32` rounding, plus for the GO element,
+//! where a binding point is a corner of the sampled surface (no binding neighbour), the
+//! measurement's axial spacing times the flank's slope; where the binding points lie on
+//! flanks parallel to the gauge's, the sampled size is exact. The simple pitch diameter is
+//! interpolated linearly between cells (exact on straight flanks): the rounding and a
+//! hundredth of a cell's slope. The report states the larger.
 //! Pure: the generators' cut heights come from `measure`.
 
 use crate::analysis::measure::TurnMeasure;
@@ -309,14 +313,31 @@ pub(crate) fn judge(
     // of the stored radius (4 ulps at the crest).
     let ulp = (thread.crest_radius.max(thread.root_radius) as f32).to_bits();
     let ulp = f32::from_bits(ulp + 1) as f64 - f32::from_bits(ulp) as f64;
-    let resolution = 2.0 * (spacing * cot + 4.0 * ulp);
+    let rounding = 2.0 * 4.0 * ulp;
 
     // The thread's span at its start angle: from its first feature to its last.
     let helix = thread.helix;
     let (za, zb) = (helix.z(0.0), helix.z(thread.turns));
     let span = (za.min(zb), za.max(zb));
     let pd = class.pitch_diameter;
-    let functional = functional_over(thread, &profile, columns, span, class.engagement_length);
+    let functional = functional_over(
+        thread,
+        &profile,
+        columns,
+        span,
+        class.engagement_length,
+        0.5 * rounding,
+    );
+    // The GO element's resolution: exact to the rounding where the binding points lie on
+    // a flank plateau, one cell's slope more where one is a corner (see `corner`).
+    let go_res = rounding
+        + functional.map_or(0.0, |f| if f.2 { 2.0 * spacing * cot } else { 0.0 });
+    let functional = functional.map(|f| (f.0, f.1));
+    // The simple pitch diameter is where the groove, interpolated linearly between cells,
+    // is half a pitch wide: exact on straight flanks, so the rounding and a hundredth of a
+    // cell's slope (curved flanks).
+    let simple_res = rounding + 2.0 * 0.01 * spacing * cot;
+    let resolution = go_res.max(simple_res);
 
     // Simple pitch diameters of the complete turns, per generator.
     let simple_of = |m: &TurnMeasure| m.pitch_diameter;
@@ -364,12 +385,17 @@ pub(crate) fn judge(
     let mut elements = Vec::new();
     let mut element = |name: &'static str, value: Option<f64>, limit: f64, upper: bool| {
         if limit.is_finite() {
+            let res = if name == "go_functional_pitch_diameter" {
+                go_res
+            } else {
+                simple_res
+            };
             elements.push(Element {
                 name,
                 value,
                 limit,
                 upper,
-                call: call(value, limit, upper, resolution),
+                call: call(value, limit, upper, res),
             });
         }
     };
@@ -438,7 +464,8 @@ fn functional_over(
     columns: &[GaugeColumn],
     span: (f64, f64),
     engagement: f64,
-) -> Option<(f64, (f64, f64))> {
+    rounding: f64,
+) -> Option<(f64, (f64, f64), bool)> {
     let all = points(thread, columns, p.pitch, span, 1);
     if all.is_empty() {
         return None;
@@ -457,17 +484,17 @@ fn functional_over(
     };
     // The best phase over the whole span seeds each window's search.
     let (_, phi0) = functional_radius(p, &all, None);
-    let mut worst: Option<(f64, (f64, f64))> = None;
+    let mut worst: Option<(f64, (f64, f64), bool)> = None;
     for w in windows {
         let sub = points(thread, columns, p.pitch, w, 1);
         if sub.is_empty() {
             continue;
         }
-        let (r, _) = functional_radius(p, &sub, Some(phi0));
+        let (r, phi) = functional_radius(p, &sub, Some(phi0));
         let d = 2.0 * r;
         let worse = match worst {
             None => true,
-            Some((v, _)) => {
+            Some((v, _, _)) => {
                 if p.external {
                     d > v
                 } else {
@@ -476,10 +503,25 @@ fn functional_over(
             }
         };
         if worse {
-            worst = Some((d, w));
+            worst = Some((d, w, corner(p, &sub, phi, r, rounding)));
         }
     }
     worst
+}
+
+/// Whether a point that binds the gauge at `phi` (its bound within the stored radii's
+/// rounding of `r`) is a
+/// corner of the sampled surface: one whose neighbouring cells (the points are each
+/// column's cells in order) both bind less. A binding point with a binding neighbour lies
+/// on a flank parallel to the gauge's (a plateau of the bound): the straight flank between
+/// the cells binds no more, and the sampled size is exact. At a corner the true surface
+/// may reach up to a cell's slope beyond the samples.
+fn corner(p: &Profile, pts: &[(f64, f64)], phi: f64, r: f64, rounding: f64) -> bool {
+    let binds = |i: usize| {
+        pts.get(i)
+            .is_some_and(|&(z, rr)| (bound(p, z, rr, phi) - r).abs() <= rounding)
+    };
+    (0..pts.len()).any(|i| binds(i) && !(i > 0 && binds(i - 1)) && !binds(i + 1))
 }
 
 /// The NOT GO gauge's worst window of `n` turns (rounded up, at least 1) over the turns

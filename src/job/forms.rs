@@ -1,12 +1,15 @@
 //! Thread standards and forms: the form's name, the standard depth data of each form
-//! (`form_defaults`) and `[thread]` resolved into a [`ThreadSpec`] checked against the blank.
+//! (`form_defaults`) and `[thread]` resolved into a [`ThreadSpec`] checked against the blank
+//! (the keys a designation or class fills come from `standard`).
 
 use super::ctx::Ctx;
-use super::schema::{HandName, RawPitch, RawThread, RawWidth, SideName};
+use super::schema::{HandName, RawPitch, RawThread, RawWidth};
+use super::standard;
 use super::JobError;
 use crate::model::helix::{Hand, Helix, LeadLaw};
 use crate::model::setup::Blank;
 use crate::model::thread::{Side, ThreadSpec, WidthRule};
+use crate::model::tolerance::ThreadClass;
 use serde::Deserialize;
 
 /// The thread form's name, as written in the job.
@@ -106,22 +109,24 @@ fn fmt_mm(v: f64) -> String {
     }
 }
 
+/// `[thread]` resolved: the ideal thread, its form, and the tolerance class's limits when
+/// the drawing names one.
 pub(super) fn resolve_thread(
     t: &RawThread,
     blank: &Blank,
     cx: &Ctx,
-) -> Result<(ThreadSpec, FormName), JobError> {
-    let side = match t.side {
-        SideName::External => Side::External,
-        SideName::Internal => Side::Internal,
-    };
-    let major = cx.positive("thread.major_diameter", t.major_diameter)?;
-    let starts = t.starts;
+) -> Result<(ThreadSpec, FormName, Option<ThreadClass>), JobError> {
+    let named = standard::named(t, cx)?;
+    let side = named.side;
+    let major = cx.positive("thread.major_diameter", named.major)?;
+    let starts = named.starts;
     if starts == 0 || starts > 64 {
         return Err(cx.err("thread.starts", "expected 1 to 64 starts"));
     }
+    let form = named.form;
+    let mut class = named.class;
     // Pitch law: F = P1 - dP/2, K = dP gives P_n = P1 + (n-1) dP between whole turns.
-    let (p1, dp, series_turns, constant) = match &t.pitch {
+    let (p1, dp, series_turns, constant) = match &named.pitch {
         RawPitch::Constant(p) => (cx.positive("thread.pitch", *p)?, 0.0, None, Some(*p)),
         RawPitch::Series(s) => {
             let p1 = cx.positive("thread.pitch.first", s.first)?;
@@ -202,8 +207,11 @@ pub(super) fn resolve_thread(
             ));
         }
     }
-    let (std_angle, std_minor, std_pitch) = form_defaults(t.form, side, major, constant);
-    let (left, right) = match (t.flank_angles, t.flank_angle, std_angle, t.form) {
+    let (std_angle, std_minor, std_pitch) = match named.profile {
+        Some((angle, minor, pitch_d)) => (Some(angle), Some(minor), Some(pitch_d)),
+        None => form_defaults(form, side, major, constant),
+    };
+    let (left, right) = match (t.flank_angles, t.flank_angle, std_angle, form) {
         (Some([l, r]), None, _, FormName::V | FormName::Buttress) => (l, r),
         (Some(_), _, _, _) => return Err(cx.err("thread.flank_angles", "`flank_angles` is for the `v` and `buttress` forms; use `flank_angle` (included) for symmetric forms")),
         (None, Some(a), _, FormName::Trapezoidal | FormName::V | FormName::Acme) => (a / 2.0, a / 2.0),
@@ -216,6 +224,11 @@ pub(super) fn resolve_thread(
     let right_angle = cx.angle("thread.flank_angles", right, 0.0, 80.0)?;
     let minor = match (t.minor_diameter, std_minor) {
         (Some(m), _) => cx.positive("thread.minor_diameter", m)?,
+        // A class allows the internal thread's crest anywhere in its D1 limits: a tap-drill
+        // bore above the basic minor diameter is the crest.
+        (None, Some(m)) if side == Side::Internal && class.is_some() && blank.bore > m => {
+            blank.bore
+        }
         (None, Some(m)) => m,
         (None, None) => {
             return Err(cx.err(
@@ -241,8 +254,30 @@ pub(super) fn resolve_thread(
             format!("expected between the minor ({minor}) and major ({major}) diameters"),
         ));
     }
-    match side {
-        Side::External if major > blank.diameter + 1e-9 => {
+    // With a class, the crest may lie anywhere in its limits: a bar turned to the
+    // external major diameter's, a bore drilled to the internal minor diameter's.
+    let crest_limits = class.as_ref().map(|c| match side {
+        Side::External => c.major_diameter,
+        Side::Internal => c.minor_diameter,
+    });
+    let mut major = major;
+    match (side, crest_limits) {
+        (Side::External, Some(l)) if major > blank.diameter + 1e-9 => {
+            if blank.diameter < l.min - 1e-9 {
+                return Err(cx.err(
+                    "blank.diameter",
+                    format!(
+                        "the blank ({} mm) is smaller than the least major diameter of {} ({} mm): expected a blank of at least that",
+                        fmt_mm(blank.diameter),
+                        class.as_ref().map_or("", |c| c.designation.as_str()),
+                        fmt_mm(l.min)
+                    ),
+                ));
+            }
+            // The crest is the turned bar.
+            major = blank.diameter;
+        }
+        (Side::External, None) if major > blank.diameter + 1e-9 => {
             return Err(cx.err(
                 "thread.major_diameter",
                 format!(
@@ -251,10 +286,21 @@ pub(super) fn resolve_thread(
                 ),
             ));
         }
-        Side::Internal if minor < blank.bore - 1e-9 || blank.bore == 0.0 => {
+        (Side::Internal, Some(l)) if blank.bore == 0.0 || blank.bore > l.max + 1e-9 => {
+            return Err(cx.err(
+                "blank.bore",
+                format!(
+                    "an internal thread of {} needs a bore no larger than its greatest minor diameter D1 max = {} mm (blank.bore = {})",
+                    class.as_ref().map_or("", |c| c.designation.as_str()),
+                    fmt_mm(l.max),
+                    fmt_mm(blank.bore)
+                ),
+            ));
+        }
+        (Side::Internal, None) if minor < blank.bore - 1e-9 || blank.bore == 0.0 => {
             return Err(cx.err("thread.minor_diameter", format!("an internal thread needs a bore no larger than its minor diameter (blank.bore = {})", blank.bore)));
         }
-        Side::Internal if major >= blank.diameter => {
+        (Side::Internal, _) if major >= blank.diameter => {
             return Err(cx.err(
                 "thread.major_diameter",
                 "an internal thread must stay inside the blank's outer diameter",
@@ -302,7 +348,7 @@ pub(super) fn resolve_thread(
         theta0: cx
             .finite("thread.start_angle", t.start_angle.unwrap_or(0.0))?
             .to_radians(),
-        spin: match t.hand {
+        spin: match named.hand {
             HandName::Right => 1.0,
             HandName::Left => -1.0,
         },
@@ -321,7 +367,7 @@ pub(super) fn resolve_thread(
     };
     debug_assert_eq!(
         spec.hand(),
-        if t.hand == HandName::Right {
+        if named.hand == HandName::Right {
             Hand::Right
         } else {
             Hand::Left
@@ -374,7 +420,12 @@ pub(super) fn resolve_thread(
         }
     }
     let _ = p_max;
-    Ok((spec, t.form))
+    // The GO gauge checks the length of engagement, and never more than the thread.
+    if let Some(c) = class.as_mut() {
+        let length = (spec.helix.z(turns) - spec.helix.z0).abs();
+        c.engagement_length = c.engagement_length.min(length);
+    }
+    Ok((spec, form, class))
 }
 
 /// Whether any of the thread, from its first feature to its last with half a lead of

@@ -16,12 +16,14 @@
 //!    loader, interpreted, and its moves made into passes (lathe) or the path (mill).
 //!
 //! Layout: `ctx` (locating keys, the errors' context), `keys` (serde's errors and every
-//! number's range), `schema`, `parse`, `forms`, `tools`, `process`, `program`, `mill`.
+//! number's range), `schema`, `parse`, `forms`, `standard` (the drawing's designation and
+//! tolerance class), `tools`, `process`, `program`, `mill`.
 
 use crate::kernel::turn::TurningTool;
 use crate::model::pass::Pass;
 pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
 use crate::model::thread::ThreadSpec;
+use crate::model::tolerance::ThreadClass;
 use crate::model::tool::Tool;
 use crate::nc::{Diagnostic, NcError, Severity};
 use crate::toolpath::{self, LatheTurning, ProgramError, TurnStock};
@@ -35,6 +37,7 @@ mod place;
 mod process;
 mod program;
 mod schema;
+mod standard;
 mod tools;
 
 use ctx::Ctx;
@@ -173,9 +176,11 @@ pub struct Job {
     /// The drawing's limits of the pitch diameter (a tolerance class such as ISO 965 6H):
     /// checked on the measured simple pitch diameter of every turn (milling jobs).
     pub pitch_diameter_limits: Option<(f64, f64)>,
-    /// The thread's tolerance class (`[thread] designation` or `class`): the gauges judge
-    /// the thread against it.
-    pub thread_class: Option<crate::model::tolerance::ThreadClass>,
+    /// The drawing's tolerance class, from `[thread] designation` (`M30x2-6g`) or `class`
+    /// (`6g` with the explicit form, major diameter and pitch): the limits of size the
+    /// virtual gauges judge the cut thread against. Its length of engagement is at most
+    /// the thread's length. `None` when the job names no class.
+    pub thread_class: Option<ThreadClass>,
     /// The plan of `[process] kind = "plan"`, whose passes are [`Job::passes`].
     pub plan: Option<crate::gen::plan::Plan>,
     /// Where the thread was placed on the cut (no `thread.z_start`), or how far the cut

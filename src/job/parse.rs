@@ -97,7 +97,23 @@ pub(super) fn resolve(
             ));
         },
     };
-    let (thread, form) = resolve_thread(&raw.thread, &blank, cx)?;
+    let (mut thread, form, thread_class) = resolve_thread(&raw.thread, &blank, cx)?;
+    // With a class, the ideal (the deviations' reference, and the planner's target) is the
+    // middle of its zone.
+    if let Some(class) = &thread_class {
+        super::place::zone_middle(&mut thread, class);
+    }
+    if raw.thread.pitch_diameter_limits.is_some() && thread_class.is_some() {
+        let by = if raw.thread.designation.is_some() {
+            "designation"
+        } else {
+            "class"
+        };
+        return Err(cx.err(
+            "thread.pitch_diameter_limits",
+            format!("the thread's `{by}` already gives the pitch diameter's limits: give `pitch_diameter_limits` or the class, not both"),
+        ));
+    }
     // The grid must resolve the thread (and a pitch far below the spacing would make the
     // ideal profile of each column enormous).
     let p_min = thread
@@ -153,9 +169,9 @@ pub(super) fn resolve(
             pass_blocks: Vec::new(),
             mill: None,
             pitch_diameter_limits,
+            thread_class,
             plan: None,
             placement: None,
-            thread_class: None,
             fit_thread: raw.thread.z_start.is_none(),
             turning_tools: Vec::new(),
             turning: Default::default(),
@@ -215,9 +231,9 @@ pub(super) fn resolve(
         pass_blocks: Vec::new(),
         mill: None,
         pitch_diameter_limits: None,
+        thread_class,
         plan,
         placement: None,
-        thread_class: None,
         fit_thread: raw.thread.z_start.is_none() && raw.process.is_none(),
         turning_tools,
         turning: Default::default(),

@@ -99,6 +99,7 @@ pub(super) enum HandName {
 }
 
 /// `pitch = 6.0` or `pitch = { first, increment, last | turns }`.
+#[derive(Clone)]
 pub(super) enum RawPitch {
     Constant(f64),
     Series(RawSeries),
@@ -132,7 +133,7 @@ impl<'de> Deserialize<'de> for RawPitch {
     }
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawSeries {
     pub(super) first: f64,
@@ -151,31 +152,35 @@ pub(super) struct RawWidth {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawThread {
-    #[serde(default)]
-    pub(super) side: SideName,
-    pub(super) form: FormName,
+    /// The drawing's designation (`M30x2-6g`, `1/2-13 UNC-2B`): form, size, pitch, starts,
+    /// hand, side and tolerance class; the keys beside it must agree with it.
+    pub(super) designation: Option<String>,
+    /// A tolerance class (`6g`, `2B`, `7e`) for the explicit form, diameter and pitch.
+    pub(super) class: Option<String>,
+    /// Default `external`, or the designation's.
+    pub(super) side: Option<SideName>,
+    /// Required without a designation.
+    pub(super) form: Option<FormName>,
     pub(super) flank_angle: Option<f64>,
     #[serde(default, deserialize_with = "keys::fixed")]
     pub(super) flank_angles: Option<[f64; 2]>,
-    pub(super) major_diameter: f64,
+    /// Required without a designation.
+    pub(super) major_diameter: Option<f64>,
     pub(super) minor_diameter: Option<f64>,
     pub(super) pitch_diameter: Option<f64>,
-    #[serde(default)]
-    pub(super) hand: HandName,
-    #[serde(default = "one")]
-    pub(super) starts: u32,
+    /// Default `right`, or the designation's.
+    pub(super) hand: Option<HandName>,
+    /// Default 1, or the designation's.
+    pub(super) starts: Option<u32>,
     pub(super) z_start: Option<f64>,
     pub(super) start_angle: Option<f64>,
-    pub(super) pitch: RawPitch,
+    /// Required without a designation.
+    pub(super) pitch: Option<RawPitch>,
     pub(super) length: Option<f64>,
     pub(super) turns: Option<f64>,
     pub(super) width: Option<RawWidth>,
     #[serde(default, deserialize_with = "keys::fixed")]
     pub(super) pitch_diameter_limits: Option<[f64; 2]>,
-}
-
-fn one() -> u32 {
-    1
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq)]

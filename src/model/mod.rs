@@ -7,6 +7,7 @@ pub(crate) mod helix;
 pub(crate) mod pass;
 pub(crate) mod setup;
 pub(crate) mod solid;
+pub(crate) mod standards;
 pub(crate) mod stock;
 pub(crate) mod thread;
 pub(crate) mod tolerance;

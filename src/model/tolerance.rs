@@ -79,7 +79,8 @@ pub struct ThreadClass {
     /// Major diameter (mm): external d both limits; internal D a minimum only.
     pub major_diameter: SizeLimits,
     /// Minor diameter (mm): internal D1 both limits; external d3 a maximum (where the
-    /// standard gives one) or none.
+    /// standard gives one) or none; ISO 965-1's root zone gives the external d3 both
+    /// (d2 min − H + 2 C, C from `root`), ISO 2903 both (d3 − Td3 to d3).
     pub minor_diameter: SizeLimits,
     /// The length of engagement the GO gauge checks the functional size over (mm).
     pub engagement_length: f64,

@@ -199,6 +199,16 @@ fn dia(v: f64, class: &ThreadClass) -> String {
     }
 }
 
+/// A small length as a person reads it: four decimals, or two significant digits below
+/// 0.001 mm (a resolution of 0.000017 mm is not "0.0000").
+fn small(v: f64) -> String {
+    if v >= 0.001 || v == 0.0 {
+        format!("{v:.4}")
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
 fn element_words(name: &str) -> &'static str {
     match name {
         "go_functional_pitch_diameter" => "GO gauge: functional pitch diameter",
@@ -238,9 +248,9 @@ pub(crate) fn add_gauge(
                 dia(e.limit, class)
             ),
             (Call::Undecided, Some(v)) => format!(
-                "{what} {} is within the simulation's resolution ({:.4} mm) of the {} {end} {}: undecided",
+                "{what} {} is within the simulation's resolution ({} mm) of the {} {end} {}: undecided",
                 dia(v, class),
-                g.resolution,
+                small(g.resolution),
                 class.designation,
                 dia(e.limit, class)
             ),
@@ -340,8 +350,10 @@ pub(crate) fn summary(g: &GaugeInfo) -> String {
     let o = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.4}"));
     let _ = writeln!(
         s,
-        "  gauges ({}): {}, resolution {:.4} mm",
-        g.designation, g.verdict, g.resolution_mm
+        "  gauges ({}): {}, resolution {} mm",
+        g.designation,
+        g.verdict,
+        small(g.resolution_mm)
     );
     for e in &g.elements {
         let _ = writeln!(

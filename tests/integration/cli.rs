@@ -75,7 +75,11 @@ fn bad_jobs_exit_2_naming_file_line_and_key() {
             "length = 100.0\nwidht = 3",
             &["job.toml:4:1", "unknown field `widht`"],
         ),
-        ("form = \"square\"\n", "", &["missing field `form`"]),
+        (
+            "form = \"square\"\n",
+            "",
+            &["`thread.form`", "missing: expected `form`"],
+        ),
         (
             "width = { tooth = 3.0 }",
             "width = { tooth = 8.0 }",

@@ -7,6 +7,8 @@ mod support;
 mod bodies;
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
+/// `[thread] designation` and `class`: scenes rewritten with designations, contradictions.
+mod designations;
 /// The gauges' verdict (GO/NOT GO, functional diameter) against hand derivations, and its
 /// independence of where the cut starts.
 mod gauging;
