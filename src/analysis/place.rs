@@ -248,7 +248,7 @@ mod tests {
         let p = 2.0;
         for phase in [-0.99, -0.5, 0.0, 0.3, 0.98] {
             let xs: Vec<f64> = (0..7)
-                .map(|k| phase + k as f64 * p + [0.001, -0.002, 0.0005][k % 3])
+                .map(|k| phase + k as f64 * p + [0.001, -0.001, 0.0][k % 3])
                 .collect();
             let (m, s) = circular_mean(&xs, p).unwrap();
             let want = xs.iter().map(|x| x - phase).sum::<f64>() / 7.0 - 21.0 * p / 7.0 + phase;

@@ -72,8 +72,8 @@ impl Job {
 /// The ideal thread moved to the middle of its class's zone (what the deviation colours
 /// and the planner aim at): the flanks to the middle of the pitch-diameter zone, measured
 /// at the same pitch line (the groove widens by the flanks' slopes times the radial move),
-/// the crest to the middle of its diameter's zone (major outside, minor inside) where both
-/// limits are set. The root stays at the form's. A constant-lead, equal-groove thread only
+/// a basic crest to the middle of its diameter's zone (major outside, minor inside) where
+/// both limits are set (a bar or bore inside the zone stays the crest). The root stays at the form's. A constant-lead, equal-groove thread only
 /// (the classes' threads).
 pub(super) fn zone_middle(
     thread: &mut crate::model::thread::ThreadSpec,
@@ -100,7 +100,14 @@ pub(super) fn zone_middle(
         Side::External => class.major_diameter,
         Side::Internal => class.minor_diameter,
     };
-    if crest.min.is_finite() && crest.max.is_finite() {
+    // A bar or bore inside the zone is already the crest (`job::standard`); a basic crest
+    // (the program turns it, or the blank is outside) goes to the zone's middle.
+    let basic_crest = match thread.side {
+        Side::External => class.basic_major,
+        Side::Internal => class.basic_minor,
+    };
+    let at_basic = (2.0 * thread.crest_radius - basic_crest).abs() < 1e-9;
+    if at_basic && crest.min.is_finite() && crest.max.is_finite() {
         thread.crest_radius = 0.25 * (crest.min + crest.max);
     }
 }
