@@ -330,8 +330,7 @@ pub(crate) fn judge(
     );
     // The GO element's resolution: exact to the rounding where the binding points lie on
     // a flank plateau, one cell's slope more where one is a corner (see `corner`).
-    let go_res = rounding
-        + functional.map_or(0.0, |f| if f.2 { 2.0 * spacing * cot } else { 0.0 });
+    let go_res = rounding + functional.map_or(0.0, |f| if f.2 { 2.0 * spacing * cot } else { 0.0 });
     let functional = functional.map(|f| (f.0, f.1));
     // The simple pitch diameter is where the groove, interpolated linearly between cells,
     // is half a pitch wide: exact on straight flanks, so the rounding and a hundredth of a

@@ -322,3 +322,79 @@ fn the_verdict_does_not_depend_on_where_the_cut_starts() {
         assert!(close(Some(p.min), Some(p0.min)) && close(Some(p.max), Some(p0.max)));
     }
 }
+
+/// The M30x2 programs of `tests/data/gauge` (a whole FANUC 0i part program: G71/G70, a
+/// 2x45 chamfer, a two-block G76), judged as a shop would. The functional and simple
+/// pitch diameters of a clean cut by a 60 deg insert with a P/6 flat at root diameter X
+/// are `X + (P/2 - P/6) cot 30 = X + 1.154701` (P = 2); the limits are ISO 965-2's:
+/// 6g d2 28.493..28.663, d 29.682..29.962; 6h d2 28.531..28.701, d 29.720..30.000.
+#[test]
+fn the_m30x2_programs_get_the_gauges_verdict() {
+    let dir = crate::support::root().join("tests/data/gauge");
+    let text = std::fs::read_to_string(dir.join("m30x2.toml")).unwrap();
+    let run = |program: &str, designation: &str, moved: Option<(&str, &str)>| {
+        let text = text
+            .replace("O1001.NC", program)
+            .replace("M30x2-6g", designation);
+        let load = |f: &str| {
+            let t = std::fs::read_to_string(dir.join(f)).ok()?;
+            Some(match moved {
+                Some((a, b)) => t.replace(a, b),
+                None => t,
+            })
+        };
+        let job = Job::from_toml_with(&text, "m30x2.toml", &load).unwrap_or_else(|e| panic!("{e}"));
+        simulate_report(&job, &SimOptions::default()).unwrap()
+    };
+    let close = |v: Option<f64>, want: f64, res: f64| {
+        let v = v.expect("a value");
+        assert!((v - want).abs() <= res.max(1e-4), "{v} vs {want}");
+    };
+    // The middle of 6g passes: no gouge for the chamfer, no groove width for the zone.
+    let mid = run("O1001.NC", "M30x2-6g", None);
+    let g = mid.gauge.as_ref().unwrap();
+    assert_eq!(g.verdict, "pass", "{g:?}");
+    assert_eq!(mid.verdict, vpcut::Verdict::Pass, "{:?}", mid.findings);
+    assert!(mid.findings.is_empty(), "{:?}", mid.findings);
+    close(g.functional_diameter_mm, 27.423 + 1.154701, g.resolution_mm);
+    close(
+        g.pitch_diameter_mm.map(|p| p.min),
+        27.423 + 1.154701,
+        g.resolution_mm,
+    );
+    close(g.major_diameter_mm.map(|p| p.max), 29.8, g.resolution_mm);
+    assert_eq!(mid.thread.placement.unwrap().how, "fitted");
+    // Basic size under 6g: over the GO limit by 0.038 and over the major diameter.
+    let basic = run("O1002.NC", "M30x2-6g", None);
+    let g = basic.gauge.as_ref().unwrap();
+    assert_eq!(g.verdict, "fail");
+    close(g.functional_diameter_mm, 27.546 + 1.154701, g.resolution_mm);
+    let failed: Vec<&str> = g
+        .elements
+        .iter()
+        .filter(|e| e.verdict == "fail")
+        .map(|e| e.element)
+        .collect();
+    assert_eq!(failed, ["go_functional_pitch_diameter", "major_diameter"]);
+    assert_eq!(basic.finding_counts.errors, 2, "{:?}", basic.findings);
+    // Basic size under 6h: the GO gauge passes (28.7007 <= 28.701); the major diameter is
+    // the limit itself (30.000), which the simulation cannot decide: a warning.
+    let h = run("O1002.NC", "M30x2-6h", None);
+    let g = h.gauge.as_ref().unwrap();
+    assert_eq!(h.verdict, vpcut::Verdict::Pass, "{:?}", h.findings);
+    assert_eq!(g.elements[0].verdict, "pass", "{g:?}");
+    assert_eq!(h.finding_counts.errors, 0);
+    // Where the program starts threading does not matter (whole and fractional pitches).
+    for to in ["X32.0 Z6.0", "X32.0 Z5.7", "X32.0 Z9.0"] {
+        let moved = run("O1001.NC", "M30x2-6g", Some(("X32.0 Z5.0", to)));
+        let gm = moved.gauge.as_ref().unwrap();
+        let g0 = mid.gauge.as_ref().unwrap();
+        assert_eq!(gm.verdict, g0.verdict, "{to}");
+        close(
+            gm.functional_diameter_mm,
+            g0.functional_diameter_mm.unwrap(),
+            g0.resolution_mm,
+        );
+        assert!(moved.findings.is_empty(), "{to}: {:?}", moved.findings);
+    }
+}
