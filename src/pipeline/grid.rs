@@ -242,6 +242,8 @@ pub(super) struct RunShape {
     pub(super) ideal: IdealSize,
     /// Measurement cells per generator and generators, if any.
     pub(super) measure: Option<(usize, usize)>,
+    /// A tolerance class is gauged: the generators' cuts are kept for the gauges.
+    pub(super) gauge: bool,
 }
 
 /// What a run of `shape` holds that grows with the part.
@@ -357,6 +359,20 @@ pub(super) fn footprint(s: &RunShape) -> Footprint {
                 readable(cells as u64)
             ),
         );
+        if s.gauge {
+            // Every generator's heights (f32), and the gauges' points ((f64, f64)) of
+            // the whole span and of one window.
+            let all = cells as u128 * generators.max(1) as u128;
+            f.add(
+                Phase::Measure,
+                cap(all * (f32s + 2 * 16)),
+                format!(
+                    "the gauges' {} generator cut(s) of {} cells and their points",
+                    generators.max(1),
+                    readable(cells as u64)
+                ),
+            );
+        }
     }
     f
 }

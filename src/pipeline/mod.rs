@@ -285,6 +285,7 @@ fn run<S: Sink>(
                 job.sim.measure_generators.max(1),
             )
         }),
+        gauge: gauge_class(job).is_some(),
     };
     // Each pass crosses every column once per revolution, each mill sample reaches every
     // column at most once: bound the work before doing it.
