@@ -86,9 +86,9 @@ pub(super) fn runout_split(
 impl Interp<'_> {
     /// The GSK modal run-out after this block's J/K words: `(j, k)` in mm when there is
     /// one (`k` resolved: K = |J| when omitted or 0).
-    fn gsk_runout(&mut self, w: &Words, scale: f64) -> Option<(f64, f64)> {
-        let j = w.vals.get("J").map(|v| v.0 * scale);
-        let k = w.vals.get("K").map(|v| v.0 * scale);
+    fn gsk_runout(&mut self, w: &Words) -> Option<(f64, f64)> {
+        let j = self.length(w, "J");
+        let k = self.length(w, "K");
         match (j, k) {
             (Some(j), None) => self.thread.runout = (Some(j), None),
             (j, Some(k)) => self.thread.runout = (j.or(self.thread.runout.0), Some(k.abs())),
@@ -110,7 +110,6 @@ impl Interp<'_> {
         pc: usize,
         end: Point,
         mut sync: Sync,
-        scale: f64,
     ) -> Result<(), Fail> {
         let start = (self.x, self.z);
         let dir = (end.1 - start.1).signum();
@@ -119,7 +118,7 @@ impl Interp<'_> {
             sync.angle = angle;
         }
         let runout = if self.cfg.gsk {
-            self.gsk_runout(w, scale)
+            self.gsk_runout(w)
         } else {
             None
         };
