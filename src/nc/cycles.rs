@@ -590,13 +590,7 @@ impl Interp<'_> {
     /// `dk` (G74; G75: `di` in radius), returns `e` at rapid and feeds on from there; at the
     /// bottom a rapid back to the start's level, a rapid step of `di` (G74; G75: `dk`) to the
     /// next position, and at the end a rapid back to the start point.
-    fn peck(
-        &mut self,
-        g: u32,
-        w: &Words,
-        prog: &Program,
-        pc: usize,
-    ) -> Result<Step, Fail> {
+    fn peck(&mut self, g: u32, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
         let target_given = ["X", "Z", "U", "W"].iter().any(|k| w.vals.contains_key(*k));
         if !target_given {
             // The return e after each peck: a length.

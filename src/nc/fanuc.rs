@@ -614,7 +614,7 @@ impl Interp<'_> {
         z: f64,
     ) -> Result<Step, Fail> {
         let (x0, z0) = (self.x, self.z);
-        
+
         let z_target = if w.vals.contains_key("Z") || w.vals.contains_key("W") {
             z
         } else {
@@ -918,7 +918,7 @@ pub(super) mod tap_tests {
         let opts = Options {
             settings: Settings {
                 gcode_system: system,
-                ..Settings::default()
+                ..Settings::in_mm()
             },
             ..Options::default()
         };
@@ -1010,8 +1010,16 @@ pub(super) mod tap_tests {
                 name: "T.NC".into(),
                 text: text.into(),
             };
-            let e =
-                interpret_with(&src, Dialect::Gsk980, &|_| None, &Options::default()).unwrap_err();
+            let e = interpret_with(
+                &src,
+                Dialect::Gsk980,
+                &|_| None,
+                &Options {
+                    settings: Settings::in_mm(),
+                    ..Options::default()
+                },
+            )
+            .unwrap_err();
             assert_eq!(e.line, 2, "{text}: {e}");
             assert!(e.message.contains(want), "{text}: {e}");
         }

@@ -64,9 +64,9 @@ pub use mill::{CompSide, MillArc, MillKind, MillMove, MillSettings, Plane};
 
 use expr::Fail;
 pub use program::decode_program;
-pub use units::{DecimalPoint, InputIncrement, PowerOn};
 use program::{load_programs, Program};
 use state::Interp;
+pub use units::{DecimalPoint, InputIncrement, PowerOn};
 
 pub use crate::diag::{Diagnostic, Severity};
 use crate::model::helix::Spindle;
@@ -278,6 +278,20 @@ impl Default for Settings {
     }
 }
 
+#[cfg(test)]
+impl Settings {
+    /// The default settings but calculator-type decimal-point input: the machine the unit
+    /// tests' programs are written for where they write plain numbers in millimetres (`X60
+    /// Z8`), as vpcut read every program before standard input became the default (issue
+    /// 30). `units_tests` tests both inputs.
+    pub(crate) fn in_mm() -> Settings {
+        Settings {
+            decimal_point: DecimalPoint::Calculator,
+            ..Settings::default()
+        }
+    }
+}
+
 /// A program that cannot be run: the error that stopped it (its fields), and every other
 /// diagnostic found before stopping (`others`: the static check reports all the problems
 /// of all programs at once; a run-time error comes alone, with the warnings before it).
@@ -484,7 +498,9 @@ pub fn interpret_with(
                 message,
                 snippet: main.text.lines().next().unwrap_or("").to_string(),
                 stack: Vec::new(),
-                hint: Some("the main program is named by its O number, e.g. main = \"O1000\"".into()),
+                hint: Some(
+                    "the main program is named by its O number, e.g. main = \"O1000\"".into(),
+                ),
                 others: Vec::new(),
             }
         })?

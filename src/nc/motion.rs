@@ -755,13 +755,7 @@ impl Interp<'_> {
     /// or from `I`/`K` (centre minus start; I is a radius value in every X mode, as FANUC
     /// and Siemens lathes and Beckhoff's G51 diameter mode write it). The end must lie on
     /// the circle through the start within `ARC_TOLERANCE`.
-    fn arc(
-        &mut self,
-        w: &Words,
-        prog: &Program,
-        pc: usize,
-        end: (f64, f64),
-    ) -> Result<(), Fail> {
+    fn arc(&mut self, w: &Words, prog: &Program, pc: usize, end: (f64, f64)) -> Result<(), Fail> {
         let g = self.modal.motion;
         let cw = g == 2;
         let radius_word = if self.cfg.dialect == Dialect::Siemens802d {

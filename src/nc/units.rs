@@ -445,7 +445,10 @@ pub(super) fn main_program(
 /// A program name compared as a control does: `O0100`, `O100` and `100` are one program.
 fn normalise(name: &str) -> String {
     let t = name.trim();
-    let digits = t.strip_prefix('O').or_else(|| t.strip_prefix('o')).unwrap_or(t);
+    let digits = t
+        .strip_prefix('O')
+        .or_else(|| t.strip_prefix('o'))
+        .unwrap_or(t);
     match digits.parse::<u64>() {
         Ok(n) => format!("O{n}"),
         Err(_) => t.to_ascii_uppercase(),

@@ -112,9 +112,15 @@ fn program_errors_name_file_line_and_caller() {
     assert!(err.contains("called from MAIN.MPF:2"), "{err}");
 }
 
-/// The seed003 job with its program replaced by `program` and `[program]` keys added.
+/// The seed003 job with its program replaced by `program` and `[program]` keys added. The
+/// programs of these tests write plain numbers in mm (`G0 X60 Z3`, `F2`): the job says the
+/// machine reads them so (`decimal_point = "calculator"`; `units_tests` and
+/// `machine_settings_*` test standard input).
 fn program_job(program: &str, keys: &[(&str, &str)]) -> Result<vpcut::Job, vpcut::JobError> {
-    let mut edits = vec![("program", "file", "\"T.NC\"")];
+    let mut edits = vec![
+        ("program", "file", "\"T.NC\""),
+        ("program", "decimal_point", "\"calculator\""),
+    ];
     edits.extend(keys.iter().map(|(k, v)| ("program", *k, *v)));
     let text = with(&crate::support::scene_text("seed003-g76-2in-12tpi"), &edits);
     let program = program.to_string();
@@ -193,49 +199,62 @@ fn g55_work_offset_shifts_a_g32_pass() {
     );
 }
 
-/// Rigid tapping runs in the interpreter (its moves are thread moves along the axis) but a
-/// job that simulates it is refused at the tapping block, whatever the code: a threading
-/// tool's pass at X0 would cut the whole part away (vpcut has no tap tool yet).
+/// Rigid tapping runs in the interpreter (its moves are thread moves along the axis); a job
+/// whose program also taps (with another tool) simulates its thread and leaves the tapping
+/// block out with a warning at that block, whatever the code (vpcut has no tap tool yet: a
+/// threading tool's pass at X0 would cut the whole part away). Issue 30: it used to stop
+/// the whole job. Oracle: the same program without its tapping blocks gives the same pass.
 #[test]
-fn tapping_blocks_are_refused_by_the_simulation_at_their_line() {
+fn tapping_blocks_are_warned_and_the_thread_is_simulated() {
     let cases = [
         (
             "fanuc",
             "G0 X60 Z3\nG32 Z-20 F2\nG0 X0 Z5\nM29 S300\nG84 Z-10 R-2 F1.5\nG80\nM30\n",
-            5,
+            &[5][..],
         ),
         (
             "fanuc",
             "G0 X60 Z3\nG32 Z-20 F2\nG0 X0 Z5\nG32 Z-10 F1.5\nM30\n",
-            4,
+            &[4],
         ),
         (
             "linuxcnc",
             "G7 G0 X60 Z3\nG33 Z-20 K2\nG0 X0 Z5\nG33.1 Z-10 K1.5\nM2\n",
-            4,
+            &[4],
         ),
         (
             "siemens-840d",
             "G0 X60 Z3\nG33 Z-20 K2\nG0 X0 Z5\nSPOS=0\nG331 Z-10 K1.5 S300\nG332 Z5 K1.5\nM30\n",
-            5,
+            // G331 in and G332 out: two blocks, each warned.
+            &[5, 6],
         ),
     ];
-    for (dialect, prog, line) in cases {
+    for (dialect, prog, lines) in cases {
         let d = format!("\"{dialect}\"");
-        let err = program_job(prog, &[("dialect", &d)])
-            .unwrap_err()
-            .to_string();
+        let job = program_job(prog, &[("dialect", &d)]).unwrap_or_else(|e| panic!("{e}"));
+        let taps: Vec<_> = job
+            .program_warnings
+            .iter()
+            .filter(|w| w.message.contains("tapping"))
+            .collect();
+        let at: Vec<(&str, usize, vpcut::Severity)> = taps
+            .iter()
+            .map(|w| (w.file.as_str(), w.line, w.severity))
+            .collect();
+        let want: Vec<(&str, usize, vpcut::Severity)> = lines
+            .iter()
+            .map(|&l| ("T.NC", l, vpcut::Severity::Warning))
+            .collect();
+        assert_eq!(at, want, "{dialect}: {:?}", job.program_warnings);
         assert!(
-            err.contains("rigid tapping") && err.contains(&format!("T.NC:{line}")),
-            "{dialect}: {err}"
-        );
-        // Without the tapping blocks the same program simulates its thread.
-        let cut: String = prog.lines().take(2).map(|l| format!("{l}\n")).collect();
-        assert_eq!(
-            program_job(&cut, &[("dialect", &d)]).unwrap().passes.len(),
-            1,
+            taps.iter().all(|w| w.message.contains("not simulated")),
             "{dialect}"
         );
+        // Without the tapping blocks the same program simulates the same thread.
+        let cut: String = prog.lines().take(2).map(|l| format!("{l}\n")).collect();
+        let alone = program_job(&cut, &[("dialect", &d)]).unwrap();
+        assert_eq!(job.passes, alone.passes, "{dialect}");
+        assert_eq!(job.passes.len(), 1, "{dialect}");
     }
 }
 
@@ -273,7 +292,7 @@ fn toolpath_json_names_arcs_with_their_centre() {
     let dir = std::env::temp_dir().join(format!("vpcut-arc-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("ARC.NC");
-    std::fs::write(&file, "G0 X0 Z0 F0.2\nG03 X20 Z-10 R10\nM30\n").unwrap();
+    std::fs::write(&file, "G0 X0 Z0 F0.2\nG03 X20. Z-10. R10.\nM30\n").unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
         .args([
             "toolpath",
@@ -325,7 +344,7 @@ fn thread_chain_finding_in_the_report() {
         let job = vpcut::Job::from_toml_with(toml, "t.toml", &load).unwrap();
         simulate(&job, &SimOptions::default()).unwrap().report
     };
-    let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG32 Z-20 F3\nM30\n");
+    let r = report("M03\nG0 X29. Z5.\nG32 Z-7. F2.\nG32 Z-20. F3.\nM30\n");
     let chain: Vec<_> = r
         .findings
         .iter()
@@ -351,7 +370,7 @@ fn thread_chain_finding_in_the_report() {
         "{:?}",
         r.findings
     );
-    let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG0 X31\nG0 X29\nG32 Z-20 F3\nM30\n");
+    let r = report("M03\nG0 X29. Z5.\nG32 Z-7. F2.\nG0 X31.\nG0 X29.\nG32 Z-20. F3.\nM30\n");
     assert!(r
         .findings
         .iter()
