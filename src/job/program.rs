@@ -50,12 +50,14 @@ pub(super) fn lathe_program(pr: &RawProgram, cx: &Ctx, strict: bool) -> Result<P
         settings.power_on.diameter = Some(match m.as_str() {
             "diameter" => true,
             "radius" => false,
-            _ => return Err(cx.err(
-                "program.x_mode",
-                format!(
+            _ => {
+                return Err(cx.err(
+                    "program.x_mode",
+                    format!(
                     "expected \"diameter\" or \"radius\": how X words are programmed, got `{m}`"
                 ),
-            )),
+                ))
+            }
         });
     }
     if let Some(p) = &pr.second_reference_point {
@@ -114,17 +116,18 @@ pub(super) fn program(
         })?;
     }
     if let Some(u) = &pr.units {
-        settings.power_on.inch =
-            match u.as_str() {
-                "mm" => false,
-                "inch" => true,
-                _ => return Err(cx.err(
+        settings.power_on.inch = match u.as_str() {
+            "mm" => false,
+            "inch" => true,
+            _ => {
+                return Err(cx.err(
                     "program.units",
                     format!(
                         "expected \"mm\" (G21) or \"inch\" (G20): the units at power-on, got `{u}`"
                     ),
-                )),
-            };
+                ))
+            }
+        };
     }
     if let Some(m) = &pr.main {
         let t = m.trim();

@@ -39,6 +39,8 @@ mod fanuc;
 mod lcnc_expr;
 mod lex;
 mod linuxcnc;
+#[cfg(test)]
+mod machine_tests;
 mod mill;
 mod motion;
 #[cfg(test)]
