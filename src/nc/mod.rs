@@ -26,7 +26,10 @@
 //!   (`mill/mod.rs`), the blocks into programmed moves (`mill/blocks.rs`) and cutter radius
 //!   compensation of the programmed moves as a pure pass (`mill/comp.rs`);
 //! - `chain`: continuous threading (thread blocks that follow each other without a re-sync)
-//!   and the GSK thread run-out J/K.
+//!   and the GSK thread run-out J/K;
+//! - `units`: what a program leaves to the machine: FANUC/GSK decimal-point input and the
+//!   least input increment (how every word becomes mm), the modes at power-on, the main
+//!   program of a file with several, and the warnings when numbers look read wrong.
 
 mod chain;
 mod check;

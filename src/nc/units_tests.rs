@@ -104,14 +104,13 @@ fn first(m: &[Move]) -> &Move {
 }
 
 fn last(m: &[Move]) -> &Move {
-    *threads(m).last().expect("a thread move")
+    threads(m).last().expect("a thread move")
 }
 
 /// The rows. FANUC/GSK templates start at X600 Z10 (written with points, so that only the
 /// word under test changes with the reading); sizes are chosen so that every reading of
 /// the literal (0.001, 0.00254, 1 or 25.4 mm a unit) still makes a valid cycle.
 fn rows() -> Vec<Row> {
-    const G76: &str = "G0 X600. Z10.\nG76 P010060 Q0 R0.\n";
     vec![
         // G76 block 1 R(d): with Q(dd) deeper than P(k) roughing stops at once; the passes
         // are k - d (the allowance left) and k: the first stands d above the last.

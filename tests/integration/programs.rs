@@ -383,3 +383,112 @@ fn thread_chain_finding_in_the_report() {
     assert_eq!(run_in.len(), 1, "{:?}", r.findings);
     assert_eq!((run_in[0].pass, run_in[0].value), (Some(2), Some(0.0)));
 }
+
+/// Issue 30: the machine settings a program relies on come from `[program]`. Oracle: the
+/// seed003 scene, whose program says G20 itself, cut by the same program without G20 on a
+/// machine in inch at power-on (`units = "inch"`): the same passes. Without the setting its
+/// 0.083333 lead reads as millimetres and is warned (12 threads per inch).
+#[test]
+fn machine_settings_of_the_program_table() {
+    let scene = crate::support::scene_job("seed003-g76-2in-12tpi");
+    let text = std::fs::read_to_string(
+        crate::support::root().join("scenes/seed003-g76-2in-12tpi/G76-2IN-12TPI.NC"),
+    )
+    .unwrap();
+    let no_g20: String = text
+        .lines()
+        .filter(|l| l.trim() != "G20")
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let standard = ("decimal_point", "\"standard\"");
+    let inch = program_job(&no_g20, &[standard, ("units", "\"inch\"")]).unwrap();
+    assert_eq!(inch.passes, scene.passes);
+    assert!(
+        inch.program_warnings.is_empty(),
+        "{:?}",
+        inch.program_warnings
+    );
+    let mm = program_job(&no_g20, &[standard]).unwrap();
+    let w: Vec<&str> = mm
+        .program_warnings
+        .iter()
+        .map(|w| w.message.as_str())
+        .collect();
+    assert!(w.iter().any(|m| m.contains("12 threads per inch")), "{w:?}");
+}
+
+/// Numbers orders of magnitude off the blank (2 in, 50.8 mm): plain `X49` read in standard
+/// input is 0.049 mm, so every thread move lies within a hundredth of the blank's diameter of
+/// the axis; the FANUC manual's `X60640` read as calculator-type input is 60640 mm, more than
+/// 100 times the blank away. Both are warned at the block with the settings to check; the
+/// job still loads (the report shows what it cuts).
+#[test]
+fn numbers_orders_of_magnitude_off_the_blank_are_warned() {
+    let standard = ("decimal_point", "\"standard\"");
+    let job = program_job("G0 X55 Z5\nG92 X49 Z-20 F2.\nM30\n", &[standard]).unwrap();
+    let near: Vec<_> = job
+        .program_warnings
+        .iter()
+        .filter(|w| w.message.contains("of the axis"))
+        .collect();
+    assert_eq!(near.len(), 1, "{:?}", job.program_warnings);
+    assert_eq!((near[0].line, near[0].col), (2, 0));
+    assert!(near[0].message.contains("0.049 mm"), "{}", near[0]);
+    assert!(near[0].hint.as_deref().unwrap().contains("decimal_point"));
+    // The interpreter's own warning at the first plain axis word.
+    assert!(job
+        .program_warnings
+        .iter()
+        .any(|w| w.line == 1 && w.message.contains("X55 has no decimal point")));
+    let manual = "G00 X80.0 Z130.0\nG76 P011060 Q100 R200\nG76 X60640 Z25000 P3680 Q1800 F6.0\n";
+    let job = program_job(manual, &[("decimal_point", "\"calculator\"")]).unwrap();
+    let far: Vec<_> = job
+        .program_warnings
+        .iter()
+        .filter(|w| w.message.contains("times the blank's size"))
+        .collect();
+    assert_eq!(far.len(), 1, "{:?}", job.program_warnings);
+    assert_eq!(far[0].line, 3);
+    // Read as the manual means it (standard input): no such warning.
+    let job = program_job(manual, &[standard]).unwrap();
+    assert!(
+        !job.program_warnings
+            .iter()
+            .any(|w| w.message.contains("blank")),
+        "{:?}",
+        job.program_warnings
+    );
+}
+
+/// `main` picks the main program of a file with several; without it the one that ends in
+/// M30 and that no other calls runs (here O1000, stored after its subprogram: three passes).
+/// Bad values of the new keys name their key and what is expected.
+#[test]
+fn main_program_and_setting_errors() {
+    let file = "O0100\nG0 X48. Z3.\nG32 Z-17. F2.\nG0 X50.\nZ3.\nM99\nO1000\nM98 P30100\nM30\n";
+    assert_eq!(program_job(file, &[]).unwrap().passes.len(), 3);
+    let job = program_job(file, &[("main", "\"O100\"")]).unwrap();
+    assert_eq!(job.passes.len(), 1);
+    assert!(job
+        .program_warnings
+        .iter()
+        .any(|w| w.message.contains("M99 ends the main program")));
+    for (key, value, want) in [
+        ("decimal_point", "\"dpi\"", "\"standard\""),
+        ("input_increment", "0.01", "0.0001"),
+        ("units", "\"cm\"", "\"inch\""),
+        ("feed_mode", "\"per-second\"", "\"per-minute\""),
+        ("x_mode", "\"chord\"", "\"radius\""),
+        ("main", "\"MAIN\"", "O1000"),
+    ] {
+        let e = program_job(file, &[(key, value)]).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("program.{key}")) && e.contains(want),
+            "{key}: {e}"
+        );
+    }
+    let e = program_job(file, &[("main", "\"O2000\"")])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no program O2000"), "{e}");
+}
