@@ -277,6 +277,18 @@ pub(super) fn resolve_mill(
             "G30 is not simulated on mills yet",
         ));
     }
+    if pr.feed_mode.is_some() {
+        return Err(cx.err(
+            "program.feed_mode",
+            "a lathe setting: a milling program sets its feed mode with G94/G95",
+        ));
+    }
+    if pr.x_mode.is_some() {
+        return Err(cx.err(
+            "program.x_mode",
+            "a lathe setting: a milling program's X is a position, never a diameter",
+        ));
+    }
     if pr.gcode_system.is_some() {
         return Err(cx.err(
             "program.gcode_system",

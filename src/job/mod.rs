@@ -284,7 +284,14 @@ impl Job {
                     (b.z_front - b.length, b.z_front),
                     self.sim.axial_spacing,
                 );
-                self.program_warnings = path.warnings;
+                let mut warnings = path.warnings;
+                let stage = lathe.warnings.into_iter().chain(toolpath::scale_warnings(
+                    &path.moves,
+                    b.diameter,
+                    (b.z_front - b.length, b.z_front),
+                ));
+                warnings.extend(stage.map(|w| stage_warning(w, load)));
+                self.program_warnings = warnings;
             }
             Pending::Mill(parts) => {
                 let path = toolpath::interpret(&parts.program, load).map_err(fail)?;
@@ -323,6 +330,12 @@ impl Job {
             reference_point: None,
             gcode_system: None,
             second_reference_point: None,
+            decimal_point: None,
+            input_increment: None,
+            units: None,
+            feed_mode: None,
+            x_mode: None,
+            main: None,
         };
         let cx = Ctx::empty(file);
         let program = program::lathe_program(&pr, &cx, true)?;
@@ -339,6 +352,23 @@ impl Job {
         let fit_it = job.fit_thread;
         job.place(fit_it);
         Ok(job)
+    }
+}
+
+/// A warning of the program stage as a diagnostic of its block (the block's line read
+/// again through `load`).
+fn stage_warning(w: toolpath::StageWarning, load: &dyn Fn(&str) -> Option<String>) -> Diagnostic {
+    Diagnostic {
+        severity: crate::nc::Severity::Warning,
+        snippet: load(&w.file)
+            .and_then(|t| t.lines().nth(w.line.wrapping_sub(1)).map(str::to_string))
+            .unwrap_or_default(),
+        file: w.file,
+        line: w.line,
+        col: 0,
+        message: w.message,
+        hint: Some(w.hint),
+        stack: Vec::new(),
     }
 }
 

@@ -1,12 +1,13 @@
 //! The `[program]` table: the program file, its dialect and the machine's settings that the
-//! program cannot say (thread chamfer, work offsets, reference points, G-code system),
+//! program cannot say (thread chamfer, work offsets, reference points, G-code system,
+//! decimal-point input, the least input increment, the modes at power-on, the main program),
 //! checked and made into the program stage's [`Program`]. The program itself runs in the
 //! program stage ([`crate::toolpath`]), after parsing.
 
 use super::ctx::Ctx;
 use super::schema::RawProgram;
 use super::JobError;
-use crate::nc::{Dialect, GcodeSystem, Settings};
+use crate::nc::{DecimalPoint, Dialect, GcodeSystem, InputIncrement, Settings};
 use crate::toolpath::Program;
 
 /// A lathe job's `[program]`.
@@ -32,6 +33,32 @@ pub(super) fn lathe_program(pr: &RawProgram, cx: &Ctx, strict: bool) -> Result<P
                 format!("expected \"A\", \"B\" or \"C\" (FANUC lathe G-code system), got `{g}`"),
             )
         })?;
+    }
+    if let Some(m) = &pr.feed_mode {
+        settings.power_on.per_minute = match m.as_str() {
+            "per-revolution" => false,
+            "per-minute" => true,
+            _ => {
+                return Err(cx.err(
+                    "program.feed_mode",
+                    format!("expected \"per-revolution\" (G99, G95) or \"per-minute\" (G98, G94): the feed mode at power-on, got `{m}`"),
+                ))
+            }
+        };
+    }
+    if let Some(m) = &pr.x_mode {
+        settings.power_on.diameter = Some(match m.as_str() {
+            "diameter" => true,
+            "radius" => false,
+            _ => {
+                return Err(cx.err(
+                    "program.x_mode",
+                    format!(
+                    "expected \"diameter\" or \"radius\": how X words are programmed, got `{m}`"
+                ),
+                ))
+            }
+        });
     }
     if let Some(p) = &pr.second_reference_point {
         settings.second_reference_point = Some((
@@ -63,13 +90,56 @@ pub(super) fn lathe_program(pr: &RawProgram, cx: &Ctx, strict: bool) -> Result<P
     program(pr, settings, cx, strict)
 }
 
-/// The program of `pr` with `settings`: its dialect checked.
+/// The program of `pr` with `settings`: its dialect checked, and the settings every
+/// program has (decimal-point input, the least input increment, the units at power-on,
+/// the main program) read.
 pub(super) fn program(
     pr: &RawProgram,
-    settings: Settings,
+    mut settings: Settings,
     cx: &Ctx,
     strict: bool,
 ) -> Result<Program, JobError> {
+    if let Some(d) = &pr.decimal_point {
+        settings.decimal_point = DecimalPoint::from_name(d).ok_or_else(|| {
+            cx.err(
+                "program.decimal_point",
+                format!("expected \"standard\" (a number without a decimal point counts in the least input increment: X30 is 0.030 mm) or \"calculator\" (in mm: X30 is 30 mm), got `{d}`"),
+            )
+        })?;
+    }
+    if let Some(i) = pr.input_increment {
+        settings.input_increment = InputIncrement::from_mm(i).ok_or_else(|| {
+            cx.err(
+                "program.input_increment",
+                format!("expected 0.001 (mm; 0.0001 in in inch programs, FANUC's IS-B) or 0.0001 (IS-C), got {i}"),
+            )
+        })?;
+    }
+    if let Some(u) = &pr.units {
+        settings.power_on.inch = match u.as_str() {
+            "mm" => false,
+            "inch" => true,
+            _ => {
+                return Err(cx.err(
+                    "program.units",
+                    format!(
+                        "expected \"mm\" (G21) or \"inch\" (G20): the units at power-on, got `{u}`"
+                    ),
+                ))
+            }
+        };
+    }
+    if let Some(m) = &pr.main {
+        let t = m.trim();
+        let digits = t.strip_prefix('O').unwrap_or(t);
+        if digits.is_empty() || !digits.chars().all(|c| c.is_ascii_digit()) || digits.len() > 5 {
+            return Err(cx.err(
+                "program.main",
+                format!("expected a program number such as \"O1000\", got `{m}`"),
+            ));
+        }
+        settings.main = Some(format!("O{digits}"));
+    }
     let dialect = Dialect::from_name(&pr.dialect).ok_or_else(|| {
         cx.err(
             "program.dialect",

@@ -48,6 +48,18 @@ pub(super) struct RawProgram {
     pub(super) gcode_system: Option<String>,
     /// Where FANUC/GSK G30 (and LinuxCNC's G30 at the start) goes: { x = diameter, z }.
     pub(super) second_reference_point: Option<RawPoint>,
+    /// FANUC/GSK decimal-point input: "standard" (the default) or "calculator".
+    pub(super) decimal_point: Option<String>,
+    /// The least input increment in mm: 0.001 (the default) or 0.0001.
+    pub(super) input_increment: Option<f64>,
+    /// Units at power-on: "mm" (the default) or "inch".
+    pub(super) units: Option<String>,
+    /// Feed at power-on: "per-revolution" (the default) or "per-minute".
+    pub(super) feed_mode: Option<String>,
+    /// X words: "diameter" or "radius" (default: the dialect's).
+    pub(super) x_mode: Option<String>,
+    /// The main program of a file that holds several: "O1000".
+    pub(super) main: Option<String>,
 }
 
 #[derive(Deserialize)]

@@ -86,9 +86,9 @@ pub(super) fn runout_split(
 impl Interp<'_> {
     /// The GSK modal run-out after this block's J/K words: `(j, k)` in mm when there is
     /// one (`k` resolved: K = |J| when omitted or 0).
-    fn gsk_runout(&mut self, w: &Words, scale: f64) -> Option<(f64, f64)> {
-        let j = w.vals.get("J").map(|v| v.0 * scale);
-        let k = w.vals.get("K").map(|v| v.0 * scale);
+    fn gsk_runout(&mut self, w: &Words) -> Option<(f64, f64)> {
+        let j = self.length(w, "J");
+        let k = self.length(w, "K");
         match (j, k) {
             (Some(j), None) => self.thread.runout = (Some(j), None),
             (j, Some(k)) => self.thread.runout = (j.or(self.thread.runout.0), Some(k.abs())),
@@ -110,7 +110,6 @@ impl Interp<'_> {
         pc: usize,
         end: Point,
         mut sync: Sync,
-        scale: f64,
     ) -> Result<(), Fail> {
         let start = (self.x, self.z);
         let dir = (end.1 - start.1).signum();
@@ -119,7 +118,7 @@ impl Interp<'_> {
             sync.angle = angle;
         }
         let runout = if self.cfg.gsk {
-            self.gsk_runout(w, scale)
+            self.gsk_runout(w)
         } else {
             None
         };
@@ -153,7 +152,7 @@ impl Interp<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{interpret, Dialect, Limits, Move, MoveKind, Source};
+    use super::super::{interpret_with, Dialect, Move, MoveKind, Options, Settings, Source};
     use super::runout_split;
 
     fn threads(text: &str, dialect: Dialect) -> Vec<Move> {
@@ -161,11 +160,20 @@ mod tests {
             name: "T.NC".into(),
             text: text.into(),
         };
-        interpret(&src, dialect, &|_| None, Limits::default())
-            .unwrap_or_else(|e| panic!("{e}"))
-            .into_iter()
-            .filter(|m| m.kind == MoveKind::Thread)
-            .collect()
+        interpret_with(
+            &src,
+            dialect,
+            &|_| None,
+            &Options {
+                settings: Settings::in_mm(),
+                ..Options::default()
+            },
+        )
+        .map(|t| t.moves)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .into_iter()
+        .filter(|m| m.kind == MoveKind::Thread)
+        .collect()
     }
 
     fn close(a: f64, b: f64) -> bool {
@@ -322,7 +330,17 @@ mod tests {
             name: "T.NC".into(),
             text: "G0 X50 Z5\nG34 Z3 F4 J1 K2 R1\n".into(),
         };
-        let e = interpret(&src, Dialect::Gsk980, &|_| None, Limits::default()).unwrap_err();
+        let e = interpret_with(
+            &src,
+            Dialect::Gsk980,
+            &|_| None,
+            &Options {
+                settings: Settings::in_mm(),
+                ..Options::default()
+            },
+        )
+        .map(|t| t.moves)
+        .unwrap_err();
         assert_eq!((e.line, e.col), (2, 14), "{e}");
         assert!(e.message.contains("not shorter"), "{e}");
         // F1 reaches lead 0 after 10 revolutions, 5 mm: never at the split (23 mm).
@@ -330,7 +348,17 @@ mod tests {
             name: "T.NC".into(),
             text: "G0 X50 Z5\nG34 Z-20 F1 J1 K2 R-0.1\n".into(),
         };
-        let e = interpret(&src, Dialect::Gsk980, &|_| None, Limits::default()).unwrap_err();
+        let e = interpret_with(
+            &src,
+            Dialect::Gsk980,
+            &|_| None,
+            &Options {
+                settings: Settings::in_mm(),
+                ..Options::default()
+            },
+        )
+        .map(|t| t.moves)
+        .unwrap_err();
         assert_eq!(e.line, 2, "{e}");
         assert!(e.message.contains("lead would reach zero"), "{e}");
     }

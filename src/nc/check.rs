@@ -300,6 +300,8 @@ struct BlockFacts {
     ends: Vec<(u32, usize)>,
     /// Programs called by a literal number or name, with column.
     calls: Vec<(String, usize)>,
+    /// An M02 or M30 (the end of the run).
+    stops: bool,
 }
 
 fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(), Stop> {
@@ -435,6 +437,7 @@ fn fanuc_block(l: &mut Line, strict: bool, facts: &mut BlockFacts) -> Result<(),
                             codes::InA::Code(71..=74)
                         );
                     m98 |= letter == 'M' && code == 98.0;
+                    facts.stops |= letter == 'M' && (code == 2.0 || code == 30.0);
                     m99 |= letter == 'M' && code == 99.0;
                 }
             }
@@ -735,6 +738,28 @@ fn label_name(l: &mut Line) -> String {
 
 // ---------------------------------------------------------------------------------------
 // Whole programs.
+
+/// What a FANUC/GSK program says of its place in a file (for choosing the main program):
+/// the programs it calls by a literal number (`M98 P..`, `G65 P..`) and whether it has an
+/// M02 or M30. Blocks that do not read are left out (the check reports them).
+pub(super) fn program_facts(prog: &Program, system: codes::GcodeSystem) -> (Vec<String>, bool) {
+    let mut calls = Vec::new();
+    let mut stops = false;
+    for (_, orig, _) in &prog.blocks {
+        let mut found = Vec::new();
+        let mut l = Line {
+            c: Cursor::line(orig, Dialect::Fanuc),
+            mill: false,
+            system,
+            out: &mut found,
+        };
+        let mut facts = BlockFacts::default();
+        let _ = fanuc_block(&mut l, false, &mut facts);
+        calls.extend(facts.calls.into_iter().map(|c| c.0));
+        stops |= facts.stops;
+    }
+    (calls, stops)
+}
 
 /// Check every block of `prog` and its written-out control flow (`mill`: a FANUC milling
 /// program's codes and addresses). `find` says whether a called program exists (in the

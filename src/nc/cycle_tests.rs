@@ -17,13 +17,13 @@ fn run_with(text: &str, dialect: Dialect, settings: &Settings) -> Result<Vec<Mov
 }
 
 fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
-    run_with(text, dialect, &Settings::default())
+    run_with(text, dialect, &Settings::in_mm())
 }
 
 fn chamfer(leads: f64) -> Settings {
     Settings {
         thread_chamfer: leads,
-        ..Settings::default()
+        ..Settings::in_mm()
     }
 }
 
@@ -270,7 +270,7 @@ fn arc_end_off_the_circle_is_an_error_at_line_and_column() {
 /// offset; incremental W does not. G76's X/Z shift the same way.
 #[test]
 fn work_offsets_shift_absolute_coordinates() {
-    let mut s = Settings::default();
+    let mut s = Settings::in_mm();
     s.work_offsets[1] = (1.0, -12.5);
     let g32 = "G0 X24 Z5\nG32 Z-20 F2\nG0 W-1\nM30\n";
     let base = path(&run_with(g32, Dialect::Fanuc, &s).unwrap());
@@ -387,7 +387,7 @@ fn block_skip_switch() {
     assert_eq!(run(text, Dialect::Fanuc).unwrap().len(), 1);
     let off = Settings {
         block_skip: false,
-        ..Settings::default()
+        ..Settings::in_mm()
     };
     let x: Vec<f64> = run_with(text, Dialect::Fanuc, &off)
         .unwrap()
@@ -415,7 +415,7 @@ fn lathe_modes_are_accepted() {
 fn g28_returns_via_the_intermediate_point() {
     let s = Settings {
         reference_point: Some((200.0, 150.0)),
-        ..Settings::default()
+        ..Settings::in_mm()
     };
     let moves = run_with(
         "G0 X30 Z5\nG28 U0 W0\nG0 X30 Z5\nG28 X40\nG0 W-1\n",

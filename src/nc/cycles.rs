@@ -110,20 +110,6 @@ fn arc_turns(mv: &Move) -> bool {
     })
 }
 
-/// How a block's words read a length: with a decimal point in program units (`scale` mm
-/// each), without one in the least input increment (0.001 mm, 0.0001 in), as FANUC 0T's
-/// one-block cycles write D, and every control P/Q of G74/G75.
-fn increment(w: &Words, k: &str, inch: bool, scale: f64) -> Option<f64> {
-    let v = w.vals.get(k)?.0;
-    Some(if w.points.iter().any(|p| p == k) {
-        v * scale
-    } else if inch {
-        v * 0.0001 * 25.4
-    } else {
-        v * 0.001
-    })
-}
-
 impl Interp<'_> {
     /// A block with G70..G75 (system-A numbers).
     pub(super) fn repetitive_cycle(
@@ -139,10 +125,10 @@ impl Interp<'_> {
                 format!("G{g} inside the finishing shape of another cycle (P..Q)"),
             ));
         }
-        let scale = if self.modal.inch { 25.4 } else { 1.0 };
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         if let Some(f) = val("F") {
             self.modal.feed = Some(f);
+            self.modal.feed_plain = w.plain.iter().any(|p| p == "F");
         }
         if let Some(s) = val("S") {
             self.modal.speed = Some(s);
@@ -158,12 +144,13 @@ impl Interp<'_> {
                 let has_pq = w.vals.contains_key("P") || w.vals.contains_key("Q");
                 if !has_pq {
                     // First block: G71 U(dd) R(e) / G72 W(dd) R(e).
+                    // Depth of cut dd (G71: a radius) and retract e: lengths.
                     let depth_word = if g == 71 { "U" } else { "W" };
-                    if let Some(d) = val(depth_word) {
-                        self.thread.cycles.depth = Some(d * scale);
+                    if let Some(d) = self.length(w, depth_word) {
+                        self.thread.cycles.depth = Some(d);
                     }
-                    if let Some(e) = val("R") {
-                        self.thread.cycles.retract = Some(e * scale);
+                    if let Some(e) = self.length(w, "R") {
+                        self.thread.cycles.retract = Some(e);
                     }
                     if w.vals.contains_key("D") {
                         return Err((
@@ -187,7 +174,7 @@ impl Interp<'_> {
                         format!("G{g} R{r} in the P/Q block: type II roughing (Haas R1, pockets) is not simulated by vpcut"),
                     ));
                 }
-                let depth = match increment(w, "D", self.modal.inch, scale) {
+                let depth = match self.increment_or_units(w, "D") {
                     Some(d) => d,
                     None => self.thread.cycles.depth.ok_or((
                         1,
@@ -202,8 +189,9 @@ impl Interp<'_> {
                         format!("G{g} needs a depth of cut > 0 and a retract >= 0"),
                     ));
                 }
-                let du = val("U").unwrap_or(0.0) * scale;
-                let dw = val("W").unwrap_or(0.0) * scale;
+                // The finishing allowances: U in X (a diameter in diameter programming), W.
+                let du = self.x_length(w, "U").unwrap_or(0.0);
+                let dw = self.length(w, "W").unwrap_or(0.0);
                 self.rough(
                     Frame { facing: g == 72 },
                     g,
@@ -218,12 +206,13 @@ impl Interp<'_> {
                 let has_pq = w.vals.contains_key("P") || w.vals.contains_key("Q");
                 if !has_pq {
                     // First block: G73 U(di) W(dk) R(d).
+                    // The relief di (a radius) and dk: lengths.
                     let mut s = self.thread.cycles.g73.unwrap_or((0.0, 0.0, 1));
-                    if let Some(u) = val("U") {
-                        s.0 = u * scale;
+                    if let Some(u) = self.length(w, "U") {
+                        s.0 = u;
                     }
-                    if let Some(wv) = val("W") {
-                        s.1 = wv * scale;
+                    if let Some(wv) = self.length(w, "W") {
+                        s.1 = wv;
                     }
                     if let Some(&(r, col)) = w.vals.get("R") {
                         s.2 = count(r, col)?;
@@ -233,11 +222,11 @@ impl Interp<'_> {
                 }
                 // One-block (0T): G73 P Q I(di) K(dk) U W D(d) F.
                 let mut s = self.thread.cycles.g73.unwrap_or((0.0, 0.0, 1));
-                if let Some(i) = val("I") {
-                    s.0 = i * scale;
+                if let Some(i) = self.length(w, "I") {
+                    s.0 = i;
                 }
-                if let Some(k) = val("K") {
-                    s.1 = k * scale;
+                if let Some(k) = self.length(w, "K") {
+                    s.1 = k;
                 }
                 if let Some(&(d, col)) = w.vals.get("D") {
                     s.2 = count(d, col)?;
@@ -245,11 +234,11 @@ impl Interp<'_> {
                 if let Some(&(r, col)) = w.vals.get("R") {
                     return Err((col, format!("G73 R{r} in the P/Q block: the number of divisions is the first block's R (or D in the one-block form)")));
                 }
-                let du = val("U").unwrap_or(0.0) * scale;
-                let dw = val("W").unwrap_or(0.0) * scale;
+                let du = self.x_length(w, "U").unwrap_or(0.0);
+                let dw = self.length(w, "W").unwrap_or(0.0);
                 self.g73(w, prog, pc, s, (du, dw))
             }
-            _ => self.peck(g, w, prog, pc, scale),
+            _ => self.peck(g, w, prog, pc),
         }
     }
 
@@ -601,19 +590,12 @@ impl Interp<'_> {
     /// `dk` (G74; G75: `di` in radius), returns `e` at rapid and feeds on from there; at the
     /// bottom a rapid back to the start's level, a rapid step of `di` (G74; G75: `dk`) to the
     /// next position, and at the end a rapid back to the start point.
-    fn peck(
-        &mut self,
-        g: u32,
-        w: &Words,
-        prog: &Program,
-        pc: usize,
-        scale: f64,
-    ) -> Result<Step, Fail> {
-        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+    fn peck(&mut self, g: u32, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
         let target_given = ["X", "Z", "U", "W"].iter().any(|k| w.vals.contains_key(*k));
         if !target_given {
-            if let Some(e) = val("R") {
-                self.thread.cycles.peck_return = Some(e * scale);
+            // The return e after each peck: a length.
+            if let Some(e) = self.length(w, "R") {
+                self.thread.cycles.peck_return = Some(e);
             }
             return Ok(Step::Next);
         }
@@ -629,29 +611,18 @@ impl Interp<'_> {
         }
         for k in ["P", "Q"] {
             if let Some(&(v, col)) = w.vals.get(k) {
-                if w.points.iter().any(|p| p == k) || v < 0.0 {
+                if v < 0.0 {
                     return Err((col, format!("G{g} {k}: an amount in the least input increment, without sign or decimal point")));
                 }
             }
         }
         let (x0, z0) = (self.x, self.z);
-        let (ox, oz) = self.frames.offsets[self.frames.work];
         // In G-code systems B/C under G91, X/Z are incremental too.
-        let inc = self.modal.incremental;
-        let x1 = match (val("X"), val("U")) {
-            (Some(x), _) if inc => x0 + x * scale,
-            (Some(x), _) => x * scale + ox,
-            (None, Some(u)) => x0 + u * scale,
-            _ => x0,
-        };
-        let z1 = match (val("Z"), val("W")) {
-            (Some(z), _) if inc => z0 + z * scale,
-            (Some(z), _) => z * scale + oz,
-            (None, Some(wv)) => z0 + wv * scale,
-            _ => z0,
-        };
-        let di = increment(w, "P", self.modal.inch, scale).unwrap_or(0.0);
-        let dk = increment(w, "Q", self.modal.inch, scale).unwrap_or(0.0);
+        let (x1, z1) = self.cycle_end(w);
+        // P (di) and Q (dk) never take a decimal point: the least input increment.
+        let what = format!("G{g}");
+        let di = self.increment_word(w, "P", &what)?.unwrap_or(0.0);
+        let dk = self.increment_word(w, "Q", &what)?.unwrap_or(0.0);
         let e = self.thread.cycles.peck_return.unwrap_or(0.0);
         self.need_feed(w)?;
         // (c, d): c the peck axis, d the step axis; radius for X.

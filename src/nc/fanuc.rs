@@ -144,8 +144,11 @@ impl Interp<'_> {
                 // An address whose value is a vacant variable is left out (FANUC).
                 continue;
             }
-            if text[st..c.i].contains('.') {
+            let written = &text[st..c.i];
+            if written.contains('.') {
                 w.points.push((letter as char).to_string());
+            } else if !written.contains(['#', '[']) {
+                w.plain.push((letter as char).to_string());
             }
             match letter {
                 b'G' => w.g.push(v.round() as u32),
@@ -360,24 +363,6 @@ impl Interp<'_> {
         }
     }
 
-    /// A word in the least input increment (0.001 mm, 0.0001 in), as G76 P/Q are written.
-    pub(super) fn increment_word(&self, w: &Words, k: &str) -> Result<Option<f64>, Fail> {
-        let Some(&(v, col)) = w.vals.get(k) else {
-            return Ok(None);
-        };
-        if w.points.iter().any(|p| p == k) {
-            return Err((
-                col,
-                format!("G76 {k} counts in the least input increment and takes no decimal point"),
-            ));
-        }
-        Ok(Some(if self.modal.inch {
-            v * 0.0001 * 25.4
-        } else {
-            v * 0.001
-        }))
-    }
-
     /// FANUC G76, two-block form (`domain.md` section 3, `controllers.md` 2.3): block 1
     /// sets `P(mmrraa) Q(dmin) R(d)`; block 2 `X(U) Z(W) R(i) P(k) Q(dd) F(L)` cuts rough
     /// passes at `d_n = max(dd*sqrt(n), d_(n-1) + dmin)` until `k - d`, one at `k - d`, then
@@ -388,11 +373,15 @@ impl Interp<'_> {
     /// Chamfer: `rr` of block 1 (0.1 L steps; it is FANUC's parameter 5130, so it also sets
     /// G92's) ends every pass in a 45 deg pull-out (`cycle_pass_chamfered`).
     pub(super) fn g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
-        let scale = if self.modal.inch { 25.4 } else { 1.0 };
-        let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let is_second = ["X", "Z", "U", "W"].iter().any(|k| w.vals.contains_key(*k));
         if !is_second {
             if let Some(&(p, col)) = w.vals.get("P") {
+                if w.points.iter().any(|k| k == "P") {
+                    return Err((
+                        col,
+                        "G76 P (mmrraa: finishing passes, chamfer, tool angle) takes no decimal point".into(),
+                    ));
+                }
                 let (m, r, a) = g76_p(p, col)?;
                 self.thread.g76.m = m;
                 self.thread.g76.r = r;
@@ -400,48 +389,39 @@ impl Interp<'_> {
                 self.thread.chamfer = f64::from(r) / 10.0;
                 self.thread.g76.a = f64::from(a);
             }
-            if let Some(q) = self.increment_word(w, "Q")? {
+            if let Some(q) = self.increment_word(w, "Q", "G76")? {
                 self.thread.g76.dmin = q;
             }
-            if let Some(r) = val("R") {
-                self.thread.g76.d = r * scale;
+            // d, the finishing allowance: a length (FANUC's own example `R200` is 0.200 mm
+            // in standard decimal-point input, `R0.2` 0.2 mm in either).
+            if let Some(r) = self.length(w, "R") {
+                self.thread.g76.d = r;
             }
             return Ok(Step::Next);
         }
         let (x0, z0) = (self.x, self.z);
-        let (ox, oz) = self.frames.offsets[self.frames.work];
-        // In G-code systems B/C under G91, X/Z are incremental too.
-        let inc = self.modal.incremental;
-        let x_end = match (val("X"), val("U")) {
-            (Some(x), _) if inc => x0 + x * scale,
-            (Some(x), _) => x * scale + ox,
-            (None, Some(u)) => x0 + u * scale,
-            _ => x0,
-        };
-        let z_end = match (val("Z"), val("W")) {
-            (Some(z), _) if inc => z0 + z * scale,
-            (Some(z), _) => z * scale + oz,
-            (None, Some(wv)) => z0 + wv * scale,
-            _ => z0,
-        };
+        let (x_end, z_end) = self.cycle_end(w);
         if w.vals.contains_key("K") || w.vals.contains_key("D") {
             return self.g76_one_block(w, prog, pc, (x0, z0), (x_end, z_end));
         }
         // i: taper, radius at the start minus radius at the end (as G92's R).
-        let taper = val("R").unwrap_or(0.0) * scale;
+        let taper = self.length(w, "R").unwrap_or(0.0);
         let k = self
-            .increment_word(w, "P")?
+            .increment_word(w, "P", "G76")?
             .ok_or((1, "G76 needs P (thread height)".to_string()))?;
         let dd = self
-            .increment_word(w, "Q")?
+            .increment_word(w, "Q", "G76")?
             .ok_or((1, "G76 needs Q (first cut depth)".to_string()))?;
-        let lead = val("F").ok_or((1, "G76 needs F (the lead)".to_string()))? * scale;
+        let lead = self
+            .lead_word(w, "F", "G76")?
+            .ok_or((1, "G76 needs F (the lead)".to_string()))?;
         if k <= 0.0 || dd <= 0.0 || lead <= 0.0 || z_end == z0 {
             return Err((
                 1,
                 "G76 needs a positive height, first cut, lead and a Z move".into(),
             ));
         }
+        self.check_thread_height(w, "P", k, x_end);
         let s = self.thread.g76;
         let chamfer = self.thread_chamfer(lead, z_end - z0, w)?;
         let stop = (k - s.d).max(0.0);
@@ -512,32 +492,27 @@ impl Interp<'_> {
         (x0, z0): (f64, f64),
         (x_end, z_end): (f64, f64),
     ) -> Result<Step, Fail> {
-        let scale = if self.modal.inch { 25.4 } else { 1.0 };
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let col = |k: &str| w.vals.get(k).map_or(1, |v| v.1);
         // A decimal point: program units; none: the least input increment.
-        let length = |k: &str| -> Option<f64> {
-            let v = val(k)?;
-            Some(if w.points.iter().any(|p| p == k) {
-                v * scale
-            } else if self.modal.inch {
-                v * 0.0001 * 25.4
-            } else {
-                v * 0.001
-            })
-        };
-        let k = length("K").ok_or((
+        let k = self.increment_or_units(w, "K").ok_or((
             1,
             "the one-block G76 (with D) needs K (the thread height)".to_string(),
         ))?;
-        let d = length("D").ok_or((
+        let d = self.increment_or_units(w, "D").ok_or((
             1,
             "the one-block G76 (with K) needs D (the first cut depth)".to_string(),
         ))?;
-        let lead = val("F").ok_or((1, "G76 needs F (the lead)".to_string()))? * scale;
+        let lead = self
+            .lead_word(w, "F", "G76")?
+            .ok_or((1, "G76 needs F (the lead)".to_string()))?;
         if k <= 0.0 || d <= 0.0 || lead <= 0.0 || z_end == z0 {
             return Err((1, "G76 needs K > 0, D > 0, F > 0 and a Z move".into()));
         }
+        self.check_thread_height(w, "K", k, x_end);
+        // Q: the start angle (Haas G76 "Q - Thread Start Angle (Do not use a decimal
+        // point)"), as G92's.
+        let angle = self.start_angle(w, "G76")?;
         let a = val("A").unwrap_or(0.0);
         if !(0.0..=120.0).contains(&a) {
             return Err((
@@ -552,7 +527,7 @@ impl Interp<'_> {
                 format!("G76 P{method}: the one-block cutting method is P1, P2, P3 or P4"),
             ));
         }
-        let taper = val("I").unwrap_or(0.0) * scale;
+        let taper = self.length(w, "I").unwrap_or(0.0);
         let chamfer = self.thread_chamfer(lead, z_end - z0, w)?;
         let mut depths = Vec::new();
         for n in 1..=100_001u32 {
@@ -582,7 +557,7 @@ impl Interp<'_> {
             let sync = Sync {
                 lead,
                 change: 0.0,
-                angle: 0.0,
+                angle,
             };
             self.cycle_pass_chamfered(
                 prog,
@@ -607,21 +582,20 @@ impl Interp<'_> {
         pc: usize,
         x: f64,
         z: f64,
-        scale: f64,
     ) -> Result<Step, Fail> {
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
-        let lead = match (val("F"), val("I")) {
-            (Some(f), _) => f * scale,
+        let lead = match (self.lead_word(w, "F", "G34")?, val("I")) {
+            (Some(f), _) => f,
             (None, Some(tpi)) if tpi > 0.0 => 25.4 / tpi,
             _ => return Err((1, "G34 needs F (lead) or I (threads per inch)".into())),
         };
-        let change = val("R").unwrap_or(0.0) * scale;
+        let change = self.lead_word(w, "R", "G34")?.unwrap_or(0.0);
         let sync = Sync {
             lead,
             change,
             angle: 0.0,
         };
-        self.thread_block(w, prog, pc, (x, z), sync, scale)?;
+        self.thread_block(w, prog, pc, (x, z), sync)?;
         Ok(Step::Next)
     }
 
@@ -638,10 +612,9 @@ impl Interp<'_> {
         pc: usize,
         x: f64,
         z: f64,
-        scale: f64,
     ) -> Result<Step, Fail> {
         let (x0, z0) = (self.x, self.z);
-        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+
         let z_target = if w.vals.contains_key("Z") || w.vals.contains_key("W") {
             z
         } else {
@@ -650,21 +623,21 @@ impl Interp<'_> {
                 .map(|g| g.0)
                 .ok_or((1, "G92 needs Z (or W) the first time".to_string()))?
         };
-        let lead = match val("F") {
-            Some(f) => f * scale,
+        let lead = match self.lead_word(w, "F", "G92")? {
+            Some(f) => f,
             None => self
                 .thread
                 .g92
                 .map(|g| g.1)
                 .ok_or((1, "G92 needs F (the lead)".to_string()))?,
         };
-        let taper = match val("R") {
-            Some(r) => r * scale,
+        let taper = match self.length(w, "R") {
+            Some(r) => r,
             None => self.thread.g92.map_or(0.0, |g| g.2),
         };
         let chamfer = self.thread_chamfer(lead, z_target - z0, w)?;
         self.thread.g92 = Some((z_target, lead, taper));
-        let q = val("Q").unwrap_or(0.0) / 1000.0;
+        let q = self.start_angle(w, "G92")?;
         let sync = Sync {
             lead,
             change: 0.0,
@@ -696,7 +669,6 @@ impl Interp<'_> {
         pc: usize,
         x: f64,
         z: f64,
-        scale: f64,
     ) -> Result<Step, Fail> {
         let (x0, z0) = (self.x, self.z);
         let g = self.modal.motion;
@@ -723,7 +695,7 @@ impl Interp<'_> {
             };
             (x, z_end)
         };
-        let r = w.vals.get("R").map_or(taper, |v| v.0 * scale);
+        let r = self.length(w, "R").unwrap_or(taper);
         self.thread.cycle90 = Some((g, if face { x_end } else { z_end }, r));
         use MoveKind::{Feed, Rapid};
         let path: [(MoveKind, (f64, f64)); 4] = if face {
@@ -838,18 +810,18 @@ impl Interp<'_> {
         if !moved {
             return Ok(Some(if end { Step::End } else { Step::Next }));
         }
-        let scale = if self.modal.inch { 25.4 } else { 1.0 };
         if let Some(s) = val("S") {
             self.modal.speed = Some(s);
         }
         if let Some(f) = val("F") {
             self.modal.feed = Some(f);
+            self.modal.feed_plain = w.plain.iter().any(|p| p == "F");
         }
         let oz = self.frames.offsets[self.frames.work].1;
         let ox = self.frames.offsets[self.frames.work].0;
-        let x = match (val("X"), val("U")) {
-            (Some(v), _) => v * scale + ox,
-            (None, Some(u)) => self.x + u * scale,
+        let x = match (self.x_length(w, "X"), self.x_length(w, "U")) {
+            (Some(v), _) => v + ox,
+            (None, Some(u)) => self.x + u,
             (None, None) => self.x,
         };
         if x.abs() > 1e-9 {
@@ -858,17 +830,17 @@ impl Interp<'_> {
                 "G84 off the spindle axis (X not 0) taps with a driven tool (live tooling, C axis): not modelled".into(),
             ));
         }
-        if let Some(r) = val("R") {
-            self.thread.tap.r = Some(r * scale);
+        if let Some(r) = self.length(w, "R") {
+            self.thread.tap.r = Some(r);
         }
         let r_point = initial
             + self.thread.tap.r.ok_or((
                 1,
                 "G84 needs R (the R point, from the initial level)".to_string(),
             ))?;
-        let bottom = match (val("Z"), val("W")) {
-            (Some(z), _) => z * scale + oz,
-            (None, Some(wv)) => r_point + wv * scale,
+        let bottom = match (self.length(w, "Z"), self.length(w, "W")) {
+            (Some(z), _) => z + oz,
+            (None, Some(wv)) => r_point + wv,
             (None, None) => self
                 .thread
                 .tap
@@ -883,6 +855,13 @@ impl Interp<'_> {
             1,
             "G84 needs F > 0 (the pitch in G99, the feed in G98)".to_string(),
         ))?;
+        if self.modal.feed_plain {
+            // The pitch (G99) or the feed (G98) written without a decimal point, in this
+            // block or before it: refused in standard input as every lead is.
+            let col = w.vals.get("F").map_or(1, |v| v.1);
+            self.plain_lead(feed, col, "G84", "F")?;
+        }
+        let scale = self.unit();
         let lead = if self.modal.per_rev {
             feed * scale
         } else {
@@ -939,7 +918,7 @@ pub(super) mod tap_tests {
         let opts = Options {
             settings: Settings {
                 gcode_system: system,
-                ..Settings::default()
+                ..Settings::in_mm()
             },
             ..Options::default()
         };
@@ -1031,8 +1010,16 @@ pub(super) mod tap_tests {
                 name: "T.NC".into(),
                 text: text.into(),
             };
-            let e =
-                interpret_with(&src, Dialect::Gsk980, &|_| None, &Options::default()).unwrap_err();
+            let e = interpret_with(
+                &src,
+                Dialect::Gsk980,
+                &|_| None,
+                &Options {
+                    settings: Settings::in_mm(),
+                    ..Options::default()
+                },
+            )
+            .unwrap_err();
             assert_eq!(e.line, 2, "{text}: {e}");
             assert!(e.message.contains(want), "{text}: {e}");
         }

@@ -26,7 +26,10 @@
 //!   (`mill/mod.rs`), the blocks into programmed moves (`mill/blocks.rs`) and cutter radius
 //!   compensation of the programmed moves as a pure pass (`mill/comp.rs`);
 //! - `chain`: continuous threading (thread blocks that follow each other without a re-sync)
-//!   and the GSK thread run-out J/K.
+//!   and the GSK thread run-out J/K;
+//! - `units`: what a program leaves to the machine: FANUC/GSK decimal-point input and the
+//!   least input increment (how every word becomes mm), the modes at power-on, the main
+//!   program of a file with several, and the warnings when numbers look read wrong.
 
 mod chain;
 mod check;
@@ -39,6 +42,8 @@ mod fanuc;
 mod lcnc_expr;
 mod lex;
 mod linuxcnc;
+#[cfg(test)]
+mod machine_tests;
 mod mill;
 mod motion;
 #[cfg(test)]
@@ -56,6 +61,9 @@ mod siemens_vars;
 mod state;
 #[cfg(test)]
 mod tests;
+mod units;
+#[cfg(test)]
+mod units_tests;
 
 pub use mill::{CompSide, MillArc, MillKind, MillMove, MillSettings, Plane};
 
@@ -63,6 +71,7 @@ use expr::Fail;
 pub use program::decode_program;
 use program::{load_programs, Program};
 use state::Interp;
+pub use units::{DecimalPoint, InputIncrement, PowerOn};
 
 pub use crate::diag::{Diagnostic, Severity};
 use crate::model::helix::Spindle;
@@ -243,6 +252,17 @@ pub struct Settings {
     pub mill: Option<MillSettings>,
     /// FANUC/GSK lathe G-code system (A, B or C; [`GcodeSystem`]).
     pub gcode_system: GcodeSystem,
+    /// How a FANUC/GSK number without a decimal point is read ([`DecimalPoint`]).
+    pub decimal_point: DecimalPoint,
+    /// The least input increment of FANUC/GSK words without a decimal point
+    /// ([`InputIncrement`]).
+    pub input_increment: InputIncrement,
+    /// The modes the control is in when the program starts ([`PowerOn`]).
+    pub power_on: PowerOn,
+    /// The main program of a file that holds several (FANUC/GSK `O` numbers), by name
+    /// (`O1000`); `None`: the one the control would run (the first that ends in M30/M02
+    /// and that no other calls).
+    pub main: Option<String>,
 }
 
 impl Default for Settings {
@@ -255,6 +275,24 @@ impl Default for Settings {
             second_reference_point: None,
             mill: None,
             gcode_system: GcodeSystem::A,
+            decimal_point: DecimalPoint::Standard,
+            input_increment: InputIncrement::Micrometre,
+            power_on: PowerOn::default(),
+            main: None,
+        }
+    }
+}
+
+#[cfg(test)]
+impl Settings {
+    /// The default settings but calculator-type decimal-point input: the machine the unit
+    /// tests' programs are written for where they write plain numbers in millimetres (`X60
+    /// Z8`), as vpcut read every program before standard input became the default (issue
+    /// 30). `units_tests` tests both inputs.
+    pub(crate) fn in_mm() -> Settings {
+        Settings {
+            decimal_point: DecimalPoint::Calculator,
+            ..Settings::default()
         }
     }
 }
@@ -445,14 +483,40 @@ pub fn interpret_with(
         });
     }
     let skip = opts.settings.block_skip;
-    let mut all = load_programs(main, dialect, skip).into_iter();
-    let prog = std::rc::Rc::new(all.next().expect("a file gives at least one program"));
-    m.register(prog.clone());
-    let mut to_check = vec![prog.clone()];
-    for p in all {
-        let p = std::rc::Rc::new(p);
+    let all: Vec<std::rc::Rc<Program>> = load_programs(main, dialect, skip)
+        .into_iter()
+        .map(std::rc::Rc::new)
+        .collect();
+    // The main program: the one the job names, else the one the control would run (the
+    // first that ends in M30/M02 and that no other calls).
+    let first = if dialect == Dialect::Fanuc && (all.len() > 1 || opts.settings.main.is_some()) {
+        let names: Vec<Vec<String>> = all.iter().map(|p| units::names_of(p)).collect();
+        let facts: Vec<(Vec<String>, bool)> = all
+            .iter()
+            .map(|p| check::program_facts(p, opts.settings.gcode_system))
+            .collect();
+        units::main_program(&names, &facts, opts.settings.main.as_deref()).map_err(|message| {
+            NcError {
+                file: main.name.clone(),
+                line: 1,
+                col: 0,
+                message,
+                snippet: main.text.lines().next().unwrap_or("").to_string(),
+                stack: Vec::new(),
+                hint: Some(
+                    "the main program is named by its O number, e.g. main = \"O1000\"".into(),
+                ),
+                others: Vec::new(),
+            }
+        })?
+    } else {
+        0
+    };
+    let prog = all[first].clone();
+    let mut to_check = Vec::new();
+    for p in &all {
         m.register(p.clone());
-        to_check.push(p);
+        to_check.push(p.clone());
     }
     // The static check, program by program; called programs are loaded as they are named.
     let mut diagnostics: Vec<Diagnostic> = Vec::new();
@@ -643,16 +707,21 @@ impl Interp<'_> {
                 Dialect::Linuxcnc => m.lcnc_block(&cur, pc, text),
                 Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
             };
+            m.check_inch_lead(before);
             // Columns are in the comment-stripped text; map back roughly to the line.
             let offset = || orig.to_ascii_uppercase().find(text.as_str()).unwrap_or(0);
-            if !m.out.pending.is_empty() {
+            if !m.out.pending.is_empty() || !m.out.notes.is_empty() {
                 let offset = offset();
-                for (col, message) in std::mem::take(&mut m.out.pending) {
+                let skipped = "skipped: vpcut does not simulate it (an error with --strict)";
+                let pending = std::mem::take(&mut m.out.pending)
+                    .into_iter()
+                    .map(|(col, message)| (col, message, skipped.to_string()));
+                let notes = std::mem::take(&mut m.out.notes);
+                for (col, message, hint) in pending.chain(notes) {
                     let e = fail(&stack, col + offset, message);
                     let mut d = e.diagnostic();
                     d.severity = Severity::Warning;
-                    d.hint =
-                        Some("skipped: vpcut does not simulate it (an error with --strict)".into());
+                    d.hint = Some(hint);
                     let seen = warnings.iter().any(|w| {
                         (&w.file, w.line, w.col, &w.message) == (&d.file, d.line, d.col, &d.message)
                     });
@@ -685,17 +754,25 @@ impl Interp<'_> {
                 Step::Next => pc += 1,
                 Step::Jump(to) => pc = to,
                 Step::End => break,
-                Step::Return => match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
-                    Some(popped_macro) => {
-                        if popped_macro {
-                            m.vars.locals.pop();
-                        }
+                Step::Return => {
+                    if stack.is_empty() {
+                        main_m99(warnings, fail(&stack, 0, String::new()));
                     }
-                    None => break,
-                },
+                    match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
+                        Some(popped_macro) => {
+                            if popped_macro {
+                                m.vars.locals.pop();
+                            }
+                        }
+                        None => break,
+                    }
+                }
                 Step::ReturnTo(n) => {
                     // M99 P<n>: back to the caller's block N<n> once the last repetition ends;
                     // in the main program it ends the run, as M99 does (see `Step::ReturnTo`).
+                    if stack.is_empty() {
+                        main_m99(warnings, fail(&stack, 0, String::new()));
+                    }
                     let target = match stack.last() {
                         Some(top) if top.repeats_left <= 1 => match top.caller.numbers.get(&n) {
                             Some(&k) => Some(k),
@@ -763,6 +840,17 @@ impl Interp<'_> {
         }
         Ok(std::mem::take(&mut m.out.moves))
     }
+}
+
+/// The warning at an M99 that ends the main program (`at`: its block, as an error without a
+/// message): a FANUC goes back to the program's start (or to `N` of `M99 P`) and runs it
+/// again until the operator stops it; vpcut runs it once.
+fn main_m99(warnings: &mut Vec<Diagnostic>, at: NcError) {
+    let mut d = at.diagnostic();
+    d.severity = Severity::Warning;
+    d.message = "M99 ends the main program: a FANUC-style control goes back to its start and runs it again, without end; vpcut runs it once".into();
+    d.hint = Some("end the main program with M30 (or M02); if this is a subprogram, the file's main program is chosen by `main` in [program] (the one that ends in M30 and is called by no other, by default)".into());
+    warnings.push(d);
 }
 
 /// Why a thread move cannot be cut as programmed, if it cannot: a lead that is not positive
@@ -842,6 +930,10 @@ struct Words {
     vals: HashMap<String, (f64, usize)>,
     /// Letters whose value was written with a decimal point.
     points: Vec<String>,
+    /// Letters whose value was a number written without a decimal point (not a variable or
+    /// an expression; FANUC syntax only): what standard decimal-point input reads in the
+    /// least input increment (`units`).
+    plain: Vec<String>,
 }
 
 /// What synchronises a thread move to the spindle.

@@ -139,10 +139,14 @@ impl Interp<'_> {
                 91 if matches!(self.cfg.dialect, Dialect::Siemens802d | Dialect::Linuxcnc) => {
                     self.modal.incremental = true
                 }
-                20 => self.modal.inch = true,
-                21 => self.modal.inch = false,
-                70 if self.cfg.dialect == Dialect::Siemens802d => self.modal.inch = true,
-                71 if self.cfg.dialect == Dialect::Siemens802d => self.modal.inch = false,
+                20 | 21 => {
+                    self.modal.inch = g == 20;
+                    self.modal.units_set = true;
+                }
+                70 | 71 if self.cfg.dialect == Dialect::Siemens802d => {
+                    self.modal.inch = g == 70;
+                    self.modal.units_set = true;
+                }
                 7 if self.cfg.dialect == Dialect::Linuxcnc => self.modal.diameter_mode = true,
                 8 if self.cfg.dialect == Dialect::Linuxcnc => self.modal.diameter_mode = false,
                 // FANUC/GSK G50 with X/Z sets the coordinates of the current position.
@@ -210,6 +214,7 @@ impl Interp<'_> {
         if let Some(f) = val("F") {
             if !(self.cfg.dialect == Dialect::Siemens802d && matches!(self.modal.motion, 34 | 35)) {
                 self.modal.feed = Some(f);
+                self.modal.feed_plain = w.plain.iter().any(|p| p == "F");
             }
         }
         let mut x = self.x;
@@ -258,29 +263,30 @@ impl Interp<'_> {
             self.lc.st.g92_on = true;
             return Ok(Step::Next);
         }
-        if let Some(v) = val("X").map(|v| v * xs) {
+        // Lengths as the dialect reads them (FANUC/GSK: decimal-point input, `units`).
+        if let Some(v) = self.x_length(w, "X") {
             x = if self.modal.incremental {
-                self.x + v * scale
+                self.x + v
             } else {
-                v * scale + ox
+                v + ox
             };
             moved = true;
         }
-        if let Some(v) = val("Z") {
+        if let Some(v) = self.length(w, "Z") {
             z = if self.modal.incremental {
-                self.z + v * scale
+                self.z + v
             } else {
-                v * scale + oz
+                v + oz
             };
             moved = true;
         }
         if self.cfg.dialect == Dialect::Fanuc {
-            if let Some(v) = val("U") {
-                x = self.x + v * scale;
+            if let Some(v) = self.x_length(w, "U") {
+                x = self.x + v;
                 moved = true;
             }
-            if let Some(v) = val("W") {
-                z = self.z + v * scale;
+            if let Some(v) = self.length(w, "W") {
+                z = self.z + v;
                 moved = true;
             }
         }
@@ -345,17 +351,17 @@ impl Interp<'_> {
             return Ok(if end { Step::End } else { Step::Next });
         }
         if moved && self.cfg.dialect == Dialect::Fanuc && self.modal.motion == 92 {
-            return self.g92(w, prog, pc, x, z, scale);
+            return self.g92(w, prog, pc, x, z);
         }
         if moved && self.cfg.dialect == Dialect::Fanuc && matches!(self.modal.motion, 90 | 94) {
             self.need_feed(w)?;
-            return self.cutting_cycle(w, prog, pc, x, z, scale);
+            return self.cutting_cycle(w, prog, pc, x, z);
         }
         if moved && matches!(self.modal.motion, 1..=3) {
             self.need_feed(w)?;
         }
         if moved && (self.modal.motion == 2 || self.modal.motion == 3) {
-            self.arc(w, prog, pc, (x, z), scale)?;
+            self.arc(w, prog, pc, (x, z))?;
             return Ok(if end { Step::End } else { Step::Next });
         }
         if moved {
@@ -384,22 +390,23 @@ impl Interp<'_> {
                 }
                 // GSK 980TDc G33: the Z tapping cycle (`gsk_tap`).
                 (Dialect::Fanuc, 33) if self.cfg.gsk => {
-                    self.gsk_tap(w, prog, pc, (x, z), scale)?;
+                    self.gsk_tap(w, prog, pc, (x, z))?;
                     return Ok(if end { Step::End } else { Step::Next });
                 }
                 (Dialect::Fanuc, 34) if self.cfg.gsk => {
-                    return self.gsk_g34(w, prog, pc, x, z, scale);
+                    return self.gsk_g34(w, prog, pc, x, z);
                 }
                 (Dialect::Fanuc, 32) | (Dialect::Fanuc, 34) => {
-                    let f = val("F")
-                        .ok_or((1, format!("G{} needs F (the lead)", self.modal.motion)))?
-                        * scale;
+                    let g = format!("G{}", self.modal.motion);
+                    let f = self
+                        .lead_word(w, "F", &g)?
+                        .ok_or((1, format!("{g} needs F (the lead)")))?;
                     let k = if self.modal.motion == 34 {
-                        val("K").unwrap_or(0.0) * scale
+                        self.lead_word(w, "K", &g)?.unwrap_or(0.0)
                     } else {
                         0.0
                     };
-                    let q = val("Q").unwrap_or(0.0) / 1000.0;
+                    let q = self.start_angle(w, &g)?;
                     (MoveKind::Thread, Some(f), Some(k), Some(q))
                 }
                 (Dialect::Siemens802d, 33..=35) => {
@@ -454,7 +461,7 @@ impl Interp<'_> {
                 self.modal.spindle = self.modal.spindle.reversed();
             }
             let done = match sync {
-                Some(sync) => self.thread_block(w, prog, pc, (x, z), sync, scale),
+                Some(sync) => self.thread_block(w, prog, pc, (x, z), sync),
                 None => {
                     self.emit(prog, pc, kind, (self.x, self.z), (x, z), sync);
                     self.x = x;
@@ -590,13 +597,12 @@ impl Interp<'_> {
         prog: &Program,
         pc: usize,
         end: (f64, f64),
-        scale: f64,
     ) -> Result<(), Fail> {
         let lead = match (w.vals.get("F"), w.vals.get("I")) {
             (Some(&(f, col)), _) if f <= 0.0 => {
                 return Err((col, format!("G33 F{f}: the tap's pitch must be positive")))
             }
-            (Some(&(f, _)), _) => f * scale,
+            (Some(_), _) => self.lead_word(w, "F", "G33")?.unwrap_or(0.0),
             (None, Some(&(i, col))) if i <= 0.0 => {
                 return Err((col, format!("G33 I{i}: threads per inch must be positive")))
             }
@@ -749,14 +755,7 @@ impl Interp<'_> {
     /// or from `I`/`K` (centre minus start; I is a radius value in every X mode, as FANUC
     /// and Siemens lathes and Beckhoff's G51 diameter mode write it). The end must lie on
     /// the circle through the start within `ARC_TOLERANCE`.
-    fn arc(
-        &mut self,
-        w: &Words,
-        prog: &Program,
-        pc: usize,
-        end: (f64, f64),
-        scale: f64,
-    ) -> Result<(), Fail> {
+    fn arc(&mut self, w: &Words, prog: &Program, pc: usize, end: (f64, f64)) -> Result<(), Fail> {
         let g = self.modal.motion;
         let cw = g == 2;
         let radius_word = if self.cfg.dialect == Dialect::Siemens802d {
@@ -767,8 +766,8 @@ impl Interp<'_> {
         // (u, v) = (z, radius): the plane seen from +Y, Z to the right, X up.
         let a = (self.z, self.x / 2.0);
         let b = (end.1, end.0 / 2.0);
-        let centre = if let Some(&(r, col)) = w.vals.get(radius_word) {
-            let r = r * scale;
+        let centre = if let Some(&(_, col)) = w.vals.get(radius_word) {
+            let r = self.length(w, radius_word).unwrap_or(0.0);
             let (dx, dy) = (b.0 - a.0, b.1 - a.1);
             let chord = dx.hypot(dy);
             if chord == 0.0 || r == 0.0 {
@@ -790,8 +789,8 @@ impl Interp<'_> {
             }
             radius_centre(a, b, r, cw)
         } else if w.vals.contains_key("I") || w.vals.contains_key("K") {
-            let i = w.vals.get("I").map_or(0.0, |v| v.0) * scale;
-            let k = w.vals.get("K").map_or(0.0, |v| v.0) * scale;
+            let i = self.length(w, "I").unwrap_or(0.0);
+            let k = self.length(w, "K").unwrap_or(0.0);
             let c = (a.0 + k, a.1 + i);
             let (ra, rb) = ((a.0 - c.0).hypot(a.1 - c.1), (b.0 - c.0).hypot(b.1 - c.1));
             if (ra - rb).abs() > ARC_TOLERANCE {

@@ -37,9 +37,17 @@ fn run(text: &str) -> Vec<Move> {
         name: "T.NC".into(),
         text: text.into(),
     };
-    interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default())
-        .unwrap_or_else(|e| panic!("{e}\n{text}"))
-        .moves
+    interpret_with(
+        &src,
+        Dialect::Fanuc,
+        &|_| None,
+        &Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}\n{text}"))
+    .moves
 }
 
 /// The lowest (`s = 1`) or highest (`s = -1`) `a` of the polyline `pts` (a, b) at `b`

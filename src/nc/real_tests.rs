@@ -19,7 +19,7 @@ fn run_s(text: &str, dialect: Dialect, settings: Settings) -> Toolpath {
 }
 
 fn run(text: &str, dialect: Dialect) -> Toolpath {
-    run_s(text, dialect, Settings::default())
+    run_s(text, dialect, Settings::in_mm())
 }
 
 /// The end points (x_dia, z) of every move.
@@ -97,7 +97,7 @@ fn linuxcnc_predefined_parameters_read_the_state() {
 fn linuxcnc_numbered_system_parameters() {
     let s = Settings {
         reference_point: Some((300.0, 200.0)),
-        ..Settings::default()
+        ..Settings::in_mm()
     };
     let value = |setup: &str, expr: &str| -> f64 {
         let text = format!("G7\n{setup}\nG0 X1\nG0 X[{expr}]\n");
@@ -138,7 +138,7 @@ fn linuxcnc_numbered_system_parameters() {
 fn linuxcnc_offsets_homes_and_machine_coordinates() {
     let s = Settings {
         reference_point: Some((100.0, 50.0)),
-        ..Settings::default()
+        ..Settings::in_mm()
     };
     // (program, end points (x_dia, z) in machine coordinates of every move)
     let cases: [(&str, Vec<(f64, f64)>); 8] = [
@@ -208,8 +208,16 @@ fn linuxcnc_codes_refused_by_name() {
             name: "t.ngc".into(),
             text: text.into(),
         };
-        let e =
-            interpret_with(&src, Dialect::Linuxcnc, &|_| None, &Options::default()).unwrap_err();
+        let e = interpret_with(
+            &src,
+            Dialect::Linuxcnc,
+            &|_| None,
+            &Options {
+                settings: Settings::in_mm(),
+                ..Options::default()
+            },
+        )
+        .unwrap_err();
         assert!(e.message.contains(msg), "{text}: {e}");
     }
 }
@@ -253,7 +261,16 @@ fn fanuc_semicolon_ends_a_block_and_percent_headers() {
         name: "t.nc".into(),
         text: "G0 X30;G0 Z5;G0 Q@\n".into(),
     };
-    let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
+    let e = interpret_with(
+        &src,
+        Dialect::Fanuc,
+        &|_| None,
+        &Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        },
+    )
+    .unwrap_err();
     assert_eq!((e.line, e.col), (1, 18), "{e}");
 }
 
@@ -306,7 +323,7 @@ fn fanuc_gcode_systems_b_and_c_read_as_system_a() {
     for (system, text, in_a) in cases {
         let s = Settings {
             gcode_system: system,
-            ..Settings::default()
+            ..Settings::in_mm()
         };
         let got = run_s(text, Dialect::Fanuc, s);
         let want = run(in_a, Dialect::Fanuc);
@@ -385,7 +402,16 @@ fn one_block_g76_of_haas_and_0t() {
         name: "t.nc".into(),
         text: "G0 X30 Z5\nG76 X24 Z-20 K1.2 F2\n".into(),
     };
-    let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
+    let e = interpret_with(
+        &src,
+        Dialect::Fanuc,
+        &|_| None,
+        &Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        },
+    )
+    .unwrap_err();
     assert!(e.message.contains("needs D"), "{e}");
 }
 
@@ -415,7 +441,7 @@ fn linuxcnc_tapered_g33_k_is_along_the_path() {
 
 #[test]
 fn fanuc_g53_moves_in_machine_coordinates_at_rapid() {
-    let mut s = Settings::default();
+    let mut s = Settings::in_mm();
     s.work_offsets[0] = (0.0, -100.0);
     let t = run_s(
         "G0 X30 Z5\nG1 F0.2 Z2\nG53 X100 Z0\nG53 X40\nG0 Z1\nM30\n",
@@ -442,7 +468,7 @@ fn fanuc_g30_goes_to_the_second_reference_point() {
     let s = Settings {
         reference_point: Some((300.0, 200.0)),
         second_reference_point: Some((150.0, 100.0)),
-        ..Settings::default()
+        ..Settings::in_mm()
     };
     // (program, end points) from (X30, Z5): the intermediate point, then the named axes.
     let cases: [(&str, Vec<(f64, f64)>); 3] = [
@@ -472,7 +498,16 @@ fn fanuc_g30_goes_to_the_second_reference_point() {
         name: "t.nc".into(),
         text: "G30 P3 U0\n".into(),
     };
-    let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
+    let e = interpret_with(
+        &src,
+        Dialect::Fanuc,
+        &|_| None,
+        &Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        },
+    )
+    .unwrap_err();
     assert!(e.message.contains("G30 P3"), "{e}");
 }
 
@@ -487,6 +522,15 @@ fn a_long_line_of_blocks_runs_every_block() {
         name: "t.nc".into(),
         text: format!("{text}G0 Q@\n"),
     };
-    let e = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap_err();
+    let e = interpret_with(
+        &src,
+        Dialect::Fanuc,
+        &|_| None,
+        &Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        },
+    )
+    .unwrap_err();
     assert_eq!((e.line, e.col), (1, 5), "{e}");
 }

@@ -52,6 +52,10 @@ pub(super) struct Config {
     pub(super) limits: Limits,
     /// A FANUC milling program (`Settings::mill`).
     pub(super) milling: bool,
+    /// How FANUC/GSK numbers without a decimal point are read.
+    pub(super) decimal_point: super::DecimalPoint,
+    /// The least input increment.
+    pub(super) increment: super::InputIncrement,
 }
 
 /// The programs of a run.
@@ -77,6 +81,12 @@ pub(super) struct Modal {
     pub(super) per_rev: bool,
     /// The modal feed F (`None` before any F).
     pub(super) feed: Option<f64>,
+    /// The modal F was written without a decimal point (FANUC/GSK): a tap's pitch taken
+    /// from it is refused in standard decimal-point input (`Interp::lead_word`).
+    pub(super) feed_plain: bool,
+    /// The program selected the units itself (G20/G21, G70/G71): a lead that looks like
+    /// inches then gets no warning about the power-on units.
+    pub(super) units_set: bool,
     /// G96 constant surface speed (else G97 rpm).
     pub(super) css: bool,
     /// The last S value.
@@ -169,6 +179,13 @@ pub(super) struct Output {
     pub(super) blocks: u64,
     /// Warnings of the block being run: (column, message).
     pub(super) pending: Vec<(usize, String)>,
+    /// Warnings of the block being run with their own hint: (column, message, hint).
+    pub(super) notes: Vec<(usize, String, String)>,
+    /// A warning that plain numbers look meant for the other decimal-point input was given
+    /// (once a run).
+    pub(super) units_noted: bool,
+    /// A warning that a lead looks like inches was given (once a run).
+    pub(super) inch_noted: bool,
 }
 
 /// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
@@ -200,6 +217,8 @@ impl<'l> Interp<'l> {
                 block_skip: opts.settings.block_skip,
                 limits: opts.limits,
                 milling: opts.settings.mill.is_some(),
+                decimal_point: opts.settings.decimal_point,
+                increment: opts.settings.input_increment,
             },
             progs: Programs {
                 loader,
@@ -210,10 +229,16 @@ impl<'l> Interp<'l> {
             modal: Modal {
                 motion: 0,
                 incremental: false,
-                inch: false,
-                diameter_mode: dialect != Dialect::Linuxcnc,
-                per_rev: true,
+                inch: opts.settings.power_on.inch,
+                diameter_mode: opts
+                    .settings
+                    .power_on
+                    .diameter
+                    .unwrap_or(dialect != Dialect::Linuxcnc),
+                per_rev: !opts.settings.power_on.per_minute,
                 feed: None,
+                feed_plain: false,
+                units_set: false,
                 css: false,
                 speed: None,
                 tool: None,
@@ -258,6 +283,9 @@ impl<'l> Interp<'l> {
                 too_many_moves: false,
                 blocks: 0,
                 pending: Vec::new(),
+                notes: Vec::new(),
+                units_noted: false,
+                inch_noted: false,
             },
             lc: Default::default(),
             mill: opts.settings.mill.clone().map(mill::MillState::new),

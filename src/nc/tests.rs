@@ -14,7 +14,16 @@ fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
         name: "T.NC".into(),
         text: text.into(),
     };
-    interpret(&src, dialect, &|_| None, Limits::default())
+    interpret_with(
+        &src,
+        dialect,
+        &|_| None,
+        &Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        },
+    )
+    .map(|t| t.moves)
 }
 
 /// `controllers.md` 2.3's worked schedule: k = 1.30, dd = 0.45, dmin = 0.10, d = 0.05
@@ -157,6 +166,7 @@ fn run_opts(text: &str, dialect: Dialect, strict: bool) -> Result<Toolpath, NcEr
     };
     let opts = Options {
         strict,
+        settings: Settings::in_mm(),
         ..Options::default()
     };
     interpret_with(&src, dialect, &|_| None, &opts)

@@ -75,7 +75,8 @@ pub(crate) fn interpret(
 }
 
 /// What a lathe program gives: its passes, the joints of its thread chains (pass indices
-/// counted from the program's first pass) and each pass's thread block.
+/// counted from the program's first pass), each pass's thread block, and the warnings of
+/// the blocks it leaves out.
 #[derive(Debug, Default)]
 pub(crate) struct LathePasses {
     /// The passes, in program order.
@@ -84,6 +85,21 @@ pub(crate) struct LathePasses {
     pub(crate) links: Vec<ChainLink>,
     /// Each pass's thread block: file and 1-based line.
     pub(crate) blocks: Vec<(String, usize)>,
+    /// Warnings about blocks as a whole (a tap's blocks, not simulated), in program order.
+    pub(crate) warnings: Vec<StageWarning>,
+}
+
+/// A warning of the program stage about a block as a whole (its column is 0).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct StageWarning {
+    /// The program file.
+    pub(crate) file: String,
+    /// 1-based line of the block.
+    pub(crate) line: usize,
+    /// What it is about.
+    pub(crate) message: String,
+    /// What to do about it.
+    pub(crate) hint: String,
 }
 
 /// Turn a lathe program's thread moves into passes of `tools` (by the move's T number, or
@@ -108,27 +124,42 @@ pub(crate) fn lathe_passes(
         .filter(goes)
     {
         // A thread move along the spindle axis is a tap's (G84, G33.1, G331/G332, CYCLE84,
-        // G32 at X0): a threading tool's pass there would cut the whole part away.
+        // G32 at X0): a threading tool's pass there would cut the whole part away, and there
+        // is no tap tool yet. The block is left out with a warning (once a block); the
+        // program's other threads are simulated.
         if m.x_start.abs() < 1e-9 && m.x_dia.abs() < 1e-9 {
-            return Err(fail(
-                m,
-                "rigid tapping (a thread move along the spindle axis, X0) needs a tap, which \
-                 vpcut does not simulate yet; `vpcut toolpath` lists its moves"
-                    .to_string(),
-            ));
+            let seen = out
+                .warnings
+                .iter()
+                .any(|w| (w.file.as_str(), w.line) == (m.file.as_str(), m.line));
+            if !seen {
+                out.warnings.push(StageWarning {
+                    file: m.file.clone(),
+                    line: m.line,
+                    message: "tapping (a thread move along the spindle axis, X0) is not simulated: vpcut has no tap tool yet, so this block's moves cut nothing".into(),
+                    hint: "the program's other thread blocks are simulated; `vpcut toolpath` lists the tap's moves".into(),
+                });
+            }
+            continue;
         }
         let tool = match m.tool {
             Some(id) => tools.iter().position(|t| t.id == id),
             None if tools.len() == 1 => Some(0),
             None => None,
         }
-        .ok_or_else(|| {
-            let why = if turning.iter().any(|t| Some(t.id) == m.tool) {
-                "a turning tool (kind = \"turning\"): threading needs a threading tool"
-            } else {
-                "which the job's [[tool]] list does not define"
-            };
-            fail(m, format!("threading with tool {:?}, {why}", m.tool))
+        .ok_or_else(|| match m.tool {
+            None => fail(
+                m,
+                "a thread move without a T word in a job with several [[tool]]s: select the threading tool with a T word".into(),
+            ),
+            Some(t) => {
+                let why = if turning.iter().any(|tt| tt.id == t) {
+                    "a turning tool (kind = \"turning\"): threading needs a threading tool"
+                } else {
+                    "which the job's [[tool]] list does not define"
+                };
+                fail(m, format!("threading with tool {t}, {why}"))
+            }
         })?;
         let angle = m.sync_angle_deg.unwrap_or(0.0).to_radians();
         let pass = Pass {
@@ -165,6 +196,79 @@ pub(crate) fn lathe_passes(
         out.passes.push(pass);
     }
     Ok(out)
+}
+
+/// How many times the blank's size a program's coordinates must exceed (or fall short
+/// of) to be read as written for other units: two orders of magnitude. A tool change point
+/// or a G53 machine position is often ten blank diameters away; a standard-input program
+/// read as calculator-type (`X60640`) is a thousand.
+const ORDERS: f64 = 100.0;
+
+/// The hint of a program whose numbers are off the blank by orders of magnitude.
+const UNITS_HINT: &str = "the program's numbers are likely read in the wrong units: check [program] decimal_point (\"standard\": X30 is 0.030 mm; \"calculator\": 30 mm), input_increment (0.001 or 0.0001 mm) and units (\"mm\" or \"inch\" at power-on)";
+
+/// Warnings when a lathe program's coordinates are orders of magnitude off a blank of
+/// diameter `diameter` over `z_span` (mm): the first move that ends more than [`ORDERS`]
+/// times the blank's size away from it, and thread moves that all stay within a
+/// hundredth of the blank's diameter from the axis (not taps on it). Either is what a
+/// program read with the wrong decimal-point input, least input increment or units does.
+pub(crate) fn scale_warnings(
+    moves: &[nc::Move],
+    diameter: f64,
+    z_span: (f64, f64),
+) -> Vec<StageWarning> {
+    let mut out = Vec::new();
+    let size = diameter.max(z_span.1 - z_span.0);
+    let far = moves.iter().find(|m| {
+        m.x_dia.abs() > ORDERS * diameter
+            || m.z > z_span.1 + ORDERS * size
+            || m.z < z_span.0 - ORDERS * size
+    });
+    if let Some(m) = far {
+        out.push(StageWarning {
+            file: m.file.clone(),
+            line: m.line,
+            message: format!(
+                "this move ends at X{} Z{}, more than {ORDERS} times the blank's size ({diameter} mm diameter, {} mm long) away from it",
+                round(m.x_dia),
+                round(m.z),
+                round(z_span.1 - z_span.0)
+            ),
+            hint: UNITS_HINT.into(),
+        });
+    }
+    let threads: Vec<&nc::Move> = moves
+        .iter()
+        .filter(|m| m.kind == MoveKind::Thread)
+        .filter(|m| m.x_start.abs() >= 1e-9 || m.x_dia.abs() >= 1e-9)
+        .collect();
+    let widest = threads
+        .iter()
+        .map(|m| m.x_start.abs().max(m.x_dia.abs()))
+        .fold(0.0, f64::max);
+    if let Some(m) = threads.first().filter(|_| widest < diameter / ORDERS) {
+        out.push(StageWarning {
+            file: m.file.clone(),
+            line: m.line,
+            message: format!(
+                "every thread move lies within {} mm of the axis (diameter) of a blank {diameter} mm across: the thread is cut nowhere near the blank",
+                round(widest)
+            ),
+            hint: UNITS_HINT.into(),
+        });
+    }
+    out
+}
+
+/// A coordinate for a message (at most 4 decimals, no trailing zeros).
+fn round(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
 }
 
 /// The stock one surface had before the program: the blank's signed radius `q_blank` over

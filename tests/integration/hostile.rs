@@ -18,7 +18,8 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::time::{Duration, Instant};
 use vpcut::{
-    decode_program, interpret_with, Dialect, Limits, NcError, NcOptions, Source, Toolpath,
+    decode_program, interpret_with, DecimalPoint, Dialect, Limits, NcError, NcOptions, Settings,
+    Source, Toolpath,
 };
 
 const F: Dialect = Dialect::Fanuc;
@@ -35,8 +36,14 @@ fn nc_with(dialect: Dialect, text: &str, limits: Limits) -> Result<Toolpath, NcE
         name: "P.NC".into(),
         text: text.into(),
     };
+    // The programs here write plain numbers in mm (`G0 X50 Z5`): a FANUC/GSK machine with
+    // calculator-type decimal-point input (standard input is `units_tests`' subject).
     let opts = NcOptions {
         limits,
+        settings: Settings {
+            decimal_point: DecimalPoint::Calculator,
+            ..Settings::default()
+        },
         ..NcOptions::default()
     };
     let t = Instant::now();

@@ -16,8 +16,8 @@ use crate::support::{blessing, root};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use vpcut::{
-    interpret_with, Dialect, MillMove, MillSettings, Move, MoveKind, NcOptions, Settings, Severity,
-    Source, Spindle, Toolpath,
+    interpret_with, DecimalPoint, Dialect, InputIncrement, MillMove, MillSettings, Move, MoveKind,
+    NcOptions, Settings, Severity, Source, Spindle, Toolpath,
 };
 
 /// The dialect folders and what they run as.
@@ -41,6 +41,37 @@ fn mill_settings() -> MillSettings {
         length_offsets: vec![10],
         home_z: 100.0,
     }
+}
+
+/// The machine settings a program is written for, from its `.moves` header's
+/// `# settings: key = value, ...` line (the `[program]` keys of a job: `decimal_point`,
+/// `input_increment`, `units`, `feed_mode`, `x_mode`, `main`), over `base`.
+fn header_settings(header: &str, mut base: Settings) -> Settings {
+    for line in header.lines() {
+        let Some(rest) = line
+            .trim_start_matches('#')
+            .trim()
+            .strip_prefix("settings:")
+        else {
+            continue;
+        };
+        for pair in rest.split(',') {
+            let (k, v) = pair.split_once('=').expect("settings: key = value");
+            let (k, v) = (k.trim(), v.trim().trim_matches('"'));
+            match k {
+                "decimal_point" => base.decimal_point = DecimalPoint::from_name(v).expect(v),
+                "input_increment" => {
+                    base.input_increment = InputIncrement::from_mm(v.parse().expect(v)).expect(v)
+                }
+                "units" => base.power_on.inch = v == "inch",
+                "feed_mode" => base.power_on.per_minute = v == "per-minute",
+                "x_mode" => base.power_on.diameter = Some(v == "diameter"),
+                "main" => base.main = Some(v.to_string()),
+                _ => panic!("unknown setting `{k}` in a .moves header"),
+            }
+        }
+    }
+    base
 }
 
 /// A number rounded to 6 decimals, trailing zeros dropped (`-0` reads `0`).
@@ -209,15 +240,6 @@ fn nc_programs_give_their_reviewed_moves() {
                         text,
                     })
             };
-            let opts = NcOptions {
-                settings: Settings {
-                    mill: mill.then(mill_settings),
-                    ..Settings::default()
-                },
-                ..NcOptions::default()
-            };
-            let result = interpret_with(&main, dialect, &loader, &opts).map_err(Box::new);
-            let got = render(&result);
             let expect_path = path.with_extension("moves");
             let old = std::fs::read_to_string(&expect_path).unwrap_or_default();
             let header: String = old
@@ -225,6 +247,18 @@ fn nc_programs_give_their_reviewed_moves() {
                 .take_while(|l| l.starts_with('#'))
                 .map(|l| format!("{l}\n"))
                 .collect();
+            let opts = NcOptions {
+                settings: header_settings(
+                    &header,
+                    Settings {
+                        mill: mill.then(mill_settings),
+                        ..Settings::default()
+                    },
+                ),
+                ..NcOptions::default()
+            };
+            let result = interpret_with(&main, dialect, &loader, &opts).map_err(Box::new);
+            let got = render(&result);
             let body: String = old
                 .lines()
                 .skip_while(|l| l.starts_with('#'))

@@ -399,14 +399,25 @@ fn a_closed_pipe_ends_quietly() {
     let program = root().join("scenes/seed004-tr100x12-macro-b/TR100X12.NC");
     let plan = root().join("tests/data/plans/seed002-equal-tooth.toml");
     let runs: Vec<Vec<&str>> = vec![
+        // The seed's program writes plain numbers in mm (its job says decimal_point =
+        // "calculator").
         vec![
             "toolpath",
             program.to_str().unwrap(),
             "--dialect",
             "fanuc",
+            "--decimal-point",
+            "calculator",
             "--json",
         ],
-        vec!["toolpath", program.to_str().unwrap(), "--dialect", "fanuc"],
+        vec![
+            "toolpath",
+            program.to_str().unwrap(),
+            "--dialect",
+            "fanuc",
+            "--decimal-point",
+            "calculator",
+        ],
         vec!["simulate", "job.toml"],
         vec!["simulate", "job.toml", "--report", "-", "-q"],
         vec!["plan", plan.to_str().unwrap(), "--dialect", "fanuc"],
@@ -720,7 +731,7 @@ fn subprograms_are_named_by_their_file() {
     let d = tmp_dir();
     std::fs::write(
         d.join("MAIN.NC"),
-        "O0001\nG0 X30 Z5\nM98 P2\nM30\nO0002\nG32 X26 Z-20 F2\nM77\nG0 X30\nM99\n",
+        "O0001\nG0 X30. Z5.\nM98 P2\nM30\nO0002\nG32 X26. Z-20. F2.\nM77\nG0 X30.\nM99\n",
     )
     .unwrap();
     let out = vpcut_in(&d, &["toolpath", "MAIN.NC", "--dialect", "fanuc"]);
@@ -842,12 +853,12 @@ fn sarif_points_pass_checks_at_their_thread_blocks() {
     std::fs::write(d.join("job.toml"), toml).unwrap();
     for (program, rule, line) in [
         (
-            "M03\nG0 X29 Z5\nG32 Z-7 F2\nG0 X31\nG0 X29\nG32 Z-20 F3\nM30\n",
+            "M03\nG0 X29. Z5.\nG32 Z-7. F2.\nG0 X31.\nG0 X29.\nG32 Z-20. F3.\nM30\n",
             "run_in",
             6,
         ),
         (
-            "M03\nG0 X29 Z5\nG32 Z-7 F2\nG32 Z-20 F3\nM30\n",
+            "M03\nG0 X29. Z5.\nG32 Z-7. F2.\nG32 Z-20. F3.\nM30\n",
             "thread_chain",
             4,
         ),

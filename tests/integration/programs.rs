@@ -112,9 +112,15 @@ fn program_errors_name_file_line_and_caller() {
     assert!(err.contains("called from MAIN.MPF:2"), "{err}");
 }
 
-/// The seed003 job with its program replaced by `program` and `[program]` keys added.
+/// The seed003 job with its program replaced by `program` and `[program]` keys added. The
+/// programs of these tests write plain numbers in mm (`G0 X60 Z3`, `F2`): the job says the
+/// machine reads them so (`decimal_point = "calculator"`; `units_tests` and
+/// `machine_settings_*` test standard input).
 fn program_job(program: &str, keys: &[(&str, &str)]) -> Result<vpcut::Job, vpcut::JobError> {
-    let mut edits = vec![("program", "file", "\"T.NC\"")];
+    let mut edits = vec![
+        ("program", "file", "\"T.NC\""),
+        ("program", "decimal_point", "\"calculator\""),
+    ];
     edits.extend(keys.iter().map(|(k, v)| ("program", *k, *v)));
     let text = with(&crate::support::scene_text("seed003-g76-2in-12tpi"), &edits);
     let program = program.to_string();
@@ -193,49 +199,62 @@ fn g55_work_offset_shifts_a_g32_pass() {
     );
 }
 
-/// Rigid tapping runs in the interpreter (its moves are thread moves along the axis) but a
-/// job that simulates it is refused at the tapping block, whatever the code: a threading
-/// tool's pass at X0 would cut the whole part away (vpcut has no tap tool yet).
+/// Rigid tapping runs in the interpreter (its moves are thread moves along the axis); a job
+/// whose program also taps (with another tool) simulates its thread and leaves the tapping
+/// block out with a warning at that block, whatever the code (vpcut has no tap tool yet: a
+/// threading tool's pass at X0 would cut the whole part away). Issue 30: it used to stop
+/// the whole job. Oracle: the same program without its tapping blocks gives the same pass.
 #[test]
-fn tapping_blocks_are_refused_by_the_simulation_at_their_line() {
+fn tapping_blocks_are_warned_and_the_thread_is_simulated() {
     let cases = [
         (
             "fanuc",
             "G0 X60 Z3\nG32 Z-20 F2\nG0 X0 Z5\nM29 S300\nG84 Z-10 R-2 F1.5\nG80\nM30\n",
-            5,
+            &[5][..],
         ),
         (
             "fanuc",
             "G0 X60 Z3\nG32 Z-20 F2\nG0 X0 Z5\nG32 Z-10 F1.5\nM30\n",
-            4,
+            &[4],
         ),
         (
             "linuxcnc",
             "G7 G0 X60 Z3\nG33 Z-20 K2\nG0 X0 Z5\nG33.1 Z-10 K1.5\nM2\n",
-            4,
+            &[4],
         ),
         (
             "siemens-840d",
             "G0 X60 Z3\nG33 Z-20 K2\nG0 X0 Z5\nSPOS=0\nG331 Z-10 K1.5 S300\nG332 Z5 K1.5\nM30\n",
-            5,
+            // G331 in and G332 out: two blocks, each warned.
+            &[5, 6],
         ),
     ];
-    for (dialect, prog, line) in cases {
+    for (dialect, prog, lines) in cases {
         let d = format!("\"{dialect}\"");
-        let err = program_job(prog, &[("dialect", &d)])
-            .unwrap_err()
-            .to_string();
+        let job = program_job(prog, &[("dialect", &d)]).unwrap_or_else(|e| panic!("{e}"));
+        let taps: Vec<_> = job
+            .program_warnings
+            .iter()
+            .filter(|w| w.message.contains("tapping"))
+            .collect();
+        let at: Vec<(&str, usize, vpcut::Severity)> = taps
+            .iter()
+            .map(|w| (w.file.as_str(), w.line, w.severity))
+            .collect();
+        let want: Vec<(&str, usize, vpcut::Severity)> = lines
+            .iter()
+            .map(|&l| ("T.NC", l, vpcut::Severity::Warning))
+            .collect();
+        assert_eq!(at, want, "{dialect}: {:?}", job.program_warnings);
         assert!(
-            err.contains("rigid tapping") && err.contains(&format!("T.NC:{line}")),
-            "{dialect}: {err}"
-        );
-        // Without the tapping blocks the same program simulates its thread.
-        let cut: String = prog.lines().take(2).map(|l| format!("{l}\n")).collect();
-        assert_eq!(
-            program_job(&cut, &[("dialect", &d)]).unwrap().passes.len(),
-            1,
+            taps.iter().all(|w| w.message.contains("not simulated")),
             "{dialect}"
         );
+        // Without the tapping blocks the same program simulates the same thread.
+        let cut: String = prog.lines().take(2).map(|l| format!("{l}\n")).collect();
+        let alone = program_job(&cut, &[("dialect", &d)]).unwrap();
+        assert_eq!(job.passes, alone.passes, "{dialect}");
+        assert_eq!(job.passes.len(), 1, "{dialect}");
     }
 }
 
@@ -273,7 +292,7 @@ fn toolpath_json_names_arcs_with_their_centre() {
     let dir = std::env::temp_dir().join(format!("vpcut-arc-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("ARC.NC");
-    std::fs::write(&file, "G0 X0 Z0 F0.2\nG03 X20 Z-10 R10\nM30\n").unwrap();
+    std::fs::write(&file, "G0 X0 Z0 F0.2\nG03 X20. Z-10. R10.\nM30\n").unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
         .args([
             "toolpath",
@@ -325,7 +344,7 @@ fn thread_chain_finding_in_the_report() {
         let job = vpcut::Job::from_toml_with(toml, "t.toml", &load).unwrap();
         simulate(&job, &SimOptions::default()).unwrap().report
     };
-    let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG32 Z-20 F3\nM30\n");
+    let r = report("M03\nG0 X29. Z5.\nG32 Z-7. F2.\nG32 Z-20. F3.\nM30\n");
     let chain: Vec<_> = r
         .findings
         .iter()
@@ -351,7 +370,7 @@ fn thread_chain_finding_in_the_report() {
         "{:?}",
         r.findings
     );
-    let r = report("M03\nG0 X29 Z5\nG32 Z-7 F2\nG0 X31\nG0 X29\nG32 Z-20 F3\nM30\n");
+    let r = report("M03\nG0 X29. Z5.\nG32 Z-7. F2.\nG0 X31.\nG0 X29.\nG32 Z-20. F3.\nM30\n");
     assert!(r
         .findings
         .iter()
@@ -363,4 +382,113 @@ fn thread_chain_finding_in_the_report() {
         .collect();
     assert_eq!(run_in.len(), 1, "{:?}", r.findings);
     assert_eq!((run_in[0].pass, run_in[0].value), (Some(2), Some(0.0)));
+}
+
+/// Issue 30: the machine settings a program relies on come from `[program]`. Oracle: the
+/// seed003 scene, whose program says G20 itself, cut by the same program without G20 on a
+/// machine in inch at power-on (`units = "inch"`): the same passes. Without the setting its
+/// 0.083333 lead reads as millimetres and is warned (12 threads per inch).
+#[test]
+fn machine_settings_of_the_program_table() {
+    let scene = crate::support::scene_job("seed003-g76-2in-12tpi");
+    let text = std::fs::read_to_string(
+        crate::support::root().join("scenes/seed003-g76-2in-12tpi/G76-2IN-12TPI.NC"),
+    )
+    .unwrap();
+    let no_g20: String = text
+        .lines()
+        .filter(|l| l.trim() != "G20")
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let standard = ("decimal_point", "\"standard\"");
+    let inch = program_job(&no_g20, &[standard, ("units", "\"inch\"")]).unwrap();
+    assert_eq!(inch.passes, scene.passes);
+    assert!(
+        inch.program_warnings.is_empty(),
+        "{:?}",
+        inch.program_warnings
+    );
+    let mm = program_job(&no_g20, &[standard]).unwrap();
+    let w: Vec<&str> = mm
+        .program_warnings
+        .iter()
+        .map(|w| w.message.as_str())
+        .collect();
+    assert!(w.iter().any(|m| m.contains("12 threads per inch")), "{w:?}");
+}
+
+/// Numbers orders of magnitude off the blank (2 in, 50.8 mm): plain `X49` read in standard
+/// input is 0.049 mm, so every thread move lies within a hundredth of the blank's diameter of
+/// the axis; the FANUC manual's `X60640` read as calculator-type input is 60640 mm, more than
+/// 100 times the blank away. Both are warned at the block with the settings to check; the
+/// job still loads (the report shows what it cuts).
+#[test]
+fn numbers_orders_of_magnitude_off_the_blank_are_warned() {
+    let standard = ("decimal_point", "\"standard\"");
+    let job = program_job("G0 X55 Z5\nG92 X49 Z-20 F2.\nM30\n", &[standard]).unwrap();
+    let near: Vec<_> = job
+        .program_warnings
+        .iter()
+        .filter(|w| w.message.contains("of the axis"))
+        .collect();
+    assert_eq!(near.len(), 1, "{:?}", job.program_warnings);
+    assert_eq!((near[0].line, near[0].col), (2, 0));
+    assert!(near[0].message.contains("0.049 mm"), "{}", near[0]);
+    assert!(near[0].hint.as_deref().unwrap().contains("decimal_point"));
+    // The interpreter's own warning at the first plain axis word.
+    assert!(job
+        .program_warnings
+        .iter()
+        .any(|w| w.line == 1 && w.message.contains("X55 has no decimal point")));
+    let manual = "G00 X80.0 Z130.0\nG76 P011060 Q100 R200\nG76 X60640 Z25000 P3680 Q1800 F6.0\n";
+    let job = program_job(manual, &[("decimal_point", "\"calculator\"")]).unwrap();
+    let far: Vec<_> = job
+        .program_warnings
+        .iter()
+        .filter(|w| w.message.contains("times the blank's size"))
+        .collect();
+    assert_eq!(far.len(), 1, "{:?}", job.program_warnings);
+    assert_eq!(far[0].line, 3);
+    // Read as the manual means it (standard input): no such warning.
+    let job = program_job(manual, &[standard]).unwrap();
+    assert!(
+        !job.program_warnings
+            .iter()
+            .any(|w| w.message.contains("blank")),
+        "{:?}",
+        job.program_warnings
+    );
+}
+
+/// `main` picks the main program of a file with several; without it the one that ends in
+/// M30 and that no other calls runs (here O1000, stored after its subprogram: three passes).
+/// Bad values of the new keys name their key and what is expected.
+#[test]
+fn main_program_and_setting_errors() {
+    let file = "O0100\nG0 X48. Z3.\nG32 Z-17. F2.\nG0 X50.\nZ3.\nM99\nO1000\nM98 P30100\nM30\n";
+    assert_eq!(program_job(file, &[]).unwrap().passes.len(), 3);
+    let job = program_job(file, &[("main", "\"O100\"")]).unwrap();
+    assert_eq!(job.passes.len(), 1);
+    assert!(job
+        .program_warnings
+        .iter()
+        .any(|w| w.message.contains("M99 ends the main program")));
+    for (key, value, want) in [
+        ("decimal_point", "\"dpi\"", "\"standard\""),
+        ("input_increment", "0.01", "0.0001"),
+        ("units", "\"cm\"", "\"inch\""),
+        ("feed_mode", "\"per-second\"", "\"per-minute\""),
+        ("x_mode", "\"chord\"", "\"radius\""),
+        ("main", "\"MAIN\"", "O1000"),
+    ] {
+        let e = program_job(file, &[(key, value)]).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("program.{key}")) && e.contains(want),
+            "{key}: {e}"
+        );
+    }
+    let e = program_job(file, &[("main", "\"O2000\"")])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no program O2000"), "{e}");
 }

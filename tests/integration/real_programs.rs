@@ -3,7 +3,9 @@
 //! (every word understood, no warning) and makes the number of thread moves derived by hand
 //! in the README.
 
-use vpcut::{interpret_with, Dialect, GcodeSystem, MoveKind, NcOptions, Settings, Source};
+use vpcut::{
+    interpret_with, DecimalPoint, Dialect, GcodeSystem, MoveKind, NcOptions, Settings, Source,
+};
 
 /// (file, dialect, G-code system, thread moves)
 const CORPUS: [(&str, Dialect, GcodeSystem, usize); 11] = [
@@ -60,10 +62,18 @@ fn every_corpus_program_runs_strictly_with_its_thread_moves() {
             name: file.into(),
             text,
         };
+        // Two programs write plain numbers in mm (`G0 X30 Z5`, `F2`): a machine with
+        // calculator-type decimal-point input (README.md).
+        let calculator = ["fanuc-one-line-tape.nc", "gsk-g32-passes.nc"].contains(&file);
         let opts = NcOptions {
             strict: true,
             settings: Settings {
                 gcode_system: system,
+                decimal_point: if calculator {
+                    DecimalPoint::Calculator
+                } else {
+                    DecimalPoint::Standard
+                },
                 ..Settings::default()
             },
             ..NcOptions::default()

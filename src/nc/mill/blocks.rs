@@ -115,8 +115,10 @@ impl Interp<'_> {
                     }
                     st.plane = plane;
                 }
-                20 => self.modal.inch = true,
-                21 => self.modal.inch = false,
+                20 | 21 => {
+                    self.modal.inch = g == 20;
+                    self.modal.units_set = true;
+                }
                 40 => once.comp = Some(None),
                 41 => once.comp = Some(Some(CompSide::Left)),
                 42 => once.comp = Some(Some(CompSide::Right)),
@@ -157,7 +159,7 @@ impl Interp<'_> {
             st.feed = Some(f * scale);
         }
         self.mill_registers(st, w, &once)?;
-        let step = self.mill_motion(st, w, prog, pc, &once, scale)?;
+        let step = self.mill_motion(st, w, prog, pc, &once)?;
         if w.m.contains(&5) {
             st.spindle = None;
         }
@@ -229,21 +231,26 @@ impl Interp<'_> {
         prog: &Program,
         pc: usize,
         once: &OneShot,
-        scale: f64,
     ) -> Result<Step, Fail> {
         let offset = st.settings.work_offsets[st.work];
         let mut target = st.pos;
         let mut named = false;
+        // Lengths as FANUC reads them (decimal-point input, `units`).
         for (k, axis) in ["X", "Y", "Z"].into_iter().enumerate() {
-            if let Some(&(v, _)) = w.vals.get(axis) {
+            if let Some(v) = self.length(w, axis) {
                 named = true;
                 target[k] = if st.incremental {
-                    st.pos[k].map(|p| p + v * scale)
+                    st.pos[k].map(|p| p + v)
                 } else {
-                    Some(v * scale + offset[k])
+                    Some(v + offset[k])
                 };
             }
         }
+        let arc_words: Vec<(&str, f64)> = ["R", "I", "J", "K"]
+            .into_iter()
+            .filter_map(|k| self.length(w, k).map(|v| (k, v)))
+            .collect();
+        let length = |k: &str| arc_words.iter().find(|a| a.0 == k).map(|a| a.1);
         // The tip's Z without tool length compensation.
         if once.g49 || !st.length {
             if let Some(&(v, col)) = w.vals.get("Z") {
@@ -295,7 +302,7 @@ impl Interp<'_> {
         let from = [x0, y0, start[2].unwrap_or(st.settings.home_z)];
         let to = [to[0], to[1], to[2]];
         let arc = if kind == MillKind::Arc {
-            Some(arc_circle(st.plane, st.motion == 2, w, from, to, scale)?)
+            Some(arc_circle(st.plane, st.motion == 2, w, from, to, &length)?)
         } else {
             None
         };
@@ -390,7 +397,7 @@ fn arc_circle(
     w: &Words,
     a: [f64; 3],
     b: [f64; 3],
-    scale: f64,
+    length: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<MillArc, Fail> {
     let g = if cw { 2 } else { 3 };
     let (pa, pb) = (plane.uv(a), plane.uv(b));
@@ -402,8 +409,8 @@ fn arc_circle(
         Plane::Zx => ["K", "I"],
         Plane::Yz => ["J", "K"],
     };
-    let centre = if let Some(&(r, col)) = w.vals.get("R") {
-        let r = r * scale;
+    let centre = if let Some(&(_, col)) = w.vals.get("R") {
+        let r = length("R").unwrap_or(0.0);
         if full || r == 0.0 {
             return Err((col, format!("G{g:02} with R: expected a nonzero radius and an end point away from the start in the plane (a full circle needs {}/{})", words[0], words[1])));
         }
@@ -413,7 +420,7 @@ fn arc_circle(
         let c = radius_centre((pa[0], pa[1]), (pb[0], pb[1]), r, cw);
         [c.0, c.1]
     } else if words.iter().any(|k| w.vals.contains_key(*k)) {
-        let off = words.map(|k| w.vals.get(k).map_or(0.0, |v| v.0) * scale);
+        let off = words.map(|k| length(k).unwrap_or(0.0));
         let c = [pa[0] + off[0], pa[1] + off[1]];
         let ra = (pa[0] - c[0]).hypot(pa[1] - c[1]);
         let rb = (pb[0] - c[0]).hypot(pb[1] - c[1]);

@@ -25,7 +25,7 @@ fn mill(text: &str) -> Result<Toolpath, NcError> {
     let opts = Options {
         settings: Settings {
             mill: Some(settings()),
-            ..Settings::default()
+            ..Settings::in_mm()
         },
         ..Options::default()
     };
@@ -330,7 +330,16 @@ fn static_check_in_mill_mode() {
         name: "L.NC".into(),
         text: "G0 X10 Y5 D3 Z2\nM30\n".into(),
     };
-    let t = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default()).unwrap();
+    let t = interpret_with(
+        &src,
+        Dialect::Fanuc,
+        &|_| None,
+        &Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        },
+    )
+    .unwrap();
     assert_eq!(t.warnings.len(), 2);
     // Other dialects are not milled.
     let src = Source {
@@ -340,7 +349,7 @@ fn static_check_in_mill_mode() {
     let opts = Options {
         settings: Settings {
             mill: Some(settings()),
-            ..Settings::default()
+            ..Settings::in_mm()
         },
         ..Options::default()
     };
