@@ -64,6 +64,8 @@ pub struct GaugeElementInfo {
     pub limit_mm: f64,
     /// The measured value (mm).
     pub value_mm: Option<f64>,
+    /// The resolution its call used (mm).
+    pub resolution_mm: f64,
     /// `pass`, `fail`, `undecided` or `not_measured`.
     pub verdict: &'static str,
 }
@@ -250,7 +252,7 @@ pub(crate) fn add_gauge(
             (Call::Undecided, Some(v)) => format!(
                 "{what} {} is within the simulation's resolution ({} mm) of the {} {end} {}: undecided",
                 dia(v, class),
-                small(g.resolution),
+                small(e.resolution),
                 class.designation,
                 dia(e.limit, class)
             ),
@@ -331,6 +333,7 @@ pub(crate) fn add_gauge(
                 limit: if e.upper { "max" } else { "min" },
                 limit_mm: r6(e.limit),
                 value_mm: e.value.map(r6),
+                resolution_mm: r6(e.resolution),
                 verdict: e.call.name(),
             })
             .collect(),
