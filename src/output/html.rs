@@ -252,6 +252,35 @@ fn summary(r: &Report) -> String {
             d.ideal_removed_volume_mm3
         ),
     );
+    if let Some(g) = &r.gauge {
+        fact(
+            "gauges",
+            format!(
+                "{}: {} (resolution {} mm)",
+                g.designation, g.verdict, g.resolution_mm
+            ),
+        );
+        for e in &g.elements {
+            fact(
+                &format!("{} ({}) mm", e.element.replace('_', " "), e.limit),
+                format!(
+                    "{} against {}: {}",
+                    e.value_mm.map_or("-".to_string(), |v| v.to_string()),
+                    e.limit_mm,
+                    e.verdict
+                ),
+            );
+        }
+        if let Some(w) = g.over_wires {
+            fact(
+                "over three wires mm",
+                format!(
+                    "{} .. {} over {} mm wires",
+                    w.measurement_mm.min, w.measurement_mm.max, w.wire_mm
+                ),
+            );
+        }
+    }
     fact("vpcut", r.vpcut_version.to_string());
     s.push_str("</dl>");
     s
