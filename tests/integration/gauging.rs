@@ -398,3 +398,44 @@ fn the_m30x2_programs_get_the_gauges_verdict() {
         assert!(moved.findings.is_empty(), "{to}: {:?}", moved.findings);
     }
 }
+
+/// Full-profile inserts (a round nose of 0.125P and 0.144P tangent to both flanks, ISO 965
+/// and B1.1's root radii) cutting the middle of the zone pass the gauges with no finding at
+/// the root: the class's root zone, not one flat, judges the root. The root diameter
+/// `X` of such an insert for the simple pitch diameter `d2`: its sharp V's apex lies `2r`
+/// below the nose's centre, `r` below its tip, and the V is P/2 wide `0.866025P` above the
+/// apex: `X = d2 - 0.866025P + 2r`.
+#[test]
+fn full_profile_inserts_cut_at_the_right_depth_pass() {
+    for (designation, bar) in [("M20x1.5-6g", 19.9), ("3/4-10 UNC-2A", 19.0)] {
+        for k in [0.125, 0.144] {
+            let text = |x: f64, r: f64, p: f64| {
+                format!(
+                    "[blank]\ndiameter = {bar}\nlength = 40.0\nz_front = 0.0\n\
+                     [thread]\ndesignation = \"{designation}\"\nturns = 8\n\
+                     [[tool]]\nid = 1\nkind = \"threading\"\nangle = 60.0\nnose_radius = {r}\nreference = \"tip\"\n\
+                     [[pass]]\ntool = 1\nx = {x}\nz_start = 4.0\nz_end = -34.0\nlead = {p}\n\
+                     [simulation]\naxial_spacing = 0.02\nangular_cells = 90\nmeasure_generators = 4\n"
+                )
+            };
+            // The class's pitch and zone first (the pass is derived from them).
+            let probe =
+                Job::from_toml(&text(10.0, 0.1, 1.0), "p.toml").unwrap_or_else(|e| panic!("{e}"));
+            let c = probe.thread_class.clone().expect("a class");
+            let (p, r) = (c.pitch, k * c.pitch);
+            let d2 = 0.5 * (c.pitch_diameter.min + c.pitch_diameter.max);
+            let x = d2 - 0.866025 * p + 2.0 * r;
+            let job = Job::from_toml(&text(x, r, p), "full.toml").unwrap_or_else(|e| panic!("{e}"));
+            let report = simulate_report(&job, &SimOptions::default()).unwrap();
+            let g = report.gauge.as_ref().unwrap();
+            assert_eq!(g.verdict, "pass", "{designation} {k}P: {g:?}");
+            assert!(
+                report.findings.is_empty(),
+                "{designation} {k}P: {:?}",
+                report.findings
+            );
+            let f = g.functional_diameter_mm.unwrap();
+            assert!((f - d2).abs() < 1e-3, "{designation} {k}P: {f} vs {d2}");
+        }
+    }
+}
