@@ -113,14 +113,17 @@ fn program_errors_name_file_line_and_caller() {
 }
 
 /// The seed003 job with its program replaced by `program` and `[program]` keys added. The
-/// programs of these tests write plain numbers in mm (`G0 X60 Z3`, `F2`): the job says the
-/// machine reads them so (`decimal_point = "calculator"`; `units_tests` and
-/// `machine_settings_*` test standard input).
+/// programs of these tests write plain numbers in mm (`G0 X60 Z3`, `F2`): for FANUC/GSK the
+/// job says the machine reads them so (`decimal_point = "calculator"`, unless the keys say
+/// otherwise; `units_tests` and `machine_settings_*` test standard input).
 fn program_job(program: &str, keys: &[(&str, &str)]) -> Result<vpcut::Job, vpcut::JobError> {
-    let mut edits = vec![
-        ("program", "file", "\"T.NC\""),
-        ("program", "decimal_point", "\"calculator\""),
-    ];
+    let fanuc = keys
+        .iter()
+        .all(|(k, v)| *k != "dialect" || v.contains("fanuc") || v.contains("gsk"));
+    let mut edits = vec![("program", "file", "\"T.NC\"")];
+    if fanuc {
+        edits.push(("program", "decimal_point", "\"calculator\""));
+    }
     edits.extend(keys.iter().map(|(k, v)| ("program", *k, *v)));
     let text = with(&crate::support::scene_text("seed003-g76-2in-12tpi"), &edits);
     let program = program.to_string();
@@ -491,6 +494,22 @@ fn main_program_and_setting_errors() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("no program O2000"), "{e}");
+    // Siemens and LinuxCNC have neither decimal-point input nor O programs.
+    for dialect in ["\"siemens-802d\"", "\"linuxcnc\""] {
+        for (key, value) in [
+            ("decimal_point", "\"calculator\""),
+            ("input_increment", "0.0001"),
+            ("main", "\"O1000\""),
+        ] {
+            let e = program_job("G0 X30 Z5\n", &[("dialect", dialect), (key, value)])
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("program.{key}")) && e.contains("FANUC/GSK setting"),
+                "{dialect} {key}: {e}"
+            );
+        }
+    }
 }
 
 /// `vpcut toolpath` takes the machine settings as flags: the FANUC manual's G76 first pass is
