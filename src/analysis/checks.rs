@@ -259,14 +259,21 @@ mod tests {
         assert!(issues.iter().all(|i| i.kind != FindingKind::RunIn));
     }
 
-    /// A job whose `[program]` is `text` (dialect `dialect`), one 2 mm grooving tool.
+    /// A job whose `[program]` is `text` (dialect `dialect`), one 2 mm grooving tool. The
+    /// programs write plain numbers in mm (`G0 X28 Z5`): on a FANUC/GSK the job says the
+    /// machine reads them so (calculator-type decimal-point input).
     fn program_job(text: &str, dialect: &str, spindle: &str) -> crate::job::Job {
+        let input = if matches!(dialect, "fanuc" | "gsk980") {
+            "decimal_point = \"calculator\"\n"
+        } else {
+            ""
+        };
         let toml = format!(
             "[blank]\ndiameter = 30.0\nlength = 60.0\n\
              [thread]\nform = \"square\"\nmajor_diameter = 30.0\nminor_diameter = 28.0\n\
              pitch = 2.0\nturns = 5\nwidth = {{ groove = 1.0 }}\n\
              [[tool]]\nid = 1\nkind = \"grooving\"\nwidth = 1.0\n\
-             [program]\nfile = \"P.NC\"\ndialect = \"{dialect}\"\n\
+             [program]\nfile = \"P.NC\"\ndialect = \"{dialect}\"\n{input}\
              [machine]\nspindle = \"{spindle}\"\n"
         );
         let load = |f: &str| (f == "P.NC").then(|| text.to_string());

@@ -149,6 +149,22 @@ pub(super) fn program(
             ),
         )
     })?;
+    if !matches!(dialect, Dialect::Fanuc | Dialect::Gsk980) {
+        // Siemens and LinuxCNC read every number in program units and a file is one program
+        // (its subprograms are called by name).
+        for (key, given) in [
+            ("program.decimal_point", pr.decimal_point.is_some()),
+            ("program.input_increment", pr.input_increment.is_some()),
+            ("program.main", pr.main.is_some()),
+        ] {
+            if given {
+                return Err(cx.err(
+                    key,
+                    format!("a FANUC/GSK setting: {} reads every number in program units, one program a file", pr.dialect),
+                ));
+            }
+        }
+    }
     Ok(Program {
         file: pr.file.clone(),
         dialect,

@@ -34,6 +34,13 @@ fn g76_p(p: f64, col: usize) -> Result<(u32, u32, u32), Fail> {
     Ok((m, r, a))
 }
 
+/// Whether the value the cursor read since `st` was a number written without a decimal
+/// point (not a variable or an expression).
+fn plain_literal(c: &Cursor, st: usize) -> bool {
+    let written = &c.s[st..c.i];
+    !written.iter().any(|b| matches!(b, b'.' | b'#' | b'['))
+}
+
 /// A jump to the block numbered `n` (`col`: where the number stands): a whole sequence
 /// number that the program has.
 fn goto(prog: &Program, n: f64, col: usize) -> Result<Step, Fail> {
@@ -239,8 +246,9 @@ impl Interp<'_> {
                     q = z(v);
                 }
                 b'R' => {
+                    let st = c.i;
                     let v = self.fanuc_value(c)?;
-                    args.push((18, v));
+                    args.push((18, self.argument(b'R', v, plain_literal(c, st))));
                     r = z(v);
                 }
                 b'L' => repeats = z(self.fanuc_value(c)?),
@@ -261,7 +269,10 @@ impl Interp<'_> {
                         ));
                     }
                     ijk[slot] += 1;
-                    args.push((4 + slot as u32 + 3 * n, self.fanuc_value(c)?));
+                    let st = c.i;
+                    let v = self.fanuc_value(c)?;
+                    let v = self.argument(letter, v, plain_literal(c, st));
+                    args.push((4 + slot as u32 + 3 * n, v));
                 }
                 other => {
                     let var = match other {
@@ -287,7 +298,9 @@ impl Interp<'_> {
                             ))
                         }
                     };
-                    args.push((var, self.fanuc_value(c)?));
+                    let st = c.i;
+                    let v = self.fanuc_value(c)?;
+                    args.push((var, self.argument(other, v, plain_literal(c, st))));
                 }
             }
         }

@@ -314,3 +314,45 @@ fn points_on_count_words_are_refused() {
         assert!(e.message.contains(want), "{e}");
     }
 }
+
+/// G65 arguments without a decimal point (FANUC Custom Macro B, "Decimal point position of
+/// argument": they count in the least input increment of their address): in standard input
+/// `X50` passes 0.050 and `A30` 0.030 deg, `Z-20.` passes -20 and `F2` 2 (F's increment is a
+/// machine matter: as written); in calculator-type input all as written.
+#[test]
+fn g65_arguments_without_a_point() {
+    let text = "G65 P9010 X50 Z-20. A30 F2\nM30\nO9010\nG0 X#24 Z#26\nG0 X#1 Z#9\nM99\n";
+    let t = run_with(text, Dialect::Fanuc, Settings::default()).unwrap();
+    let ends: Vec<(f64, f64)> = t.moves.iter().map(|m| (m.x_dia, m.z)).collect();
+    assert!(
+        close(ends[0].0, 0.05) && close(ends[0].1, -20.0),
+        "{ends:?}"
+    );
+    assert!(close(ends[1].0, 0.03) && close(ends[1].1, 2.0), "{ends:?}");
+    let calc = Settings {
+        decimal_point: DecimalPoint::Calculator,
+        ..Settings::default()
+    };
+    let t = run_with(text, Dialect::Fanuc, calc).unwrap();
+    let ends: Vec<(f64, f64)> = t.moves.iter().map(|m| (m.x_dia, m.z)).collect();
+    assert_eq!(ends, [(50.0, -20.0), (30.0, 2.0)]);
+}
+
+/// G04 is a dwell: its X, U or P is the time, and the block moves nothing (FANUC 0i-TF
+/// "Dwell (G04)", GSK 980TDc "Dwell G04"). It used to move the tool to X1 (a grooving
+/// tool's plunge to the axis). A Z or W with it is refused.
+#[test]
+fn g04_dwells_in_place() {
+    for dialect in [Dialect::Fanuc, Dialect::Gsk980] {
+        let t = run_with(
+            "G0 X30. Z-30.\nG1 X23.5 F.05\nG4 X1.\nG04 U0.5\nG4 P500\nG0 X30.\n",
+            dialect,
+            Settings::default(),
+        )
+        .unwrap();
+        let ends: Vec<(f64, f64)> = t.moves.iter().map(|m| (m.x_dia, m.z)).collect();
+        assert_eq!(ends, [(30.0, -30.0), (23.5, -30.0), (30.0, -30.0)]);
+        let e = run_with("G0 X30. Z5.\nG4 X1. Z2.\n", dialect, Settings::default()).unwrap_err();
+        assert_eq!((e.line, e.col), (2, 8), "{e}");
+    }
+}

@@ -755,7 +755,7 @@ impl Interp<'_> {
                 Step::Jump(to) => pc = to,
                 Step::End => break,
                 Step::Return => {
-                    if stack.is_empty() {
+                    if stack.is_empty() && dialect == Dialect::Fanuc {
                         main_m99(warnings, fail(&stack, 0, String::new()));
                     }
                     match leave(&mut stack, &mut cur, &mut pc, &mut loops) {
@@ -770,7 +770,7 @@ impl Interp<'_> {
                 Step::ReturnTo(n) => {
                     // M99 P<n>: back to the caller's block N<n> once the last repetition ends;
                     // in the main program it ends the run, as M99 does (see `Step::ReturnTo`).
-                    if stack.is_empty() {
+                    if stack.is_empty() && dialect == Dialect::Fanuc {
                         main_m99(warnings, fail(&stack, 0, String::new()));
                     }
                     let target = match stack.last() {

@@ -244,6 +244,18 @@ impl Interp<'_> {
         if g10 {
             return self.lc_g10(w, xs, scale).map(|()| Step::Next);
         }
+        // FANUC/GSK G04 (dwell, one shot): its X, U or P is the time, not a position (FANUC
+        // 0i-TF "Dwell (G04)": `G04 X_ ;` / `G04 U_ ;` / `G04 P_ ;`; GSK 980TDc "Dwell
+        // G04"). The block moves nothing.
+        if self.cfg.dialect == Dialect::Fanuc && w.g.contains(&4) {
+            if let Some(&(_, col)) = w.vals.get("Z").or(w.vals.get("W")) {
+                return Err((
+                    col,
+                    "G04 (dwell) takes its time in X, U or P: Z and W move nothing here (a control alarms)".into(),
+                ));
+            }
+            return Ok(if end { Step::End } else { Step::Next });
+        }
         if g92_set {
             // The current point reads X/Z from now on: the offset is what lies between.
             let (wx, wz) = self.frames.offsets[self.frames.work];

@@ -272,6 +272,32 @@ impl Interp<'_> {
         Ok(())
     }
 
+    /// A G65 macro call's argument of address `letter` with value `v` (`plain`: written
+    /// without a decimal point) as the local variable holds it, in program units. FANUC
+    /// Custom Macro B, "Decimal point position of argument": "the units used for argument
+    /// data passed without a decimal point correspond to the least input increment of each
+    /// address". In standard input a plain number at a length address (X Y Z U V W I J K R)
+    /// counts in the least input increment (`X50` passes 0.050), at an angle address (A B C)
+    /// in 0.001 deg (0.0001 with IS-C); every other address (D E F M Q S T, whose increment is
+    /// a machine matter or 1), every value with a point or from a variable, and every
+    /// argument in calculator-type input, as written.
+    pub(super) fn argument(&self, letter: u8, v: f64, plain: bool) -> f64 {
+        if !plain || self.cfg.decimal_point == DecimalPoint::Calculator {
+            return v;
+        }
+        match letter {
+            b'X' | b'Y' | b'Z' | b'U' | b'V' | b'W' | b'I' | b'J' | b'K' | b'R' => {
+                if self.modal.inch {
+                    v * self.cfg.increment.inch()
+                } else {
+                    v * self.cfg.increment.mm()
+                }
+            }
+            b'A' | b'B' | b'C' => v * self.cfg.increment.mm(),
+            _ => v,
+        }
+    }
+
     /// The threading start angle `Q` of G32/G92/the one-block G76 in degrees: it counts in
     /// 0.001 deg and takes no decimal point (FANUC 30i-A lathe manual B-63944EN, G92: "Q_:
     /// Angle for shifting the threading start angle (Increment: 0.001 degrees, Valid

@@ -909,6 +909,17 @@ fn rows() -> Vec<Row> {
             unit: Unit::Units,
             probe: |m, c| (15.0 - 1.0) * c.unit - last(m).x_dia / 2.0,
         },
+        // E with L1: each pass begins with the entry taper, a thread move over E along Z.
+        Row {
+            what: "LinuxCNC G76 E: the taper length",
+            dialects: L,
+            template: "G8 G0 X15 Z5\nG76 P2 Z-20 I-1 J0.4 K1.5 E{v} L1\n",
+            word: "E",
+            plain: ("2", ""),
+            point: ("2.", ""),
+            unit: Unit::Units,
+            probe: |m, _| first(m).z_start - first(m).z,
+        },
         Row {
             what: "LinuxCNC G76 Z: the thread's end",
             dialects: L,

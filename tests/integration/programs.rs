@@ -113,14 +113,17 @@ fn program_errors_name_file_line_and_caller() {
 }
 
 /// The seed003 job with its program replaced by `program` and `[program]` keys added. The
-/// programs of these tests write plain numbers in mm (`G0 X60 Z3`, `F2`): the job says the
-/// machine reads them so (`decimal_point = "calculator"`; `units_tests` and
-/// `machine_settings_*` test standard input).
+/// programs of these tests write plain numbers in mm (`G0 X60 Z3`, `F2`): for FANUC/GSK the
+/// job says the machine reads them so (`decimal_point = "calculator"`, unless the keys say
+/// otherwise; `units_tests` and `machine_settings_*` test standard input).
 fn program_job(program: &str, keys: &[(&str, &str)]) -> Result<vpcut::Job, vpcut::JobError> {
-    let mut edits = vec![
-        ("program", "file", "\"T.NC\""),
-        ("program", "decimal_point", "\"calculator\""),
-    ];
+    let fanuc = keys
+        .iter()
+        .all(|(k, v)| *k != "dialect" || v.contains("fanuc") || v.contains("gsk"));
+    let mut edits = vec![("program", "file", "\"T.NC\"")];
+    if fanuc {
+        edits.push(("program", "decimal_point", "\"calculator\""));
+    }
     edits.extend(keys.iter().map(|(k, v)| ("program", *k, *v)));
     let text = with(&crate::support::scene_text("seed003-g76-2in-12tpi"), &edits);
     let program = program.to_string();
@@ -491,4 +494,85 @@ fn main_program_and_setting_errors() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("no program O2000"), "{e}");
+    // Siemens and LinuxCNC have neither decimal-point input nor O programs.
+    for dialect in ["\"siemens-802d\"", "\"linuxcnc\""] {
+        for (key, value) in [
+            ("decimal_point", "\"calculator\""),
+            ("input_increment", "0.0001"),
+            ("main", "\"O1000\""),
+        ] {
+            let e = program_job("G0 X30 Z5\n", &[("dialect", dialect), (key, value)])
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&format!("program.{key}")) && e.contains("FANUC/GSK setting"),
+                "{dialect} {key}: {e}"
+            );
+        }
+    }
+}
+
+/// `vpcut toolpath` takes the machine settings as flags: the FANUC manual's G76 first pass is
+/// at X64.4 in standard input (the default); `--decimal-point calculator` reads its X60640
+/// as 60640 mm (warned); `--input-increment 0.0001` reads X60640, P3680 and Q1800 as 6.064,
+/// 0.368 and 0.18 mm (first pass 6.064 + 2 (0.368 - 0.18) = 6.44); `--units inch` makes the lead 6 in =
+/// 152.4 mm; `--main` picks the program; bad values exit 2 naming the flag.
+#[test]
+fn toolpath_machine_setting_flags() {
+    let dir = std::env::temp_dir().join(format!("vpcut-flags-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("M68.NC");
+    std::fs::write(
+        &file,
+        "O0100\nG00 X80.0 Z130.0\nG76 P011060 Q100 R200\nG76 X60640 Z25000 P3680 Q1800 F6.0\nM99\nO0200\nG00 X80.0 Z130.0\nG92 X70. Z25. F6.\nM30\n",
+    )
+    .unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["toolpath", file.to_str().unwrap(), "--dialect", "fanuc"];
+        args.extend_from_slice(extra);
+        std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .args(&args)
+            .output()
+            .unwrap()
+    };
+    let first_thread = |out: &std::process::Output| -> Vec<String> {
+        let csv = String::from_utf8_lossy(&out.stdout).into_owned();
+        let row = csv
+            .lines()
+            .find(|l| l.contains(",thread,"))
+            .unwrap()
+            .to_string();
+        row.split(',').map(str::to_string).collect()
+    };
+    // Without --main the main program is O0200 (it ends in M30): the G92 at X70.
+    let out = run(&[]);
+    assert!(out.status.success());
+    assert_eq!(first_thread(&out)[3], "70");
+    let out = run(&["--main", "O100"]);
+    assert!(out.status.success());
+    assert_eq!(first_thread(&out)[3], "64.4");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(err.contains("M99 ends the main program"), "{err}");
+    let out = run(&["--main", "O100", "--input-increment", "0.0001"]);
+    let x: f64 = first_thread(&out)[3].parse().unwrap();
+    assert!((x - 6.44).abs() < 1e-9, "{x}");
+    let out = run(&["--main", "O100", "--units", "inch"]);
+    let lead: f64 = first_thread(&out)[6].parse().unwrap();
+    assert!((lead - 152.4).abs() < 1e-9, "{lead}");
+    let out = run(&["--main", "O100", "--decimal-point", "calculator"]);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(err.contains("X60640") && err.contains("60640 mm"), "{err}");
+    for bad in [
+        &["--decimal-point", "dpi"][..],
+        &["--input-increment", "0.01"],
+        &["--units", "cm"],
+    ] {
+        let out = run(bad);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(bad[0]),
+            "{bad:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

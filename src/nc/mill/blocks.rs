@@ -159,6 +159,16 @@ impl Interp<'_> {
             st.feed = Some(f * scale);
         }
         self.mill_registers(st, w, &once)?;
+        // G04 (dwell, one shot): its X or P is the time; the block moves nothing.
+        if w.g.contains(&4) {
+            if let Some(&(_, col)) = w.vals.get("Y").or(w.vals.get("Z")) {
+                return Err((
+                    col,
+                    "G04 (dwell) takes its time in X or P: Y and Z move nothing here (a control alarms)".into(),
+                ));
+            }
+            return Ok(if end { Step::End } else { Step::Next });
+        }
         let step = self.mill_motion(st, w, prog, pc, &once)?;
         if w.m.contains(&5) {
             st.spindle = None;
