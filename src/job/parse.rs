@@ -101,7 +101,10 @@ pub(super) fn resolve(
     // With a class, the ideal (the deviations' reference, and the planner's target) is the
     // middle of its zone.
     if let Some(class) = &thread_class {
-        super::place::zone_middle(&mut thread, class);
+        // An external thread's root is its minor diameter, an internal one's its major
+        // (which a designation fixes): a given root stays where the job puts it.
+        let root_given = !class.internal && raw.thread.minor_diameter.is_some();
+        super::place::zone_middle(&mut thread, class, root_given);
     }
     if raw.thread.pitch_diameter_limits.is_some() && thread_class.is_some() {
         let by = if raw.thread.designation.is_some() {

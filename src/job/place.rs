@@ -71,13 +71,15 @@ impl Job {
 
 /// The ideal thread moved to the middle of its class's zone (what the deviation colours
 /// and the planner aim at): the flanks to the middle of the pitch-diameter zone, measured
-/// at the same pitch line (the groove widens by the flanks' slopes times the radial move),
-/// a basic crest to the middle of its diameter's zone (major outside, minor inside) where
+/// at the same pitch line (the groove widens by the flanks' slopes times the radial move,
+/// its root moves as far: the basic groove cut deeper; a root the job gives stays), a
+/// basic crest to the middle of its diameter's zone (major outside, minor inside) where
 /// both limits are set (a bar or bore inside the zone stays the crest). The root stays at the form's. A constant-lead, equal-groove thread only
 /// (the classes' threads).
 pub(super) fn zone_middle(
     thread: &mut crate::model::thread::ThreadSpec,
     class: &crate::model::tolerance::ThreadClass,
+    root_given: bool,
 ) {
     use crate::model::thread::WidthRule;
     let WidthRule::Groove(w) = thread.width else {
@@ -95,7 +97,13 @@ pub(super) fn zone_middle(
         Side::External => 0.5 * (basic - mid),
         Side::Internal => 0.5 * (mid - basic),
     };
+    // The basic groove moved radially by `away` (deeper), as a deeper infeed cuts it: at
+    // the same pitch line it is wider by `away` times the flanks' widening, and its root
+    // (the same flat) lies `away` further into the part.
     thread.width = WidthRule::Groove(w + away * thread.widening());
+    if !root_given {
+        thread.root_radius -= thread.sense() * away;
+    }
     let crest = match thread.side {
         Side::External => class.major_diameter,
         Side::Internal => class.minor_diameter,

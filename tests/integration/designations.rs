@@ -140,7 +140,8 @@ fn scene_jobs_with_a_designation_give_the_same_thread() {
 /// The thread a classed job would have at the basic size: a classed job's ideal sits at
 /// the middle of its pitch-diameter zone, its flanks moved away from the material by
 /// `|d2 basic - d2 mid| / 2` (the groove at the same pitch line wider by that times the
-/// flanks' widening), and a basic crest at the middle of its diameter's zone.
+/// flanks' widening, its root that much deeper), and a basic crest at the middle of its
+/// diameter's zone.
 fn basic(job: &Job) -> vpcut::ThreadSpec {
     let mut t = job.thread.clone();
     let Some(c) = &job.thread_class else {
@@ -155,6 +156,9 @@ fn basic(job: &Job) -> vpcut::ThreadSpec {
     if let vpcut::WidthRule::Groove(w) = t.width {
         t.width = vpcut::WidthRule::Groove(w - away * (t.left_angle.tan() + t.right_angle.tan()));
     }
+    // The root moved as far, into the part (the scenes give no minor diameter of an
+    // external thread; a given one stays).
+    t.root_radius += if c.internal { -away } else { away };
     let (crest, basic_crest) = if c.internal {
         (c.minor_diameter, c.basic_minor)
     } else {
@@ -177,6 +181,9 @@ fn same_thread(a: &vpcut::ThreadSpec, b: &vpcut::ThreadSpec) -> bool {
         if (x - y).abs() < 1e-12 {
             a.width = b.width;
         }
+    }
+    if (a.root_radius - b.root_radius).abs() < 1e-12 {
+        a.root_radius = b.root_radius;
     }
     a == *b
 }
@@ -515,6 +522,10 @@ fn sides_fits_and_the_class_key() {
     let job = Job::from_toml(g, "j.toml").unwrap_or_else(|e| panic!("{e}"));
     assert!((job.thread.left_angle.to_degrees() - 27.5).abs() < 1e-9);
     assert!((job.thread.pitch_radius - 19.793 / 2.0).abs() < 1e-9);
-    assert!((job.thread.root_radius - 18.631 / 2.0).abs() < 1e-9);
-    assert_eq!(class(&job).class, "A");
+    // The basic root (18.631), that is the ideal's at the middle of class A's pitch-diameter
+    // zone: half the zone's distance below the basic pitch diameter deeper.
+    let c = class(&job);
+    let away = 0.5 * (c.basic_pitch_diameter - 0.5 * (c.pitch_diameter.min + c.pitch_diameter.max));
+    assert!((job.thread.root_radius - (18.631 / 2.0 - away)).abs() < 1e-9);
+    assert_eq!(c.class, "A");
 }

@@ -125,3 +125,44 @@ fn the_line_check_sees_a_missing_pass() {
     let check = vpcut::plan::line_check(&thin.passes(), &job.thread, &job.tools[plan.tool]);
     assert!(check.max_leftover > 0.1, "{check:?}");
 }
+
+/// With a tolerance class the planner aims at the middle of the zone: `M30x2-6H` (D2
+/// 28.701 .. 28.925, ISO 965-2) and `M30x2-6g` (d2 28.493 .. 28.663), planned, posted as a
+/// FANUC program, read back and simulated, pass the gauges with the functional and simple
+/// pitch diameters at the zone's middle (28.813, 28.578) within 1 um.
+#[test]
+fn a_classed_thread_is_planned_to_the_middle_of_its_zone() {
+    let text = std::fs::read_to_string(
+        crate::support::root().join("tests/data/plans/internal-m30x2.toml"),
+    )
+    .unwrap();
+    let internal = text
+        .replace("side = \"internal\"\n", "")
+        .replace("form = \"iso-metric\"", "designation = \"M30x2-6H\"")
+        .replace("major_diameter = 30.0\n", "")
+        .replace("pitch = 2.0\n", "")
+        .replace("minor_diameter = 27.835\n", "")
+        .replace("bore = 27.835", "bore = 28.0");
+    let external = internal
+        .replace("M30x2-6H", "M30x2-6g")
+        .replace("bore = 28.0\n", "")
+        .replace("diameter = 40.0", "diameter = 29.8")
+        .replace("z_start = -2.0\n", "z_start = -2.0\nside = \"external\"\n")
+        // The external root flat of the d3 profile, P/6.
+        .replace("tip_flat = 0.25", "tip_flat = 0.3333333333333333");
+    for (t, mid) in [(internal, 28.813), (external, 28.578)] {
+        let job = Job::from_toml(&t, "plan.toml").unwrap_or_else(|e| panic!("{e}"));
+        let plan = job.plan.as_ref().expect("kind = plan");
+        let program = post::post(plan, job.tools[plan.tool].id, &job.name, Post::Fanuc).unwrap();
+        let back = job.with_program("plan.nc", &program, "fanuc").unwrap();
+        let r = vpcut::simulate_report(&back, &vpcut::SimOptions::default()).unwrap();
+        let g = r.gauge.as_ref().expect("a gauge section");
+        assert_eq!(g.verdict, "pass", "{g:?}");
+        let f = g.functional_diameter_mm.unwrap();
+        let s = g.pitch_diameter_mm.unwrap();
+        assert!(
+            (f - mid).abs() < 1e-3 && (s.min - mid).abs() < 1e-3,
+            "{f} {s:?} vs {mid}"
+        );
+    }
+}
