@@ -18,7 +18,7 @@ pub enum FindingKind {
     NotCompared,
     /// A pass cuts a helix of the other hand than the drawing's.
     Hand,
-    /// A rapid move cuts material.
+    /// A rapid move cuts material (or a threading insert's feed move or radial entry).
     RapidCut,
     /// The tool's head is too short for the thread's depth.
     HeadLength,
@@ -108,7 +108,9 @@ impl FindingKind {
                 "Part of the thread lies on no simulated dexel: it is not checked."
             }
             FindingKind::Hand => "A pass cuts the other hand than the drawing's thread.",
-            FindingKind::RapidCut => "A rapid (G00) move removes material.",
+            FindingKind::RapidCut => {
+                "A rapid (G00) move, or a threading insert's move off the thread, removes material."
+            }
             FindingKind::HeadLength => {
                 "A pass runs deeper than the tool's head reaches: the holder hits the part."
             }

@@ -24,7 +24,7 @@ pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
 use crate::model::thread::ThreadSpec;
 use crate::model::tool::Tool;
 use crate::nc::{Diagnostic, NcError, Severity};
-use crate::toolpath::{self, LatheTurning, ProgramError, TurnStock};
+use crate::toolpath::{self, LatheTool, LatheTurning, ProgramError, Role, TurnStock};
 
 mod ctx;
 mod forms;
@@ -261,7 +261,7 @@ impl Job {
                 });
                 self.turning = toolpath::lathe_turning(
                     &path.moves,
-                    &self.turning_tools,
+                    &self.lathe_tools(),
                     outer,
                     inner,
                     (b.z_front - b.length, b.z_front),
@@ -290,6 +290,29 @@ impl Job {
             }
         }
         Ok(self)
+    }
+
+    /// Every tool of a lathe program as its moves sweep it: the turning tools, and the
+    /// grooving and threading inserts (on the thread's side: in the bore for an internal
+    /// thread).
+    fn lathe_tools(&self) -> Vec<LatheTool> {
+        let internal = self.thread.side == crate::model::thread::Side::Internal;
+        let turning = self.turning_tools.iter().map(|&shape| LatheTool {
+            shape,
+            role: Role::Turning,
+        });
+        let inserts = self.tools.iter().map(|t| LatheTool {
+            shape: TurningTool::insert(t, internal),
+            role: match t.edge {
+                crate::model::tool::Edge::Trapezoid {
+                    left_angle,
+                    right_angle,
+                    ..
+                } if left_angle == 0.0 && right_angle == 0.0 => Role::Grooving,
+                _ => Role::Threading,
+            },
+        });
+        turning.chain(inserts).collect()
     }
 
     /// This job with its passes replaced by those of an NC program: `text`, read as

@@ -149,13 +149,12 @@ pub(super) fn resolve_turning(t: &RawTool, i: usize, cx: &Ctx) -> Result<Turning
             ),
         ));
     }
-    Ok(TurningTool {
-        id: t.id,
+    Ok(TurningTool::turning(
+        t.id,
         nose_radius,
-        lead_angle: lead,
-        trail_angle: trail,
-        internal: t.side.unwrap_or_default() == SideName::Internal,
-    })
+        (lead, trail),
+        t.side.unwrap_or_default() == SideName::Internal,
+    ))
 }
 
 /// Every optional `[[tool]]` key and the kinds of tool it applies to: a key set on a tool

@@ -14,6 +14,7 @@ use crate::model::helix::{Hand, Spindle};
 use crate::model::stock::Grid;
 use crate::model::thread::{Flank, Side, WidthRule};
 use crate::report::{self, r4, r6, Report, TurnRow, SCHEMA};
+use crate::toolpath::{HitKind, RapidHit, Role};
 use std::collections::BTreeMap;
 
 pub(crate) fn location(e: &Extreme) -> report::Location {
@@ -244,18 +245,7 @@ pub(crate) fn build_report(
             line: Some(h.line),
             value: Some(r6(h.depth)),
             unit: Some("mm"),
-            ..Finding::new(
-                FindingKind::RapidCut,
-                Severity::Error,
-                format!(
-                    "{}:{}: a rapid (G00) move of a turning tool runs {:.4} mm into the {} at z {:.3} (the stock the moves before it left)",
-                    h.file,
-                    h.line,
-                    h.depth,
-                    if h.internal { "bore's wall" } else { "part" },
-                    h.z
-                ),
-            )
+            ..Finding::new(FindingKind::RapidCut, Severity::Error, rapid_message(h))
         });
     }
     if dev.compared_dexels == 0 {
@@ -482,6 +472,38 @@ fn turn_findings(
             ),
         ));
     }
+}
+
+/// A move into material, in the user's words: what moved, which tool, how deep, where.
+fn rapid_message(h: &RapidHit) -> String {
+    let tool = match h.role {
+        Role::Turning if h.internal => "boring bar",
+        Role::Turning => "turning tool",
+        Role::Grooving => "grooving insert",
+        Role::Threading => "threading insert",
+    };
+    let what = match h.kind {
+        HitKind::Rapid => "a rapid (G00) move",
+        HitKind::Feed => "a feed move",
+        HitKind::Entry => "a synchronised entry (a thread move more radial than axial)",
+    };
+    let why = match h.kind {
+        HitKind::Rapid => "",
+        _ => ": a threading insert cuts only along the thread",
+    };
+    let more = match h.moves {
+        1 => String::new(),
+        n => format!("; {n} such moves of this block, the deepest"),
+    };
+    format!(
+        "{}:{}: {what} of the {tool} T{} runs {:.4} mm into the {} at z {:.3} (the stock the moves before it left{more}){why}",
+        h.file,
+        h.line,
+        h.tool,
+        h.depth,
+        if h.internal { "bore's wall" } else { "part" },
+        h.z
+    )
 }
 
 fn fmt_opt(v: Option<f64>) -> String {

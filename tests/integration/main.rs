@@ -7,6 +7,8 @@ mod support;
 mod bodies;
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
+/// Issue 28: programs that crash on the machine fail at their block; their fixes pass.
+mod crashes;
 /// The glTF export against closed forms, the dexel data, the report and itself.
 mod gltf;
 /// The scenes' reports against reviewed goldens and hand-derived expectations.
