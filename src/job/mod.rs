@@ -166,6 +166,9 @@ pub struct Job {
     /// Where the passes that come from the `[program]` are in it: (pass index, file as the
     /// job names the program, 1-based line of the thread block). Empty without a program.
     pub pass_blocks: Vec<(usize, String, usize)>,
+    /// The spindle speed of each pass (rev/min): the program's (`G97 S`, or `G96 S` at the
+    /// pass's diameter within its clamp), else `[machine] spindle_rpm`.
+    pub pass_rpm: Vec<f64>,
     /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
     /// `passes` are empty.
     pub mill: Option<MillJob>,
@@ -249,6 +252,9 @@ impl Job {
                         .enumerate()
                         .map(|(i, (file, line))| (offset + i, file, line)),
                 );
+                let rpm = self.machine.spindle_rpm;
+                self.pass_rpm
+                    .extend(lathe.rpm.into_iter().map(|r| r.unwrap_or(rpm)));
                 self.passes.extend(lathe.passes);
                 let b = &self.blank;
                 let outer = TurnStock {
@@ -331,12 +337,13 @@ impl Job {
             second_reference_point: None,
         };
         let cx = Ctx::empty(file);
-        let program = program::lathe_program(&pr, &cx, true)?;
+        let program = program::lathe_program(&pr, None, &cx, true)?;
         let load = |name: &str| (name == file).then(|| text.to_string());
         let job = Job {
             passes: Vec::new(),
             chains: Vec::new(),
             pass_blocks: Vec::new(),
+            pass_rpm: Vec::new(),
             program_warnings: Vec::new(),
             plan: None,
             ..self.clone()

@@ -151,6 +151,7 @@ pub(super) fn resolve(
             program_warnings: Vec::new(),
             chains: Vec::new(),
             pass_blocks: Vec::new(),
+            pass_rpm: Vec::new(),
             mill: None,
             pitch_diameter_limits,
             plan: None,
@@ -193,11 +194,15 @@ pub(super) fn resolve(
             tools.push(resolve_tool(t, i, cx, load)?);
         }
     }
+    let offsets = program::tool_offsets(&raw.machine, cx)?;
     let (passes, plan) = process::job_passes(&raw, &thread, &tools, &blank, &machine, &sim, cx)?;
     let program = match &raw.program {
-        Some(pr) => Some(Pending::Lathe(program::lathe_program(pr, cx, strict)?)),
+        Some(pr) => Some(Pending::Lathe(program::lathe_program(
+            pr, offsets, cx, strict,
+        )?)),
         None => None,
     };
+    let n_passes = passes.len();
     let job = Job {
         name: raw.name.unwrap_or_default(),
         blank,
@@ -210,6 +215,7 @@ pub(super) fn resolve(
         program_warnings: Vec::new(),
         chains: Vec::new(),
         pass_blocks: Vec::new(),
+        pass_rpm: vec![machine.spindle_rpm; n_passes],
         mill: None,
         pitch_diameter_limits: None,
         plan,

@@ -4,16 +4,23 @@
 //! program stage ([`crate::toolpath`]), after parsing.
 
 use super::ctx::Ctx;
-use super::schema::RawProgram;
+use super::schema::{RawMachine, RawProgram};
 use super::JobError;
 use crate::nc::{Dialect, GcodeSystem, Settings};
 use crate::toolpath::Program;
+use std::collections::BTreeMap;
 
-/// A lathe job's `[program]`.
-pub(super) fn lathe_program(pr: &RawProgram, cx: &Ctx, strict: bool) -> Result<Program, JobError> {
+/// A lathe job's `[program]`, with the tool offsets of `[machine] offsets`.
+pub(super) fn lathe_program(
+    pr: &RawProgram,
+    tool_offsets: Option<BTreeMap<u32, (f64, f64)>>,
+    cx: &Ctx,
+    strict: bool,
+) -> Result<Program, JobError> {
     let mut settings = Settings {
         thread_chamfer: cx.non_negative("program.thread_chamfer", pr.thread_chamfer)?,
         block_skip: pr.block_skip,
+        tool_offsets,
         ..Settings::default()
     };
     if settings.thread_chamfer > 9.9 {
@@ -88,6 +95,40 @@ pub(super) fn program(
             ..crate::nc::Options::default()
         },
     })
+}
+
+/// `[machine] offsets`: each number's shift of the tool's point (X as a diameter, Z), its
+/// `x`/`z` (the geometry's) and `wear_x`/`wear_z` added; `None` without the table.
+pub(super) fn tool_offsets(
+    m: &RawMachine,
+    cx: &Ctx,
+) -> Result<Option<BTreeMap<u32, (f64, f64)>>, JobError> {
+    let Some(table) = &m.offsets else {
+        return Ok(None);
+    };
+    let mut out = BTreeMap::new();
+    for (name, o) in table {
+        let key = format!("machine.offsets.{name}");
+        let n = name
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=99).contains(n))
+            .ok_or_else(|| {
+                cx.err(
+                    &key,
+                    format!("expected an offset number 1 to 99 (T0305 calls 5), got `{name}`"),
+                )
+            })?;
+        let v = |k: &str, v: f64| cx.finite(&format!("{key}.{k}"), v);
+        out.insert(
+            n,
+            (
+                v("x", o.x)? + v("wear_x", o.wear_x)?,
+                v("z", o.z)? + v("wear_z", o.wear_z)?,
+            ),
+        );
+    }
+    Ok(Some(out))
 }
 
 /// G54..G59 as an index.

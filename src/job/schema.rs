@@ -309,6 +309,22 @@ pub(super) struct RawMachine {
     pub(super) acceleration: Option<f64>,
     #[serde(default)]
     pub(super) spindle: SpindleName,
+    /// Tool offsets by number: `offsets.5 = { x = .., z = .., wear_x = .., wear_z = .. }`.
+    pub(super) offsets: Option<std::collections::BTreeMap<String, RawToolOffset>>,
+}
+
+/// One tool offset: the geometry's deviation and the wear (mm; x a diameter).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawToolOffset {
+    #[serde(default)]
+    pub(super) x: f64,
+    #[serde(default)]
+    pub(super) z: f64,
+    #[serde(default)]
+    pub(super) wear_x: f64,
+    #[serde(default)]
+    pub(super) wear_z: f64,
 }
 
 fn default_rpm() -> f64 {
@@ -325,6 +341,7 @@ impl Default for RawMachine {
             max_feed: None,
             acceleration: None,
             spindle: SpindleName::Cw,
+            offsets: None,
         }
     }
 }

@@ -78,10 +78,10 @@ impl Interp<'_> {
                     self.trans(&mut c, name == "ATRANS", at + 1)?;
                     break;
                 }
-                "LIMS" if s840 => {
-                    // The spindle speed limit of G96: nothing the toolpath shows.
+                "LIMS" => {
+                    // The spindle speed limit of G96 (rev/min).
                     let _ = c.eat("=");
-                    self.expr(&mut c)?;
+                    self.modal.speed_max = Some(self.expr(&mut c)?);
                 }
                 "G" if s840 && c.peek() == Some(b'5') && c.s[c.i..].starts_with(b"53") => {
                     let _ = c.number();

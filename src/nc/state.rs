@@ -52,6 +52,8 @@ pub(super) struct Config {
     pub(super) limits: Limits,
     /// A FANUC milling program (`Settings::mill`).
     pub(super) milling: bool,
+    /// The tool offsets the job defines (`Settings::tool_offsets`).
+    pub(super) offsets: Option<std::collections::BTreeMap<u32, (f64, f64)>>,
 }
 
 /// The programs of a run.
@@ -79,8 +81,14 @@ pub(super) struct Modal {
     pub(super) feed: Option<f64>,
     /// G96 constant surface speed (else G97 rpm).
     pub(super) css: bool,
-    /// The last S value.
+    /// The last S value (rev/min under G97; the surface speed under G96, in m/min or, in
+    /// inch mode, ft/min).
     pub(super) speed: Option<f64>,
+    /// The clamp on G96's spindle speed (FANUC/GSK `G50 S`, Siemens `LIMS=`, LinuxCNC
+    /// `G96 D`), rev/min.
+    pub(super) speed_max: Option<f64>,
+    /// The active tool offset number (FANUC/GSK T0305: 5; Siemens D5); 0 or `None`: none.
+    pub(super) offset: Option<u32>,
     /// Active tool number.
     pub(super) tool: Option<u32>,
     /// Spindle direction.
@@ -169,6 +177,14 @@ pub(super) struct Output {
     pub(super) blocks: u64,
     /// Warnings of the block being run: (column, message).
     pub(super) pending: Vec<(usize, String)>,
+    /// Warnings of the block being run about what the machine will do that the program
+    /// does not say (defaults, offsets): (column, message, hint); never errors.
+    pub(super) notes: Vec<(usize, String, String)>,
+    /// The dwells (G04) so far.
+    pub(super) dwells: Vec<super::Dwell>,
+    /// The tool offset (X diameter, Z) the last move ended with: the next move starts
+    /// there and absorbs a change, as the control applies an offset with the next motion.
+    pub(super) applied: (f64, f64),
 }
 
 /// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
@@ -200,6 +216,7 @@ impl<'l> Interp<'l> {
                 block_skip: opts.settings.block_skip,
                 limits: opts.limits,
                 milling: opts.settings.mill.is_some(),
+                offsets: opts.settings.tool_offsets.clone(),
             },
             progs: Programs {
                 loader,
@@ -216,6 +233,8 @@ impl<'l> Interp<'l> {
                 feed: None,
                 css: false,
                 speed: None,
+                speed_max: None,
+                offset: None,
                 tool: None,
                 spindle: Spindle::Cw,
             },
@@ -258,6 +277,9 @@ impl<'l> Interp<'l> {
                 too_many_moves: false,
                 blocks: 0,
                 pending: Vec::new(),
+                notes: Vec::new(),
+                dwells: Vec::new(),
+                applied: (0.0, 0.0),
             },
             lc: Default::default(),
             mill: opts.settings.mill.clone().map(mill::MillState::new),

@@ -401,7 +401,7 @@ fn run<S: Sink>(
 
     let (machine_issues, bodies) = match op {
         Operation::Turning { passes, tools } => {
-            let mut issues = checks::check(passes, &job.machine, &job.blank);
+            let mut issues = checks::check(passes, &job.pass_rpm, &job.machine, &job.blank);
             // A chained pass (continuous threading, a GSK run-out) is already at speed: it
             // needs no run-in of its own.
             issues.retain(|i| {
@@ -409,6 +409,7 @@ fn run<S: Sink>(
             });
             issues.extend(checks::chain_check(
                 &job.chains,
+                &job.pass_rpm,
                 &job.machine,
                 job.sim.tolerance,
             ));

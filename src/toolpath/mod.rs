@@ -84,6 +84,9 @@ pub(crate) struct LathePasses {
     pub(crate) links: Vec<ChainLink>,
     /// Each pass's thread block: file and 1-based line.
     pub(crate) blocks: Vec<(String, usize)>,
+    /// Each pass's spindle speed as the program set it (rev/min; under G96 at the pass's
+    /// smaller diameter, where it turns fastest), `None` where it set none.
+    pub(crate) rpm: Vec<Option<f64>>,
 }
 
 /// Turn a lathe program's thread moves into passes of `tools` (by the move's T number, or
@@ -162,6 +165,8 @@ pub(crate) fn lathe_passes(
             }
         }
         out.blocks.push((m.file.clone(), m.line));
+        out.rpm
+            .push(m.speed.at(pass.x_start.abs().min(pass.x_end.abs())));
         out.passes.push(pass);
     }
     Ok(out)

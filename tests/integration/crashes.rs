@@ -43,3 +43,95 @@ fn a_g76_started_under_the_crest_rapids_through_it_at_its_block() {
     assert!(of_kind(&ok, FindingKind::RapidCut).is_empty());
     assert_eq!(ok.verdict, vpcut::Verdict::Pass, "{:#?}", ok.findings);
 }
+
+/// A small M30x2 job on a 30 mm bar whose `[machine]` says 200 rpm, with `program` (FANUC)
+/// as `crash.nc` and `machine` added to its `[machine]` table.
+fn small_job(program: &str, machine: &str) -> Result<Job, vpcut::JobError> {
+    let text = format!(
+        r#"
+[blank]
+diameter = 30.0
+length = 60.0
+[thread]
+form = "iso-metric"
+major_diameter = 30.0
+pitch = 2.0
+length = 36.0
+z_start = -1.0
+[[tool]]
+id = 3
+kind = "threading"
+angle = 60.0
+tip_flat = 0.3333333333
+reference = "tip"
+[program]
+file = "crash.nc"
+dialect = "fanuc"
+[machine]
+spindle_rpm = 200
+max_feed = 5000
+{machine}
+[simulation]
+axial_spacing = 0.05
+angular_cells = 72
+measure_generators = 2
+"#
+    );
+    let prog = program.to_string();
+    Job::from_toml_with(&text, "job.toml", &move |f: &str| {
+        (f == "crash.nc").then(|| prog.clone())
+    })
+}
+
+#[test]
+fn the_feed_check_uses_the_programs_spindle_speed() {
+    // G92 F4.0 at G97 S1500: 6000 mm/min over the 5000 limit, although [machine] says 200
+    // rpm (800 mm/min); at S1000 it is 4000. Without any S the machine's 200 rpm stands.
+    let prog = |s: &str| format!("T0303\n{s}\nG0 X32 Z5\nG92 X28 Z-30 F4.0\nG0 X100 Z100\nM30\n");
+    let feed = |s: &str| {
+        let job = small_job(&prog(s), "").unwrap_or_else(|e| panic!("{e}"));
+        let r = vpcut::simulate_report(&job, &SimOptions::default()).unwrap();
+        r.findings
+            .into_iter()
+            .filter(|f| f.kind == FindingKind::FeedLimit)
+            .map(|f| f.value.unwrap())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(feed("G97 S1500 M03"), [6000.0]);
+    assert!(feed("G97 S1000 M03").is_empty());
+    assert!(feed("M03").is_empty());
+    assert_eq!(small_job(&prog("M03"), "").unwrap().pass_rpm, [200.0]);
+    // G96 S200 under G50 S3000 threads X28 at min(3000, 1000 x 200 / (pi x 28)) = 2273.6
+    // rpm: 9094.6 mm/min at lead 4.
+    let job = small_job(&prog("G50 S3000\nG96 S200 M03"), "").unwrap();
+    let want = 1000.0 * 200.0 / (std::f64::consts::PI * 28.0);
+    assert!((job.pass_rpm[0] - want).abs() < 1e-9, "{:?}", job.pass_rpm);
+    let job = small_job(&prog("G50 S1200\nG96 S200 M03"), "").unwrap();
+    assert_eq!(job.pass_rpm, [1200.0]);
+}
+
+#[test]
+fn tool_offsets_come_from_the_job_and_a_missing_one_is_a_warning_at_its_block() {
+    // [machine] offsets.3: geometry x -0.02 and wear x -0.08 move T0303's point 0.1 down in
+    // diameter and wear z 0.05 along z: G92 X28 cuts at X27.9, from Z5.05 to Z-29.95.
+    let prog = "T0303\nG97 S500 M03\nG0 X32 Z5\nG92 X28 Z-30 F2.0\nG0 X100 Z100\nM30\n";
+    let job = small_job(
+        prog,
+        "offsets.3 = { x = -0.02, wear_x = -0.08, wear_z = 0.05 }",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let p = &job.passes[0];
+    assert!((p.x_start - 27.9).abs() < 1e-12 && (p.z_start - 5.05).abs() < 1e-12);
+    assert!((p.z_end + 29.95).abs() < 1e-12);
+    assert!(job.program_warnings.is_empty());
+    // T0304 with only offset 3 in the job: a warning at line 1, the pass as programmed.
+    let job = small_job(&prog.replace("T0303", "T0304"), "offsets.3 = { x = -0.1 }").unwrap();
+    assert_eq!(job.passes[0].x_start, 28.0);
+    let w = &job.program_warnings;
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(w[0].line, 1);
+    assert!(w[0].message.contains("tool offset 4"), "{}", w[0].message);
+    // An offset number out of 1..99 is an error at its key.
+    let e = small_job(prog, "offsets.100 = { x = 0.0 }").unwrap_err();
+    assert!(e.to_string().contains("machine.offsets.100"), "{e}");
+}
