@@ -122,6 +122,20 @@ pub(super) fn resolve(
         check_tool_keys(t, i, cx)?;
     }
     if raw.machine.kind == mill::MachineKind::Mill {
+        let m = &raw.machine;
+        let lathe_only = [
+            ("machine.offsets", m.offsets.is_some()),
+            ("machine.g76_finish_passes", m.g76_finish_passes.is_some()),
+            ("machine.g76_tool_angle", m.g76_tool_angle.is_some()),
+            ("machine.g76_min_cut", m.g76_min_cut.is_some()),
+            (
+                "machine.g76_finish_allowance",
+                m.g76_finish_allowance.is_some(),
+            ),
+        ];
+        if let Some((key, _)) = lathe_only.iter().find(|k| k.1) {
+            return Err(cx.err(key, "this key is for lathe jobs (a mill's offsets are G43 H and G41 D, from the program's own words)"));
+        }
         if raw.machine.spindle != SpindleName::Cw {
             return Err(cx.err(
                 "machine.spindle",
@@ -194,11 +208,13 @@ pub(super) fn resolve(
             tools.push(resolve_tool(t, i, cx, load)?);
         }
     }
-    let offsets = program::tool_offsets(&raw.machine, cx)?;
     let (passes, plan) = process::job_passes(&raw, &thread, &tools, &blank, &machine, &sim, cx)?;
     let program = match &raw.program {
         Some(pr) => Some(Pending::Lathe(program::lathe_program(
-            pr, offsets, cx, strict,
+            pr,
+            Some(&raw.machine),
+            cx,
+            strict,
         )?)),
         None => None,
     };

@@ -311,6 +311,14 @@ pub(super) struct RawMachine {
     pub(super) spindle: SpindleName,
     /// Tool offsets by number: `offsets.5 = { x = .., z = .., wear_x = .., wear_z = .. }`.
     pub(super) offsets: Option<std::collections::BTreeMap<String, RawToolOffset>>,
+    /// FANUC parameter 5142: G76's finishing passes without a first block.
+    pub(super) g76_finish_passes: Option<u32>,
+    /// FANUC parameter 5143: G76's tool angle (deg).
+    pub(super) g76_tool_angle: Option<f64>,
+    /// FANUC parameter 5140: G76's minimum cut (mm).
+    pub(super) g76_min_cut: Option<f64>,
+    /// FANUC parameter 5141: G76's finishing allowance (mm).
+    pub(super) g76_finish_allowance: Option<f64>,
 }
 
 /// One tool offset: the geometry's deviation and the wear (mm; x a diameter).
@@ -342,6 +350,10 @@ impl Default for RawMachine {
             acceleration: None,
             spindle: SpindleName::Cw,
             offsets: None,
+            g76_finish_passes: None,
+            g76_tool_angle: None,
+            g76_min_cut: None,
+            g76_finish_allowance: None,
         }
     }
 }

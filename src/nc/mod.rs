@@ -317,6 +317,37 @@ pub struct Settings {
     /// geometry and wear together. `None`: the job gives no offsets, and every offset is
     /// taken as zero; with a table, calling a number it lacks is a warning at the block.
     pub tool_offsets: Option<std::collections::BTreeMap<u32, (f64, f64)>>,
+    /// What a FANUC/GSK two-block G76 uses when the program leaves its first block out:
+    /// the control's parameters (FANUC No. 5142, 5143, 5140, 5141).
+    pub g76: G76Params,
+}
+
+/// The FANUC/GSK G76 first block's values as the control's parameters hold them (FANUC
+/// 0i/30i lathe parameters: No. 5142 finishing passes, 5143 tool angle, 5140 minimum cut,
+/// 5141 finishing allowance; the chamfer is No. 5130, [`Settings::thread_chamfer`]). A
+/// first block overwrites them for the rest of the run, as on the control.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct G76Params {
+    /// Finishing passes at the full depth, `m` (1 to 99).
+    pub finish_passes: u32,
+    /// Tool angle `a` (deg): the infeed runs at half of it.
+    pub tool_angle: f64,
+    /// Minimum cut `dmin` (mm, radius).
+    pub min_cut: f64,
+    /// Finishing allowance `d` (mm, radius).
+    pub finish_allowance: f64,
+}
+
+impl Default for G76Params {
+    /// vpcut's defaults: one finishing pass, 60 deg, no minimum cut, no allowance.
+    fn default() -> G76Params {
+        G76Params {
+            finish_passes: 1,
+            tool_angle: 60.0,
+            min_cut: 0.0,
+            finish_allowance: 0.0,
+        }
+    }
 }
 
 impl Default for Settings {
@@ -330,6 +361,7 @@ impl Default for Settings {
             mill: None,
             gcode_system: GcodeSystem::A,
             tool_offsets: None,
+            g76: G76Params::default(),
         }
     }
 }
@@ -745,7 +777,12 @@ impl Interp<'_> {
                     let mut d = fail(&stack, col + offset, message).diagnostic();
                     d.severity = Severity::Warning;
                     d.hint = Some(hint);
-                    warnings.push(d);
+                    let seen = warnings.iter().any(|w| {
+                        (&w.file, w.line, w.col, &w.message) == (&d.file, d.line, d.col, &d.message)
+                    });
+                    if !seen {
+                        warnings.push(d);
+                    }
                 }
             }
             let step = match step {

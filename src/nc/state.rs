@@ -196,6 +196,8 @@ pub(super) struct G76Setup {
     pub(super) a: f64,
     pub(super) dmin: f64,
     pub(super) d: f64,
+    /// A first block has run: the values are the program's, not the parameters'.
+    pub(super) given: bool,
 }
 
 impl<'l> Interp<'l> {
@@ -251,11 +253,12 @@ impl<'l> Interp<'l> {
             },
             thread: ThreadState {
                 g76: G76Setup {
-                    m: 1,
+                    m: opts.settings.g76.finish_passes,
                     r: 0,
-                    a: 60.0,
-                    dmin: 0.0,
-                    d: 0.0,
+                    a: opts.settings.g76.tool_angle,
+                    dmin: opts.settings.g76.min_cut,
+                    d: opts.settings.g76.finish_allowance,
+                    given: false,
                 },
                 g92: None,
                 chamfer: opts.settings.thread_chamfer,

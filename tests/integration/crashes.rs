@@ -135,3 +135,95 @@ fn tool_offsets_come_from_the_job_and_a_missing_one_is_a_warning_at_its_block() 
     let e = small_job(prog, "offsets.100 = { x = 0.0 }").unwrap_err();
     assert!(e.to_string().contains("machine.offsets.100"), "{e}");
 }
+
+/// The case's job with `program` and `edits` to its TOML (`support::with`).
+fn case_job(case: &str, program: &str, edits: &[(&str, &str, &str)]) -> Job {
+    let dir = root().join("tests/data/crash").join(case);
+    let text = crate::support::with(
+        &std::fs::read_to_string(dir.join("job.toml")).unwrap(),
+        edits,
+    );
+    let load = |f: &str| {
+        let f = if f == "crash.nc" { program } else { f };
+        std::fs::read_to_string(dir.join(f)).ok()
+    };
+    Job::from_toml_with(&text, "job.toml", &load).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn a_g76_without_its_first_block_says_which_parameters_it_cut_with() {
+    // k = 1.227, dd = 0.4. Without the first block (vpcut's defaults, no minimum cut, no
+    // allowance): 0.4 sqrt(n) < 1.227 for n = 1..9 (0.4 x 3 = 1.2), then k, then m = 1
+    // finishing pass at k: 11 passes. With P010060 Q100 R0.05: 0.4, 0.566, 0.693, 0.8, then
+    // the minimum cut: 0.9, 1.0, 1.1 (1.2 would pass k - d = 1.177), 1.177, k: 9.
+    let job = case_job("g76-first-block-missing", "crash.nc", &[]);
+    assert_eq!(job.passes.len(), 11);
+    let w = &job.program_warnings;
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!((w[0].file.as_str(), w[0].line), ("crash.nc", 8));
+    for said in [
+        "without its first block",
+        "1 finishing pass",
+        "tool angle 60 deg",
+        "minimum cut 0 mm",
+        "finishing allowance 0 mm",
+    ] {
+        assert!(w[0].message.contains(said), "{said}: {}", w[0].message);
+    }
+    assert!(w[0].hint.as_deref().unwrap().contains("5140"));
+    let r = case_report("g76-first-block-missing", "crash.nc");
+    let found = of_kind(&r, FindingKind::Program);
+    assert_eq!((found.len(), found[0].line), (1, Some(8)));
+
+    let fixed = case_job("g76-first-block-missing", "fixed.nc", &[]);
+    assert_eq!(fixed.passes.len(), 9);
+    assert!(fixed.program_warnings.is_empty());
+    let x: Vec<f64> = fixed.passes.iter().map(|p| p.x_start).collect();
+    for (x, d) in x.iter().zip([
+        0.4,
+        0.4 * 2f64.sqrt(),
+        0.4 * 3f64.sqrt(),
+        0.8,
+        0.9,
+        1.0,
+        1.1,
+        1.177,
+        1.227,
+    ]) {
+        assert!((x - (27.546 + 2.0 * (1.227 - d))).abs() < 1e-9, "{x} {d}");
+    }
+
+    // The machine's parameters in the job: the same nine passes, and the warning says them.
+    let job = case_job(
+        "g76-first-block-missing",
+        "crash.nc",
+        &[
+            ("machine", "g76_min_cut", "0.1"),
+            ("machine", "g76_finish_allowance", "0.05"),
+        ],
+    );
+    assert_eq!(job.passes, fixed.passes);
+    let m = &job.program_warnings[0].message;
+    assert!(
+        m.contains("minimum cut 0.1 mm") && m.contains("finishing allowance 0.05 mm"),
+        "{m}"
+    );
+}
+
+#[test]
+fn the_g76_parameters_are_checked_key_by_key() {
+    let dir = root().join("tests/data/crash/g76-first-block-missing");
+    let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+    let load = |f: &str| std::fs::read_to_string(dir.join(f)).ok();
+    for (key, value, says) in [
+        ("g76_tool_angle", "45", "80, 60, 55, 30, 29, 0"),
+        ("g76_finish_passes", "0", "1 to 99"),
+        ("g76_min_cut", "-0.1", "machine.g76_min_cut"),
+        ("g76_finish_allowance", "20", "at most 10 mm"),
+    ] {
+        let t = crate::support::with(&text, &[("machine", key, value)]);
+        let e = Job::from_toml_with(&t, "job.toml", &load).unwrap_err();
+        assert!(e.to_string().contains(says), "{key}: {e}");
+        assert!(e.to_string().contains(key), "{key}: {e}");
+    }
+}
