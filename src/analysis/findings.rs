@@ -22,12 +22,16 @@ pub enum FindingKind {
     RapidCut,
     /// The tool's head is too short for the thread's depth.
     HeadLength,
+    /// A pass's radial chip outside the insert's depth per pass.
+    DepthPerPass,
     /// Material removed beyond the ideal surface, beyond the tolerance.
     Gouge,
     /// Material left above the ideal surface, beyond the tolerance.
     Leftover,
     /// A tool body cut past its edge's surface.
     FlankInterference,
+    /// A threading cycle's infeed runs an edge along (or into) the flank cut before.
+    InfeedAngle,
     /// A groove or tooth the drawing has is not found at the pitch diameter.
     MissingFeature,
     /// A turn's measured lead is off.
@@ -54,14 +58,16 @@ pub enum FindingKind {
 
 impl FindingKind {
     /// Every kind, in report order.
-    pub const ALL: [FindingKind; 18] = [
+    pub const ALL: [FindingKind; 20] = [
         FindingKind::NotCompared,
         FindingKind::Hand,
         FindingKind::RapidCut,
         FindingKind::HeadLength,
+        FindingKind::DepthPerPass,
         FindingKind::Gouge,
         FindingKind::Leftover,
         FindingKind::FlankInterference,
+        FindingKind::InfeedAngle,
         FindingKind::MissingFeature,
         FindingKind::Lead,
         FindingKind::PitchDiameter,
@@ -82,6 +88,8 @@ impl FindingKind {
             FindingKind::Hand => "hand",
             FindingKind::RapidCut => "rapid_cut",
             FindingKind::HeadLength => "head_length",
+            FindingKind::DepthPerPass => "depth_per_pass",
+            FindingKind::InfeedAngle => "infeed_angle",
             FindingKind::Gouge => "gouge",
             FindingKind::Leftover => "leftover",
             FindingKind::FlankInterference => "flank_interference",
@@ -121,6 +129,12 @@ impl FindingKind {
                 "Material left that the ideal thread removes, beyond the tolerance."
             }
             FindingKind::FlankInterference => "A tool body cuts past the surface its edge cut.",
+            FindingKind::DepthPerPass => {
+                "A pass's radial chip is over (or under) the insert's depth per pass."
+            }
+            FindingKind::InfeedAngle => {
+                "A threading cycle's infeed runs an edge along or into the flank cut before: it rubs."
+            }
             FindingKind::MissingFeature => {
                 "A groove or tooth of the drawing is not formed at the pitch diameter."
             }
@@ -206,7 +220,7 @@ pub struct Finding {
     /// The value (unit in `unit`); absent where a finding has none (program findings).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub value: Option<f64>,
-    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`; absent with `value`.
+    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`, `deg`; absent with `value`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unit: Option<&'static str>,
     /// One line for a person.

@@ -1,8 +1,9 @@
 //! What the cut means: the deviation from the ideal thread ([`compare`]), measured leads and
-//! widths ([`measure`]), what tool bodies cut past their edges ([`interference`]) and the
-//! machine checks ([`checks`]). Reads the model and the kernels' stock; pure.
+//! widths ([`measure`]), what tool bodies cut past their edges ([`interference`]), the
+//! machine checks ([`checks`]) and the insert's limits pass by pass ([`chips`]). Reads the model and the kernels' stock; pure.
 
 pub(crate) mod checks;
+pub(crate) mod chips;
 pub(crate) mod compare;
 pub(crate) mod findings;
 pub(crate) mod interference;

@@ -169,6 +169,8 @@ pub struct Job {
     /// The spindle speed of each pass (rev/min): the program's (`G97 S`, or `G96 S` at the
     /// pass's diameter within its clamp), else `[machine] spindle_rpm`.
     pub pass_rpm: Vec<f64>,
+    /// Whether each pass is a threading cycle's (G76, G92, CYCLE97/99, LinuxCNC G76).
+    pub(crate) pass_cycle: Vec<bool>,
     /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
     /// `passes` are empty.
     pub mill: Option<MillJob>,
@@ -252,6 +254,8 @@ impl Job {
                         .enumerate()
                         .map(|(i, (file, line))| (offset + i, file, line)),
                 );
+                self.pass_cycle.resize(offset, false);
+                self.pass_cycle.extend(lathe.cycle);
                 let rpm = self.machine.spindle_rpm;
                 self.pass_rpm
                     .extend(lathe.rpm.into_iter().map(|r| r.unwrap_or(rpm)));
@@ -344,6 +348,7 @@ impl Job {
             chains: Vec::new(),
             pass_blocks: Vec::new(),
             pass_rpm: Vec::new(),
+            pass_cycle: Vec::new(),
             program_warnings: Vec::new(),
             plan: None,
             ..self.clone()

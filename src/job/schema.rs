@@ -246,6 +246,8 @@ pub(super) struct RawTool {
     pub(super) side_clearance_right: Option<f64>,
     pub(super) front_clearance: Option<f64>,
     pub(super) inclination: Option<f64>,
+    pub(super) max_depth_per_pass: Option<f64>,
+    pub(super) min_depth_per_pass: Option<f64>,
 }
 
 #[derive(Deserialize)]

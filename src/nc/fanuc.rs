@@ -180,7 +180,7 @@ impl Interp<'_> {
             w.g = g;
         }
         if w.g.contains(&76) {
-            return self.g76(&w, prog, pc);
+            return self.in_cycle(|m| m.g76(&w, prog, pc));
         }
         if let Some(step) = self.tap_modes(&w, prog, pc)? {
             return Ok(step);

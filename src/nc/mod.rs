@@ -213,6 +213,9 @@ pub struct Move {
     pub speed: SpindleSpeed,
     /// The feed of a feed or arc move (the modal F, in mm), `None` before any F.
     pub feed: Option<Feed>,
+    /// A thread move of a threading cycle's pass (FANUC/GSK G76 and G92, Siemens
+    /// CYCLE97/CYCLE99, LinuxCNC G76): its infeed is the cycle's.
+    pub cycle: bool,
 }
 
 /// The spindle speed as a program sets it: G97 `S` (rev/min), or G96 `S` (constant

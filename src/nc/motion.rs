@@ -369,7 +369,7 @@ impl Interp<'_> {
             return Ok(if end { Step::End } else { Step::Next });
         }
         if moved && self.cfg.dialect == Dialect::Fanuc && self.modal.motion == 92 {
-            return self.g92(w, prog, pc, x, z, scale);
+            return self.in_cycle(|m| m.g92(w, prog, pc, x, z, scale));
         }
         if moved && self.cfg.dialect == Dialect::Fanuc && matches!(self.modal.motion, 90 | 94) {
             self.need_feed(w)?;
@@ -776,6 +776,7 @@ impl Interp<'_> {
             arc: None,
             speed,
             feed,
+            cycle: self.out.cycle && kind == MoveKind::Thread,
         });
         // Only a thread block (`Interp::thread_block`) leaves a chain open.
         self.thread.chain_end = None;
@@ -860,6 +861,15 @@ impl Interp<'_> {
         self.x = end.0;
         self.z = end.1;
         Ok(())
+    }
+
+    /// Run a threading cycle's block: its thread moves are marked as a cycle's
+    /// ([`Move::cycle`]).
+    pub(super) fn in_cycle<T>(&mut self, f: impl FnOnce(&mut Self) -> T) -> T {
+        self.out.cycle = true;
+        let r = f(self);
+        self.out.cycle = false;
+        r
     }
 
     /// The spindle speed as the program has set it so far.

@@ -53,7 +53,7 @@ impl Interp<'_> {
             }
             if matches!(name.as_str(), "CYCLE97" | "CYCLE99") {
                 self.apply(&w, prog, pc)?;
-                return self.thread_cycle(&mut c, prog, pc, &name, at + 1);
+                return self.in_cycle(|m| m.thread_cycle(&mut c, prog, pc, &name, at + 1));
             }
             if name == "CYCLE84" {
                 self.apply(&w, prog, pc)?;

@@ -185,6 +185,8 @@ pub(super) struct Output {
     /// The tool offset (X diameter, Z) the last move ended with: the next move starts
     /// there and absorbs a change, as the control applies an offset with the next motion.
     pub(super) applied: (f64, f64),
+    /// A threading cycle's block is running (its thread moves are marked).
+    pub(super) cycle: bool,
 }
 
 /// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
@@ -283,6 +285,7 @@ impl<'l> Interp<'l> {
                 notes: Vec::new(),
                 dwells: Vec::new(),
                 applied: (0.0, 0.0),
+                cycle: false,
             },
             lc: Default::default(),
             mill: opts.settings.mill.clone().map(mill::MillState::new),

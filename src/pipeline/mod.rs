@@ -11,11 +11,11 @@ mod milling;
 pub(crate) use columns::{Held, Sink};
 pub use grid::plan_grid;
 
-use crate::analysis::checks;
 use crate::analysis::compare::{Comparer, Deviation};
 use crate::analysis::findings::{rank, FindingCounts, FindingKind};
 use crate::analysis::interference::{self, Measurer};
 use crate::analysis::measure::{generator_cells, measure_by, MeasureConfig};
+use crate::analysis::{checks, chips};
 use crate::job::{Job, MillJob};
 use crate::kernel::mill::{mill_column, GridMill};
 use crate::kernel::sweep::{sweep_column, Column, GridSweep};
@@ -204,6 +204,42 @@ pub(crate) fn simulate_with<S: Sink>(
         parts: run.parts,
         probe: run.probe,
     })
+}
+
+/// The insert's limits pass by pass (`analysis::chips`): the chips against each tool's
+/// `depth_per_pass` (worked out only when a tool has one), and the threading cycles'
+/// infeeds against the flanks.
+fn insert_limits(
+    job: &Job,
+    passes: &[Pass],
+    tools: &[Tool],
+    turned: &crate::kernel::turn::Turned,
+    q_blank: f64,
+    q_floor: f64,
+) -> Vec<checks::MachineIssue> {
+    let sense = match job.thread.side {
+        crate::model::thread::Side::External => 1.0,
+        crate::model::thread::Side::Internal => -1.0,
+    };
+    let mut out = Vec::new();
+    let limited = tools
+        .iter()
+        .any(|t| t.depth_per_pass.max.is_some() || t.depth_per_pass.min.is_some());
+    if limited {
+        let b = &job.blank;
+        let surface = chips::Surface {
+            sense,
+            q_blank,
+            q_floor,
+            z_span: (b.z_front - b.length, b.z_front),
+            turned,
+        };
+        let found = chips::pass_chips(passes, tools, surface);
+        out.extend(chips::depth_issues(passes, tools, &found));
+    }
+    let rubs = chips::infeed_rubs(passes, tools, &job.pass_blocks, &job.pass_cycle, sense);
+    out.extend(chips::rub_issues(passes, &rubs));
+    out
 }
 
 /// What [`run`] gives: the report, the exact deviation, the stocks when kept, and a
@@ -414,6 +450,7 @@ fn run<S: Sink>(
                 job.sim.tolerance,
             ));
             issues.extend(checks::head_check(passes, tools, &job.blank, thread.side));
+            issues.extend(insert_limits(job, passes, tools, turned, q_blank, q_floor));
             let bodies = interference::has_bodies(passes, tools).then(|| {
                 (
                     merged.hits,

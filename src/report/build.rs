@@ -205,13 +205,27 @@ pub(crate) fn build_report(
         }
     }
     for mi in machine_issues {
+        // The insert's checks are about a program's block: where it is.
+        let block = matches!(
+            mi.kind,
+            FindingKind::DepthPerPass | FindingKind::InfeedAngle
+        )
+        .then(|| job.pass_blocks.iter().find(|b| b.0 == mi.pass))
+        .flatten();
+        let message = match block {
+            Some((_, file, line)) => format!("{file}:{line}: {}", mi.message),
+            None => mi.message.clone(),
+        };
         findings.push(Finding {
+            file: block.map(|b| b.1.clone()),
+            line: block.map(|b| b.2),
             pass: Some(mi.pass + 1),
             z_mm: Some(r6(mi.z)),
             value: Some(r6(mi.value)),
             unit: Some(match mi.kind {
                 FindingKind::FeedLimit => "mm/min",
                 FindingKind::AxisAcceleration => "mm/s^2",
+                FindingKind::InfeedAngle => "deg",
                 FindingKind::ThreadChain => "mm/rev",
                 _ => "mm",
             }),
@@ -222,7 +236,7 @@ pub(crate) fn build_report(
                 } else {
                     Severity::Warning
                 },
-                mi.message.clone(),
+                message,
             )
         });
     }

@@ -87,6 +87,8 @@ pub(crate) struct LathePasses {
     /// Each pass's spindle speed as the program set it (rev/min; under G96 at the pass's
     /// smaller diameter, where it turns fastest), `None` where it set none.
     pub(crate) rpm: Vec<Option<f64>>,
+    /// Each pass is a threading cycle's (`nc::Move::cycle`).
+    pub(crate) cycle: Vec<bool>,
 }
 
 /// Turn a lathe program's thread moves into passes of `tools` (by the move's T number, or
@@ -167,6 +169,7 @@ pub(crate) fn lathe_passes(
         out.blocks.push((m.file.clone(), m.line));
         out.rpm
             .push(m.speed.at(pass.x_start.abs().min(pass.x_end.abs())));
+        out.cycle.push(m.cycle);
         out.passes.push(pass);
     }
     Ok(out)

@@ -138,11 +138,13 @@ fn tool_offsets_come_from_the_job_and_a_missing_one_is_a_warning_at_its_block() 
 
 /// The case's job with `program` and `edits` to its TOML (`support::with`).
 fn case_job(case: &str, program: &str, edits: &[(&str, &str, &str)]) -> Job {
+    case_job_text(case, program, &|t| crate::support::with(t, edits))
+}
+
+/// The case's job with `program`, its TOML text changed by `edit`.
+fn case_job_text(case: &str, program: &str, edit: &dyn Fn(&str) -> String) -> Job {
     let dir = root().join("tests/data/crash").join(case);
-    let text = crate::support::with(
-        &std::fs::read_to_string(dir.join("job.toml")).unwrap(),
-        edits,
-    );
+    let text = edit(&std::fs::read_to_string(dir.join("job.toml")).unwrap());
     let load = |f: &str| {
         let f = if f == "crash.nc" { program } else { f };
         std::fs::read_to_string(dir.join(f)).ok()
@@ -226,4 +228,57 @@ fn the_g76_parameters_are_checked_key_by_key() {
         assert!(e.to_string().contains(says), "{key}: {e}");
         assert!(e.to_string().contains(key), "{key}: {e}");
     }
+}
+
+#[test]
+fn a_first_cut_the_insert_cannot_stand_is_an_error_at_its_block() {
+    // G76 Q1200 with k = 1.227 and d = 0.05: 1.2 sqrt(1) already passes k - d = 1.177, so
+    // the first pass cuts 1.177 under the bar's crest, over the insert's 0.4; then k (0.05,
+    // over the 0.03 minimum).
+    let r = case_report("first-cut-too-deep", "crash.nc");
+    assert_eq!(r.verdict, vpcut::Verdict::Fail);
+    let d = of_kind(&r, FindingKind::DepthPerPass);
+    assert_eq!(d.len(), 1, "{:#?}", r.findings);
+    assert_eq!(
+        (d[0].file.as_deref(), d[0].line),
+        (Some("crash.nc"), Some(9))
+    );
+    assert_eq!(d[0].pass, Some(1));
+    assert!((d[0].value.unwrap() - 1.177).abs() < 1e-6, "{:?}", d[0]);
+    assert!(d[0].is_error());
+    // Q400: 0.4, then the increments 0.166, 0.127, 0.107, 0.1 (minimum cut) three times,
+    // 0.077, 0.05: all within [0.03, 0.4].
+    let ok = case_report("first-cut-too-deep", "fixed.nc");
+    assert!(of_kind(&ok, FindingKind::DepthPerPass).is_empty());
+    assert_eq!(ok.verdict, vpcut::Verdict::Pass, "{:#?}", ok.findings);
+    // A minimum of 0.06 makes the last pass (0.05) a warning at the block, not an error.
+    let job = case_job_text("first-cut-too-deep", "fixed.nc", &|t| {
+        t.replace("min_depth_per_pass = 0.03", "min_depth_per_pass = 0.06")
+    });
+    let r = vpcut::simulate_report(&job, &SimOptions::default()).unwrap();
+    let d = of_kind(&r, FindingKind::DepthPerPass);
+    assert_eq!(d.len(), 1, "{:#?}", r.findings);
+    assert!(!d[0].is_error() && d[0].pass == Some(9) && d[0].line == Some(9));
+    assert!((d[0].value.unwrap() - 0.05).abs() < 1e-6);
+}
+
+#[test]
+fn a_g76_infeed_beyond_the_inserts_flank_is_a_warning_at_its_block() {
+    // G76 P010060 flank-infeeds at 30 deg; a 55 deg insert's trailing flank stands at 27.5:
+    // fed into the wall. With the 60 deg insert the edge slides along it: no finding.
+    let job = case_job_text("rapid-below-crest", "fixed.nc", &|t| {
+        t.replace("angle = 60.0", "angle = 55.0")
+    });
+    let r = vpcut::simulate_report(&job, &SimOptions::default()).unwrap();
+    let w = of_kind(&r, FindingKind::InfeedAngle);
+    assert_eq!(w.len(), 1, "{:#?}", r.findings);
+    assert_eq!((w[0].line, w[0].pass), (Some(9), Some(2)));
+    assert!((w[0].value.unwrap() - 30.0).abs() < 1e-6 && !w[0].is_error());
+    assert!(
+        w[0].message.contains("trailing flank's 27.50 deg"),
+        "{}",
+        w[0].message
+    );
+    let ok = case_report("rapid-below-crest", "fixed.nc");
+    assert!(of_kind(&ok, FindingKind::InfeedAngle).is_empty());
 }

@@ -410,6 +410,7 @@ fn random_insert(rng: &mut Rng, case: usize) -> Tool {
         ][case % 4],
         body: None,
         length: None,
+        depth_per_pass: Default::default(),
     }
 }
 
@@ -479,6 +480,7 @@ fn a_threading_inserts_rapid_along_the_bar_meets_the_crest_by_its_depth() {
         reference: crate::model::tool::Reference::Tip,
         body: None,
         length: None,
+        depth_per_pass: Default::default(),
     };
     let shape = TurningTool::insert(&tool, false);
     let stock = Profile::new((-60.0, 0.0), 0.01, 15.0, 0.0);
@@ -505,6 +507,7 @@ fn a_threading_inserts_rapid_along_the_bar_meets_the_crest_by_its_depth() {
         reference: crate::model::tool::Reference::Left,
         body: None,
         length: None,
+        depth_per_pass: Default::default(),
     };
     let g = TurningTool::insert(&groove, false);
     let p = TurnPath::of_move(&g, 1.0, (-10.0, 40.0), (-10.0, 24.0), None);
