@@ -19,6 +19,7 @@
 //! number's range), `schema`, `parse`, `forms`, `tools`, `process`, `program`, `mill`.
 
 use crate::kernel::turn::TurningTool;
+use crate::model::part::PartProfile;
 use crate::model::pass::Pass;
 pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
 use crate::model::thread::ThreadSpec;
@@ -179,6 +180,10 @@ pub struct Job {
     pub pitch_diameter_limits: Option<(f64, f64)>,
     /// The plan of `[process] kind = "plan"`, whose passes are [`Job::passes`].
     pub plan: Option<crate::gen::plan::Plan>,
+    /// The finished part's outer contour as drawn (`[part] profile`), if given.
+    pub part_profile: Option<PartProfile>,
+    /// Its bore's contour (`[part] bore_profile`), if given.
+    pub bore_profile: Option<PartProfile>,
     /// The turning tools (`kind = "turning"`) the program's T words select.
     pub(crate) turning_tools: Vec<TurningTool>,
     /// What the program's turning moves cut, and its rapids that meet material.

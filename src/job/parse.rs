@@ -10,6 +10,7 @@ use super::schema::{RawJob, SpindleName};
 use super::tools::{check_tool_keys, resolve_tool, resolve_turning};
 use super::{process, program, Job, JobError, SimConfig, DEFAULT_MAX_DEXELS};
 use crate::model::helix::Spindle;
+use crate::model::part::{PartError, PartProfile};
 use crate::model::setup::{Blank, Machine};
 use crate::toolpath::Program;
 
@@ -133,6 +134,7 @@ pub(super) fn resolve(
                 m.g76_finish_allowance.is_some(),
             ),
         ];
+        let lathe_only = [lathe_only.as_slice(), &[("part", raw.part.is_some())]].concat();
         if let Some((key, _)) = lathe_only.iter().find(|k| k.1) {
             return Err(cx.err(key, "this key is for lathe jobs (a mill's offsets are G43 H and G41 D, from the program's own words)"));
         }
@@ -170,6 +172,8 @@ pub(super) fn resolve(
             mill: None,
             pitch_diameter_limits,
             plan: None,
+            part_profile: None,
+            bore_profile: None,
             turning_tools: Vec::new(),
             turning: Default::default(),
         };
@@ -219,6 +223,7 @@ pub(super) fn resolve(
         )?)),
         None => None,
     };
+    let (part_profile, bore_profile) = part(&raw, &blank, cx)?;
     let n_passes = passes.len();
     let job = Job {
         name: raw.name.unwrap_or_default(),
@@ -237,8 +242,53 @@ pub(super) fn resolve(
         mill: None,
         pitch_diameter_limits: None,
         plan,
+        part_profile,
+        bore_profile,
         turning_tools,
         turning: Default::default(),
     };
     Ok(Parsed { job, program })
+}
+
+/// `[part]`: the contours, each checked point by point; a bore's only on a tube.
+fn part(
+    raw: &RawJob,
+    blank: &Blank,
+    cx: &Ctx,
+) -> Result<(Option<PartProfile>, Option<PartProfile>), JobError> {
+    let Some(p) = &raw.part else {
+        return Ok((None, None));
+    };
+    let contour = |key: &str, pts: &Option<Vec<[f64; 2]>>| {
+        pts.as_ref()
+            .map(|pts| {
+                PartProfile::from_diameters(pts).map_err(|e| {
+                    let at = match e {
+                        PartError::NotANumber(i)
+                        | PartError::Backwards(i)
+                        | PartError::Repeated(i) => {
+                            format!("{key}[{i}]")
+                        }
+                        PartError::TooFew => key.to_string(),
+                    };
+                    cx.err(&at, e.to_string())
+                })
+            })
+            .transpose()
+    };
+    let outer = contour("part.profile", &p.profile)?;
+    let bore = contour("part.bore_profile", &p.bore_profile)?;
+    if bore.is_some() && blank.bore <= 0.0 {
+        return Err(cx.err(
+            "part.bore_profile",
+            "a bore's contour needs a blank with a bore (blank.bore)",
+        ));
+    }
+    if outer.is_none() && bore.is_none() {
+        return Err(cx.err(
+            "part",
+            "expected `profile` (the outer contour, [[z, d], ...]) or `bore_profile`",
+        ));
+    }
+    Ok((outer, bore))
 }

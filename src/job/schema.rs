@@ -23,6 +23,15 @@ pub(super) struct RawJob {
     pub(super) machine: RawMachine,
     #[serde(default)]
     pub(super) simulation: RawSimulation,
+    pub(super) part: Option<RawPart>,
+}
+
+/// `[part]`: the finished part's contours as drawn, `[z, d]` points in the order of z.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawPart {
+    pub(super) profile: Option<Vec<[f64; 2]>>,
+    pub(super) bore_profile: Option<Vec<[f64; 2]>>,
 }
 
 #[derive(Deserialize)]

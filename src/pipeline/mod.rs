@@ -15,7 +15,7 @@ use crate::analysis::compare::{Comparer, Deviation};
 use crate::analysis::findings::{rank, FindingCounts, FindingKind};
 use crate::analysis::interference::{self, Measurer};
 use crate::analysis::measure::{generator_cells, measure_by, MeasureConfig};
-use crate::analysis::{checks, chips};
+use crate::analysis::{checks, chips, contour};
 use crate::job::{Job, MillJob};
 use crate::kernel::mill::{mill_column, GridMill};
 use crate::kernel::sweep::{sweep_column, Column, GridSweep};
@@ -240,6 +240,48 @@ fn insert_limits(
     let rubs = chips::infeed_rubs(passes, tools, &job.pass_blocks, &job.pass_cycle, sense);
     out.extend(chips::rub_issues(passes, &rubs));
     out
+}
+
+/// The finished part's contour (`[part] profile`, or `bore_profile` for `bore`) against
+/// every cut on that surface (`analysis::contour`); `None` without that contour.
+fn part_check(
+    job: &Job,
+    passes: &[Pass],
+    tools: &[Tool],
+    bore: bool,
+    compared: Option<(f64, f64)>,
+) -> Option<(Vec<contour::PartGouge>, Vec<contour::PartLeftover>)> {
+    let b = &job.blank;
+    let (profile, sense, q_blank, q_floor, turned) = if bore {
+        (
+            job.bore_profile.as_ref()?,
+            -1.0,
+            -b.bore / 2.0,
+            -b.diameter / 2.0,
+            &job.turning.inner,
+        )
+    } else {
+        (
+            job.part_profile.as_ref()?,
+            1.0,
+            b.diameter / 2.0,
+            b.bore / 2.0,
+            &job.turning.outer,
+        )
+    };
+    let on_this = (job.thread.side == crate::model::thread::Side::Internal) == bore;
+    Some(contour::check(&contour::Surface {
+        profile,
+        sense,
+        q_blank,
+        q_floor,
+        turned,
+        thread: on_this.then_some((&job.thread, compared)),
+        passes: if on_this { passes } else { &[] },
+        tools,
+        dz: job.sim.axial_spacing,
+        tolerance: job.sim.tolerance,
+    }))
 }
 
 /// What [`run`] gives: the report, the exact deviation, the stocks when kept, and a
@@ -476,6 +518,19 @@ fn run<S: Sink>(
         milling::add_mill(&mut report, job, mj, stats, &measures, surface);
         report.verdict = rank(&mut report.findings);
         report.finding_counts = FindingCounts::of(&report.findings);
+    }
+    if let Operation::Turning { passes, tools } = op {
+        let compared = merged
+            .dev
+            .compared_z
+            .map(|(a, b)| (a - 0.5 * grid.dz, b + 0.5 * grid.dz));
+        for bore in [false, true] {
+            if let Some(found) = part_check(job, passes, tools, bore, compared) {
+                report::add_part(&mut report, job, bore, &found);
+                report.verdict = rank(&mut report.findings);
+                report.finding_counts = FindingCounts::of(&report.findings);
+            }
+        }
     }
     report.timing_s = report::Timing {
         setup: t_setup,

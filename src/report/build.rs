@@ -4,6 +4,7 @@
 
 use crate::analysis::checks::MachineIssue;
 use crate::analysis::compare::{Deviation, Extreme, TurnDeviation};
+use crate::analysis::contour::{Cutter, PartGouge, PartLeftover};
 use crate::analysis::findings::{rank, Finding, FindingKind};
 use crate::analysis::interference;
 use crate::analysis::measure::TurnMeasure;
@@ -522,4 +523,97 @@ fn rapid_message(h: &RapidHit) -> String {
 
 fn fmt_opt(v: Option<f64>) -> String {
     v.map_or("-".to_string(), |x| format!("{x:.4}"))
+}
+
+/// One surface's contour check as the report's findings: each NC block whose moves or
+/// passes cut into the part (its deepest, with how many of them), each stretch of stock
+/// left outside it; `bore` for the bore's contour. The verdict is ranked again by the
+/// caller.
+pub(crate) fn add_part(
+    report: &mut Report,
+    job: &Job,
+    bore: bool,
+    (gouges, leftovers): &(Vec<PartGouge>, Vec<PartLeftover>),
+) {
+    let moves = if bore {
+        &job.turning.inner_blocks
+    } else {
+        &job.turning.outer_blocks
+    };
+    let surface = if bore { "bore's contour" } else { "contour" };
+    // The block of each gouge, and what cut it, in words.
+    let mut by_block: Vec<((Option<String>, Option<usize>), &PartGouge, usize, String)> =
+        Vec::new();
+    for g in gouges {
+        let (block, who) = match g.by {
+            Cutter::Pass(i) => (
+                job.pass_blocks
+                    .iter()
+                    .find(|b| b.0 == i)
+                    .map(|b| (Some(b.1.clone()), Some(b.2))),
+                format!("pass {}", i + 1),
+            ),
+            Cutter::Move(i) => (
+                moves.get(i).map(|b| (Some(b.0.clone()), Some(b.1))),
+                "a feed move".to_string(),
+            ),
+        };
+        let block = block.unwrap_or((None, None));
+        match by_block.iter_mut().find(|e| e.0 == block) {
+            Some(e) => {
+                e.2 += 1;
+                if g.depth > e.1.depth {
+                    (e.1, e.3) = (g, who);
+                }
+            }
+            None => by_block.push((block, g, 1, who)),
+        }
+    }
+    for ((file, line), g, count, who) in by_block {
+        let at = match (&file, line) {
+            (Some(f), Some(l)) => format!("{f}:{l}: "),
+            _ => String::new(),
+        };
+        let more = if count > 1 {
+            format!(" ({count} of this block's moves cut into it, this one deepest)")
+        } else {
+            String::new()
+        };
+        report.findings.push(Finding {
+            pass: match g.by {
+                Cutter::Pass(i) => Some(i + 1),
+                Cutter::Move(_) => None,
+            },
+            z_mm: Some(r6(g.z)),
+            file,
+            line,
+            value: Some(r6(g.depth)),
+            unit: Some("mm"),
+            ..Finding::new(
+                FindingKind::Gouge,
+                Severity::Error,
+                format!(
+                    "{at}the part: {who} cuts {:.4} mm under its {surface} (d {:.3}) at z {:.3}{more}",
+                    g.depth,
+                    2.0 * g.floor,
+                    g.z
+                ),
+            )
+        });
+    }
+    for l in leftovers {
+        report.findings.push(Finding {
+            z_mm: Some(r6(l.z)),
+            value: Some(r6(l.height)),
+            unit: Some("mm"),
+            ..Finding::new(
+                FindingKind::Leftover,
+                Severity::Error,
+                format!(
+                    "the part: the turned stock stands {:.4} mm over its {surface} from z {:.3} to {:.3}, the most at z {:.3}",
+                    l.height, l.span.0, l.span.1, l.z
+                ),
+            )
+        });
+    }
 }

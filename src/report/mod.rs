@@ -10,7 +10,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 
 mod build;
-pub(crate) use build::build_report;
+pub(crate) use build::{add_part, build_report};
 
 /// The schema tag.
 pub const SCHEMA: &str = "vpcut.report/1";

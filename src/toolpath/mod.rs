@@ -250,6 +250,10 @@ pub(crate) struct LatheTurning {
     pub(crate) outer: Turned,
     /// Those of boring bars and of an internal thread's inserts.
     pub(crate) inner: Turned,
+    /// The block (file, 1-based line) of each of `outer`'s moves.
+    pub(crate) outer_blocks: Vec<(String, usize)>,
+    /// The block of each of `inner`'s moves.
+    pub(crate) inner_blocks: Vec<(String, usize)>,
     /// The moves that meet material and must not.
     pub(crate) rapids: Vec<RapidHit>,
 }
@@ -301,13 +305,13 @@ pub(crate) fn lathe_turning(
         let Some(&LatheTool { shape: tool, role }) = found else {
             continue;
         };
-        let (turned, stock, sense) = if tool.internal {
+        let (turned, blocks, stock, sense) = if tool.internal {
             match inner_stock.as_mut() {
-                Some(s) => (&mut out.inner, s, -1.0),
+                Some(s) => (&mut out.inner, &mut out.inner_blocks, s, -1.0),
                 None => continue,
             }
         } else {
-            (&mut out.outer, &mut outer_stock, 1.0)
+            (&mut out.outer, &mut out.outer_blocks, &mut outer_stock, 1.0)
         };
         let arc = match (m.kind, &m.arc) {
             (MoveKind::Arc, Some(a)) => Some(((a.z_centre, a.x_centre_dia), a.clockwise)),
@@ -352,6 +356,7 @@ pub(crate) fn lathe_turning(
                 let cut = TurnCut { tool, path };
                 stock.cut(&cut);
                 turned.cuts.push(cut);
+                blocks.push((m.file.clone(), m.line));
             }
             MoveKind::Rapid => {
                 let retract =

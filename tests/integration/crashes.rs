@@ -282,3 +282,75 @@ fn a_g76_infeed_beyond_the_inserts_flank_is_a_warning_at_its_block() {
     let ok = case_report("rapid-below-crest", "fixed.nc");
     assert!(of_kind(&ok, FindingKind::InfeedAngle).is_empty());
 }
+
+#[test]
+fn a_thread_run_into_the_shoulder_is_a_gouge_of_the_part_at_its_block() {
+    // The G76 (N170, line 20) to Z-45: its nine passes run 3 mm into the D36 shoulder at
+    // Z-42; the deepest, at the root X27.546, 18 - 27.546 / 2 = 4.227 mm under it. Its
+    // rapids back along X32 start inside the shoulder: (36 - 32) / 2 = 2 mm.
+    let r = case_report("thread-into-shoulder", "crash.nc");
+    assert_eq!(r.verdict, vpcut::Verdict::Fail);
+    let g = of_kind(&r, FindingKind::Gouge);
+    assert_eq!(g.len(), 1, "{:#?}", r.findings);
+    assert_eq!(
+        (g[0].file.as_deref(), g[0].line),
+        (Some("crash.nc"), Some(20))
+    );
+    assert!(
+        (g[0].value.unwrap() - (18.0 - 27.546 / 2.0)).abs() < 1e-6,
+        "{:?}",
+        g[0]
+    );
+    assert_eq!(g[0].pass, Some(9));
+    let z = g[0].z_mm.unwrap();
+    assert!(z < -42.0 && z >= -45.0 - 1.0 / 6.0, "{z}");
+    let rapid = of_kind(&r, FindingKind::RapidCut);
+    assert_eq!(rapid.len(), 1);
+    assert!((rapid[0].value.unwrap() - 2.0).abs() < 1e-6);
+    // Ending at Z-39.0 the run-out stays in the thread's section, clear of the face.
+    let ok = case_report("thread-into-shoulder", "fixed.nc");
+    assert_eq!(ok.verdict, vpcut::Verdict::Pass, "{:#?}", ok.findings);
+    // Without [part] the crash's passes are only volume outside the compared thread.
+    let job = case_job_text("thread-into-shoulder", "crash.nc", &|t| {
+        let a = t.find("\n[part]").unwrap();
+        let b = t.find("[[tool]]").unwrap();
+        format!("{}{}", &t[..a], &t[b..])
+    });
+    let r = vpcut::simulate_report(&job, &SimOptions::default()).unwrap();
+    assert!(of_kind(&r, FindingKind::Gouge).is_empty());
+}
+
+#[test]
+fn the_part_is_checked_key_by_key() {
+    let dir = root().join("tests/data/crash/thread-into-shoulder");
+    let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+    let load = |f: &str| std::fs::read_to_string(dir.join(f)).ok();
+    let profile =
+        "profile = [[0.0, 26.0], [-2.0, 30.0], [-42.0, 30.0], [-42.0, 36.0], [-60.0, 36.0]]";
+    for (to, says) in [
+        (
+            "profile = [[0.0, 26.0]]",
+            ("part.profile", "at least two points"),
+        ),
+        (
+            "profile = [[0.0, 26.0], [-2.0, 30.0], [-1.0, 30.0], [-60.0, 36.0]]",
+            ("part.profile[2]", "in the order of z"),
+        ),
+        (
+            "profile = [[0.0, 26.0], [-2.0, -30.0]]",
+            ("part.profile[1]", "diameter of at least 0"),
+        ),
+        (
+            "bore_profile = [[0.0, 10.0], [-5.0, 10.0]]",
+            ("part.bore_profile", "blank.bore"),
+        ),
+        ("", ("part", "expected `profile`")),
+        ("outline = [[0.0, 1.0]]", ("outline", "unknown")),
+    ] {
+        let t = text.replace(profile, to);
+        let e = Job::from_toml_with(&t, "job.toml", &load)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(says.0) && e.contains(says.1), "{to}: {e}");
+    }
+}
