@@ -85,12 +85,34 @@ pub(crate) fn head_check(
     out
 }
 
-/// Check every pass against the machine.
-pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<MachineIssue> {
+/// A spindle speed as the messages write it: whole as programmed, else to 0.1 rev/min (a
+/// G96 speed at a diameter).
+pub(crate) fn rpm_text(rpm: f64) -> String {
+    if rpm.fract() == 0.0 {
+        format!("{rpm}")
+    } else {
+        format!("{rpm:.1}")
+    }
+}
+
+/// The spindle speed of pass `i`: the program's (`rpm[i]`), else the machine's.
+fn pass_rpm(rpm: &[f64], i: usize, machine: &Machine) -> f64 {
+    rpm.get(i).copied().unwrap_or(machine.spindle_rpm)
+}
+
+/// Check every pass against the machine, pass `i` at the spindle speed `rpm[i]` (the
+/// program's; the machine's `spindle_rpm` where `rpm` has none).
+pub(crate) fn check(
+    passes: &[Pass],
+    rpm: &[f64],
+    machine: &Machine,
+    blank: &Blank,
+) -> Vec<MachineIssue> {
     let mut out = Vec::new();
-    let rps = machine.spindle_rpm / 60.0;
     let z_back = blank.z_front - blank.length;
     for (i, p) in passes.iter().enumerate() {
+        let n = pass_rpm(rpm, i, machine);
+        let rps = n / 60.0;
         let Some(end_lead) = p.end_lead() else {
             continue;
         };
@@ -100,7 +122,7 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
             (p.lead, p.z_start)
         };
         if let Some(max_feed) = machine.max_feed {
-            let feed = lead_max * machine.spindle_rpm;
+            let feed = lead_max * n;
             if feed > max_feed {
                 out.push(MachineIssue {
                     kind: FindingKind::FeedLimit,
@@ -113,7 +135,7 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
                         "pass {}: lead {:.4} mm/rev x {} rpm = {:.1} mm/min exceeds max_feed {} mm/min",
                         i + 1,
                         lead_max,
-                        machine.spindle_rpm,
+                        rpm_text(n),
                         feed,
                         max_feed
                     ),
@@ -160,7 +182,7 @@ pub(crate) fn check(passes: &[Pass], machine: &Machine, blank: &Blank) -> Vec<Ma
                         "pass {}: a lead change of {} mm/rev^2 at {} rpm needs {:.1} mm/s^2 of axial acceleration, more than {} mm/s^2",
                         i + 1,
                         p.lead_change,
-                        machine.spindle_rpm,
+                        rpm_text(n),
                         acc,
                         a
                     ),
@@ -181,13 +203,14 @@ pub(crate) const CHAIN_LEAD_TOL: f64 = 0.0005;
 /// variable lead written as chained G33 blocks, `crate::gen::post`) is no finding.
 pub(crate) fn chain_check(
     links: &[ChainLink],
+    rpm: &[f64],
     machine: &Machine,
     tolerance: f64,
 ) -> Vec<MachineIssue> {
-    let rps = machine.spindle_rpm / 60.0;
     links
         .iter()
         .filter(|l| {
+            let rps = pass_rpm(rpm, l.pass, machine) / 60.0;
             let step = (l.lead_after - l.lead_before).abs();
             let felt = match machine.acceleration {
                 Some(a) => (step * rps).powi(2) / (2.0 * a) > 0.1 * tolerance,
@@ -247,7 +270,7 @@ mod tests {
             length: 120.0,
             z_front: 0.0,
         };
-        let issues = check(std::slice::from_ref(&p), &m, &blank);
+        let issues = check(std::slice::from_ref(&p), &[], &m, &blank);
         // End lead: sqrt(16 + 2*1.5*86) = 16.565 mm/rev -> 3313 mm/min.
         let feed = issues
             .iter()
@@ -319,7 +342,9 @@ mod tests {
                 }
             }
             // A pure continuation: no thread_chain finding.
-            assert!(chain_check(&two.chains, &two.machine, two.sim.tolerance).is_empty());
+            assert!(
+                chain_check(&two.chains, &two.pass_rpm, &two.machine, two.sim.tolerance).is_empty()
+            );
             assert_eq!(two.chains.len(), 1);
         }
     }
@@ -333,9 +358,9 @@ mod tests {
         let job = |second: &str| program_job(&format!("{base}{second}\nM30\n"), "fanuc", "cw");
         let j = job("G34 Z-20 F6.325 K1");
         assert_eq!(j.chains.len(), 1);
-        assert!(chain_check(&j.chains, &j.machine, j.sim.tolerance).is_empty());
+        assert!(chain_check(&j.chains, &j.pass_rpm, &j.machine, j.sim.tolerance).is_empty());
         let j = job("G34 Z-20 F7 K1");
-        let issues = chain_check(&j.chains, &j.machine, j.sim.tolerance);
+        let issues = chain_check(&j.chains, &j.pass_rpm, &j.machine, j.sim.tolerance);
         assert_eq!(issues.len(), 1);
         let i = &issues[0];
         assert_eq!(
@@ -347,7 +372,7 @@ mod tests {
         assert_eq!(
             {
                 let j = job("G34 Z-20 F6.325 K2");
-                chain_check(&j.chains, &j.machine, j.sim.tolerance)
+                chain_check(&j.chains, &j.pass_rpm, &j.machine, j.sim.tolerance)
             }
             .len(),
             1
@@ -355,7 +380,7 @@ mod tests {
         assert_eq!(
             {
                 let j = job("G32 Z-20 F6.325");
-                chain_check(&j.chains, &j.machine, j.sim.tolerance)
+                chain_check(&j.chains, &j.pass_rpm, &j.machine, j.sim.tolerance)
             }
             .len(),
             1
@@ -369,6 +394,8 @@ mod tests {
             "cw",
         );
         assert_eq!((gsk.passes.len(), gsk.chains.len()), (2, 1));
-        assert!(chain_check(&gsk.chains, &gsk.machine, gsk.sim.tolerance).is_empty());
+        assert!(
+            chain_check(&gsk.chains, &gsk.pass_rpm, &gsk.machine, gsk.sim.tolerance).is_empty()
+        );
     }
 }

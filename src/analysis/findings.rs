@@ -23,16 +23,20 @@ pub enum FindingKind {
     Placement,
     /// A pass cuts a helix of the other hand than the drawing's.
     Hand,
-    /// A rapid move cuts material.
+    /// A rapid move cuts material (or a threading insert's feed move or radial entry).
     RapidCut,
     /// The tool's head is too short for the thread's depth.
     HeadLength,
+    /// A pass's radial chip outside the insert's depth per pass.
+    DepthPerPass,
     /// Material removed beyond the ideal surface, beyond the tolerance.
     Gouge,
     /// Material left above the ideal surface, beyond the tolerance.
     Leftover,
     /// A tool body cut past its edge's surface.
     FlankInterference,
+    /// A threading cycle's infeed runs an edge along (or into) the flank cut before.
+    InfeedAngle,
     /// A groove or tooth the drawing has is not found at the pitch diameter.
     MissingFeature,
     /// A turn's measured lead is off.
@@ -59,16 +63,18 @@ pub enum FindingKind {
 
 impl FindingKind {
     /// Every kind, in report order.
-    pub const ALL: [FindingKind; 20] = [
+    pub const ALL: [FindingKind; 22] = [
         FindingKind::NotCompared,
         FindingKind::Gauge,
         FindingKind::Placement,
         FindingKind::Hand,
         FindingKind::RapidCut,
         FindingKind::HeadLength,
+        FindingKind::DepthPerPass,
         FindingKind::Gouge,
         FindingKind::Leftover,
         FindingKind::FlankInterference,
+        FindingKind::InfeedAngle,
         FindingKind::MissingFeature,
         FindingKind::Lead,
         FindingKind::PitchDiameter,
@@ -91,6 +97,8 @@ impl FindingKind {
             FindingKind::Hand => "hand",
             FindingKind::RapidCut => "rapid_cut",
             FindingKind::HeadLength => "head_length",
+            FindingKind::DepthPerPass => "depth_per_pass",
+            FindingKind::InfeedAngle => "infeed_angle",
             FindingKind::Gouge => "gouge",
             FindingKind::Leftover => "leftover",
             FindingKind::FlankInterference => "flank_interference",
@@ -123,7 +131,9 @@ impl FindingKind {
                 "The cut thread lies off the position the job gives it (thread.z_start)."
             }
             FindingKind::Hand => "A pass cuts the other hand than the drawing's thread.",
-            FindingKind::RapidCut => "A rapid (G00) move removes material.",
+            FindingKind::RapidCut => {
+                "A rapid (G00) move, or a threading insert's move off the thread, removes material."
+            }
             FindingKind::HeadLength => {
                 "A pass runs deeper than the tool's head reaches: the holder hits the part."
             }
@@ -134,6 +144,12 @@ impl FindingKind {
                 "Material left that the ideal thread removes, beyond the tolerance."
             }
             FindingKind::FlankInterference => "A tool body cuts past the surface its edge cut.",
+            FindingKind::DepthPerPass => {
+                "A pass's radial chip is over (or under) the insert's depth per pass."
+            }
+            FindingKind::InfeedAngle => {
+                "A threading cycle's infeed runs an edge along or into the flank cut before: it rubs."
+            }
             FindingKind::MissingFeature => {
                 "A groove or tooth of the drawing is not formed at the pitch diameter."
             }
@@ -219,7 +235,7 @@ pub struct Finding {
     /// The value (unit in `unit`); absent where a finding has none (program findings).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub value: Option<f64>,
-    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`; absent with `value`.
+    /// `mm`, `mm/min`, `mm/s^2`, `mm/rev`, `deg`; absent with `value`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unit: Option<&'static str>,
     /// One line for a person.

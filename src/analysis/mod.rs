@@ -1,9 +1,12 @@
 //! What the cut means: the deviation from the ideal thread ([`compare`]), measured leads and
-//! widths ([`measure`]), what tool bodies cut past their edges ([`interference`]) and the
-//! machine checks ([`checks`]). Reads the model and the kernels' stock; pure.
+//! widths ([`measure`]), what tool bodies cut past their edges ([`interference`]), the
+//! machine checks ([`checks`]), the insert's limits pass by pass ([`chips`]) and the
+//! finished part's contour against every cut ([`contour`]). Reads the model and the kernels' stock; pure.
 
 pub(crate) mod checks;
+pub(crate) mod chips;
 pub(crate) mod compare;
+pub(crate) mod contour;
 pub(crate) mod findings;
 pub(crate) mod gauge;
 pub(crate) mod interference;

@@ -248,6 +248,9 @@ mod tests {
             tool: None,
             spindle: vpcut::Spindle::Cw,
             arc: None,
+            speed: Default::default(),
+            feed: None,
+            cycle: false,
         };
         let mut moves: Vec<vpcut::Move> = (0..30_000)
             .map(|k| mv(["O1", "O2", "MAIN.NC", "O9"][k % 4]))

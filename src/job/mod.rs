@@ -20,13 +20,14 @@
 //! tolerance class), `tools`, `process`, `program`, `mill`.
 
 use crate::kernel::turn::TurningTool;
+use crate::model::part::PartProfile;
 use crate::model::pass::Pass;
 pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
 use crate::model::thread::ThreadSpec;
 use crate::model::tolerance::ThreadClass;
 use crate::model::tool::Tool;
 use crate::nc::{Diagnostic, NcError, Severity};
-use crate::toolpath::{self, LatheTurning, ProgramError, TurnStock};
+use crate::toolpath::{self, LatheTool, LatheTurning, ProgramError, Role, TurnStock};
 
 mod ctx;
 mod forms;
@@ -170,6 +171,11 @@ pub struct Job {
     /// Where the passes that come from the `[program]` are in it: (pass index, file as the
     /// job names the program, 1-based line of the thread block). Empty without a program.
     pub pass_blocks: Vec<(usize, String, usize)>,
+    /// The spindle speed of each pass (rev/min): the program's (`G97 S`, or `G96 S` at the
+    /// pass's diameter within its clamp), else `[machine] spindle_rpm`.
+    pub pass_rpm: Vec<f64>,
+    /// Whether each pass is a threading cycle's (G76, G92, CYCLE97/99, LinuxCNC G76).
+    pub(crate) pass_cycle: Vec<bool>,
     /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
     /// `passes` are empty.
     pub mill: Option<MillJob>,
@@ -189,6 +195,10 @@ pub struct Job {
     /// Whether the thread's position comes from the cut: no `thread.z_start`, and passes
     /// that the thread does not generate.
     pub(crate) fit_thread: bool,
+    /// The finished part's outer contour as drawn (`[part] profile`), if given.
+    pub part_profile: Option<PartProfile>,
+    /// Its bore's contour (`[part] bore_profile`), if given.
+    pub bore_profile: Option<PartProfile>,
     /// The turning tools (`kind = "turning"`) the program's T words select.
     pub(crate) turning_tools: Vec<TurningTool>,
     /// What the program's turning moves cut, and its rapids that meet material.
@@ -266,6 +276,11 @@ impl Job {
                         .enumerate()
                         .map(|(i, (file, line))| (offset + i, file, line)),
                 );
+                self.pass_cycle.resize(offset, false);
+                self.pass_cycle.extend(lathe.cycle);
+                let rpm = self.machine.spindle_rpm;
+                self.pass_rpm
+                    .extend(lathe.rpm.into_iter().map(|r| r.unwrap_or(rpm)));
                 self.passes.extend(lathe.passes);
                 let b = &self.blank;
                 let outer = TurnStock {
@@ -278,7 +293,7 @@ impl Job {
                 });
                 self.turning = toolpath::lathe_turning(
                     &path.moves,
-                    &self.turning_tools,
+                    &self.lathe_tools(),
                     outer,
                     inner,
                     (b.z_front - b.length, b.z_front),
@@ -316,6 +331,29 @@ impl Job {
         Ok(self)
     }
 
+    /// Every tool of a lathe program as its moves sweep it: the turning tools, and the
+    /// grooving and threading inserts (on the thread's side: in the bore for an internal
+    /// thread).
+    fn lathe_tools(&self) -> Vec<LatheTool> {
+        let internal = self.thread.side == crate::model::thread::Side::Internal;
+        let turning = self.turning_tools.iter().map(|&shape| LatheTool {
+            shape,
+            role: Role::Turning,
+        });
+        let inserts = self.tools.iter().map(|t| LatheTool {
+            shape: TurningTool::insert(t, internal),
+            role: match t.edge {
+                crate::model::tool::Edge::Trapezoid {
+                    left_angle,
+                    right_angle,
+                    ..
+                } if left_angle == 0.0 && right_angle == 0.0 => Role::Grooving,
+                _ => Role::Threading,
+            },
+        });
+        turning.chain(inserts).collect()
+    }
+
     /// This job with its passes replaced by those of an NC program: `text`, read as
     /// `file` in `dialect` (`fanuc`, `gsk980`, `siemens-802d`, `linuxcnc`), strictly (every
     /// word must be understood). The round trip of `vpcut plan`.
@@ -338,12 +376,14 @@ impl Job {
             main: None,
         };
         let cx = Ctx::empty(file);
-        let program = program::lathe_program(&pr, &cx, true)?;
+        let program = program::lathe_program(&pr, None, &cx, true)?;
         let load = |name: &str| (name == file).then(|| text.to_string());
         let job = Job {
             passes: Vec::new(),
             chains: Vec::new(),
             pass_blocks: Vec::new(),
+            pass_rpm: Vec::new(),
+            pass_cycle: Vec::new(),
             program_warnings: Vec::new(),
             plan: None,
             ..self.clone()

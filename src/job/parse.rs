@@ -10,6 +10,7 @@ use super::schema::{RawJob, SpindleName};
 use super::tools::{check_tool_keys, resolve_tool, resolve_turning};
 use super::{process, program, Job, JobError, SimConfig, DEFAULT_MAX_DEXELS};
 use crate::model::helix::Spindle;
+use crate::model::part::{PartError, PartProfile};
 use crate::model::setup::{Blank, Machine};
 use crate::toolpath::Program;
 
@@ -141,6 +142,21 @@ pub(super) fn resolve(
         check_tool_keys(t, i, cx)?;
     }
     if raw.machine.kind == mill::MachineKind::Mill {
+        let m = &raw.machine;
+        let lathe_only = [
+            ("machine.offsets", m.offsets.is_some()),
+            ("machine.g76_finish_passes", m.g76_finish_passes.is_some()),
+            ("machine.g76_tool_angle", m.g76_tool_angle.is_some()),
+            ("machine.g76_min_cut", m.g76_min_cut.is_some()),
+            (
+                "machine.g76_finish_allowance",
+                m.g76_finish_allowance.is_some(),
+            ),
+        ];
+        let lathe_only = [lathe_only.as_slice(), &[("part", raw.part.is_some())]].concat();
+        if let Some((key, _)) = lathe_only.iter().find(|k| k.1) {
+            return Err(cx.err(key, "this key is for lathe jobs (a mill's offsets are G43 H and G41 D, from the program's own words)"));
+        }
         if raw.machine.spindle != SpindleName::Cw {
             return Err(cx.err(
                 "machine.spindle",
@@ -170,12 +186,16 @@ pub(super) fn resolve(
             program_warnings: Vec::new(),
             chains: Vec::new(),
             pass_blocks: Vec::new(),
+            pass_rpm: Vec::new(),
+            pass_cycle: Vec::new(),
             mill: None,
             pitch_diameter_limits,
             thread_class,
             plan: None,
             placement: None,
             fit_thread: raw.thread.z_start.is_none(),
+            part_profile: None,
+            bore_profile: None,
             turning_tools: Vec::new(),
             turning: Default::default(),
         };
@@ -217,9 +237,16 @@ pub(super) fn resolve(
     }
     let (passes, plan) = process::job_passes(&raw, &thread, &tools, &blank, &machine, &sim, cx)?;
     let program = match &raw.program {
-        Some(pr) => Some(Pending::Lathe(program::lathe_program(pr, cx, strict)?)),
+        Some(pr) => Some(Pending::Lathe(program::lathe_program(
+            pr,
+            Some(&raw.machine),
+            cx,
+            strict,
+        )?)),
         None => None,
     };
+    let (part_profile, bore_profile) = part(&raw, &blank, cx)?;
+    let n_passes = passes.len();
     let job = Job {
         name: raw.name.unwrap_or_default(),
         blank,
@@ -232,14 +259,61 @@ pub(super) fn resolve(
         program_warnings: Vec::new(),
         chains: Vec::new(),
         pass_blocks: Vec::new(),
+        pass_rpm: vec![machine.spindle_rpm; n_passes],
+        pass_cycle: vec![false; n_passes],
         mill: None,
         pitch_diameter_limits: None,
         thread_class,
         plan,
         placement: None,
         fit_thread: raw.thread.z_start.is_none() && raw.process.is_none(),
+        part_profile,
+        bore_profile,
         turning_tools,
         turning: Default::default(),
     };
     Ok(Parsed { job, program })
+}
+
+/// `[part]`: the contours, each checked point by point; a bore's only on a tube.
+fn part(
+    raw: &RawJob,
+    blank: &Blank,
+    cx: &Ctx,
+) -> Result<(Option<PartProfile>, Option<PartProfile>), JobError> {
+    let Some(p) = &raw.part else {
+        return Ok((None, None));
+    };
+    let contour = |key: &str, pts: &Option<Vec<[f64; 2]>>| {
+        pts.as_ref()
+            .map(|pts| {
+                PartProfile::from_diameters(pts).map_err(|e| {
+                    let at = match e {
+                        PartError::NotANumber(i)
+                        | PartError::Backwards(i)
+                        | PartError::Repeated(i) => {
+                            format!("{key}[{i}]")
+                        }
+                        PartError::TooFew => key.to_string(),
+                    };
+                    cx.err(&at, e.to_string())
+                })
+            })
+            .transpose()
+    };
+    let outer = contour("part.profile", &p.profile)?;
+    let bore = contour("part.bore_profile", &p.bore_profile)?;
+    if bore.is_some() && blank.bore <= 0.0 {
+        return Err(cx.err(
+            "part.bore_profile",
+            "a bore's contour needs a blank with a bore (blank.bore)",
+        ));
+    }
+    if outer.is_none() && bore.is_none() {
+        return Err(cx.err(
+            "part",
+            "expected `profile` (the outer contour, [[z, d], ...]) or `bore_profile`",
+        ));
+    }
+    Ok((outer, bore))
 }

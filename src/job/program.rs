@@ -5,18 +5,29 @@
 //! program stage ([`crate::toolpath`]), after parsing.
 
 use super::ctx::Ctx;
-use super::schema::RawProgram;
+use super::schema::{RawMachine, RawProgram};
 use super::JobError;
-use crate::nc::{DecimalPoint, Dialect, GcodeSystem, InputIncrement, Settings};
+use crate::nc::{DecimalPoint, Dialect, G76Params, GcodeSystem, InputIncrement, Settings};
 use crate::toolpath::Program;
+use std::collections::BTreeMap;
 
-/// A lathe job's `[program]`.
-pub(super) fn lathe_program(pr: &RawProgram, cx: &Ctx, strict: bool) -> Result<Program, JobError> {
+/// A lathe job's `[program]`, with what `[machine]` says about the control (`None`: the
+/// defaults): the tool offsets and G76's parameters.
+pub(super) fn lathe_program(
+    pr: &RawProgram,
+    machine: Option<&RawMachine>,
+    cx: &Ctx,
+    strict: bool,
+) -> Result<Program, JobError> {
     let mut settings = Settings {
         thread_chamfer: cx.non_negative("program.thread_chamfer", pr.thread_chamfer)?,
         block_skip: pr.block_skip,
         ..Settings::default()
     };
+    if let Some(m) = machine {
+        settings.tool_offsets = tool_offsets(m, cx)?;
+        settings.g76 = g76_params(m, cx)?;
+    }
     if settings.thread_chamfer > 9.9 {
         return Err(cx.err(
             "program.thread_chamfer",
@@ -174,6 +185,78 @@ pub(super) fn program(
             ..crate::nc::Options::default()
         },
     })
+}
+
+/// `[machine] g76_*`: the G76 first block's values the control's parameters hold (FANUC
+/// No. 5142, 5143, 5140, 5141), vpcut's defaults where the job gives none.
+fn g76_params(m: &RawMachine, cx: &Ctx) -> Result<G76Params, JobError> {
+    let mut p = G76Params::default();
+    if let Some(n) = m.g76_finish_passes {
+        if !(1..=99).contains(&n) {
+            return Err(cx.err(
+                "machine.g76_finish_passes",
+                format!("expected 1 to 99 finishing passes, got {n}"),
+            ));
+        }
+        p.finish_passes = n;
+    }
+    if let Some(a) = m.g76_tool_angle {
+        if ![80.0, 60.0, 55.0, 30.0, 29.0, 0.0].contains(&a) {
+            return Err(cx.err(
+                "machine.g76_tool_angle",
+                format!("expected one of 80, 60, 55, 30, 29, 0 degrees (G76's aa), got {a}"),
+            ));
+        }
+        p.tool_angle = a;
+    }
+    for (key, v, slot) in [
+        ("machine.g76_min_cut", m.g76_min_cut, &mut p.min_cut),
+        (
+            "machine.g76_finish_allowance",
+            m.g76_finish_allowance,
+            &mut p.finish_allowance,
+        ),
+    ] {
+        if let Some(v) = v {
+            let v = cx.non_negative(key, v)?;
+            if v > 10.0 {
+                return Err(cx.err(key, format!("expected at most 10 mm, got {v}")));
+            }
+            *slot = v;
+        }
+    }
+    Ok(p)
+}
+
+/// `[machine] offsets`: each number's shift of the tool's point (X as a diameter, Z), its
+/// `x`/`z` (the geometry's) and `wear_x`/`wear_z` added; `None` without the table.
+fn tool_offsets(m: &RawMachine, cx: &Ctx) -> Result<Option<BTreeMap<u32, (f64, f64)>>, JobError> {
+    let Some(table) = &m.offsets else {
+        return Ok(None);
+    };
+    let mut out = BTreeMap::new();
+    for (name, o) in table {
+        let key = format!("machine.offsets.{name}");
+        let n = name
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=99).contains(n))
+            .ok_or_else(|| {
+                cx.err(
+                    &key,
+                    format!("expected an offset number 1 to 99 (T0305 calls 5), got `{name}`"),
+                )
+            })?;
+        let v = |k: &str, v: f64| cx.finite(&format!("{key}.{k}"), v);
+        out.insert(
+            n,
+            (
+                v("x", o.x)? + v("wear_x", o.wear_x)?,
+                v("z", o.z)? + v("wear_z", o.wear_z)?,
+            ),
+        );
+    }
+    Ok(Some(out))
 }
 
 /// G54..G59 as an index.

@@ -23,6 +23,15 @@ pub(super) struct RawJob {
     pub(super) machine: RawMachine,
     #[serde(default)]
     pub(super) simulation: RawSimulation,
+    pub(super) part: Option<RawPart>,
+}
+
+/// `[part]`: the finished part's contours as drawn, `[z, d]` points in the order of z.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawPart {
+    pub(super) profile: Option<Vec<[f64; 2]>>,
+    pub(super) bore_profile: Option<Vec<[f64; 2]>>,
 }
 
 #[derive(Deserialize)]
@@ -261,6 +270,8 @@ pub(super) struct RawTool {
     pub(super) side_clearance_right: Option<f64>,
     pub(super) front_clearance: Option<f64>,
     pub(super) inclination: Option<f64>,
+    pub(super) max_depth_per_pass: Option<f64>,
+    pub(super) min_depth_per_pass: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -324,6 +335,30 @@ pub(super) struct RawMachine {
     pub(super) acceleration: Option<f64>,
     #[serde(default)]
     pub(super) spindle: SpindleName,
+    /// Tool offsets by number: `offsets.5 = { x = .., z = .., wear_x = .., wear_z = .. }`.
+    pub(super) offsets: Option<std::collections::BTreeMap<String, RawToolOffset>>,
+    /// FANUC parameter 5142: G76's finishing passes without a first block.
+    pub(super) g76_finish_passes: Option<u32>,
+    /// FANUC parameter 5143: G76's tool angle (deg).
+    pub(super) g76_tool_angle: Option<f64>,
+    /// FANUC parameter 5140: G76's minimum cut (mm).
+    pub(super) g76_min_cut: Option<f64>,
+    /// FANUC parameter 5141: G76's finishing allowance (mm).
+    pub(super) g76_finish_allowance: Option<f64>,
+}
+
+/// One tool offset: the geometry's deviation and the wear (mm; x a diameter).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawToolOffset {
+    #[serde(default)]
+    pub(super) x: f64,
+    #[serde(default)]
+    pub(super) z: f64,
+    #[serde(default)]
+    pub(super) wear_x: f64,
+    #[serde(default)]
+    pub(super) wear_z: f64,
 }
 
 fn default_rpm() -> f64 {
@@ -340,6 +375,11 @@ impl Default for RawMachine {
             max_feed: None,
             acceleration: None,
             spindle: SpindleName::Cw,
+            offsets: None,
+            g76_finish_passes: None,
+            g76_tool_angle: None,
+            g76_min_cut: None,
+            g76_finish_allowance: None,
         }
     }
 }

@@ -7,7 +7,7 @@ use super::schema::{RawTool, RefName, SideName, ToolKind};
 use super::JobError;
 use crate::kernel::turn::TurningTool;
 use crate::model::solid::Solid;
-use crate::model::tool::{Body, Edge, Reference, Tool};
+use crate::model::tool::{Body, DepthLimits, Edge, Reference, Tool};
 
 pub(super) fn resolve_tool(
     t: &RawTool,
@@ -95,6 +95,7 @@ pub(super) fn resolve_tool(
             ))
         }
     };
+    let depth_per_pass = depth_limits(t, &key, cx)?;
     if t.kind == ToolKind::Mesh {
         return Ok(Tool {
             id: t.id,
@@ -102,6 +103,7 @@ pub(super) fn resolve_tool(
             reference,
             body: None,
             length: None,
+            depth_per_pass,
         });
     }
     let body = resolve_body(t, &edge, &key, cx)?;
@@ -115,7 +117,28 @@ pub(super) fn resolve_tool(
         reference,
         body,
         length,
+        depth_per_pass,
     })
+}
+
+/// `max_depth_per_pass` and `min_depth_per_pass`: positive, the least under the most.
+fn depth_limits(
+    t: &RawTool,
+    key: &dyn Fn(&str) -> String,
+    cx: &Ctx,
+) -> Result<DepthLimits, JobError> {
+    let get = |k: &str, v: Option<f64>| v.map(|v| cx.positive(&key(k), v)).transpose();
+    let max = get("max_depth_per_pass", t.max_depth_per_pass)?;
+    let min = get("min_depth_per_pass", t.min_depth_per_pass)?;
+    if let (Some(max), Some(min)) = (max, min) {
+        if min >= max {
+            return Err(cx.err(
+                &key("min_depth_per_pass"),
+                format!("expected less than max_depth_per_pass ({max} mm), got {min}"),
+            ));
+        }
+    }
+    Ok(DepthLimits { max, min })
 }
 
 /// Default nose radius of a turning tool (mm): the most common insert, CNMG 120404.
@@ -149,13 +172,12 @@ pub(super) fn resolve_turning(t: &RawTool, i: usize, cx: &Ctx) -> Result<Turning
             ),
         ));
     }
-    Ok(TurningTool {
-        id: t.id,
+    Ok(TurningTool::turning(
+        t.id,
         nose_radius,
-        lead_angle: lead,
-        trail_angle: trail,
-        internal: t.side.unwrap_or_default() == SideName::Internal,
-    })
+        (lead, trail),
+        t.side.unwrap_or_default() == SideName::Internal,
+    ))
 }
 
 /// Every optional `[[tool]]` key and the kinds of tool it applies to: a key set on a tool
@@ -164,7 +186,18 @@ pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), Job
     use ToolKind::{Grooving, Mesh, ThreadMill, Threading, Trapezoidal, Turning};
     const INSERTS: &[ToolKind] = &[Grooving, Threading, Trapezoidal];
     const MILL: &[ToolKind] = &[ThreadMill];
-    let keys: [(&str, bool, &[ToolKind]); 36] = [
+    const LIMITED: &[ToolKind] = &[Grooving, Threading, Trapezoidal, Mesh];
+    let keys: [(&str, bool, &[ToolKind]); 38] = [
+        (
+            "max_depth_per_pass",
+            t.max_depth_per_pass.is_some(),
+            LIMITED,
+        ),
+        (
+            "min_depth_per_pass",
+            t.min_depth_per_pass.is_some(),
+            LIMITED,
+        ),
         ("width", t.width.is_some(), &[Grooving]),
         ("angle", t.angle.is_some(), &[Threading, ThreadMill]),
         ("tip_flat", t.tip_flat.is_some(), &[Threading, ThreadMill]),

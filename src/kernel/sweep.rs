@@ -402,6 +402,7 @@ mod tests {
             reference: Reference::Tip,
             body: None,
             length: None,
+            depth_per_pass: Default::default(),
         }];
         let pass = Pass {
             tool: 0,
@@ -470,6 +471,7 @@ mod tests {
                 inclination: 0.0,
             }),
             length: None,
+            depth_per_pass: Default::default(),
         };
         (pass, tool)
     }

@@ -5,18 +5,23 @@
 //! (radius `r_n`) with two straight edges tangent to it ([`TurningTool`]); the program
 //! drives its *imaginary tip* (the corner of the nose's tangents along z and x, tool tip
 //! orientation 3 of the controls, as programs without nose radius compensation do), so the
-//! nose centre runs `r_n` above and `r_n` to the +z side of the programmed point.
+//! nose centre runs `r_n` above and `r_n` to the +z side of the programmed point. The same
+//! shape with a flat bottom between two noses is a grooving or threading insert's edge
+//! ([`TurningTool::insert`]: a trapezoid, a V, a round-nose V), driven by its reference
+//! point; their feed moves and rapids are swept the same way.
 //!
 //! Everything here works in the axial half-plane `(z, h)` with `h = q = sense * r` (`q` of
 //! [`crate::model::stock`]): the tool's body lies towards `+h` (outwards for an external
 //! tool, towards the axis for a boring bar), and a cut lowers `q`. The shape's lower
-//! boundary `g(u)` at axial offset `u` from the nose centre is convex (the nose's lower arc
-//! between the edges' tangent points, the edges beyond, `+inf` outside the shape), so the
+//! boundary `g(u)` at axial offset `u` from the (left) nose centre is convex (the nose's
+//! lower arc between the edges' tangent points, the flat, the edges beyond, `+inf` outside
+//! the shape), so the
 //! swept envelope `e(z) = min over the path of [h_c + g(z - z_c)]` is exact in closed form:
 //! a function of the path parameter whose minimum is at an end of the move, at an end of
-//! the shape's span, or where the path's slope equals the boundary's slope (on the nose
-//! that is the path offset by `r_n` along its normal: a parallel line, or the concentric
-//! circle of radius `R -+ r_n` for an arc; on an edge, the path point whose tangent is
+//! the shape's span, at a corner of the boundary, or where the path's slope equals the
+//! boundary's slope (on a nose that is the path offset by `r_n` along its normal: a
+//! parallel line, or the concentric circle of radius `R -+ r_n` for an arc; on the flat,
+//! the path's highest or lowest point; on an edge, the path point whose tangent is
 //! parallel to it). Every candidate is a point of the swept shape, and the minimum is
 //! among them, so the envelope is exact at every z it is evaluated at ([`Turned`]). Feed
 //! marks (the nose's cusps between revolutions, `f^2 / (8 r_n)` high) are neglected.
@@ -26,15 +31,22 @@
 //! thread sweeps. Only what needs the time order (a rapid that meets material that was
 //! still there) walks the moves in order ([`Turned::rapid_depth`]).
 
+use crate::model::tool::{Edge, Tool};
 use std::f64::consts::TAU;
 
-/// A turning or boring tool: a round nose with two straight edges tangent to it.
+/// A tool's axial shape as a lathe move sweeps it: a round nose (or, with a flat, two noses
+/// `flat` apart joined by a flat bottom) with two straight edges tangent to it. A turning
+/// or boring insert (`flat` 0), or a grooving or threading insert's edge
+/// ([`TurningTool::insert`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct TurningTool {
     /// The id the program's T word selects.
     pub(crate) id: u32,
     /// Nose radius (mm, at least 0: 0 is a sharp corner).
     pub(crate) nose_radius: f64,
+    /// Width of the flat bottom between the two noses (mm, at least 0): a grooving
+    /// insert's width, a threading insert's tip flat; 0 for a turning insert.
+    pub(crate) flat: f64,
     /// The leading (-z side) edge's angle from the radial direction (rad), positive when
     /// it leans towards -z away from the nose (a 95 deg approach angle is -5 deg).
     pub(crate) lead_angle: f64,
@@ -43,11 +55,68 @@ pub(crate) struct TurningTool {
     pub(crate) trail_angle: f64,
     /// A boring bar (cuts the bore) rather than an external tool.
     pub(crate) internal: bool,
+    /// Where the (left) nose centre is from the point the program drives, `(dz, dh)`:
+    /// `(r_n, r_n)` for a turning insert's imaginary tip; for an insert driven by its
+    /// reference point on the tip, the tip's left corner (`dh` = the nose radius).
+    pub(crate) anchor: (f64, f64),
 }
 
 impl TurningTool {
-    /// The `u` span of the nose's lower arc: between the edges' tangent points, or to the
-    /// nose's side where an edge leans back over it.
+    /// A turning or boring insert driven by its imaginary tip (tool tip orientation 3, or 2
+    /// in a bore): the nose centre `r_n` to the +z side of and above the programmed point.
+    pub(crate) fn turning(
+        id: u32,
+        nose_radius: f64,
+        (lead_angle, trail_angle): (f64, f64),
+        internal: bool,
+    ) -> TurningTool {
+        TurningTool {
+            id,
+            nose_radius,
+            flat: 0.0,
+            lead_angle,
+            trail_angle,
+            internal,
+            anchor: (nose_radius, nose_radius),
+        }
+    }
+
+    /// The edge of a grooving or threading insert as the shape its feed moves and rapids
+    /// sweep, driven by its reference point ([`Tool::reference_offset`] from the tip centre,
+    /// at the tip's height): a trapezoid is a flat with two straight flanks (vertical for a
+    /// grooving insert), a round-nose V a nose with two flanks. A mesh insert's section is
+    /// taken as the trapezoid of its flat and the flanks' mean slopes over the first mm
+    /// above it (exact for a section with one facet on each side, as a prismatic insert's).
+    /// `internal`: the insert cuts the bore (an internal thread's tools).
+    pub(crate) fn insert(tool: &Tool, internal: bool) -> TurningTool {
+        let off = tool.reference_offset();
+        let (r, flat, lead, trail, left) = match &tool.edge {
+            Edge::Trapezoid {
+                tip,
+                left_angle,
+                right_angle,
+            } => (0.0, *tip, *left_angle, *right_angle, -tip / 2.0 - off),
+            Edge::RoundV { radius, half_angle } => (*radius, 0.0, *half_angle, *half_angle, -off),
+            Edge::Mesh { .. } => {
+                let (a, b) = tool.span(1e-9);
+                let (a1, b1) = tool.span(1.0);
+                let angle = |run: f64| run.max(0.0).atan();
+                (0.0, (b - a).max(0.0), angle(a - a1), angle(b1 - b), a)
+            }
+        };
+        TurningTool {
+            id: tool.id,
+            nose_radius: r,
+            flat,
+            lead_angle: lead,
+            trail_angle: trail,
+            internal,
+            anchor: (left, r),
+        }
+    }
+
+    /// The `v` span of a nose's lower arc, relative to its centre: between the edges'
+    /// tangent points, or to the nose's side where an edge leans back over it.
     fn arc_span(&self) -> (f64, f64) {
         let r = self.nose_radius;
         let a = if self.lead_angle > 0.0 {
@@ -75,30 +144,38 @@ impl TurningTool {
             if self.trail_angle > 0.0 {
                 f64::INFINITY
             } else {
-                r
+                self.flat + r
             },
         )
     }
 
-    /// The lowest point of the shape at axial offset `u` from the nose centre, relative to
-    /// the nose centre's height; `+inf` outside the shape.
+    /// The lowest point of the shape at axial offset `u` from the (left) nose centre,
+    /// relative to the nose centre's height; `+inf` outside the shape.
     pub(crate) fn lower(&self, u: f64) -> f64 {
         let r = self.nose_radius;
+        // Offsets past the flat are measured from the right nose's centre.
+        let v = if u <= 0.0 {
+            u
+        } else if u >= self.flat {
+            u - self.flat
+        } else {
+            return -r;
+        };
         let (a, b) = self.arc_span();
-        if u < a {
+        if v < a {
             if self.lead_angle > 0.0 {
-                -r * self.lead_angle.sin() + (a - u) / self.lead_angle.tan()
+                -r * self.lead_angle.sin() + (a - v) / self.lead_angle.tan()
             } else {
                 f64::INFINITY
             }
-        } else if u > b {
+        } else if v > b {
             if self.trail_angle > 0.0 {
-                -r * self.trail_angle.sin() + (u - b) / self.trail_angle.tan()
+                -r * self.trail_angle.sin() + (v - b) / self.trail_angle.tan()
             } else {
                 f64::INFINITY
             }
         } else {
-            -(r * r - u * u).max(0.0).sqrt()
+            -(r * r - v * v).max(0.0).sqrt()
         }
     }
 
@@ -109,8 +186,9 @@ impl TurningTool {
         lead.into_iter().chain(trail)
     }
 
-    /// Half of the shape's axial width at height `dh` above its lowest point (an upper
-    /// bound): where it can reach below a surface `dh` above the nose's bottom.
+    /// How far the shape reaches to each side of the left nose's centre at height `dh`
+    /// above its lowest point (an upper bound): where it can reach below a surface `dh`
+    /// above the nose's bottom.
     fn reach(&self, dh: f64) -> (f64, f64) {
         let r = self.nose_radius;
         let dh = dh.max(0.0);
@@ -121,7 +199,7 @@ impl TurningTool {
                 r
             }
         };
-        (side(self.lead_angle), side(self.trail_angle))
+        (side(self.lead_angle), self.flat + side(self.trail_angle))
     }
 }
 
@@ -150,9 +228,10 @@ pub(crate) enum TurnPath {
 }
 
 impl TurnPath {
-    /// The nose centre's path of a move of the imaginary tip from `(z0, x0)` to `(z1, x1)`
-    /// (`x` diameters) on the surface of `sense` (1 outside, -1 in the bore), straight or
-    /// about the centre `(zc, xc)` (clockwise as G02 in the (z, radius) plane).
+    /// The (left) nose centre's path of a move of the driven point (a turning insert's
+    /// imaginary tip, an insert's reference point) from `(z0, x0)` to `(z1, x1)` (`x`
+    /// diameters) on the surface of `sense` (1 outside, -1 in the bore), straight or about
+    /// the centre `(zc, xc)` (clockwise as G02 in the (z, radius) plane).
     pub(crate) fn of_move(
         tool: &TurningTool,
         sense: f64,
@@ -160,8 +239,8 @@ impl TurnPath {
         to: (f64, f64),
         arc: Option<((f64, f64), bool)>,
     ) -> TurnPath {
-        let rn = tool.nose_radius;
-        let at = |(z, x): (f64, f64)| (z + rn, sense * x / 2.0 + rn);
+        let (dz, dh) = tool.anchor;
+        let at = |(z, x): (f64, f64)| (z + dz, sense * x / 2.0 + dh);
         let (a, b) = (at(from), at(to));
         match arc {
             None => TurnPath::Line { from: a, to: b },
@@ -208,7 +287,11 @@ impl TurnPath {
 /// The swept shape's lowest point at `z`: `+inf` where the move does not reach.
 pub(crate) fn envelope(tool: &TurningTool, path: &TurnPath, z: f64) -> f64 {
     let r = tool.nose_radius;
+    let flat = tool.flat;
     let (umin, umax) = tool.domain();
+    // The corners of the flat (kinks of the boundary when the noses are sharp) and the
+    // shape's span's ends.
+    let ends = [0.0, flat, umin, umax];
     match *path {
         TurnPath::Line { from, to } => {
             let at = |t: f64| (from.0 + t * (to.0 - from.0), from.1 + t * (to.1 - from.1));
@@ -220,10 +303,11 @@ pub(crate) fn envelope(tool: &TurningTool, path: &TurnPath, z: f64) -> f64 {
             let dz = to.0 - from.0;
             if dz != 0.0 {
                 let m = (to.1 - from.1) / dz;
-                // Where the shape's boundary is parallel to the move (on the nose), and
-                // where the shape's span ends.
-                let u_nose = m * r / (1.0 + m * m).sqrt();
-                for u in [u_nose, umin, umax] {
+                // Where a nose's boundary is parallel to the move: the left nose's lower
+                // arc has the slopes up to 0, the right one's from 0.
+                let contact = m * r / (1.0 + m * m).sqrt();
+                let u_nose = if m <= 0.0 { contact } else { flat + contact };
+                for u in std::iter::once(u_nose).chain(ends) {
                     if !u.is_finite() {
                         continue;
                     }
@@ -267,15 +351,28 @@ pub(crate) fn envelope(tool: &TurningTool, path: &TurnPath, z: f64) -> f64 {
                     best = best.min(v);
                 }
             };
-            // On the nose: the contact point is on the concentric circle of radius
-            // R - r_n (upper half, sin > 0) or R + r_n (lower half).
-            for s in [1.0f64, -1.0] {
-                let rho = radius - s * r;
-                if rho != 0.0 {
-                    let c = (z - centre.0) / rho;
-                    if c.abs() <= 1.0 {
-                        let th = s * c.acos();
-                        try_angle(th, Some(-s * r * th.cos()));
+            // On a nose: the contact point is on the concentric circle of radius R - r_n
+            // (upper half, sin > 0) or R + r_n (lower half) about the centre, shifted by
+            // the nose's offset (0 or the flat).
+            let noses: &[f64] = if flat > 0.0 { &[0.0, flat] } else { &[0.0] };
+            for &off in noses {
+                for s in [1.0f64, -1.0] {
+                    let rho = radius - s * r;
+                    if rho != 0.0 {
+                        let c = (z - off - centre.0) / rho;
+                        if c.abs() <= 1.0 {
+                            let th = s * c.acos();
+                            try_angle(th, Some(off - s * r * th.cos()));
+                        }
+                    }
+                }
+            }
+            // On the flat: the path's highest or lowest point.
+            if flat > 0.0 {
+                let u = z - centre.0;
+                if (0.0..=flat).contains(&u) {
+                    for th in [std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2] {
+                        try_angle(th, Some(u));
                     }
                 }
             }
@@ -285,8 +382,8 @@ pub(crate) fn envelope(tool: &TurningTool, path: &TurnPath, z: f64) -> f64 {
                 try_angle(th, None);
                 try_angle(th + std::f64::consts::PI, None);
             }
-            // Where the shape's span ends: z - z_c(th) = u.
-            for u in [umin, umax] {
+            // The flat's corners and the shape's span's ends: z - z_c(th) = u.
+            for u in ends {
                 if u.is_finite() && radius > 0.0 {
                     let c = (z - u - centre.0) / radius;
                     if c.abs() <= 1.0 {
@@ -311,6 +408,12 @@ pub(crate) struct TurnCut {
 }
 
 impl TurnCut {
+    /// The z span where the swept shape may reach below `q_top` (a bound); `None` when it
+    /// does not.
+    pub(crate) fn span_below(&self, q_top: f64) -> Option<(f64, f64)> {
+        self.span(q_top)
+    }
+
     /// The z span where the swept shape reaches below `q_top`; `None` when it does not.
     fn span(&self, q_top: f64) -> Option<(f64, f64)> {
         let ((z0, z1), (h0, _)) = self.path.bounds();

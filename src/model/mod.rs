@@ -1,9 +1,11 @@
 //! The nouns of thread machining and their closed forms: the helix and its lead law, the
 //! thread the drawing asks for, the tools and their solids, a pass, the dexel stock, and the
-//! blank and machine a job names, and a thread's tolerance class as a drawing names it. Pure: no IO, no dependency on any other stage.
+//! blank and machine a job names, a thread's tolerance class as a drawing names it, and the
+//! finished part's contour as drawn. Pure: no IO, no dependency on any other stage.
 
 pub(crate) mod geom;
 pub(crate) mod helix;
+pub(crate) mod part;
 pub(crate) mod pass;
 pub(crate) mod setup;
 pub(crate) mod solid;

@@ -103,6 +103,19 @@ pub struct Tool {
     /// How far the head reaches above its tip (mm), if given: past it the holder would
     /// meet the part (a mesh's is its own height).
     pub length: Option<f64>,
+    /// The radial depth of cut one pass may take with this insert, if given.
+    pub depth_per_pass: DepthLimits,
+}
+
+/// The radial depth of cut per pass an insert stands: over `max` it breaks, under `min` it
+/// rubs instead of cutting (mm, radial; `None`: not given).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DepthLimits {
+    /// The most (mm).
+    pub max: Option<f64>,
+    /// The least that still cuts (mm); a pass that cuts nothing (a spring pass) is no
+    /// cut and not held to it.
+    pub min: Option<f64>,
 }
 
 /// The profile prepared for the sweep kernel: `h(v) = max(0, (vl - v)*cl, (v - vr)*cr)`
@@ -358,6 +371,7 @@ mod tests {
             reference: Reference::Tip,
             body: None,
             length: None,
+            depth_per_pass: DepthLimits::default(),
         };
         let k = t.kernel();
         if let Kernel::RoundV { vt, .. } = k {
@@ -386,6 +400,7 @@ mod tests {
             reference: Reference::Right,
             body: None,
             length: None,
+            depth_per_pass: DepthLimits::default(),
         };
         assert_eq!(t.reference_offset(), 1.5);
         t.reference = Reference::Left;

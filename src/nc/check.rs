@@ -697,6 +697,12 @@ fn siemens_block(
                     }
                 }
             }
+            // G96's spindle speed limit (rev/min), read by the run.
+            "LIMS" => {
+                l.ws();
+                let _ = l.eat("=");
+                l.s_expr()?;
+            }
             kw if codes::siemens_keyword(kw) => {
                 l.unknown(at + 1, format!("`{kw}` is not simulated"), strict);
                 // Skip its arguments: `=value`, `(...)` or the rest of the block.

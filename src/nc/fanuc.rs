@@ -190,7 +190,7 @@ impl Interp<'_> {
             w.g = g;
         }
         if w.g.contains(&76) {
-            return self.g76(&w, prog, pc);
+            return self.in_cycle(|m| m.g76(&w, prog, pc));
         }
         if let Some(step) = self.tap_modes(&w, prog, pc)? {
             return Ok(step);
@@ -410,6 +410,7 @@ impl Interp<'_> {
             if let Some(r) = self.length(w, "R") {
                 self.thread.g76.d = r;
             }
+            self.thread.g76.given = true;
             return Ok(Step::Next);
         }
         let (x0, z0) = (self.x, self.z);
@@ -436,6 +437,9 @@ impl Interp<'_> {
         }
         self.check_thread_height(w, "P", k, x_end);
         let s = self.thread.g76;
+        if !s.given {
+            self.g76_defaults_note(lead);
+        }
         let chamfer = self.thread_chamfer(lead, z_end - z0, w)?;
         let stop = (k - s.d).max(0.0);
         let mut depths = Vec::new();
@@ -483,6 +487,36 @@ impl Interp<'_> {
             );
         }
         Ok(Step::Next)
+    }
+
+    /// The warning of a two-block G76 run without its first block: the control cuts with
+    /// its parameters' values, which the program does not show; it says which.
+    fn g76_defaults_note(&mut self, lead: f64) {
+        let s = self.thread.g76;
+        let (numbers, keys) = if self.cfg.gsk {
+            ("the control's G76 parameters", "")
+        } else {
+            (
+                "FANUC parameters No. 5142, 5143, 5140, 5141 and 5130",
+                " ([machine] g76_finish_passes, g76_tool_angle, g76_min_cut, g76_finish_allowance; [program] thread_chamfer)",
+            )
+        };
+        self.out.notes.push((
+            1,
+            format!(
+                "G76 without its first block (P(m r a) Q(dmin) R(d)): the cycle runs on the machine's parameters: {} finishing pass{}, tool angle {} deg, minimum cut {} mm, finishing allowance {} mm, chamfer {} leads ({:.3} mm)",
+                s.m,
+                if s.m == 1 { "" } else { "es" },
+                s.a,
+                s.dmin,
+                s.d,
+                self.thread.chamfer,
+                self.thread.chamfer * lead
+            ),
+            format!(
+                "these are {numbers}{keys} as the job gives them; write the first block to cut what the program says"
+            ),
+        ));
     }
 
     /// The one-block G76 of Haas lathes and FANUC 0T-style controls (`docs/job-format.md`,

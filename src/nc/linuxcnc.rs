@@ -471,7 +471,7 @@ impl Interp<'_> {
         }
         self.lc_modal(&w);
         if w.g.contains(&76) {
-            return self.lcnc_g76(&w, prog, pc);
+            return self.in_cycle(|m| m.lcnc_g76(&w, prog, pc));
         }
         self.apply(&w, prog, pc)
     }

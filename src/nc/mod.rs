@@ -44,6 +44,8 @@ mod lex;
 mod linuxcnc;
 #[cfg(test)]
 mod machine_tests;
+#[cfg(test)]
+mod spindle_tests;
 mod mill;
 mod motion;
 #[cfg(test)]
@@ -216,6 +218,76 @@ pub struct Move {
     pub spindle: Spindle,
     /// Centre and sense of an arc move (`MoveKind::Arc`).
     pub arc: Option<ArcGeometry>,
+    /// The spindle speed as the program set it when the move was made.
+    pub speed: SpindleSpeed,
+    /// The feed of a feed or arc move (the modal F, in mm), `None` before any F.
+    pub feed: Option<Feed>,
+    /// A thread move of a threading cycle's pass (FANUC/GSK G76 and G92, Siemens
+    /// CYCLE97/CYCLE99, LinuxCNC G76): its infeed is the cycle's.
+    pub cycle: bool,
+}
+
+/// The spindle speed as a program sets it: G97 `S` (rev/min), or G96 `S` (constant
+/// surface speed) with its clamp (FANUC/GSK `G50 S`, Siemens `LIMS=`, LinuxCNC `G96 D`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SpindleSpeed {
+    /// G97: the programmed speed (rev/min), if any S was given.
+    pub rpm: Option<f64>,
+    /// G96: the surface speed (m/min; an inch program's ft/min converted).
+    pub surface: Option<f64>,
+    /// The clamp on G96's speed (rev/min), if set.
+    pub max: Option<f64>,
+}
+
+impl SpindleSpeed {
+    /// The speed (rev/min) with the tool at diameter `x` (mm): G97's S, or G96's surface
+    /// speed `1000 v / (pi x)` clamped (unbounded on the axis without a clamp); `None` when
+    /// the program set no speed.
+    pub fn at(&self, x: f64) -> Option<f64> {
+        match self.surface {
+            Some(v) => {
+                let n = 1000.0 * v / (std::f64::consts::PI * x.abs());
+                Some(self.max.map_or(n, |m| n.min(m)))
+            }
+            None => self.rpm,
+        }
+    }
+}
+
+/// A feed move's programmed feed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Feed {
+    /// mm per revolution (`per_rev`) or mm per minute.
+    pub value: f64,
+    /// Feed per revolution (FANUC G99, Siemens/LinuxCNC G95), else per minute.
+    pub per_rev: bool,
+}
+
+/// A dwell (FANUC/GSK `G04 X/U/P`, Siemens `G4 F/S`, LinuxCNC `G4 P`): the spindle turns
+/// while the axes wait.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dwell {
+    /// How many moves were made before it.
+    pub after: usize,
+    /// Seconds, or spindle revolutions (Siemens `G4 S`).
+    pub time: DwellTime,
+    /// The spindle speed then, and the tool's diameter (for revolutions under G96).
+    pub speed: SpindleSpeed,
+    /// The tool's diameter then (mm).
+    pub x: f64,
+    /// The program file and 1-based line of the block.
+    pub file: String,
+    /// 1-based line.
+    pub line: usize,
+}
+
+/// How long a dwell lasts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DwellTime {
+    /// Seconds.
+    Seconds(f64),
+    /// Spindle revolutions.
+    Revolutions(f64),
 }
 
 /// The circle of an arc move, in the XZ plane.
@@ -263,6 +335,42 @@ pub struct Settings {
     /// (`O1000`); `None`: the one the control would run (the first that ends in M30/M02
     /// and that no other calls).
     pub main: Option<String>,
+    /// The tool offsets by number (FANUC/GSK T0305 calls number 5, Siemens D5): the shift
+    /// (X as a diameter, Z) of the tool's point from where the program drives it,
+    /// geometry and wear together. `None`: the job gives no offsets, and every offset is
+    /// taken as zero; with a table, calling a number it lacks is a warning at the block.
+    pub tool_offsets: Option<std::collections::BTreeMap<u32, (f64, f64)>>,
+    /// What a FANUC/GSK two-block G76 uses when the program leaves its first block out:
+    /// the control's parameters (FANUC No. 5142, 5143, 5140, 5141).
+    pub g76: G76Params,
+}
+
+/// The FANUC/GSK G76 first block's values as the control's parameters hold them (FANUC
+/// 0i/30i lathe parameters: No. 5142 finishing passes, 5143 tool angle, 5140 minimum cut,
+/// 5141 finishing allowance; the chamfer is No. 5130, [`Settings::thread_chamfer`]). A
+/// first block overwrites them for the rest of the run, as on the control.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct G76Params {
+    /// Finishing passes at the full depth, `m` (1 to 99).
+    pub finish_passes: u32,
+    /// Tool angle `a` (deg): the infeed runs at half of it.
+    pub tool_angle: f64,
+    /// Minimum cut `dmin` (mm, radius).
+    pub min_cut: f64,
+    /// Finishing allowance `d` (mm, radius).
+    pub finish_allowance: f64,
+}
+
+impl Default for G76Params {
+    /// vpcut's defaults: one finishing pass, 60 deg, no minimum cut, no allowance.
+    fn default() -> G76Params {
+        G76Params {
+            finish_passes: 1,
+            tool_angle: 60.0,
+            min_cut: 0.0,
+            finish_allowance: 0.0,
+        }
+    }
 }
 
 impl Default for Settings {
@@ -279,6 +387,8 @@ impl Default for Settings {
             input_increment: InputIncrement::Micrometre,
             power_on: PowerOn::default(),
             main: None,
+            tool_offsets: None,
+            g76: G76Params::default(),
         }
     }
 }
@@ -432,6 +542,8 @@ pub struct Toolpath {
     pub mill: Vec<MillMove>,
     /// Warnings (skipped unknown words and codes), each once, in the order found.
     pub warnings: Vec<Diagnostic>,
+    /// The dwells, in execution order.
+    pub dwells: Vec<Dwell>,
 }
 
 /// Degrees (as the programs write angles) to radians.
@@ -572,6 +684,7 @@ pub fn interpret_with(
         moves,
         mill,
         warnings,
+        dwells: std::mem::take(&mut m.out.dwells),
     })
 }
 
@@ -720,6 +833,20 @@ impl Interp<'_> {
                 for (col, message, hint) in pending.chain(notes) {
                     let e = fail(&stack, col + offset, message);
                     let mut d = e.diagnostic();
+                    d.severity = Severity::Warning;
+                    d.hint = Some(hint);
+                    let seen = warnings.iter().any(|w| {
+                        (&w.file, w.line, w.col, &w.message) == (&d.file, d.line, d.col, &d.message)
+                    });
+                    if !seen {
+                        warnings.push(d);
+                    }
+                }
+            }
+            if !m.out.notes.is_empty() {
+                let offset = offset();
+                for (col, message, hint) in std::mem::take(&mut m.out.notes) {
+                    let mut d = fail(&stack, col + offset, message).diagnostic();
                     d.severity = Severity::Warning;
                     d.hint = Some(hint);
                     let seen = warnings.iter().any(|w| {

@@ -3,7 +3,10 @@
 
 use super::codes::{self, Verdict};
 use super::expr::Fail;
-use super::{ArcGeometry, Dialect, Interp, Move, MoveKind, Program, Step, Sync, Words};
+use super::{
+    ArcGeometry, Dialect, Dwell, DwellTime, Feed, Interp, Move, MoveKind, Program, SpindleSpeed,
+    Step, Sync, Words,
+};
 use crate::model::helix::{LeadLaw, Spindle};
 
 /// G codes with a decimal (LinuxCNC's G92.1, G59.1, ..) are kept in `Words::g` as this plus
@@ -170,7 +173,16 @@ impl Interp<'_> {
                 }
                 54..=59 => self.frames.work = (g - 54) as usize,
                 96 => self.modal.css = true,
-                97 => self.modal.css = false,
+                97 => {
+                    // G97 without S keeps the speed the spindle turns at (FANUC: the speed
+                    // at that moment becomes the programmed one).
+                    if self.modal.css && !w.vals.contains_key("S") {
+                        self.modal.speed = self.spindle_speed().at(self.x);
+                    }
+                    self.modal.css = false
+                }
+                // A dwell (non-modal): its X/U/P are its time, not a position.
+                4 => return self.dwell(w, prog, pc),
                 // Feed per minute / per revolution: G98/G99 on FANUC lathes (system A),
                 // G94/G95 on LinuxCNC and Siemens. Thread leads (F of G32/G34/G92/G76) are
                 // per revolution whichever is active.
@@ -194,20 +206,32 @@ impl Interp<'_> {
         if let Some(step) = self.m_words(w, &mut end)? {
             return Ok(step);
         }
-        if let Some(&(t, _)) = w.vals.get("T") {
+        if let Some(&(t, col)) = w.vals.get("T") {
             let t = t.round() as u32;
             // A tool change: the next thread block starts a new chain.
             self.thread.chain_end = None;
-            self.modal.tool = Some(if self.cfg.dialect == Dialect::Fanuc && t >= 100 {
-                t / 100
-            } else {
-                t
-            });
+            // FANUC/GSK T0305: tool 3 with offset 5 (T0300 cancels the offset).
+            let split = self.cfg.dialect == Dialect::Fanuc && t >= 100;
+            self.modal.tool = Some(if split { t / 100 } else { t });
+            if split {
+                self.call_offset(t % 100, col);
+            }
+        }
+        if self.cfg.dialect == Dialect::Siemens802d {
+            // Siemens D5: offset 5 of the active tool (D0 cancels).
+            if let Some(&(d, col)) = w.vals.get("D") {
+                self.call_offset(d.round().max(0.0) as u32, col);
+            }
         }
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let scale = if self.modal.inch { 25.4 } else { scale };
         if let Some(s) = val("S") {
-            self.modal.speed = Some(s);
+            // FANUC/GSK G50 S: the clamp on G96's spindle speed, not a speed.
+            if set_position {
+                self.modal.speed_max = Some(s);
+            } else {
+                self.modal.speed = Some(s);
+            }
         }
         // F is modal: the feed of G01/G02/G03 (and the lead of FANUC's thread blocks, which
         // share its register). On Siemens G34/G35 it is the lead change instead.
@@ -363,7 +387,7 @@ impl Interp<'_> {
             return Ok(if end { Step::End } else { Step::Next });
         }
         if moved && self.cfg.dialect == Dialect::Fanuc && self.modal.motion == 92 {
-            return self.g92(w, prog, pc, x, z);
+            return self.in_cycle(|m| m.g92(w, prog, pc, x, z));
         }
         if moved && self.cfg.dialect == Dialect::Fanuc && matches!(self.modal.motion, 90 | 94) {
             self.need_feed(w)?;
@@ -742,6 +766,17 @@ impl Interp<'_> {
             self.out.too_many_moves = true;
             return;
         }
+        // The tool's point is where the program drives it plus the active tool offset; a
+        // move starts where the last one ended and absorbs a change of offset.
+        let shift = self.offset_shift();
+        let a = (a.0 + self.out.applied.0, a.1 + self.out.applied.1);
+        let b = (b.0 + shift.0, b.1 + shift.1);
+        self.out.applied = shift;
+        let speed = self.spindle_speed();
+        let feed = self.modal.feed.map(|f| Feed {
+            value: f * if self.modal.inch { 25.4 } else { 1.0 },
+            per_rev: self.modal.per_rev,
+        });
         self.out.moves.push(Move {
             file: prog.name.clone(),
             line: prog.blocks[pc].0,
@@ -757,6 +792,9 @@ impl Interp<'_> {
             tool: self.modal.tool,
             spindle: self.modal.spindle,
             arc: None,
+            speed,
+            feed,
+            cycle: self.out.cycle && kind == MoveKind::Thread,
         });
         // Only a thread block (`Interp::thread_block`) leaves a chain open.
         self.thread.chain_end = None;
@@ -822,16 +860,112 @@ impl Interp<'_> {
             ));
         };
         self.emit(prog, pc, MoveKind::Arc, (self.x, self.z), end, None);
+        // The circle moves with the tool offset, as the end point does.
+        let shift = self.out.applied;
         if let Some(last) = self.out.moves.last_mut() {
             last.arc = Some(ArcGeometry {
-                x_centre_dia: 2.0 * centre.1,
-                z_centre: centre.0,
+                x_centre_dia: 2.0 * centre.1 + shift.0,
+                z_centre: centre.0 + shift.1,
                 clockwise: cw,
             });
         }
         self.x = end.0;
         self.z = end.1;
         Ok(())
+    }
+
+    /// Run a threading cycle's block: its thread moves are marked as a cycle's
+    /// ([`Move::cycle`]).
+    pub(super) fn in_cycle<T>(&mut self, f: impl FnOnce(&mut Self) -> T) -> T {
+        self.out.cycle = true;
+        let r = f(self);
+        self.out.cycle = false;
+        r
+    }
+
+    /// The spindle speed as the program has set it so far.
+    pub(super) fn spindle_speed(&self) -> SpindleSpeed {
+        let max = match self.cfg.dialect {
+            Dialect::Linuxcnc => self.lc.st.max_rpm,
+            _ => self.modal.speed_max,
+        };
+        if self.modal.css {
+            // G96's S is m/min, or ft/min in inch mode.
+            let unit = if self.modal.inch { 0.3048 } else { 1.0 };
+            SpindleSpeed {
+                rpm: None,
+                surface: self.modal.speed.map(|v| v * unit),
+                max,
+            }
+        } else {
+            SpindleSpeed {
+                rpm: self.modal.speed,
+                surface: None,
+                max,
+            }
+        }
+    }
+
+    /// Call tool offset `n` (0 cancels) at the block's column `col`: a number the job's
+    /// offsets lack is a warning (taken as zero), as is a call when the job gives none.
+    pub(super) fn call_offset(&mut self, n: u32, col: usize) {
+        self.modal.offset = (n > 0).then_some(n);
+        if n == 0 {
+            return;
+        }
+        if let Some(table) = &self.cfg.offsets {
+            if !table.contains_key(&n) {
+                self.out.notes.push((
+                    col,
+                    format!("tool offset {n} is not in the job's [machine] offsets: taken as zero"),
+                    "the control applies whatever its offset page holds for this number; give it in the job (`[machine] offsets`)".into(),
+                ));
+            }
+        }
+    }
+
+    /// The active tool offset's shift (X diameter, Z), zero without one.
+    pub(super) fn offset_shift(&self) -> (f64, f64) {
+        match (self.modal.offset, &self.cfg.offsets) {
+            (Some(n), Some(table)) => table.get(&n).copied().unwrap_or((0.0, 0.0)),
+            _ => (0.0, 0.0),
+        }
+    }
+
+    /// A dwell block (G04 / G4): FANUC/GSK `X` or `U` in seconds, `P` in milliseconds;
+    /// Siemens `F` in seconds, `S` in spindle revolutions; LinuxCNC `P` in seconds. The
+    /// axes do not move.
+    fn dwell(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
+        let val = |k: &str| w.vals.get(k).map(|v| v.0);
+        let time = match self.cfg.dialect {
+            Dialect::Fanuc => match (val("X").or(val("U")), val("P")) {
+                (Some(s), _) => DwellTime::Seconds(s),
+                (None, Some(ms)) => DwellTime::Seconds(ms / 1000.0),
+                (None, None) => return Err((1, "G04 needs X, U (seconds) or P (ms)".into())),
+            },
+            Dialect::Siemens802d | Dialect::Siemens840d => match (val("F"), val("S")) {
+                (Some(s), _) => DwellTime::Seconds(s),
+                (None, Some(r)) => DwellTime::Revolutions(r),
+                (None, None) => return Err((1, "G4 needs F (seconds) or S (revolutions)".into())),
+            },
+            _ => match val("P") {
+                Some(s) => DwellTime::Seconds(s),
+                None => return Err((1, "G4 needs P (seconds)".into())),
+            },
+        };
+        let (DwellTime::Seconds(t) | DwellTime::Revolutions(t)) = time;
+        if !(t >= 0.0 && t.is_finite()) {
+            return Err((1, format!("a dwell of {t}: expected a time of at least 0")));
+        }
+        self.out.dwells.push(Dwell {
+            after: self.out.moves.len(),
+            time,
+            speed: self.spindle_speed(),
+            x: self.x,
+            file: prog.name.clone(),
+            line: prog.blocks[pc].0,
+        });
+        Ok(Step::Next)
     }
 
     /// One pass of a threading cycle: rapid from `home` to the start (Z first, then X),

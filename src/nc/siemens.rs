@@ -53,7 +53,7 @@ impl Interp<'_> {
             }
             if matches!(name.as_str(), "CYCLE97" | "CYCLE99") {
                 self.apply(&w, prog, pc)?;
-                return self.thread_cycle(&mut c, prog, pc, &name, at + 1);
+                return self.in_cycle(|m| m.thread_cycle(&mut c, prog, pc, &name, at + 1));
             }
             if name == "CYCLE84" {
                 self.apply(&w, prog, pc)?;
@@ -78,10 +78,10 @@ impl Interp<'_> {
                     self.trans(&mut c, name == "ATRANS", at + 1)?;
                     break;
                 }
-                "LIMS" if s840 => {
-                    // The spindle speed limit of G96: nothing the toolpath shows.
+                "LIMS" => {
+                    // The spindle speed limit of G96 (rev/min).
                     let _ = c.eat("=");
-                    self.expr(&mut c)?;
+                    self.modal.speed_max = Some(self.expr(&mut c)?);
                 }
                 "G" if s840 && c.peek() == Some(b'5') && c.s[c.i..].starts_with(b"53") => {
                     let _ = c.number();

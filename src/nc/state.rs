@@ -56,6 +56,8 @@ pub(super) struct Config {
     pub(super) decimal_point: super::DecimalPoint,
     /// The least input increment.
     pub(super) increment: super::InputIncrement,
+    /// The tool offsets the job defines (`Settings::tool_offsets`).
+    pub(super) offsets: Option<std::collections::BTreeMap<u32, (f64, f64)>>,
 }
 
 /// The programs of a run.
@@ -89,8 +91,14 @@ pub(super) struct Modal {
     pub(super) units_set: bool,
     /// G96 constant surface speed (else G97 rpm).
     pub(super) css: bool,
-    /// The last S value.
+    /// The last S value (rev/min under G97; the surface speed under G96, in m/min or, in
+    /// inch mode, ft/min).
     pub(super) speed: Option<f64>,
+    /// The clamp on G96's spindle speed (FANUC/GSK `G50 S`, Siemens `LIMS=`, LinuxCNC
+    /// `G96 D`), rev/min.
+    pub(super) speed_max: Option<f64>,
+    /// The active tool offset number (FANUC/GSK T0305: 5; Siemens D5); 0 or `None`: none.
+    pub(super) offset: Option<u32>,
     /// Active tool number.
     pub(super) tool: Option<u32>,
     /// Spindle direction.
@@ -186,6 +194,13 @@ pub(super) struct Output {
     pub(super) units_noted: bool,
     /// A warning that a lead looks like inches was given (once a run).
     pub(super) inch_noted: bool,
+    /// The dwells (G04) so far.
+    pub(super) dwells: Vec<super::Dwell>,
+    /// The tool offset (X diameter, Z) the last move ended with: the next move starts
+    /// there and absorbs a change, as the control applies an offset with the next motion.
+    pub(super) applied: (f64, f64),
+    /// A threading cycle's block is running (its thread moves are marked).
+    pub(super) cycle: bool,
 }
 
 /// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
@@ -197,6 +212,8 @@ pub(super) struct G76Setup {
     pub(super) a: f64,
     pub(super) dmin: f64,
     pub(super) d: f64,
+    /// A first block has run: the values are the program's, not the parameters'.
+    pub(super) given: bool,
 }
 
 impl<'l> Interp<'l> {
@@ -219,6 +236,7 @@ impl<'l> Interp<'l> {
                 milling: opts.settings.mill.is_some(),
                 decimal_point: opts.settings.decimal_point,
                 increment: opts.settings.input_increment,
+                offsets: opts.settings.tool_offsets.clone(),
             },
             progs: Programs {
                 loader,
@@ -241,6 +259,8 @@ impl<'l> Interp<'l> {
                 units_set: false,
                 css: false,
                 speed: None,
+                speed_max: None,
+                offset: None,
                 tool: None,
                 spindle: Spindle::Cw,
             },
@@ -257,11 +277,12 @@ impl<'l> Interp<'l> {
             },
             thread: ThreadState {
                 g76: G76Setup {
-                    m: 1,
+                    m: opts.settings.g76.finish_passes,
                     r: 0,
-                    a: 60.0,
-                    dmin: 0.0,
-                    d: 0.0,
+                    a: opts.settings.g76.tool_angle,
+                    dmin: opts.settings.g76.min_cut,
+                    d: opts.settings.g76.finish_allowance,
+                    given: false,
                 },
                 g92: None,
                 chamfer: opts.settings.thread_chamfer,
@@ -286,6 +307,9 @@ impl<'l> Interp<'l> {
                 notes: Vec::new(),
                 units_noted: false,
                 inch_noted: false,
+                dwells: Vec::new(),
+                applied: (0.0, 0.0),
+                cycle: false,
             },
             lc: Default::default(),
             mill: opts.settings.mill.clone().map(mill::MillState::new),

@@ -11,12 +11,12 @@ mod milling;
 pub(crate) use columns::{Held, Sink};
 pub use grid::plan_grid;
 
-use crate::analysis::checks;
 use crate::analysis::compare::{Comparer, Deviation};
 use crate::analysis::findings::{rank, FindingCounts, FindingKind};
 use crate::analysis::gauge;
 use crate::analysis::interference::{self, Measurer};
 use crate::analysis::measure::{generator_cells, measure_kept, MeasureConfig};
+use crate::analysis::{checks, chips, contour};
 use crate::job::{Job, MillJob};
 use crate::kernel::mill::{mill_column, GridMill};
 use crate::kernel::sweep::{sweep_column, Column, GridSweep};
@@ -214,6 +214,84 @@ pub(crate) fn simulate_with<S: Sink>(
         parts: run.parts,
         probe: run.probe,
     })
+}
+
+/// The insert's limits pass by pass (`analysis::chips`): the chips against each tool's
+/// `depth_per_pass` (worked out only when a tool has one), and the threading cycles'
+/// infeeds against the flanks.
+fn insert_limits(
+    job: &Job,
+    passes: &[Pass],
+    tools: &[Tool],
+    turned: &crate::kernel::turn::Turned,
+    q_blank: f64,
+    q_floor: f64,
+) -> Vec<checks::MachineIssue> {
+    let sense = match job.thread.side {
+        crate::model::thread::Side::External => 1.0,
+        crate::model::thread::Side::Internal => -1.0,
+    };
+    let mut out = Vec::new();
+    let limited = tools
+        .iter()
+        .any(|t| t.depth_per_pass.max.is_some() || t.depth_per_pass.min.is_some());
+    if limited {
+        let b = &job.blank;
+        let surface = chips::Surface {
+            sense,
+            q_blank,
+            q_floor,
+            z_span: (b.z_front - b.length, b.z_front),
+            turned,
+        };
+        let found = chips::pass_chips(passes, tools, surface);
+        out.extend(chips::depth_issues(passes, tools, &found));
+    }
+    let rubs = chips::infeed_rubs(passes, tools, &job.pass_blocks, &job.pass_cycle, sense);
+    out.extend(chips::rub_issues(passes, &rubs));
+    out
+}
+
+/// The finished part's contour (`[part] profile`, or `bore_profile` for `bore`) against
+/// every cut on that surface (`analysis::contour`); `None` without that contour.
+fn part_check(
+    job: &Job,
+    passes: &[Pass],
+    tools: &[Tool],
+    bore: bool,
+    compared: Option<(f64, f64)>,
+) -> Option<(Vec<contour::PartGouge>, Vec<contour::PartLeftover>)> {
+    let b = &job.blank;
+    let (profile, sense, q_blank, q_floor, turned) = if bore {
+        (
+            job.bore_profile.as_ref()?,
+            -1.0,
+            -b.bore / 2.0,
+            -b.diameter / 2.0,
+            &job.turning.inner,
+        )
+    } else {
+        (
+            job.part_profile.as_ref()?,
+            1.0,
+            b.diameter / 2.0,
+            b.bore / 2.0,
+            &job.turning.outer,
+        )
+    };
+    let on_this = (job.thread.side == crate::model::thread::Side::Internal) == bore;
+    Some(contour::check(&contour::Surface {
+        profile,
+        sense,
+        q_blank,
+        q_floor,
+        turned,
+        thread: on_this.then_some((&job.thread, compared)),
+        passes: if on_this { passes } else { &[] },
+        tools,
+        dz: job.sim.axial_spacing,
+        tolerance: job.sim.tolerance,
+    }))
 }
 
 /// What [`run`] gives: the report, the exact deviation, the stocks when kept, and a
@@ -416,7 +494,7 @@ fn run<S: Sink>(
 
     let (machine_issues, bodies) = match op {
         Operation::Turning { passes, tools } => {
-            let mut issues = checks::check(passes, &job.machine, &job.blank);
+            let mut issues = checks::check(passes, &job.pass_rpm, &job.machine, &job.blank);
             // A chained pass (continuous threading, a GSK run-out) is already at speed: it
             // needs no run-in of its own.
             issues.retain(|i| {
@@ -424,10 +502,12 @@ fn run<S: Sink>(
             });
             issues.extend(checks::chain_check(
                 &job.chains,
+                &job.pass_rpm,
                 &job.machine,
                 job.sim.tolerance,
             ));
             issues.extend(checks::head_check(passes, tools, &job.blank, thread.side));
+            issues.extend(insert_limits(job, passes, tools, turned, q_blank, q_floor));
             let bodies = interference::has_bodies(passes, tools).then(|| {
                 (
                     merged.hits,
@@ -458,6 +538,19 @@ fn run<S: Sink>(
         report::add_gauge(&mut report, class, g, &measures);
         report.verdict = rank(&mut report.findings);
         report.finding_counts = FindingCounts::of(&report.findings);
+    }
+    if let Operation::Turning { passes, tools } = op {
+        let compared = merged
+            .dev
+            .compared_z
+            .map(|(a, b)| (a - 0.5 * grid.dz, b + 0.5 * grid.dz));
+        for bore in [false, true] {
+            if let Some(found) = part_check(job, passes, tools, bore, compared) {
+                report::add_part(&mut report, job, bore, &found);
+                report.verdict = rank(&mut report.findings);
+                report.finding_counts = FindingCounts::of(&report.findings);
+            }
+        }
     }
     report.timing_s = report::Timing {
         setup: t_setup,

@@ -4,6 +4,7 @@
 
 use crate::analysis::checks::MachineIssue;
 use crate::analysis::compare::{Deviation, Extreme, TurnDeviation};
+use crate::analysis::contour::{Cutter, PartGouge, PartLeftover};
 use crate::analysis::findings::{rank, Finding, FindingKind};
 use crate::analysis::interference;
 use crate::analysis::measure::TurnMeasure;
@@ -14,6 +15,7 @@ use crate::model::helix::{Hand, Spindle};
 use crate::model::stock::Grid;
 use crate::model::thread::{Flank, Side, WidthRule};
 use crate::report::{self, r4, r6, Report, TurnRow, SCHEMA};
+use crate::toolpath::{HitKind, RapidHit, Role};
 use std::collections::BTreeMap;
 
 pub(crate) fn location(e: &Extreme) -> report::Location {
@@ -204,13 +206,27 @@ pub(crate) fn build_report(
         }
     }
     for mi in machine_issues {
+        // The insert's checks are about a program's block: where it is.
+        let block = matches!(
+            mi.kind,
+            FindingKind::DepthPerPass | FindingKind::InfeedAngle
+        )
+        .then(|| job.pass_blocks.iter().find(|b| b.0 == mi.pass))
+        .flatten();
+        let message = match block {
+            Some((_, file, line)) => format!("{file}:{line}: {}", mi.message),
+            None => mi.message.clone(),
+        };
         findings.push(Finding {
+            file: block.map(|b| b.1.clone()),
+            line: block.map(|b| b.2),
             pass: Some(mi.pass + 1),
             z_mm: Some(r6(mi.z)),
             value: Some(r6(mi.value)),
             unit: Some(match mi.kind {
                 FindingKind::FeedLimit => "mm/min",
                 FindingKind::AxisAcceleration => "mm/s^2",
+                FindingKind::InfeedAngle => "deg",
                 FindingKind::ThreadChain => "mm/rev",
                 _ => "mm",
             }),
@@ -221,7 +237,7 @@ pub(crate) fn build_report(
                 } else {
                     Severity::Warning
                 },
-                mi.message.clone(),
+                message,
             )
         });
     }
@@ -244,18 +260,7 @@ pub(crate) fn build_report(
             line: Some(h.line),
             value: Some(r6(h.depth)),
             unit: Some("mm"),
-            ..Finding::new(
-                FindingKind::RapidCut,
-                Severity::Error,
-                format!(
-                    "{}:{}: a rapid (G00) move of a turning tool runs {:.4} mm into the {} at z {:.3} (the stock the moves before it left)",
-                    h.file,
-                    h.line,
-                    h.depth,
-                    if h.internal { "bore's wall" } else { "part" },
-                    h.z
-                ),
-            )
+            ..Finding::new(FindingKind::RapidCut, Severity::Error, rapid_message(h))
         });
     }
     if dev.compared_dexels == 0 {
@@ -507,6 +512,131 @@ fn turn_findings(
     }
 }
 
+/// A move into material, in the user's words: what moved, which tool, how deep, where.
+fn rapid_message(h: &RapidHit) -> String {
+    let tool = match h.role {
+        Role::Turning if h.internal => "boring bar",
+        Role::Turning => "turning tool",
+        Role::Grooving => "grooving insert",
+        Role::Threading => "threading insert",
+    };
+    let what = match h.kind {
+        HitKind::Rapid => "a rapid (G00) move",
+        HitKind::Feed => "a feed move",
+        HitKind::Entry => "a synchronised entry (a thread move more radial than axial)",
+    };
+    let why = match h.kind {
+        HitKind::Rapid => "",
+        _ => ": a threading insert cuts only along the thread",
+    };
+    let more = match h.moves {
+        1 => String::new(),
+        n => format!("; {n} such moves of this block, the deepest"),
+    };
+    format!(
+        "{}:{}: {what} of the {tool} T{} runs {:.4} mm into the {} at z {:.3} (the stock the moves before it left{more}){why}",
+        h.file,
+        h.line,
+        h.tool,
+        h.depth,
+        if h.internal { "bore's wall" } else { "part" },
+        h.z
+    )
+}
+
 fn fmt_opt(v: Option<f64>) -> String {
     v.map_or("-".to_string(), |x| format!("{x:.4}"))
+}
+
+/// One surface's contour check as the report's findings: each NC block whose moves or
+/// passes cut into the part (its deepest, with how many of them), each stretch of stock
+/// left outside it; `bore` for the bore's contour. The verdict is ranked again by the
+/// caller.
+pub(crate) fn add_part(
+    report: &mut Report,
+    job: &Job,
+    bore: bool,
+    (gouges, leftovers): &(Vec<PartGouge>, Vec<PartLeftover>),
+) {
+    let moves = if bore {
+        &job.turning.inner_blocks
+    } else {
+        &job.turning.outer_blocks
+    };
+    let surface = if bore { "bore's contour" } else { "contour" };
+    // The block of each gouge, and what cut it, in words.
+    let mut by_block: Vec<((Option<String>, Option<usize>), &PartGouge, usize, String)> =
+        Vec::new();
+    for g in gouges {
+        let (block, who) = match g.by {
+            Cutter::Pass(i) => (
+                job.pass_blocks
+                    .iter()
+                    .find(|b| b.0 == i)
+                    .map(|b| (Some(b.1.clone()), Some(b.2))),
+                format!("pass {}", i + 1),
+            ),
+            Cutter::Move(i) => (
+                moves.get(i).map(|b| (Some(b.0.clone()), Some(b.1))),
+                "a feed move".to_string(),
+            ),
+        };
+        let block = block.unwrap_or((None, None));
+        match by_block.iter_mut().find(|e| e.0 == block) {
+            Some(e) => {
+                e.2 += 1;
+                if g.depth > e.1.depth {
+                    (e.1, e.3) = (g, who);
+                }
+            }
+            None => by_block.push((block, g, 1, who)),
+        }
+    }
+    for ((file, line), g, count, who) in by_block {
+        let at = match (&file, line) {
+            (Some(f), Some(l)) => format!("{f}:{l}: "),
+            _ => String::new(),
+        };
+        let more = if count > 1 {
+            format!(" ({count} of this block's moves cut into it, this one deepest)")
+        } else {
+            String::new()
+        };
+        report.findings.push(Finding {
+            pass: match g.by {
+                Cutter::Pass(i) => Some(i + 1),
+                Cutter::Move(_) => None,
+            },
+            z_mm: Some(r6(g.z)),
+            file,
+            line,
+            value: Some(r6(g.depth)),
+            unit: Some("mm"),
+            ..Finding::new(
+                FindingKind::Gouge,
+                Severity::Error,
+                format!(
+                    "{at}the part: {who} cuts {:.4} mm under its {surface} (d {:.3}) at z {:.3}{more}",
+                    g.depth,
+                    2.0 * g.floor,
+                    g.z
+                ),
+            )
+        });
+    }
+    for l in leftovers {
+        report.findings.push(Finding {
+            z_mm: Some(r6(l.z)),
+            value: Some(r6(l.height)),
+            unit: Some("mm"),
+            ..Finding::new(
+                FindingKind::Leftover,
+                Severity::Error,
+                format!(
+                    "the part: the turned stock stands {:.4} mm over its {surface} from z {:.3} to {:.3}, the most at z {:.3}",
+                    l.height, l.span.0, l.span.1, l.z
+                ),
+            )
+        });
+    }
 }

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 
 mod build;
 mod gauge;
-pub(crate) use build::build_report;
+pub(crate) use build::{add_part, build_report};
 pub(crate) use gauge::add_gauge;
 pub use gauge::{
     GaugeElementInfo, GaugeInfo, GaugeLimits, InchView, LimitPair, OverWires, PlacementInfo, Range,

@@ -85,6 +85,11 @@ pub(crate) struct LathePasses {
     pub(crate) links: Vec<ChainLink>,
     /// Each pass's thread block: file and 1-based line.
     pub(crate) blocks: Vec<(String, usize)>,
+    /// Each pass's spindle speed as the program set it (rev/min; under G96 at the pass's
+    /// smaller diameter, where it turns fastest), `None` where it set none.
+    pub(crate) rpm: Vec<Option<f64>>,
+    /// Each pass is a threading cycle's (`nc::Move::cycle`).
+    pub(crate) cycle: Vec<bool>,
     /// Warnings about blocks as a whole (a tap's blocks, not simulated), in program order.
     pub(crate) warnings: Vec<StageWarning>,
 }
@@ -193,6 +198,9 @@ pub(crate) fn lathe_passes(
             }
         }
         out.blocks.push((m.file.clone(), m.line));
+        out.rpm
+            .push(m.speed.at(pass.x_start.abs().min(pass.x_end.abs())));
+        out.cycle.push(m.cycle);
         out.passes.push(pass);
     }
     Ok(out)
@@ -281,7 +289,41 @@ pub(crate) struct TurnStock {
     pub(crate) q_floor: f64,
 }
 
-/// A rapid of a turning tool that meets material left at its time.
+/// What a tool is for its moves that are not threading passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Role {
+    /// A turning or boring insert (`kind = "turning"`).
+    Turning,
+    /// A square grooving insert: its feed moves cut grooves.
+    Grooving,
+    /// A threading insert: it cuts along the thread only; a feed move or a synchronised
+    /// radial entry into material is a crash.
+    Threading,
+}
+
+/// A tool of a lathe program: its shape as its moves sweep it, and its role.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct LatheTool {
+    /// The shape, driven as the program drives it.
+    pub(crate) shape: TurningTool,
+    /// What it is for.
+    pub(crate) role: Role,
+}
+
+/// What a move that met material was.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum HitKind {
+    /// A rapid (G00, or a cycle's rapid).
+    Rapid,
+    /// A feed or arc move of a threading insert.
+    Feed,
+    /// A thread move of a threading insert that goes more into the part than along it (a
+    /// synchronised radial entry).
+    Entry,
+}
+
+/// A move that meets material left at its time and must not: a rapid of any tool, a feed
+/// move or a synchronised radial entry of a threading insert.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct RapidHit {
     /// The program file and 1-based line of the block.
@@ -294,29 +336,55 @@ pub(crate) struct RapidHit {
     pub(crate) z: f64,
     /// In the bore.
     pub(crate) internal: bool,
+    /// The tool's id.
+    pub(crate) tool: u32,
+    /// The tool's role.
+    pub(crate) role: Role,
+    /// What the move was.
+    pub(crate) kind: HitKind,
+    /// How many moves of this kind of the block (a cycle makes many) met material; `depth`
+    /// and `z` are the deepest's.
+    pub(crate) moves: usize,
 }
 
-/// What a lathe program's turning moves do.
+/// What a lathe program's moves that are not thread passes do.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct LatheTurning {
-    /// The feed and arc moves of external turning tools, in program order.
+    /// The feed and arc moves of external tools, in program order.
     pub(crate) outer: Turned,
-    /// Those of boring bars.
+    /// Those of boring bars and of an internal thread's inserts.
     pub(crate) inner: Turned,
-    /// The rapids that meet material.
+    /// The block (file, 1-based line) of each of `outer`'s moves.
+    pub(crate) outer_blocks: Vec<(String, usize)>,
+    /// The block of each of `inner`'s moves.
+    pub(crate) inner_blocks: Vec<(String, usize)>,
+    /// The moves that meet material and must not.
     pub(crate) rapids: Vec<RapidHit>,
 }
 
-/// The turning moves of a lathe program: every feed and arc move whose T number selects one
-/// of `tools` removes that tool's shape along its path on the surface the tool cuts; every
-/// rapid of one is checked against that surface's stock as the moves before it left it
-/// (`outer`, and `inner` for a tube), over the blank's span `z_span`, every `dz`. Thread
-/// moves are the passes' ([`lathe_passes`]); the moves of other tools cut nothing here.
-/// The program's first move starts wherever the machine happens to be (the interpreter
-/// starts at the work zero, which no real machine does): it neither cuts nor is checked.
+/// The moves of a lathe program that are not thread passes, in order, against the stock
+/// as the moves before each left it (`outer`, and `inner` for a tube), over the blank's
+/// span `z_span`, every `dz`:
+///
+/// - every feed and arc move of one of `tools` (by its T number, or the only tool) removes
+///   that tool's shape along its path on the surface the tool cuts (turning, grooving, and
+///   a threading insert's too: the part is what every tool left);
+/// - every rapid of one of them that meets material is a [`RapidHit`], and so are a
+///   threading insert's feed moves and synchronised radial entries (thread moves that go
+///   further into the part than along it) that meet material. The rapid straight out
+///   (along X, away from the part) from where a thread move ended is the threading cycle's
+///   retract out of its own groove: the ring it marks at the thread's end is the thread's
+///   run-out, as on the machine, and it is not a finding.
+///
+/// The stock is the turned profile (the feed moves' envelope); thread passes leave it as it
+/// was: a helical groove narrower than its lead leaves the full radius at some angle of
+/// every z, and the part turns under a rapid, so a rapid below the crest meets the crest.
+/// Thread moves are the passes' ([`lathe_passes`]). The program's first move starts
+/// wherever the machine happens to be (the interpreter starts at the work zero, which no
+/// real machine does): it neither cuts nor is checked.
 pub(crate) fn lathe_turning(
     moves: &[nc::Move],
-    tools: &[TurningTool],
+    tools: &[LatheTool],
     outer: TurnStock,
     inner: Option<TurnStock>,
     z_span: (f64, f64),
@@ -328,43 +396,86 @@ pub(crate) fn lathe_turning(
     }
     let mut outer_stock = Profile::new(z_span, dz, outer.q_blank, outer.q_floor);
     let mut inner_stock = inner.map(|s| Profile::new(z_span, dz, s.q_blank, s.q_floor));
+    // Where the last thread move ended (diameter, z), while the next move may be the
+    // retract out of its groove.
+    let mut thread_end: Option<(f64, f64)> = None;
     for m in moves.iter().skip(1) {
-        let Some(tool) = m.tool.and_then(|id| tools.iter().find(|t| t.id == id)) else {
+        let after_thread = thread_end.take();
+        let found = match m.tool {
+            Some(id) => tools.iter().find(|t| t.shape.id == id),
+            None if tools.len() == 1 => tools.first(),
+            None => None,
+        };
+        let Some(&LatheTool { shape: tool, role }) = found else {
             continue;
         };
-        let (turned, stock, sense) = if tool.internal {
+        let (turned, blocks, stock, sense) = if tool.internal {
             match inner_stock.as_mut() {
-                Some(s) => (&mut out.inner, s, -1.0),
+                Some(s) => (&mut out.inner, &mut out.inner_blocks, s, -1.0),
                 None => continue,
             }
         } else {
-            (&mut out.outer, &mut outer_stock, 1.0)
+            (&mut out.outer, &mut out.outer_blocks, &mut outer_stock, 1.0)
         };
         let arc = match (m.kind, &m.arc) {
             (MoveKind::Arc, Some(a)) => Some(((a.z_centre, a.x_centre_dia), a.clockwise)),
             _ => None,
         };
-        let path = TurnPath::of_move(tool, sense, (m.z_start, m.x_start), (m.z, m.x_dia), arc);
+        let path = TurnPath::of_move(&tool, sense, (m.z_start, m.x_start), (m.z, m.x_dia), arc);
+        // Deeper than the report's rounding (as milling's rapids).
+        let mut check = |kind: HitKind| {
+            let hit = stock.rapid_depth(&tool, &path);
+            let Some((depth, z)) = hit.filter(|h| h.0 >= 5e-7) else {
+                return;
+            };
+            // The moves of one block (a cycle's passes) are one finding: the deepest.
+            match out.rapids.last_mut() {
+                Some(h)
+                    if (h.line, h.tool, h.kind) == (m.line, tool.id, kind) && h.file == m.file =>
+                {
+                    h.moves += 1;
+                    if depth > h.depth {
+                        (h.depth, h.z) = (depth, z);
+                    }
+                }
+                _ => out.rapids.push(RapidHit {
+                    file: m.file.clone(),
+                    line: m.line,
+                    depth,
+                    z,
+                    internal: tool.internal,
+                    tool: tool.id,
+                    role,
+                    kind,
+                    moves: 1,
+                }),
+            }
+        };
+        let outward = sense * (m.x_dia - m.x_start) > 0.0;
         match m.kind {
             MoveKind::Feed | MoveKind::Arc => {
-                let cut = TurnCut { tool: *tool, path };
+                if role == Role::Threading {
+                    check(HitKind::Feed);
+                }
+                let cut = TurnCut { tool, path };
                 stock.cut(&cut);
                 turned.cuts.push(cut);
+                blocks.push((m.file.clone(), m.line));
             }
             MoveKind::Rapid => {
-                // Deeper than the report's rounding (as milling's rapids).
-                let hit = stock.rapid_depth(tool, &path);
-                if let Some((depth, z)) = hit.filter(|h| h.0 >= 5e-7) {
-                    out.rapids.push(RapidHit {
-                        file: m.file.clone(),
-                        line: m.line,
-                        depth,
-                        z,
-                        internal: tool.internal,
-                    });
+                let retract =
+                    after_thread == Some((m.x_start, m.z_start)) && m.z == m.z_start && outward;
+                if !retract {
+                    check(HitKind::Rapid);
                 }
             }
-            MoveKind::Thread => {}
+            MoveKind::Thread => {
+                let radial = (m.x_dia - m.x_start).abs() / 2.0;
+                if role == Role::Threading && !outward && radial > (m.z - m.z_start).abs() {
+                    check(HitKind::Entry);
+                }
+                thread_end = Some((m.x_dia, m.z));
+            }
         }
     }
     out

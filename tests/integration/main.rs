@@ -7,6 +7,8 @@ mod support;
 mod bodies;
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
+/// Issue 28: programs that crash on the machine fail at their block; their fixes pass.
+mod crashes;
 /// `[thread] designation` and `class`: scenes rewritten with designations, contradictions.
 mod designations;
 /// The gauges' verdict (GO/NOT GO, functional diameter) against hand derivations, and its

@@ -3,17 +3,17 @@
 //! sampling of the swept shape (a second method) on random tools and paths.
 
 use super::*;
+use crate::model::tool::{Edge, Tool};
 use crate::model::Rng;
 use std::f64::consts::{FRAC_1_SQRT_2, PI, SQRT_2};
 
 fn tool(rn: f64, lead_deg: f64, trail_deg: f64) -> TurningTool {
-    TurningTool {
-        id: 1,
-        nose_radius: rn,
-        lead_angle: lead_deg.to_radians(),
-        trail_angle: trail_deg.to_radians(),
-        internal: false,
-    }
+    TurningTool::turning(
+        1,
+        rn,
+        (lead_deg.to_radians(), trail_deg.to_radians()),
+        false,
+    )
 }
 
 /// A CNMG 80 deg insert in a 95 deg holder: the job's default.
@@ -21,15 +21,21 @@ fn cnmg(rn: f64) -> TurningTool {
     tool(rn, -5.0, 85.0)
 }
 
-/// The shape's lower boundary by brute force: the lowest point of the nose disk and the
-/// wedge, sampled as the convex hull of the nose and two far points on the edges.
+/// The shape's lower boundary by brute force: the lowest point at `u` of the pieces of the
+/// shape's outline, each taken whole: the two nose circles (`flat` apart), the flat between
+/// their bottoms, and the edges' rays from their tangent points on the outer noses.
 fn lower_brute(t: &TurningTool, u: f64) -> f64 {
-    // Points of the shape's boundary: the nose circle and the edges' rays.
     let r = t.nose_radius;
     let mut best = f64::INFINITY;
-    // Nose: every point of the circle with this u.
-    if u.abs() <= r {
-        best = best.min(-(r * r - u * u).sqrt());
+    // Noses: every point of each circle with this u.
+    for c in [0.0, t.flat] {
+        if (u - c).abs() <= r {
+            best = best.min(-(r * r - (u - c) * (u - c)).sqrt());
+        }
+    }
+    // The flat.
+    if (0.0..=t.flat).contains(&u) {
+        best = best.min(-r);
     }
     // Leading edge ray from its tangent point, direction (-sin a, cos a).
     let a = t.lead_angle;
@@ -42,7 +48,7 @@ fn lower_brute(t: &TurningTool, u: f64) -> f64 {
         }
     }
     let b = t.trail_angle;
-    let (pu, ph) = (r * b.cos(), -r * b.sin());
+    let (pu, ph) = (t.flat + r * b.cos(), -r * b.sin());
     let du = b.sin();
     if du != 0.0 {
         let s = (u - pu) / du;
@@ -56,12 +62,16 @@ fn lower_brute(t: &TurningTool, u: f64) -> f64 {
 #[test]
 fn the_lower_boundary_is_the_nose_and_the_edges() {
     let mut rng = Rng(7);
-    for _ in 0..200 {
-        let t = tool(
+    for case in 0..300 {
+        let mut t = tool(
             rng.range(0.0, 1.6),
             rng.range(-30.0, 80.0),
             rng.range(-30.0, 88.0),
         );
+        // A third with a flat between two noses (grooving and threading inserts).
+        if case % 3 == 0 {
+            t.flat = rng.range(0.0, 3.0);
+        }
         if t.lead_angle + t.trail_angle <= 0.05 {
             continue;
         }
@@ -108,13 +118,20 @@ fn envelopes_equal_a_fine_sampling_of_the_path() {
     // samples; the shape's boundary has slope at most 1/tan(2 deg) here).
     let mut rng = Rng(11);
     let n = 20_000;
-    for case in 0..300 {
+    for case in 0..450 {
         let lead = rng.range(-20.0, 70.0);
-        let t = tool(
+        let mut t = tool(
             rng.range(0.0, 1.2),
             lead,
             rng.range((1.0 - lead).max(2.0), 88.0),
         );
+        // A third with a flat (inserts), some of them with sharp corners.
+        if case % 3 == 2 {
+            t.flat = rng.range(0.0, 3.0);
+            if case % 2 == 0 {
+                t.nose_radius = 0.0;
+            }
+        }
         let p0 = (rng.range(-20.0, 0.0), rng.range(5.0, 15.0));
         let path = if case % 2 == 0 {
             TurnPath::Line {
@@ -355,4 +372,149 @@ fn a_rapid_meets_only_the_stock_left_at_its_time() {
     // Off the part (z > 0) nothing is met, whatever the diameter.
     let air = TurnPath::of_move(&t, 1.0, (5.0, 0.0), (5.0, 40.0), None);
     assert_eq!(stock.rapid_depth(&t, &air), None);
+}
+
+/// An insert's edge with a reference point, random: a trapezoid (grooving when square) or
+/// a round-nose V.
+fn random_insert(rng: &mut Rng, case: usize) -> Tool {
+    use crate::model::tool::Reference;
+    let edge = if case % 2 == 0 {
+        let square = case % 4 == 0;
+        Edge::Trapezoid {
+            tip: rng.range(0.0, 3.0),
+            left_angle: if square {
+                0.0
+            } else {
+                rng.range(2.0, 40.0).to_radians()
+            },
+            right_angle: if square {
+                0.0
+            } else {
+                rng.range(2.0, 40.0).to_radians()
+            },
+        }
+    } else {
+        Edge::RoundV {
+            radius: rng.range(0.05, 0.6),
+            half_angle: rng.range(10.0, 40.0).to_radians(),
+        }
+    };
+    Tool {
+        id: 3,
+        edge,
+        reference: [
+            Reference::Center,
+            Reference::Left,
+            Reference::Right,
+            Reference::Tip,
+        ][case % 4],
+        body: None,
+        length: None,
+        depth_per_pass: Default::default(),
+    }
+}
+
+#[test]
+fn an_inserts_swept_edge_is_its_own_height_function_along_the_move() {
+    // Second method: the edge's height function of `model::tool` (the one the thread sweep
+    // cuts with) placed at 20000 positions of the reference point along the move: the tip
+    // centre at the reference point minus its offset, the cut at `h + height(z - tip)`.
+    let mut rng = Rng(17);
+    let n = 20_000;
+    for case in 0..200 {
+        let tool = random_insert(&mut rng, case);
+        let shape = TurningTool::insert(&tool, false);
+        let off = tool.reference_offset();
+        let from = (rng.range(-20.0, 0.0), rng.range(10.0, 30.0));
+        let to = if case % 3 == 0 {
+            (rng.range(-20.0, 0.0), from.1)
+        } else {
+            (rng.range(-20.0, 0.0), rng.range(10.0, 30.0))
+        };
+        let path = TurnPath::of_move(&shape, 1.0, from, (to.0, to.1), None);
+        let steep = match &tool.edge {
+            Edge::Trapezoid {
+                left_angle,
+                right_angle,
+                ..
+            } => crate::model::tool::cot(left_angle.min(*right_angle).max(2f64.to_radians())),
+            _ => 1.0 / 10f64.to_radians().tan(),
+        };
+        let len = (to.0 - from.0).hypot((to.1 - from.1) / 2.0);
+        let step = len / n as f64;
+        for k in 0..60 {
+            let z = -24.0 + 0.5 * k as f64 + 0.0037;
+            let brute = (0..=n)
+                .map(|i| {
+                    let s = i as f64 / n as f64;
+                    let (cz, cx) = (from.0 + s * (to.0 - from.0), from.1 + s * (to.1 - from.1));
+                    cx / 2.0 + tool.height(z - (cz - off))
+                })
+                .fold(f64::INFINITY, f64::min);
+            let e = envelope(&shape, &path, z);
+            if brute.is_infinite() {
+                assert!(e.is_infinite() || e > 1e3, "case {case} z {z}: {e}");
+                continue;
+            }
+            assert!(e <= brute + 1e-9, "case {case} z {z}: {e} above {brute}");
+            assert!(
+                e >= brute - step * (1.0 + steep) - 1e-9,
+                "case {case} z {z}: {e} far below {brute} ({tool:?})"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_threading_inserts_rapid_along_the_bar_meets_the_crest_by_its_depth() {
+    // Issue 28's first program: a 60 deg insert (tip flat P/8 = 0.25, driven by its tip)
+    // returning at X28 along a 30 mm bar: its tip runs 1 mm under the crest, so the rapid
+    // meets material 1 mm deep (radial), over the whole bar from z -39.5 up to the face.
+    let tool = Tool {
+        id: 3,
+        edge: Edge::Trapezoid {
+            tip: 0.25,
+            left_angle: 30f64.to_radians(),
+            right_angle: 30f64.to_radians(),
+        },
+        reference: crate::model::tool::Reference::Tip,
+        body: None,
+        length: None,
+        depth_per_pass: Default::default(),
+    };
+    let shape = TurningTool::insert(&tool, false);
+    let stock = Profile::new((-60.0, 0.0), 0.01, 15.0, 0.0);
+    let rapid = TurnPath::of_move(&shape, 1.0, (-39.5, 28.0), (5.0, 28.0), None);
+    let (depth, z) = stock.rapid_depth(&shape, &rapid).unwrap();
+    assert!((depth - 1.0).abs() < 1e-12, "{depth}");
+    assert!((-39.625..=0.0).contains(&z), "{z}");
+    // At X30 its tip grazes the bar (nothing below the crest); at X30.001 it clears it.
+    let graze = TurnPath::of_move(&shape, 1.0, (-39.5, 30.0), (5.0, 30.0), None);
+    assert!(stock.rapid_depth(&shape, &graze).is_none());
+    // Plunging radially at z -20 to X29: 0.5 deep; the flank reaches 0.5 tan 30 beside it.
+    let plunge = TurnPath::of_move(&shape, 1.0, (-20.0, 40.0), (-20.0, 29.0), None);
+    let (depth, z) = stock.rapid_depth(&shape, &plunge).unwrap();
+    assert!((depth - 0.5).abs() < 1e-12 && (z + 20.0).abs() <= 0.125 + 1e-9);
+    // A square grooving insert 3 wide driven by its left corner plunged to X24 at z -10
+    // leaves r 12 over [-10, -7) and nothing beyond (vertical sides).
+    let groove = Tool {
+        id: 2,
+        edge: Edge::Trapezoid {
+            tip: 3.0,
+            left_angle: 0.0,
+            right_angle: 0.0,
+        },
+        reference: crate::model::tool::Reference::Left,
+        body: None,
+        length: None,
+        depth_per_pass: Default::default(),
+    };
+    let g = TurningTool::insert(&groove, false);
+    let p = TurnPath::of_move(&g, 1.0, (-10.0, 40.0), (-10.0, 24.0), None);
+    for k in 0..30 {
+        let z = -10.0 + 0.1 * k as f64 + 0.01;
+        assert_eq!(envelope(&g, &p, z), 12.0, "z {z}");
+    }
+    assert!(envelope(&g, &p, -10.001).is_infinite());
+    assert!(envelope(&g, &p, -6.999).is_infinite());
 }
