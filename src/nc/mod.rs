@@ -44,8 +44,6 @@ mod lex;
 mod linuxcnc;
 #[cfg(test)]
 mod machine_tests;
-#[cfg(test)]
-mod spindle_tests;
 mod mill;
 mod motion;
 #[cfg(test)]
@@ -60,6 +58,8 @@ mod siemens_flow;
 #[cfg(test)]
 mod siemens_tests;
 mod siemens_vars;
+#[cfg(test)]
+mod spindle_tests;
 mod state;
 #[cfg(test)]
 mod tests;

@@ -17,7 +17,7 @@ fn run_with(text: &str, dialect: Dialect, settings: Settings) -> Result<Toolpath
 }
 
 fn run(text: &str, dialect: Dialect) -> Toolpath {
-    run_with(text, dialect, Settings::default()).unwrap_or_else(|e| panic!("{e}"))
+    run_with(text, dialect, Settings::in_mm()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
@@ -92,7 +92,7 @@ fn offsets(list: &[(u32, f64, f64)]) -> Settings {
                 .map(|&(n, x, z)| (n, (x, z)))
                 .collect::<BTreeMap<_, _>>(),
         ),
-        ..Settings::default()
+        ..Settings::in_mm()
     }
 }
 

@@ -67,6 +67,7 @@ reference = "tip"
 [program]
 file = "crash.nc"
 dialect = "fanuc"
+decimal_point = "calculator"
 [machine]
 spindle_rpm = 200
 max_feed = 5000
