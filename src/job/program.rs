@@ -230,7 +230,10 @@ fn g76_params(m: &RawMachine, cx: &Ctx) -> Result<G76Params, JobError> {
 
 /// `[machine] offsets`: each number's shift of the tool's point (X as a diameter, Z), its
 /// `x`/`z` (the geometry's) and `wear_x`/`wear_z` added; `None` without the table.
-fn tool_offsets(m: &RawMachine, cx: &Ctx) -> Result<Option<BTreeMap<u32, (f64, f64)>>, JobError> {
+/// Tool offsets by number: (X as a diameter, Z) shifts.
+type Offsets = BTreeMap<u32, (f64, f64)>;
+
+fn tool_offsets(m: &RawMachine, cx: &Ctx) -> Result<Option<Offsets>, JobError> {
     let Some(table) = &m.offsets else {
         return Ok(None);
     };

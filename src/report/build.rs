@@ -548,6 +548,9 @@ fn fmt_opt(v: Option<f64>) -> String {
     v.map_or("-".to_string(), |x| format!("{x:.4}"))
 }
 
+/// An NC block: (file, line), either absent for a job's own pass.
+type BlockKey = (Option<String>, Option<usize>);
+
 /// One surface's contour check as the report's findings: each NC block whose moves or
 /// passes cut into the part (its deepest, with how many of them), each stretch of stock
 /// left outside it; `bore` for the bore's contour. The verdict is ranked again by the
@@ -565,7 +568,7 @@ pub(crate) fn add_part(
     };
     let surface = if bore { "bore's contour" } else { "contour" };
     // The block of each gouge, and what cut it, in words.
-    let mut by_block: Vec<((Option<String>, Option<usize>), &PartGouge, usize, String)> =
+    let mut by_block: Vec<(BlockKey, &PartGouge, usize, String)> =
         Vec::new();
     for g in gouges {
         let (block, who) = match g.by {
