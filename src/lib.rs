@@ -69,8 +69,9 @@ pub use kernel::mill::{
 };
 pub use kernel::sweep::{sweep, sweep_column, Column, SweepStats};
 pub use model::helix::{Hand, Helix, LeadLaw, Spindle};
+pub use model::part::{Approach, PartError, PartProfile};
 pub use model::pass::Pass;
-pub use model::setup::{Blank, ChainLink, Machine};
+pub use model::setup::{Blank, ChainLink, CycleTime, Machine, DEFAULT_RAPID_RATE};
 pub use model::solid::{prism, Face, Solid, SolidError};
 pub use model::stock::{Grid, Stock, Surface};
 pub use model::thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};
@@ -98,6 +99,6 @@ pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use output::stream::{simulate_meshed, Meshed};
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
-    Finding, FindingCounts, FindingKind, InputFile, Painter, Report, SummaryStyle, Tone, TurnRow,
-    Verdict, SCHEMA, VERSION,
+    CycleTimeInfo, Finding, FindingCounts, FindingKind, InputFile, Painter, Report, SummaryStyle,
+    Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
 };

@@ -364,6 +364,7 @@ pub(crate) fn build_report(
         turns,
         interference: interference_rows,
         mill: None,
+        cycle_time_s: job.cycle_time.as_ref().map(report::CycleTimeInfo::of),
         findings,
         timing_s: report::Timing::default(),
     }

@@ -9,6 +9,8 @@ mod bodies;
 mod cli;
 /// Issue 28: programs that crash on the machine fail at their block; their fixes pass.
 mod crashes;
+/// Issue 28: cycle times against derivations by hand.
+mod cycle_time;
 /// The glTF export against closed forms, the dexel data, the report and itself.
 mod gltf;
 /// The scenes' reports against reviewed goldens and hand-derived expectations.
