@@ -81,7 +81,7 @@ pub use nc::{
     decode_program, interpret, interpret_with, path_lead, to_csv, ArcGeometry, CompSide,
     Diagnostic, Dialect, Dwell, DwellTime, Feed, G76Params, GcodeSystem, Limits, MillArc, MillKind,
     MillMove, MillSettings, Move, MoveKind, NcError, Options as NcOptions, Plane, Settings,
-    Severity, Source, SpindleSpeed, Toolpath,
+    Severity, Source, SpindleSpeed, ToolOffsets, Toolpath,
 };
 pub use output::glb::{from_glb, to_glb, GlbError};
 pub use output::html::{

@@ -6,7 +6,7 @@
 use super::ctx::Ctx;
 use super::schema::{RawMachine, RawProgram};
 use super::JobError;
-use crate::nc::{Dialect, G76Params, GcodeSystem, Settings};
+use crate::nc::{Dialect, G76Params, GcodeSystem, Settings, ToolOffsets};
 use crate::toolpath::Program;
 use std::collections::BTreeMap;
 
@@ -144,7 +144,7 @@ fn g76_params(m: &RawMachine, cx: &Ctx) -> Result<G76Params, JobError> {
 
 /// `[machine] offsets`: each number's shift of the tool's point (X as a diameter, Z), its
 /// `x`/`z` (the geometry's) and `wear_x`/`wear_z` added; `None` without the table.
-fn tool_offsets(m: &RawMachine, cx: &Ctx) -> Result<Option<BTreeMap<u32, (f64, f64)>>, JobError> {
+fn tool_offsets(m: &RawMachine, cx: &Ctx) -> Result<Option<ToolOffsets>, JobError> {
     let Some(table) = &m.offsets else {
         return Ok(None);
     };

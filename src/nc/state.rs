@@ -53,7 +53,7 @@ pub(super) struct Config {
     /// A FANUC milling program (`Settings::mill`).
     pub(super) milling: bool,
     /// The tool offsets the job defines (`Settings::tool_offsets`).
-    pub(super) offsets: Option<std::collections::BTreeMap<u32, (f64, f64)>>,
+    pub(super) offsets: Option<super::ToolOffsets>,
 }
 
 /// The programs of a run.

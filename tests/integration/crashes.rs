@@ -303,7 +303,7 @@ fn a_thread_run_into_the_shoulder_is_a_gouge_of_the_part_at_its_block() {
     );
     assert_eq!(g[0].pass, Some(9));
     let z = g[0].z_mm.unwrap();
-    assert!(z < -42.0 && z >= -45.0 - 1.0 / 6.0, "{z}");
+    assert!((-45.0 - 1.0 / 6.0..-42.0).contains(&z), "{z}");
     let rapid = of_kind(&r, FindingKind::RapidCut);
     assert_eq!(rapid.len(), 1);
     assert!((rapid[0].value.unwrap() - 2.0).abs() < 1e-6);
