@@ -550,3 +550,23 @@ fn random_cycles_fail_exactly_where_a_rule_by_hand_says() {
     // Both verdicts are drawn (the seed's cases: clean ones and each kind of crash).
     assert!(verdicts[0] >= 5 && verdicts[1] >= 5, "{verdicts:?}");
 }
+
+#[test]
+fn a_threading_inserts_plunge_and_radial_entry_are_crashes_at_their_blocks() {
+    // On the 30 mm bar: G01 X29 at z -10 plunges the insert (30 - 29)/2 = 0.5 mm into it
+    // (line 5); G32 from X32 Z-10 to X26 Z-10.5 goes 3 mm in for 0.5 along: a synchronised
+    // radial entry whose tip reaches r 13, (30 - 26)/2 = 2 mm under the crest (line 7).
+    // The rapid straight out after it (line 8) leaves its own groove: not a finding.
+    let prog =
+        "T0303\nG97 S500 M03\nG0 X32 Z5\nG0 Z-10\nG1 X29 F0.1\nG0 X32\nG32 X26 Z-10.5 F2.0\nG0 X32\nG0 Z5\nM30\n";
+    let job = small_job(prog, "").unwrap_or_else(|e| panic!("{e}"));
+    let r = vpcut::simulate_report(&job, &SimOptions::default()).unwrap();
+    let hits = of_kind(&r, FindingKind::RapidCut);
+    let got: Vec<(Option<usize>, f64)> = hits
+        .iter()
+        .map(|f| (f.line, (f.value.unwrap() * 1e6).round() / 1e6))
+        .collect();
+    assert_eq!(got, [(Some(5), 0.5), (Some(7), 2.0)], "{:#?}", r.findings);
+    assert!(hits[0].message.contains("a feed move of the threading insert T3"));
+    assert!(hits[1].message.contains("synchronised entry"));
+}
