@@ -567,6 +567,8 @@ fn a_threading_inserts_plunge_and_radial_entry_are_crashes_at_their_blocks() {
         .map(|f| (f.line, (f.value.unwrap() * 1e6).round() / 1e6))
         .collect();
     assert_eq!(got, [(Some(5), 0.5), (Some(7), 2.0)], "{:#?}", r.findings);
-    assert!(hits[0].message.contains("a feed move of the threading insert T3"));
+    assert!(hits[0]
+        .message
+        .contains("a feed move of the threading insert T3"));
     assert!(hits[1].message.contains("synchronised entry"));
 }
