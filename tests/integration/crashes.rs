@@ -136,8 +136,23 @@ fn tool_offsets_come_from_the_job_and_a_missing_one_is_a_warning_at_its_block() 
     assert!(e.to_string().contains("machine.offsets.100"), "{e}");
 }
 
+/// The radial depths (mm) of the M30x2 cases' G76 `P010060 Q100 R0.05` / `P1227 Q400`, by
+/// hand: 0.4 sqrt(n) while over the 0.1 minimum cut (0.4, 0.566, 0.693, 0.8), then the
+/// minimum cut (0.9, 1.0, 1.1; 1.2 would pass k - d = 1.177), k - d, then k once.
+pub(crate) const G76_DEPTHS: [f64; 9] = [
+    0.4,
+    0.565_685_424_949_238,
+    0.692_820_323_027_550_9,
+    0.8,
+    0.9,
+    1.0,
+    1.1,
+    1.177,
+    1.227,
+];
+
 /// The case's job with `program` and `edits` to its TOML (`support::with`).
-fn case_job(case: &str, program: &str, edits: &[(&str, &str, &str)]) -> Job {
+pub(crate) fn case_job(case: &str, program: &str, edits: &[(&str, &str, &str)]) -> Job {
     case_job_text(case, program, &|t| crate::support::with(t, edits))
 }
 
@@ -181,17 +196,9 @@ fn a_g76_without_its_first_block_says_which_parameters_it_cut_with() {
     assert_eq!(fixed.passes.len(), 9);
     assert!(fixed.program_warnings.is_empty());
     let x: Vec<f64> = fixed.passes.iter().map(|p| p.x_start).collect();
-    for (x, d) in x.iter().zip([
-        0.4,
-        0.4 * 2f64.sqrt(),
-        0.4 * 3f64.sqrt(),
-        0.8,
-        0.9,
-        1.0,
-        1.1,
-        1.177,
-        1.227,
-    ]) {
+    assert!((G76_DEPTHS[1] - 0.4 * 2f64.sqrt()).abs() < 1e-15);
+    assert!((G76_DEPTHS[2] - 0.4 * 3f64.sqrt()).abs() < 1e-15);
+    for (x, d) in x.iter().zip(G76_DEPTHS) {
         assert!((x - (27.546 + 2.0 * (1.227 - d))).abs() < 1e-9, "{x} {d}");
     }
 

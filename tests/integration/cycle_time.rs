@@ -5,7 +5,8 @@
 //! a chained thread block and the job's own rapid rate. Within 2 % each part; the
 //! model's own integrals are exact, so they agree to far less.
 
-use crate::support::{root, scene_job};
+use crate::crashes::{case_job, G76_DEPTHS};
+use crate::support::scene_job;
 use vpcut::{CycleTime, Job};
 
 fn close(got: f64, want: f64, what: &str) {
@@ -29,26 +30,9 @@ fn a_g76_cycle_by_hand() {
     // shift s, in to X, thread 44.5 mm, out, back 44.5 - s: rapid 44.5 + (32 - X) mm. Then
     // G00 X100 Z100 from X32 Z5: hypot(34, 95). The first move (G00 X32 Z5 from where the
     // machine was) is not counted. Rapids at the default 10000 mm/min.
-    let dir = root().join("tests/data/crash/rapid-below-crest");
-    let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
-    let load = |f: &str| {
-        let f = if f == "crash.nc" { "fixed.nc" } else { f };
-        std::fs::read_to_string(dir.join(f)).ok()
-    };
-    let job = Job::from_toml_with(&text, "job.toml", &load).unwrap();
+    let job = case_job("rapid-below-crest", "fixed.nc", &[]);
     let c = time_of(&job);
-    let depths = [
-        0.4,
-        0.4 * 2f64.sqrt(),
-        0.4 * 3f64.sqrt(),
-        0.8,
-        0.9,
-        1.0,
-        1.1,
-        1.177,
-        1.227,
-    ];
-    let rapid_mm: f64 = depths
+    let rapid_mm: f64 = G76_DEPTHS
         .iter()
         .map(|d| 44.5 + (32.0 - (27.546 + 2.0 * (1.227 - d))))
         .sum::<f64>()
