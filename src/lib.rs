@@ -70,8 +70,9 @@ pub use kernel::mill::{
 };
 pub use kernel::sweep::{sweep, sweep_column, Column, SweepStats};
 pub use model::helix::{Hand, Helix, LeadLaw, Spindle};
+pub use model::part::{Approach, PartError, PartProfile};
 pub use model::pass::Pass;
-pub use model::setup::{Blank, ChainLink, Machine};
+pub use model::setup::{Blank, ChainLink, CycleTime, Machine, DEFAULT_RAPID_RATE};
 pub use model::solid::{prism, Face, Solid, SolidError};
 pub use model::standards::{
     class_for, parse as parse_designation, Designation, Engagement, Form as StandardForm, Series,
@@ -85,7 +86,8 @@ pub use nc::{
     decode_program, interpret, interpret_with, path_lead, to_csv, ArcGeometry, CompSide,
     DecimalPoint, Diagnostic, Dialect, Dwell, DwellTime, Feed, G76Params, GcodeSystem,
     InputIncrement, Limits, MillArc, MillKind, MillMove, MillSettings, Move, MoveKind, NcError,
-    Options as NcOptions, Plane, PowerOn, Settings, Severity, Source, SpindleSpeed, Toolpath,
+    Options as NcOptions, Plane, PowerOn, Settings, Severity, Source, SpindleSpeed, ToolOffsets,
+    Toolpath,
 };
 pub use output::glb::{from_glb, to_glb, GlbError};
 pub use output::html::{
@@ -103,7 +105,7 @@ pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use output::stream::{simulate_meshed, Meshed};
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
-    Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo, GaugeLimits, InchView,
-    InputFile, LimitPair, OverWires, Painter, PlacementInfo, Range, Report, SummaryStyle, Tone,
-    TurnRow, Verdict, SCHEMA, VERSION,
+    CycleTimeInfo, Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo, GaugeLimits,
+    InchView, InputFile, LimitPair, OverWires, Painter, PlacementInfo, Range, Report, SummaryStyle,
+    Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
 };

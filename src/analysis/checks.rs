@@ -260,6 +260,7 @@ mod tests {
         };
         let m = Machine {
             spindle_rpm: 200.0,
+            rapid_rate: None,
             max_feed: Some(3000.0),
             acceleration: Some(1000.0),
             spindle: Spindle::Cw,

@@ -203,7 +203,14 @@ pub(crate) fn infeed_rubs(
     cycle: &[bool],
     sense: f64,
 ) -> Vec<InfeedRub> {
-    let block = |i: usize| blocks.iter().find(|b| b.0 == i).map(|b| (&b.1, b.2));
+    // Each pass's block, by pass index (passes without one, listed in the job: none).
+    let mut of_pass: Vec<Option<(&String, usize)>> = vec![None; passes.len()];
+    for b in blocks {
+        if let Some(slot) = of_pass.get_mut(b.0) {
+            *slot = Some((&b.1, b.2));
+        }
+    }
+    let block = |i: usize| of_pass[i];
     let mut out: Vec<InfeedRub> = Vec::new();
     let mut flagged: Vec<(&String, usize)> = Vec::new();
     for i in 1..passes.len() {

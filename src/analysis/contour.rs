@@ -150,7 +150,7 @@ pub(crate) fn check(s: &Surface) -> (Vec<PartGouge>, Vec<PartLeftover>) {
         gouges.extend(best);
     };
     for (i, c) in s.turned.cuts.iter().enumerate() {
-        let Some(span) = c.span_below(s.q_blank) else {
+        let Some(span) = c.span(s.q_blank) else {
             continue;
         };
         worst(
@@ -172,7 +172,7 @@ pub(crate) fn check(s: &Surface) -> (Vec<PartGouge>, Vec<PartLeftover>) {
                 None,
             ),
         };
-        let Some(span) = cut.span_below(s.q_blank) else {
+        let Some(span) = cut.span(s.q_blank) else {
             continue;
         };
         worst(

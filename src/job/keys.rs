@@ -123,7 +123,10 @@ fn range_of(key: &str) -> (f64, f64) {
         "simulation.max_dexels" => (0.0, 1e15),
         "simulation.angular_cells" => (0.0, 1e7),
         // Rates: rev/min, mm/min, mm/s^2.
-        "machine.spindle_rpm" | "machine.max_feed" | "machine.acceleration" => (-1e6, 1e6),
+        "machine.spindle_rpm"
+        | "machine.max_feed"
+        | "machine.acceleration"
+        | "machine.rapid_rate" => (-1e6, 1e6),
         _ => (-MAX_NUMBER, MAX_NUMBER),
     }
 }

@@ -22,7 +22,7 @@
 use crate::kernel::turn::TurningTool;
 use crate::model::part::PartProfile;
 use crate::model::pass::Pass;
-pub(crate) use crate::model::setup::{Blank, ChainLink, Machine};
+pub(crate) use crate::model::setup::{Blank, ChainLink, CycleTime, Machine};
 use crate::model::thread::ThreadSpec;
 use crate::model::tolerance::ThreadClass;
 use crate::model::tool::Tool;
@@ -199,6 +199,8 @@ pub struct Job {
     pub part_profile: Option<PartProfile>,
     /// Its bore's contour (`[part] bore_profile`), if given.
     pub bore_profile: Option<PartProfile>,
+    /// A lathe program's cycle time (rapids, feeds, threading, waits; by tool).
+    pub cycle_time: Option<CycleTime>,
     /// The turning tools (`kind = "turning"`) the program's T words select.
     pub(crate) turning_tools: Vec<TurningTool>,
     /// What the program's turning moves cut, and its rapids that meet material.
@@ -299,6 +301,11 @@ impl Job {
                     (b.z_front - b.length, b.z_front),
                     self.sim.axial_spacing,
                 );
+                self.cycle_time = Some(toolpath::cycle_time(
+                    &path.moves,
+                    &path.dwells,
+                    &self.machine,
+                ));
                 let mut warnings = path.warnings;
                 let stage = lathe.warnings.into_iter().chain(toolpath::scale_warnings(
                     &path.moves,

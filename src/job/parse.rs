@@ -59,6 +59,11 @@ pub(super) fn resolve(
             .acceleration
             .map(|v| cx.positive("machine.acceleration", v))
             .transpose()?,
+        rapid_rate: raw
+            .machine
+            .rapid_rate
+            .map(|v| cx.positive("machine.rapid_rate", v))
+            .transpose()?,
         spindle: match raw.machine.spindle {
             SpindleName::Cw => Spindle::Cw,
             SpindleName::Ccw => Spindle::Ccw,
@@ -196,6 +201,7 @@ pub(super) fn resolve(
             fit_thread: raw.thread.z_start.is_none(),
             part_profile: None,
             bore_profile: None,
+            cycle_time: None,
             turning_tools: Vec::new(),
             turning: Default::default(),
         };
@@ -269,6 +275,7 @@ pub(super) fn resolve(
         fit_thread: raw.thread.z_start.is_none() && raw.process.is_none(),
         part_profile,
         bore_profile,
+        cycle_time: None,
         turning_tools,
         turning: Default::default(),
     };

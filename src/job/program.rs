@@ -7,7 +7,9 @@
 use super::ctx::Ctx;
 use super::schema::{RawMachine, RawProgram};
 use super::JobError;
-use crate::nc::{DecimalPoint, Dialect, G76Params, GcodeSystem, InputIncrement, Settings};
+use crate::nc::{
+    DecimalPoint, Dialect, G76Params, GcodeSystem, InputIncrement, Settings, ToolOffsets,
+};
 use crate::toolpath::Program;
 use std::collections::BTreeMap;
 
@@ -230,10 +232,7 @@ fn g76_params(m: &RawMachine, cx: &Ctx) -> Result<G76Params, JobError> {
 
 /// `[machine] offsets`: each number's shift of the tool's point (X as a diameter, Z), its
 /// `x`/`z` (the geometry's) and `wear_x`/`wear_z` added; `None` without the table.
-/// Tool offsets by number: (X as a diameter, Z) shifts.
-type Offsets = BTreeMap<u32, (f64, f64)>;
-
-fn tool_offsets(m: &RawMachine, cx: &Ctx) -> Result<Option<Offsets>, JobError> {
+fn tool_offsets(m: &RawMachine, cx: &Ctx) -> Result<Option<ToolOffsets>, JobError> {
     let Some(table) = &m.offsets else {
         return Ok(None);
     };

@@ -333,6 +333,7 @@ pub(super) struct RawMachine {
     pub(super) spindle_rpm: f64,
     pub(super) max_feed: Option<f64>,
     pub(super) acceleration: Option<f64>,
+    pub(super) rapid_rate: Option<f64>,
     #[serde(default)]
     pub(super) spindle: SpindleName,
     /// Tool offsets by number: `offsets.5 = { x = .., z = .., wear_x = .., wear_z = .. }`.
@@ -374,6 +375,7 @@ impl Default for RawMachine {
             spindle_rpm: default_rpm(),
             max_feed: None,
             acceleration: None,
+            rapid_rate: None,
             spindle: SpindleName::Cw,
             offsets: None,
             g76_finish_passes: None,

@@ -410,12 +410,7 @@ pub(crate) struct TurnCut {
 impl TurnCut {
     /// The z span where the swept shape may reach below `q_top` (a bound); `None` when it
     /// does not.
-    pub(crate) fn span_below(&self, q_top: f64) -> Option<(f64, f64)> {
-        self.span(q_top)
-    }
-
-    /// The z span where the swept shape reaches below `q_top`; `None` when it does not.
-    fn span(&self, q_top: f64) -> Option<(f64, f64)> {
+    pub(crate) fn span(&self, q_top: f64) -> Option<(f64, f64)> {
         let ((z0, z1), (h0, _)) = self.path.bounds();
         let bottom = h0 - self.tool.nose_radius;
         if bottom >= q_top {

@@ -27,6 +27,40 @@ pub struct Machine {
     pub acceleration: Option<f64>,
     /// Spindle direction.
     pub spindle: Spindle,
+    /// The rapid traverse rate (mm/min), if given (the cycle time's rapids; see
+    /// [`DEFAULT_RAPID_RATE`]).
+    pub rapid_rate: Option<f64>,
+}
+
+/// The rapid rate the cycle time takes when the job gives none (mm/min): a small CNC
+/// lathe's; the report says when it was assumed.
+pub const DEFAULT_RAPID_RATE: f64 = 10_000.0;
+
+/// A program's cycle time, split by what the machine does, and by tool.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CycleTime {
+    /// Rapids (s).
+    pub rapid: f64,
+    /// Feed and arc moves (s).
+    pub feed: f64,
+    /// Threading moves (s).
+    pub thread: f64,
+    /// Waits: each thread move's wait for the spindle's one-rev signal (half a revolution
+    /// on average) and the dwells (s).
+    pub wait: f64,
+    /// Per tool (its T number; `None` before any), in the order of first use (s).
+    pub by_tool: Vec<(Option<u32>, f64)>,
+    /// The rapid rate used (mm/min).
+    pub rapid_rate: f64,
+    /// Whether it is the job's (else [`DEFAULT_RAPID_RATE`]).
+    pub rapid_rate_given: bool,
+}
+
+impl CycleTime {
+    /// The whole cycle (s).
+    pub fn total(&self) -> f64 {
+        self.rapid + self.feed + self.thread + self.wait
+    }
 }
 
 /// A program's thread move that continues the previous one without a re-sync (a chained

@@ -339,11 +339,14 @@ pub struct Settings {
     /// (X as a diameter, Z) of the tool's point from where the program drives it,
     /// geometry and wear together. `None`: the job gives no offsets, and every offset is
     /// taken as zero; with a table, calling a number it lacks is a warning at the block.
-    pub tool_offsets: Option<std::collections::BTreeMap<u32, (f64, f64)>>,
+    pub tool_offsets: Option<ToolOffsets>,
     /// What a FANUC/GSK two-block G76 uses when the program leaves its first block out:
     /// the control's parameters (FANUC No. 5142, 5143, 5140, 5141).
     pub g76: G76Params,
 }
+
+/// Tool offsets by number: the shift (X as a diameter, Z) of the tool's point.
+pub type ToolOffsets = std::collections::BTreeMap<u32, (f64, f64)>;
 
 /// The FANUC/GSK G76 first block's values as the control's parameters hold them (FANUC
 /// 0i/30i lathe parameters: No. 5142 finishing passes, 5143 tool angle, 5140 minimum cut,

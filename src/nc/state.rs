@@ -57,7 +57,7 @@ pub(super) struct Config {
     /// The least input increment.
     pub(super) increment: super::InputIncrement,
     /// The tool offsets the job defines (`Settings::tool_offsets`).
-    pub(super) offsets: Option<std::collections::BTreeMap<u32, (f64, f64)>>,
+    pub(super) offsets: Option<super::ToolOffsets>,
 }
 
 /// The programs of a run.

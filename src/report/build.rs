@@ -387,6 +387,7 @@ pub(crate) fn build_report(
         turns,
         interference: interference_rows,
         mill: None,
+        cycle_time_s: job.cycle_time.as_ref().map(report::CycleTimeInfo::of),
         findings,
         timing_s: report::Timing::default(),
     }
@@ -548,9 +549,6 @@ fn fmt_opt(v: Option<f64>) -> String {
     v.map_or("-".to_string(), |x| format!("{x:.4}"))
 }
 
-/// An NC block: (file, line), either absent for a job's own pass.
-type BlockKey = (Option<String>, Option<usize>);
-
 /// One surface's contour check as the report's findings: each NC block whose moves or
 /// passes cut into the part (its deepest, with how many of them), each stretch of stock
 /// left outside it; `bore` for the bore's contour. The verdict is ranked again by the
@@ -567,41 +565,57 @@ pub(crate) fn add_part(
         &job.turning.outer_blocks
     };
     let surface = if bore { "bore's contour" } else { "contour" };
-    // The block of each gouge, and what cut it, in words.
-    let mut by_block: Vec<(BlockKey, &PartGouge, usize, String)> =
-        Vec::new();
+    /// The deepest gouge of one NC block, what made it (in words) and how many did.
+    struct Block<'a> {
+        file: Option<String>,
+        line: Option<usize>,
+        worst: &'a PartGouge,
+        who: String,
+        count: usize,
+    }
+    let mut blocks: Vec<Block> = Vec::new();
     for g in gouges {
         let (block, who) = match g.by {
             Cutter::Pass(i) => (
                 job.pass_blocks
                     .iter()
                     .find(|b| b.0 == i)
-                    .map(|b| (Some(b.1.clone()), Some(b.2))),
+                    .map(|b| (b.1.clone(), b.2)),
                 format!("pass {}", i + 1),
             ),
-            Cutter::Move(i) => (
-                moves.get(i).map(|b| (Some(b.0.clone()), Some(b.1))),
-                "a feed move".to_string(),
-            ),
+            Cutter::Move(i) => (moves.get(i).cloned(), "a feed move".to_string()),
         };
-        let block = block.unwrap_or((None, None));
-        match by_block.iter_mut().find(|e| e.0 == block) {
-            Some(e) => {
-                e.2 += 1;
-                if g.depth > e.1.depth {
-                    (e.1, e.3) = (g, who);
+        let (file, line) = block.map_or((None, None), |(f, l)| (Some(f), Some(l)));
+        match blocks
+            .iter_mut()
+            .find(|b| (&b.file, b.line) == (&file, line))
+        {
+            Some(b) => {
+                b.count += 1;
+                if g.depth > b.worst.depth {
+                    (b.worst, b.who) = (g, who);
                 }
             }
-            None => by_block.push((block, g, 1, who)),
+            None => blocks.push(Block {
+                file,
+                line,
+                worst: g,
+                who,
+                count: 1,
+            }),
         }
     }
-    for ((file, line), g, count, who) in by_block {
-        let at = match (&file, line) {
+    for b in blocks {
+        let g = b.worst;
+        let at = match (&b.file, b.line) {
             (Some(f), Some(l)) => format!("{f}:{l}: "),
             _ => String::new(),
         };
-        let more = if count > 1 {
-            format!(" ({count} of this block's moves cut into it, this one deepest)")
+        let more = if b.count > 1 {
+            format!(
+                " ({} of this block's moves cut into it, this one deepest)",
+                b.count
+            )
         } else {
             String::new()
         };
@@ -611,15 +625,16 @@ pub(crate) fn add_part(
                 Cutter::Move(_) => None,
             },
             z_mm: Some(r6(g.z)),
-            file,
-            line,
+            file: b.file,
+            line: b.line,
             value: Some(r6(g.depth)),
             unit: Some("mm"),
             ..Finding::new(
                 FindingKind::Gouge,
                 Severity::Error,
                 format!(
-                    "{at}the part: {who} cuts {:.4} mm under its {surface} (d {:.3}) at z {:.3}{more}",
+                    "{at}the part: {} cuts {:.4} mm under its {surface} (d {:.3}) at z {:.3}{more}",
+                    b.who,
                     g.depth,
                     2.0 * g.floor,
                     g.z

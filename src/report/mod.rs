@@ -113,6 +113,9 @@ pub struct Report {
     /// Milling jobs: the cutters, the sampling and every move's cut.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mill: Option<MillInfo>,
+    /// A lathe program's cycle time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cycle_time_s: Option<CycleTimeInfo>,
     /// Findings, errors first.
     pub findings: Vec<Finding>,
     /// Wall-clock times (s): the one part that changes between runs.
@@ -505,6 +508,32 @@ impl Report {
             num(d.gouge_volume_mm3, 3),
             num(d.leftover_volume_mm3, 3)
         );
+        if let Some(c) = &self.cycle_time_s {
+            let tools: Vec<String> = c
+                .tools
+                .iter()
+                .map(|t| {
+                    let name = t.tool.map_or("no tool".to_string(), |n| format!("T{n}"));
+                    format!("{name} {}", duration(t.seconds))
+                })
+                .collect();
+            let _ = writeln!(
+                s,
+                "  cycle time {} (rapids {} at {} mm/min{}, feeds {}, threading {}, waits {}; {})",
+                duration(c.total),
+                duration(c.rapid),
+                num(c.rapid_rate_mm_min, 0),
+                if c.rapid_rate_default {
+                    ", the default: [machine] rapid_rate"
+                } else {
+                    ""
+                },
+                duration(c.feed),
+                duration(c.thread),
+                duration(c.wait),
+                tools.join(", ")
+            );
+        }
         match d.compared_z_mm {
             Some([lo, hi]) => {
                 let _ = writeln!(
@@ -662,6 +691,69 @@ fn count(x: f64) -> String {
         format!("{x:.0}")
     } else {
         format!("{x:.3e}")
+    }
+}
+
+/// A lathe program's cycle time (s), rounded to 0.1 ms: the parts, and per tool.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CycleTimeInfo {
+    /// The whole cycle.
+    pub total: f64,
+    /// Rapids.
+    pub rapid: f64,
+    /// Feed and arc moves.
+    pub feed: f64,
+    /// Threading moves.
+    pub thread: f64,
+    /// The thread moves' waits for the one-rev signal and the dwells.
+    pub wait: f64,
+    /// The rapid rate used (mm/min).
+    pub rapid_rate_mm_min: f64,
+    /// Whether that rate is vpcut's default (the job gives no `[machine] rapid_rate`).
+    pub rapid_rate_default: bool,
+    /// Per tool, in the order of first use.
+    pub tools: Vec<ToolTime>,
+}
+
+/// One tool's share of the cycle time.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ToolTime {
+    /// Its T number (`null` for the moves before any T word).
+    pub tool: Option<u32>,
+    /// Seconds.
+    pub seconds: f64,
+}
+
+impl CycleTimeInfo {
+    /// The report's rounded copy of a cycle time.
+    pub(crate) fn of(c: &crate::model::setup::CycleTime) -> CycleTimeInfo {
+        CycleTimeInfo {
+            total: r4(c.total()),
+            rapid: r4(c.rapid),
+            feed: r4(c.feed),
+            thread: r4(c.thread),
+            wait: r4(c.wait),
+            rapid_rate_mm_min: r4(c.rapid_rate),
+            rapid_rate_default: !c.rapid_rate_given,
+            tools: c
+                .by_tool
+                .iter()
+                .map(|&(tool, s)| ToolTime {
+                    tool,
+                    seconds: r4(s),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// A time in seconds as a person reads it: `12.3 s`, `2 min 05.4 s`.
+fn duration(s: f64) -> String {
+    if s < 60.0 {
+        format!("{s:.1} s")
+    } else {
+        let m = (s / 60.0).floor();
+        format!("{m} min {:04.1} s", s - 60.0 * m)
     }
 }
 

@@ -8,7 +8,8 @@
 //!   surface it turns, and every rapid of one checked against the stock turned so far
 //!   ([`lathe_turning`]);
 //! - on a mill, the milling moves into the kernel's [`MillPath`] in the part's frame
-//!   (`mill::mill_path`).
+//!   (`mill::mill_path`);
+//! - a lathe program's cycle time from its moves and dwells (`cycle::cycle_time`).
 //!
 //! It knows the job only through what it is given (the program to run, the tools or
 //! cutters, the machine's axis and speed) and does no IO: the program's text and its
@@ -20,7 +21,9 @@ use crate::model::setup::ChainLink;
 use crate::model::tool::Tool;
 use crate::nc::{self, Dialect, MoveKind, NcError, Source, Toolpath};
 
+mod cycle;
 mod mill;
+pub(crate) use cycle::cycle_time;
 pub(crate) use mill::{mill_path, MillSetup};
 
 /// A program to run: the file the job names, its dialect and the interpreter's options.

@@ -137,8 +137,23 @@ fn tool_offsets_come_from_the_job_and_a_missing_one_is_a_warning_at_its_block() 
     assert!(e.to_string().contains("machine.offsets.100"), "{e}");
 }
 
+/// The radial depths (mm) of the M30x2 cases' G76 `P010060 Q100 R0.05` / `P1227 Q400`, by
+/// hand: 0.4 sqrt(n) while over the 0.1 minimum cut (0.4, 0.566, 0.693, 0.8), then the
+/// minimum cut (0.9, 1.0, 1.1; 1.2 would pass k - d = 1.177), k - d, then k once.
+pub(crate) const G76_DEPTHS: [f64; 9] = [
+    0.4,
+    0.565_685_424_949_238,
+    0.692_820_323_027_550_9,
+    0.8,
+    0.9,
+    1.0,
+    1.1,
+    1.177,
+    1.227,
+];
+
 /// The case's job with `program` and `edits` to its TOML (`support::with`).
-fn case_job(case: &str, program: &str, edits: &[(&str, &str, &str)]) -> Job {
+pub(crate) fn case_job(case: &str, program: &str, edits: &[(&str, &str, &str)]) -> Job {
     case_job_text(case, program, &|t| crate::support::with(t, edits))
 }
 
@@ -182,17 +197,9 @@ fn a_g76_without_its_first_block_says_which_parameters_it_cut_with() {
     assert_eq!(fixed.passes.len(), 9);
     assert!(fixed.program_warnings.is_empty());
     let x: Vec<f64> = fixed.passes.iter().map(|p| p.x_start).collect();
-    for (x, d) in x.iter().zip([
-        0.4,
-        0.4 * 2f64.sqrt(),
-        0.4 * 3f64.sqrt(),
-        0.8,
-        0.9,
-        1.0,
-        1.1,
-        1.177,
-        1.227,
-    ]) {
+    assert!((G76_DEPTHS[1] - 0.4 * 2f64.sqrt()).abs() < 1e-15);
+    assert!((G76_DEPTHS[2] - 0.4 * 3f64.sqrt()).abs() < 1e-15);
+    for (x, d) in x.iter().zip(G76_DEPTHS) {
         assert!((x - (27.546 + 2.0 * (1.227 - d))).abs() < 1e-9, "{x} {d}");
     }
 
@@ -354,4 +361,222 @@ fn the_part_is_checked_key_by_key() {
             .to_string();
         assert!(e.contains(says.0) && e.contains(says.1), "{to}: {e}");
     }
+}
+
+/// One random case: a G76 or a G92 M30x2 program on a bar turned to d30 up to a D36
+/// shoulder, its start point X, where the thread ends against the shoulder, and its first
+/// cut.
+#[derive(Debug)]
+struct Case {
+    g76: bool,
+    /// The start point's X (the cycle's rapids return at it).
+    x_start: f64,
+    /// The shoulder's face (z).
+    shoulder: f64,
+    /// The thread's end (z).
+    z_end: f64,
+    /// G76: the first cut Q (mm); G92: the first pass's depth (mm).
+    first: f64,
+}
+
+impl Case {
+    /// The program.
+    fn program(&self) -> String {
+        let turn = format!(
+            "T0101\nG97 S1000 M03\nG00 X38.0 Z0.0\nG01 X-1.0 F0.15\nG00 X30.0 Z1.0\nG01 Z{:.3} F0.2\nX37.0\nG00 X100.0 Z100.0\n",
+            self.shoulder
+        );
+        let thread = if self.g76 {
+            format!(
+                "G76 P010060 Q100 R0.05\nG76 X27.546 Z{:.3} P1227 Q{} F2.0\n",
+                self.z_end,
+                (self.first * 1000.0).round()
+            )
+        } else {
+            // The first pass at `first` under the crest (at most the root's 1.227), then the
+            // rest of the depth in steps of 0.15 down to the root.
+            let mut d = self.first.min(1.227);
+            let mut s = format!("G92 X{:.3} Z{:.3} F2.0\n", 30.0 - 2.0 * d, self.z_end);
+            while d < 1.227 - 1e-9 {
+                d = (d + 0.15).min(1.227);
+                s.push_str(&format!("X{:.3}\n", 30.0 - 2.0 * d));
+            }
+            s
+        };
+        format!(
+            "{turn}T0303\nG97 S800 M03\nG00 X{:.3} Z5.0\n{thread}G00 X100.0 Z100.0\nM30\n",
+            self.x_start
+        )
+    }
+
+    /// The job: the bar, the part (d30 to the shoulder, D36 beyond), the tools (the
+    /// insert stands 0.45 mm a pass).
+    fn job(&self) -> Job {
+        let text = format!(
+            r#"
+[blank]
+diameter = 36.0
+length = 61.0
+z_front = 1.0
+[thread]
+form = "iso-metric"
+major_diameter = 30.0
+pitch = 2.0
+length = 30.0
+z_start = -3.0
+[part]
+profile = [[0.0, 30.0], [{s}, 30.0], [{s}, 36.0], [-60.0, 36.0]]
+[[tool]]
+id = 1
+kind = "turning"
+nose_radius = 0.0
+edge_angles = [0.0, 85.0]
+[[tool]]
+id = 3
+kind = "threading"
+angle = 60.0
+tip_flat = 0.3333333333
+reference = "tip"
+max_depth_per_pass = 0.45
+[program]
+file = "p.nc"
+dialect = "fanuc"
+[machine]
+spindle_rpm = 800
+[simulation]
+axial_spacing = 0.02
+angular_cells = 180
+measure_generators = 2
+"#,
+            s = self.shoulder
+        );
+        let prog = self.program();
+        Job::from_toml_with(&text, "job.toml", &move |f: &str| {
+            (f == "p.nc").then(|| prog.clone())
+        })
+        .unwrap_or_else(|e| panic!("{self:?}: {e}"))
+    }
+}
+
+#[test]
+fn random_cycles_fail_exactly_where_a_rule_by_hand_says() {
+    // The rule, derived by hand for these cases:
+    // - a start point X under the crest's 30 returns along the bar under it: rapid_cut
+    //   (30 - X) / 2 deep; at X30 exactly the tip grazes the crest: nothing;
+    // - a thread ending past the shoulder's face runs into it (its tip at the root is
+    //   18 - 13.773 under the D36) and its rapids back at X < 36 start inside it:
+    //   a part gouge and a rapid_cut; ending 4 to 5 mm before the face, the insert's flank
+    //   stands at least 13.773 + (4 - 1/6) cot 30 = 20.41 over the axis at the face, and
+    //   the rapid back from X >= 30 reaches at most 1/6 + 3 tan 30 = 1.90 beyond its
+    //   tip: nothing;
+    // - the first chip: G76's first pass cuts min(Q, k - d) = min(Q, 1.177) under the
+    //   crest (its later chips are smaller: 0.414 Q, or the 0.1 minimum cut, and 0.077,
+    //   0.05 at the end); G92's the first depth (at most the root's 1.227), the later
+    //   steps 0.15 or less: over the
+    //   insert's 0.45 is a depth_per_pass error (a thread run into the shoulder also meets
+    //   the shoulder's 3 mm above the crest: its chips there are not asserted, the gouge
+    //   fails it anyway).
+    // Everything else is a clean M30x2: fail exactly when one of these holds.
+    let mut rng = crate::support::Rng(2801);
+    let mut verdicts = [0usize; 2];
+    for case in 0..48 {
+        let g76 = case % 2 == 0;
+        let x_start = match case % 3 {
+            0 => rng.range(30.2, 33.0),
+            1 => 30.0,
+            _ => rng.range(28.0, 29.8),
+        };
+        let shoulder = rng.range(-50.0, -41.0);
+        let into = rng.pick(&[false, true]);
+        let z_end = if into {
+            shoulder - rng.range(0.5, 3.0)
+        } else {
+            shoulder + rng.range(4.0, 5.0)
+        };
+        // First cuts on either side of the 0.45 limit, clear of it by more than the chip's
+        // bound (0.0035).
+        let first = if rng.pick(&[false, true]) {
+            rng.range(0.15, 0.44)
+        } else {
+            rng.range(0.46, 1.3)
+        };
+        let first = (first * 1000.0).round() / 1000.0;
+        let c = Case {
+            g76,
+            x_start: (x_start * 1000.0).round() / 1000.0,
+            shoulder: (shoulder * 1000.0).round() / 1000.0,
+            z_end: (z_end * 1000.0).round() / 1000.0,
+            first,
+        };
+        let chip = if g76 {
+            first.min(1.227 - 0.05)
+        } else {
+            first.min(1.227)
+        };
+        let want_rapid = c.x_start < 30.0 || into;
+        let want_gouge = into;
+        let want_chip = chip > 0.45;
+        let r = vpcut::simulate_report(&c.job(), &SimOptions::default()).unwrap();
+        let has = |k: FindingKind| r.findings.iter().any(|f| f.kind == k && f.is_error());
+        let part_gouges = r
+            .findings
+            .iter()
+            .filter(|f| f.kind == FindingKind::Gouge && f.turn.is_none())
+            .count();
+        assert_eq!(
+            has(FindingKind::RapidCut),
+            want_rapid,
+            "{c:?}\n{:#?}",
+            r.findings
+        );
+        assert_eq!(part_gouges > 0, want_gouge, "{c:?}\n{:#?}", r.findings);
+        if !into {
+            assert_eq!(
+                has(FindingKind::DepthPerPass),
+                want_chip,
+                "{c:?}\n{:#?}",
+                r.findings
+            );
+        }
+        let want = if want_rapid || want_gouge || want_chip {
+            vpcut::Verdict::Fail
+        } else {
+            vpcut::Verdict::Pass
+        };
+        assert_eq!(r.verdict, want, "{c:?}\n{:#?}", r.findings);
+        verdicts[usize::from(want == vpcut::Verdict::Fail)] += 1;
+        if c.x_start < 30.0 && !into {
+            let d = r
+                .findings
+                .iter()
+                .filter(|f| f.kind == FindingKind::RapidCut)
+                .map(|f| f.value.unwrap())
+                .fold(0.0, f64::max);
+            assert!((d - (30.0 - c.x_start) / 2.0).abs() < 1e-6, "{c:?}: {d}");
+        }
+    }
+    // Both verdicts are drawn (the seed's cases: clean ones and each kind of crash).
+    assert!(verdicts[0] >= 5 && verdicts[1] >= 5, "{verdicts:?}");
+}
+
+#[test]
+fn a_threading_inserts_plunge_and_radial_entry_are_crashes_at_their_blocks() {
+    // On the 30 mm bar: G01 X29 at z -10 plunges the insert (30 - 29)/2 = 0.5 mm into it
+    // (line 5); G32 from X32 Z-10 to X26 Z-10.5 goes 3 mm in for 0.5 along: a synchronised
+    // radial entry whose tip reaches r 13, (30 - 26)/2 = 2 mm under the crest (line 7).
+    // The rapid straight out after it (line 8) leaves its own groove: not a finding.
+    let prog =
+        "T0303\nG97 S500 M03\nG0 X32 Z5\nG0 Z-10\nG1 X29 F0.1\nG0 X32\nG32 X26 Z-10.5 F2.0\nG0 X32\nG0 Z5\nM30\n";
+    let job = small_job(prog, "").unwrap_or_else(|e| panic!("{e}"));
+    let r = vpcut::simulate_report(&job, &SimOptions::default()).unwrap();
+    let hits = of_kind(&r, FindingKind::RapidCut);
+    let got: Vec<(Option<usize>, f64)> = hits
+        .iter()
+        .map(|f| (f.line, (f.value.unwrap() * 1e6).round() / 1e6))
+        .collect();
+    assert_eq!(got, [(Some(5), 0.5), (Some(7), 2.0)], "{:#?}", r.findings);
+    assert!(hits[0]
+        .message
+        .contains("a feed move of the threading insert T3"));
+    assert!(hits[1].message.contains("synchronised entry"));
 }

@@ -9,6 +9,8 @@ mod bodies;
 mod cli;
 /// Issue 28: programs that crash on the machine fail at their block; their fixes pass.
 mod crashes;
+/// Issue 28: cycle times against derivations by hand.
+mod cycle_time;
 /// `[thread] designation` and `class`: scenes rewritten with designations, contradictions.
 mod designations;
 /// The gauges' verdict (GO/NOT GO, functional diameter) against hand derivations, and its

@@ -6,29 +6,8 @@
 //! for a fraction of a turn, in any turn including the first and the last) must fail with
 //! a gouge of at least 0.8 times the shift on that turn, start and flank.
 
+use crate::support::Rng;
 use vpcut::{simulate, Job, Pass, SimOptions, Spindle, Verdict};
-
-/// A small deterministic generator (splitmix64): the cases are the same on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[a, b)`.
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn pick<T: Copy>(&mut self, v: &[T]) -> T {
-        v[(self.next() % v.len() as u64) as usize]
-    }
-}
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Form {
