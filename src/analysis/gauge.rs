@@ -145,12 +145,6 @@ pub(crate) struct Gauge {
     pub crest: Option<(f64, f64)>,
     /// The simulation's resolution on a diameter (mm).
     pub resolution: f64,
-    /// GO: functional size against the maximum-material limit.
-    pub go: Call,
-    /// NOT GO: simple pitch diameter against the minimum-material limit.
-    pub not_go_call: Call,
-    /// Crest diameter (major for external, minor for internal) against both limits.
-    pub crest_call: Call,
     /// Root diameter (minor of an external thread, major of an internal one): smallest and
     /// largest of the complete turns (mm).
     pub root: Option<(f64, f64)>,
@@ -264,7 +258,6 @@ fn points(
     columns: &[GaugeColumn],
     pitch: f64,
     span: (f64, f64),
-    stride: usize,
 ) -> Vec<(f64, f64)> {
     let helix = thread.helix;
     let shift = match thread.side {
@@ -277,11 +270,9 @@ fn points(
         let j0 = ((span.0 - c.z0) / c.dz).ceil().max(0.0) as usize;
         let j1 = (((span.1 - c.z0) / c.dz).floor().max(-1.0) + 1.0) as usize;
         let j1 = j1.min(c.h.len());
-        let mut j = j0;
-        while j < j1 {
+        for j in j0..j1.max(j0) {
             let z = c.z0 + j as f64 * c.dz;
             out.push((z - lattice, thread.radius(c.h[j] as f64)));
-            j += stride.max(1);
         }
     }
     out
@@ -431,15 +422,6 @@ pub(crate) fn judge(
     element("root_diameter", root.map(|c| c.1), root_limits.max, true);
     element("root_diameter", root.map(|c| c.0), root_limits.min, false);
     let verdict = elements.iter().fold(Call::Pass, |v, e| v.worse(e.call));
-    let pick = |names: &[&str]| {
-        elements
-            .iter()
-            .filter(|e| names.contains(&e.name))
-            .fold(Call::Pass, |v, e| v.worse(e.call))
-    };
-    let go = pick(&["go_functional_pitch_diameter"]);
-    let not_go_call = pick(&["not_go_pitch_diameter"]);
-    let crest_call = pick(&[crest_name]);
     let over_wires = (external && simple.is_some()).then(|| {
         let (lo, hi) = simple.unwrap_or_default();
         let w = class.pitch / (2.0 * half.cos());
@@ -452,9 +434,6 @@ pub(crate) fn judge(
         not_go,
         crest,
         resolution,
-        go,
-        not_go_call,
-        crest_call,
         root,
         elements,
         verdict,
@@ -472,7 +451,7 @@ fn functional_over(
     engagement: f64,
     rounding: f64,
 ) -> Option<(f64, (f64, f64), bool)> {
-    let all = points(thread, columns, p.pitch, span, 1);
+    let all = points(thread, columns, p.pitch, span);
     if all.is_empty() {
         return None;
     }
@@ -492,7 +471,7 @@ fn functional_over(
     let (_, phi0) = functional_radius(p, &reduce(p, &all), None);
     let mut worst: Option<(f64, (f64, f64), bool)> = None;
     for w in windows {
-        let sub = points(thread, columns, p.pitch, w, 1);
+        let sub = points(thread, columns, p.pitch, w);
         if sub.is_empty() {
             continue;
         }
@@ -755,7 +734,7 @@ mod tests {
                     .iter()
                     .map(|&th| column(&t, th, r2, &centres, 0.0, 0.0002, span))
                     .collect();
-                let pts = points(&t, &cols, P, span, 1);
+                let pts = points(&t, &cols, P, span);
                 let (r, _) = functional_radius(&p, &pts, None);
                 // Tooth k lies between grooves k and k+1. Against a ring of perfect pitch
                 // its +z flank (the wall of groove k) is shifted by -k dp and its -z flank
@@ -807,7 +786,7 @@ mod tests {
                 column(&t, 0.0, r2, &centres, tilt, 0.001, span),
                 column(&t, 1.0, r2 + 0.01, &centres, 0.0, 0.001, span),
             ];
-            let pts = points(&t, &cols, P, span, 1);
+            let pts = points(&t, &cols, P, span);
             let (r, _) = functional_radius(&p, &pts, None);
             let scan = (0..2000)
                 .map(|k| size_at(&p, &pts, k as f64 * P / 2000.0))
