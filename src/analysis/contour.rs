@@ -9,8 +9,8 @@
 //! flanks reach). The contour is compared with it every `dz` along the contour's span and
 //! just beside each of its points on both sides (a step's two radii). The thread's own grooves are
 //! the thread, not a gouge: where the contour is drawn at the thread (its section, with
-//! the chamfers that run into it: [`PartProfile::band_around`] between the thread's root
-//! and crest radii) a threading pass may cut down to the thread's root; a turning move is
+//! the chamfers that run into it: [`PartProfile::band_around`] the thread's middle, between
+//! the thread's root and crest radii) a threading pass may cut down to the thread's root; a turning move is
 //! held to the contour everywhere. The span the thread comparison covers
 //! (`Deviation::compared_z`) is left to it. The stock a program left outside the contour
 //! is the turned profile (the threading passes leave the crest at some angle of every z),
@@ -109,7 +109,10 @@ pub(crate) fn check(s: &Surface) -> (Vec<PartGouge>, Vec<PartLeftover>) {
             t.root_radius.min(t.crest_radius),
             t.root_radius.max(t.crest_radius),
         );
-        s.profile.band_around((a.min(b), a.max(b)), radii)
+        // Around the thread's middle: its ends may lie in a chamfer that runs below the
+        // root (the part's contour is then lower than any groove there).
+        let m = 0.5 * (a + b);
+        s.profile.band_around((m, m), radii)
     });
     let q_root = s.thread.map(|(t, _)| s.sense * t.root_radius);
     // The contour's q at each sample (None off the contour or inside the compared span).

@@ -25,6 +25,8 @@ pub enum FindingKind {
     Hand,
     /// A rapid move cuts material (or a threading insert's feed move or radial entry).
     RapidCut,
+    /// A tool's holder, or a tool, meets the part or the chuck.
+    Collision,
     /// The tool's head is too short for the thread's depth.
     HeadLength,
     /// A pass's radial chip outside the insert's depth per pass.
@@ -63,12 +65,13 @@ pub enum FindingKind {
 
 impl FindingKind {
     /// Every kind, in report order.
-    pub const ALL: [FindingKind; 22] = [
+    pub const ALL: [FindingKind; 23] = [
         FindingKind::NotCompared,
         FindingKind::Gauge,
         FindingKind::Placement,
         FindingKind::Hand,
         FindingKind::RapidCut,
+        FindingKind::Collision,
         FindingKind::HeadLength,
         FindingKind::DepthPerPass,
         FindingKind::Gouge,
@@ -96,6 +99,7 @@ impl FindingKind {
             FindingKind::Placement => "placement",
             FindingKind::Hand => "hand",
             FindingKind::RapidCut => "rapid_cut",
+            FindingKind::Collision => "collision",
             FindingKind::HeadLength => "head_length",
             FindingKind::DepthPerPass => "depth_per_pass",
             FindingKind::InfeedAngle => "infeed_angle",
@@ -133,6 +137,9 @@ impl FindingKind {
             FindingKind::Hand => "A pass cuts the other hand than the drawing's thread.",
             FindingKind::RapidCut => {
                 "A rapid (G00) move, or a threading insert's move off the thread, removes material."
+            }
+            FindingKind::Collision => {
+                "A tool's holder or boring bar meets the part, or a tool or its holder meets the chuck."
             }
             FindingKind::HeadLength => {
                 "A pass runs deeper than the tool's head reaches: the holder hits the part."

@@ -631,6 +631,7 @@ mod tests {
                 spin: 1.0,
             },
             turns: 10.0,
+            outline: None,
         }
     }
 

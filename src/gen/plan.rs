@@ -637,6 +637,11 @@ fn walls(tool: &Tool, thread: &ThreadSpec, tolerance: f64) -> Result<(f64, f64, 
 /// and the leftover and gouge against the ideal profile over the compared span (every groove of the thread, to mid-tooth beyond the end ones).
 pub fn line_check(passes: &[Pass], thread: &ThreadSpec, tool: &Tool) -> Check {
     const DZ: f64 = 0.004;
+    // The thread's own grooves: the passes cut the thread, the part's chamfers are turned.
+    let thread = &ThreadSpec {
+        outline: None,
+        ..thread.clone()
+    };
     let depth = thread.depth();
     let (vl, vr) = tool.span(depth);
     let off = tool.reference_offset();

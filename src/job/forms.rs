@@ -364,6 +364,7 @@ pub(super) fn resolve_thread(
         starts,
         helix,
         turns,
+        outline: None,
     };
     debug_assert_eq!(
         spec.hand(),

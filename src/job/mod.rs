@@ -25,7 +25,7 @@ use crate::model::pass::Pass;
 pub(crate) use crate::model::setup::{Blank, ChainLink, CycleTime, Machine};
 use crate::model::thread::ThreadSpec;
 use crate::model::tolerance::ThreadClass;
-use crate::model::tool::Tool;
+use crate::model::tool::{Holder, Tool};
 use crate::nc::{Diagnostic, NcError, Severity};
 use crate::toolpath::{self, LatheTool, LatheTurning, ProgramError, Role, TurnStock};
 
@@ -199,6 +199,10 @@ pub struct Job {
     pub part_profile: Option<PartProfile>,
     /// Its bore's contour (`[part] bore_profile`), if given.
     pub bore_profile: Option<PartProfile>,
+    /// The tools' holders (`[[tool]] holder`), by tool id.
+    pub holders: Vec<(u32, Holder)>,
+    /// The chuck and its jaws (`[machine] chuck`), a contour turning with the part.
+    pub chuck: Option<PartProfile>,
     /// A lathe program's cycle time (rapids, feeds, threading, waits; by tool).
     pub cycle_time: Option<CycleTime>,
     /// The turning tools (`kind = "turning"`) the program's T words select.
@@ -300,6 +304,7 @@ impl Job {
                     inner,
                     (b.z_front - b.length, b.z_front),
                     self.sim.axial_spacing,
+                    self.chuck.as_ref(),
                 );
                 self.cycle_time = Some(toolpath::cycle_time(
                     &path.moves,
@@ -343,12 +348,15 @@ impl Job {
     /// thread).
     fn lathe_tools(&self) -> Vec<LatheTool> {
         let internal = self.thread.side == crate::model::thread::Side::Internal;
+        let holder = |id: u32| self.holders.iter().find(|h| h.0 == id).map(|h| h.1);
         let turning = self.turning_tools.iter().map(|&shape| LatheTool {
             shape,
             role: Role::Turning,
+            holder: holder(shape.id),
         });
         let inserts = self.tools.iter().map(|t| LatheTool {
             shape: TurningTool::insert(t, internal),
+            holder: holder(t.id),
             role: match t.edge {
                 crate::model::tool::Edge::Trapezoid {
                     left_angle,

@@ -6,8 +6,8 @@ use super::ctx::Ctx;
 use super::forms::resolve_thread;
 use super::mill::{self, MillParts};
 use super::schema::ToolKind;
-use super::schema::{RawJob, SpindleName};
-use super::tools::{check_tool_keys, resolve_tool, resolve_turning};
+use super::schema::{RawJob, SideName, SpindleName};
+use super::tools::{check_tool_keys, resolve_holder, resolve_tool, resolve_turning};
 use super::{process, program, Job, JobError, SimConfig, DEFAULT_MAX_DEXELS};
 use crate::model::helix::Spindle;
 use crate::model::part::{PartError, PartProfile};
@@ -201,6 +201,8 @@ pub(super) fn resolve(
             fit_thread: raw.thread.z_start.is_none(),
             part_profile: None,
             bore_profile: None,
+            holders: Vec::new(),
+            chuck: None,
             cycle_time: None,
             turning_tools: Vec::new(),
             turning: Default::default(),
@@ -252,6 +254,39 @@ pub(super) fn resolve(
         None => None,
     };
     let (part_profile, bore_profile) = part(&raw, &blank, cx)?;
+    // The ideal thread follows the drawn part where it lies below the thread (chamfers,
+    // reliefs on the thread's own surface).
+    let mut holders = Vec::new();
+    for (i, t) in raw.tool.iter().enumerate() {
+        let internal = match t.kind {
+            ToolKind::Turning => t.side.unwrap_or_default() == SideName::Internal,
+            _ => thread.side == crate::model::thread::Side::Internal,
+        };
+        if let Some(h) = resolve_holder(t, i, internal, cx)? {
+            holders.push((t.id, h));
+        }
+    }
+    let chuck = raw
+        .machine
+        .chuck
+        .as_ref()
+        .map(|pts| {
+            PartProfile::from_diameters(pts).map_err(|e| {
+                let at = match e {
+                    PartError::NotANumber(i) | PartError::Backwards(i) | PartError::Repeated(i) => {
+                        format!("machine.chuck[{i}]")
+                    }
+                    PartError::TooFew => "machine.chuck".to_string(),
+                };
+                cx.err(&at, e.to_string())
+            })
+        })
+        .transpose()?;
+    thread.outline = match thread.side {
+        crate::model::thread::Side::External => part_profile.clone(),
+        crate::model::thread::Side::Internal => bore_profile.clone(),
+    }
+    .map(std::sync::Arc::new);
     let n_passes = passes.len();
     let job = Job {
         name: raw.name.unwrap_or_default(),
@@ -275,6 +310,8 @@ pub(super) fn resolve(
         fit_thread: raw.thread.z_start.is_none() && raw.process.is_none(),
         part_profile,
         bore_profile,
+        holders,
+        chuck,
         cycle_time: None,
         turning_tools,
         turning: Default::default(),

@@ -272,6 +272,29 @@ pub(super) struct RawTool {
     pub(super) inclination: Option<f64>,
     pub(super) max_depth_per_pass: Option<f64>,
     pub(super) min_depth_per_pass: Option<f64>,
+    pub(super) holder: Option<RawHolder>,
+}
+
+/// `[[tool]] holder`: a shank (`left`, `right`, `clearance`) or a boring bar (`diameter`,
+/// `reach`, `front`, `length`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawHolder {
+    pub(super) kind: HolderKind,
+    pub(super) left: Option<f64>,
+    pub(super) right: Option<f64>,
+    pub(super) clearance: Option<f64>,
+    pub(super) diameter: Option<f64>,
+    pub(super) reach: Option<f64>,
+    pub(super) front: Option<f64>,
+    pub(super) length: Option<f64>,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(super) enum HolderKind {
+    Shank,
+    Bar,
 }
 
 #[derive(Deserialize)]
@@ -346,6 +369,8 @@ pub(super) struct RawMachine {
     pub(super) g76_min_cut: Option<f64>,
     /// FANUC parameter 5141: G76's finishing allowance (mm).
     pub(super) g76_finish_allowance: Option<f64>,
+    /// The chuck and its jaws as a contour `[[z, d], ...]` (they turn with the part).
+    pub(super) chuck: Option<Vec<[f64; 2]>>,
 }
 
 /// One tool offset: the geometry's deviation and the wear (mm; x a diameter).
@@ -382,6 +407,7 @@ impl Default for RawMachine {
             g76_tool_angle: None,
             g76_min_cut: None,
             g76_finish_allowance: None,
+            chuck: None,
         }
     }
 }

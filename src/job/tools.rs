@@ -3,11 +3,11 @@
 //! turning tools (`kind = "turning"`) into [`TurningTool`]s.
 
 use super::ctx::Ctx;
-use super::schema::{RawTool, RefName, SideName, ToolKind};
+use super::schema::{HolderKind, RawTool, RefName, SideName, ToolKind};
 use super::JobError;
 use crate::kernel::turn::TurningTool;
 use crate::model::solid::Solid;
-use crate::model::tool::{Body, DepthLimits, Edge, Reference, Tool};
+use crate::model::tool::{Body, DepthLimits, Edge, Holder, Reference, Tool};
 
 pub(super) fn resolve_tool(
     t: &RawTool,
@@ -187,7 +187,9 @@ pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), Job
     const INSERTS: &[ToolKind] = &[Grooving, Threading, Trapezoidal];
     const MILL: &[ToolKind] = &[ThreadMill];
     const LIMITED: &[ToolKind] = &[Grooving, Threading, Trapezoidal, Mesh];
-    let keys: [(&str, bool, &[ToolKind]); 38] = [
+    const LATHE: &[ToolKind] = &[Grooving, Threading, Trapezoidal, Mesh, Turning];
+    let keys: [(&str, bool, &[ToolKind]); 39] = [
+        ("holder", t.holder.is_some(), LATHE),
         (
             "max_depth_per_pass",
             t.max_depth_per_pass.is_some(),
@@ -445,4 +447,141 @@ fn resolve_body(
             30.0,
         )?,
     }))
+}
+
+/// `tool[i].holder`: a shank (external tools) or a boring bar (internal ones), each key
+/// checked; `internal` says where the tool cuts.
+pub(super) fn resolve_holder(
+    t: &RawTool,
+    i: usize,
+    internal: bool,
+    cx: &Ctx,
+) -> Result<Option<Holder>, JobError> {
+    let Some(h) = &t.holder else {
+        return Ok(None);
+    };
+    let key = |k: &str| format!("tool[{i}].holder.{k}");
+    let (own, other): (&[&str], &[&str]) = match h.kind {
+        HolderKind::Shank => (
+            &["left", "right", "clearance"],
+            &["diameter", "reach", "front", "length"],
+        ),
+        HolderKind::Bar => (
+            &["diameter", "reach", "front", "length"],
+            &["left", "right", "clearance"],
+        ),
+    };
+    let given = |k: &str| match k {
+        "left" => h.left,
+        "right" => h.right,
+        "clearance" => h.clearance,
+        "diameter" => h.diameter,
+        "reach" => h.reach,
+        "front" => h.front,
+        _ => h.length,
+    };
+    if let Some(k) = other.iter().find(|k| given(k).is_some()) {
+        return Err(cx.err(
+            &key(k),
+            format!(
+                "a {} holder takes {}",
+                if h.kind == HolderKind::Shank {
+                    "shank"
+                } else {
+                    "bar"
+                },
+                own.iter()
+                    .map(|k| format!("`{k}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ));
+    }
+    let need = |k: &str, what: &str| {
+        given(k).ok_or_else(|| cx.err(&key(k), format!("expected {what} (mm)")))
+    };
+    let finite = |k: &str, v: f64, lo: f64| {
+        if v.is_finite() && v >= lo && v <= 10_000.0 {
+            Ok(v)
+        } else {
+            Err(cx.err(
+                &key(k),
+                format!("expected a length from {lo} to 10000 mm, got {v}"),
+            ))
+        }
+    };
+    match h.kind {
+        HolderKind::Shank => {
+            if internal {
+                return Err(cx.err(
+                    &key("kind"),
+                    "this tool cuts in the bore: its holder is a `bar` (a shank holds external tools)",
+                ));
+            }
+            let left = finite(
+                "left",
+                need(
+                    "left",
+                    "how far the shank reaches to the -z side of the tip",
+                )?,
+                0.0,
+            )?;
+            let right = finite(
+                "right",
+                need(
+                    "right",
+                    "how far the shank reaches to the +z side of the tip",
+                )?,
+                0.0,
+            )?;
+            let clearance = finite(
+                "clearance",
+                need("clearance", "how far above the tip the shank starts")?,
+                0.0,
+            )?;
+            if left + right <= 0.0 {
+                return Err(cx.err(
+                    &key("right"),
+                    "expected a shank of some width (left + right > 0)",
+                ));
+            }
+            Ok(Some(Holder::Shank {
+                left,
+                right,
+                clearance,
+            }))
+        }
+        HolderKind::Bar => {
+            if !internal {
+                return Err(cx.err(
+                    &key("kind"),
+                    "this tool cuts outside: its holder is a `shank` (a bar holds tools that cut in the bore)",
+                ));
+            }
+            let diameter = finite("diameter", need("diameter", "the bar's diameter")?, 0.0)?;
+            let reach = finite(
+                "reach",
+                need("reach", "the tip's distance from the bar's centre line")?,
+                0.0,
+            )?;
+            let front = finite("front", h.front.unwrap_or(0.0), 0.0)?;
+            let length = finite(
+                "length",
+                need(
+                    "length",
+                    "how far the bar reaches from the tip toward +z, out of the bore",
+                )?,
+                0.0,
+            )?;
+            if diameter <= 0.0 {
+                return Err(cx.err(&key("diameter"), "expected a bar diameter over 0 mm"));
+            }
+            Ok(Some(Holder::Bar {
+                diameter,
+                reach,
+                front,
+                length,
+            }))
+        }
+    }
 }

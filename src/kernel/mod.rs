@@ -3,6 +3,7 @@
 //! ([`mill`]) and the axisymmetric stock removal of turning moves ([`turn`]). They read the model and write stock; nothing else.
 
 pub(crate) mod body;
+pub(crate) mod holder;
 pub(crate) mod mill;
 pub(crate) mod sweep;
 pub(crate) mod turn;

@@ -31,6 +31,7 @@
 //! thread sweeps. Only what needs the time order (a rapid that meets material that was
 //! still there) walks the moves in order ([`Turned::rapid_depth`]).
 
+use crate::model::part::{Approach, PartProfile};
 use crate::model::tool::{Edge, Tool};
 use std::f64::consts::TAU;
 
@@ -489,6 +490,23 @@ impl Profile {
             q_floor,
             q: vec![q_blank; n],
         }
+    }
+
+    /// A contour that is not cut (the chuck and its jaws, turning with the part): its
+    /// radius at every cell of its span (the larger side at a step), every `dz`.
+    pub(crate) fn outline(contour: &PartProfile, dz: f64) -> Profile {
+        let (z_lo, z_hi) = contour.z_span();
+        let mut p = Profile::new((z_lo, z_hi), dz, 0.0, 0.0);
+        for j in 0..p.q.len() {
+            let z = p.z(j);
+            let r = [Approach::FromBelow, Approach::FromAbove]
+                .iter()
+                .filter_map(|&a| contour.radius(z, a))
+                .fold(0.0, f64::max);
+            p.q[j] = r;
+        }
+        p.q_blank = p.q.iter().copied().fold(0.0, f64::max);
+        p
     }
 
     /// The cells a swept shape reaches below the blank in.

@@ -3,6 +3,7 @@
 //! blank and machine a job names, a thread's tolerance class as a drawing names it, and the
 //! finished part's contour as drawn. Pure: no IO, no dependency on any other stage.
 
+pub(crate) mod clip;
 pub(crate) mod geom;
 pub(crate) mod helix;
 pub(crate) mod part;

@@ -13,8 +13,10 @@
 //! polyline ([`ColumnIdeal`]): crest flats, groove walls and root flats, with the walls of
 //! neighbouring grooves intersected where they overlap (sharp crests).
 
+use crate::model::clip;
 use crate::model::geom;
 use crate::model::helix::{Hand, Helix};
+use crate::model::part::PartProfile;
 use crate::model::stock::first_cell;
 use glam::DVec2;
 use std::f64::consts::TAU;
@@ -103,6 +105,10 @@ pub struct ThreadSpec {
     pub helix: Helix,
     /// Number of turns: features sit at `t = 0, 1, ..` up to `turns`.
     pub turns: f64,
+    /// The finished part's contour on the thread's surface (`[part] profile` outside,
+    /// `bore_profile` inside), as drawn: where it lies below the thread (a lead-in
+    /// chamfer, a run-out relief) the ideal follows it (see [`ThreadSpec::column`]).
+    pub outline: Option<std::sync::Arc<PartProfile>>,
 }
 
 /// A groove of the ideal profile on one generator, by its four corners' z.
@@ -326,7 +332,9 @@ impl ThreadSpec {
         }
     }
 
-    /// The ideal profile on the generator at `theta` for the window `[z_lo, z_hi]`.
+    /// The ideal profile on the generator at `theta` for the window `[z_lo, z_hi]`: the
+    /// thread's grooves, and where the part's [`ThreadSpec::outline`] lies below them (its
+    /// chamfers, reliefs), the outline: the drawing's part, thread and contour together.
     pub fn column(&self, theta: f64, z_lo: f64, z_hi: f64) -> ColumnIdeal {
         let features = self.features(theta, z_lo, z_hi);
         let grooves: Vec<Groove> = match self.width {
@@ -340,8 +348,30 @@ impl ThreadSpec {
                 .collect(),
         };
         let depth = self.depth();
-        let verts = envelope(&grooves, depth, self.widening(), z_lo - 1.0, z_hi + 1.0);
-        let (thread, span) = self.thread_grooves(&features);
+        let mut verts = envelope(&grooves, depth, self.widening(), z_lo - 1.0, z_hi + 1.0);
+        let (thread, mut span) = self.thread_grooves(&features);
+        if let Some(part) = &self.outline {
+            let mut contour: Vec<Vertex> = part
+                .points()
+                .iter()
+                .map(|&(z, r)| Vertex {
+                    z,
+                    h: self.height(r),
+                })
+                .collect();
+            // Past the part's +z end (its free end, the bar's face) the part is gone: a
+            // thread depth below the root stands for "no material" (measurements see an
+            // open groove there, as on the cut). Its -z end (the chuck's side) bounds
+            // nothing. The drawing defines the thread only on the part.
+            let end = part.z_span().1;
+            contour.push(Vertex { z: end, h: -depth });
+            contour.push(Vertex {
+                z: end.max(z_hi + 1.0) + 1.0,
+                h: -depth,
+            });
+            verts = clip::lower(&verts, &contour);
+            span = span.and_then(|(a, b)| (a < end).then_some((a, b.min(end))));
+        }
         ColumnIdeal {
             verts,
             features,
@@ -770,6 +800,7 @@ pub(crate) fn seed002_screw(side: Side, angles: f64) -> ThreadSpec {
             spin: 1.0,
         },
         turns: 7.0,
+        outline: None,
     }
 }
 
@@ -828,6 +859,7 @@ mod tests {
                 spin: 1.0,
             },
             turns: 5.0,
+            outline: None,
         };
         let col = th.column(0.0, -10.0, 1.0);
         // The crest between grooves at 0 and -2 is at -1, lowered by 0.1/tan30 ... in h.

@@ -107,6 +107,39 @@ pub struct Tool {
     pub depth_per_pass: DepthLimits,
 }
 
+/// What holds a lathe tool, as a solid the part must not meet (`[[tool]] holder`), in the
+/// axial plane and relative to the insert's tip (a turning insert's imaginary tip). The
+/// part turns, so only how far each point of it lies from the axis matters: a shank's
+/// nearest, a bar's farthest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Holder {
+    /// An external tool's shank or head: a block from `left` mm to the -z side of the tip
+    /// to `right` mm to its +z side, from `clearance` mm above the tip outward.
+    Shank {
+        /// Its -z face's distance from the tip (mm).
+        left: f64,
+        /// Its +z face's distance from the tip (mm).
+        right: f64,
+        /// How far above the tip it starts (mm, radial).
+        clearance: f64,
+    },
+    /// A boring bar: a cylinder of `diameter` along the axis, the tip `reach` mm from its
+    /// centre line (half the smallest bore of its catalogue page), from `front` mm to the
+    /// -z side of the tip to `length` mm to its +z side (out of the bore). Its farthest
+    /// point from the spindle's axis lies `diameter / 2 + |r - reach|` from it, the tip at
+    /// radius `r`.
+    Bar {
+        /// Bar diameter (mm).
+        diameter: f64,
+        /// The tip's distance from the bar's centre line (mm).
+        reach: f64,
+        /// How far it reaches past the tip toward -z (mm).
+        front: f64,
+        /// How far it reaches from the tip toward +z (mm).
+        length: f64,
+    },
+}
+
 /// The radial depth of cut per pass an insert stands: over `max` it breaks, under `min` it
 /// rubs instead of cutting (mm, radial; `None`: not given).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -260,7 +260,14 @@ pub(crate) fn build_report(
             line: Some(h.line),
             value: Some(r6(h.depth)),
             unit: Some("mm"),
-            ..Finding::new(FindingKind::RapidCut, Severity::Error, rapid_message(h))
+            ..Finding::new(
+                match h.kind {
+                    HitKind::Holder | HitKind::Chuck => FindingKind::Collision,
+                    _ => FindingKind::RapidCut,
+                },
+                Severity::Error,
+                rapid_message(h),
+            )
         });
     }
     if dev.compared_dexels == 0 {
@@ -521,26 +528,46 @@ fn rapid_message(h: &RapidHit) -> String {
         Role::Grooving => "grooving insert",
         Role::Threading => "threading insert",
     };
+    let more = match h.moves {
+        1 => String::new(),
+        n => format!("; {n} such moves of this block, the deepest"),
+    };
+    let place = if h.internal { "bore's wall" } else { "part" };
+    match h.kind {
+        HitKind::Holder => {
+            return format!(
+                "{}:{}: the {} of the {tool} T{} meets the {place} {:.4} mm deep at z {:.3} (the stock as the move leaves it{more})",
+                h.file,
+                h.line,
+                if h.internal { "boring bar" } else { "holder" },
+                h.tool,
+                h.depth,
+                h.z
+            )
+        }
+        HitKind::Chuck => {
+            return format!(
+                "{}:{}: the {tool} T{} or its holder runs {:.4} mm into the chuck or its jaws at z {:.3} ([machine] chuck{more})",
+                h.file, h.line, h.tool, h.depth, h.z
+            )
+        }
+        _ => {}
+    }
     let what = match h.kind {
         HitKind::Rapid => "a rapid (G00) move",
         HitKind::Feed => "a feed move",
-        HitKind::Entry => "a synchronised entry (a thread move more radial than axial)",
+        _ => "a synchronised entry (a thread move more radial than axial)",
     };
     let why = match h.kind {
         HitKind::Rapid => "",
         _ => ": a threading insert cuts only along the thread",
     };
-    let more = match h.moves {
-        1 => String::new(),
-        n => format!("; {n} such moves of this block, the deepest"),
-    };
     format!(
-        "{}:{}: {what} of the {tool} T{} runs {:.4} mm into the {} at z {:.3} (the stock the moves before it left{more}){why}",
+        "{}:{}: {what} of the {tool} T{} runs {:.4} mm into the {place} at z {:.3} (the stock the moves before it left{more}){why}",
         h.file,
         h.line,
         h.tool,
         h.depth,
-        if h.internal { "bore's wall" } else { "part" },
         h.z
     )
 }

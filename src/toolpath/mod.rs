@@ -15,10 +15,12 @@
 //! cutters, the machine's axis and speed) and does no IO: the program's text and its
 //! subprograms come from the caller's loader.
 
+use crate::kernel::holder::{self, Mount};
 use crate::kernel::turn::{Profile, TurnCut, TurnPath, Turned, TurningTool};
+use crate::model::part::PartProfile;
 use crate::model::pass::Pass;
 use crate::model::setup::ChainLink;
-use crate::model::tool::Tool;
+use crate::model::tool::{Holder, Tool};
 use crate::nc::{self, Dialect, MoveKind, NcError, Source, Toolpath};
 
 mod cycle;
@@ -311,6 +313,8 @@ pub(crate) struct LatheTool {
     pub(crate) shape: TurningTool,
     /// What it is for.
     pub(crate) role: Role,
+    /// What holds it (`[[tool]] holder`), if given.
+    pub(crate) holder: Option<Holder>,
 }
 
 /// What a move that met material was.
@@ -323,6 +327,10 @@ pub(crate) enum HitKind {
     /// A thread move of a threading insert that goes more into the part than along it (a
     /// synchronised radial entry).
     Entry,
+    /// Any move whose tool's holder meets the stock as the move leaves it.
+    Holder,
+    /// Any move whose tool or holder meets the chuck or its jaws.
+    Chuck,
 }
 
 /// A move that meets material left at its time and must not: a rapid of any tool, a feed
@@ -392,11 +400,13 @@ pub(crate) fn lathe_turning(
     inner: Option<TurnStock>,
     z_span: (f64, f64),
     dz: f64,
+    chuck: Option<&PartProfile>,
 ) -> LatheTurning {
     let mut out = LatheTurning::default();
     if tools.is_empty() {
         return out;
     }
+    let chuck = chuck.map(|c| Profile::outline(c, dz));
     let mut outer_stock = Profile::new(z_span, dz, outer.q_blank, outer.q_floor);
     let mut inner_stock = inner.map(|s| Profile::new(z_span, dz, s.q_blank, s.q_floor));
     // Where the last thread move ended (diameter, z), while the next move may be the
@@ -409,7 +419,12 @@ pub(crate) fn lathe_turning(
             None if tools.len() == 1 => tools.first(),
             None => None,
         };
-        let Some(&LatheTool { shape: tool, role }) = found else {
+        let Some(&LatheTool {
+            shape: tool,
+            role,
+            holder,
+        }) = found
+        else {
             continue;
         };
         let (turned, blocks, stock, sense) = if tool.internal {
@@ -425,40 +440,16 @@ pub(crate) fn lathe_turning(
             _ => None,
         };
         let path = TurnPath::of_move(&tool, sense, (m.z_start, m.x_start), (m.z, m.x_dia), arc);
-        // Deeper than the report's rounding (as milling's rapids).
-        let mut check = |kind: HitKind| {
-            let hit = stock.rapid_depth(&tool, &path);
-            let Some((depth, z)) = hit.filter(|h| h.0 >= 5e-7) else {
-                return;
-            };
-            // The moves of one block (a cycle's passes) are one finding: the deepest.
-            match out.rapids.last_mut() {
-                Some(h)
-                    if (h.line, h.tool, h.kind) == (m.line, tool.id, kind) && h.file == m.file =>
-                {
-                    h.moves += 1;
-                    if depth > h.depth {
-                        (h.depth, h.z) = (depth, z);
-                    }
-                }
-                _ => out.rapids.push(RapidHit {
-                    file: m.file.clone(),
-                    line: m.line,
-                    depth,
-                    z,
-                    internal: tool.internal,
-                    tool: tool.id,
-                    role,
-                    kind,
-                    moves: 1,
-                }),
+        let mut check = |stock: &Profile, shape: &TurningTool, path: &TurnPath, kind: HitKind| {
+            if let Some(hit) = stock.rapid_depth(shape, path) {
+                record(&mut out.rapids, m, &tool, role, kind, hit);
             }
         };
         let outward = sense * (m.x_dia - m.x_start) > 0.0;
         match m.kind {
             MoveKind::Feed | MoveKind::Arc => {
                 if role == Role::Threading {
-                    check(HitKind::Feed);
+                    check(stock, &tool, &path, HitKind::Feed);
                 }
                 let cut = TurnCut { tool, path };
                 stock.cut(&cut);
@@ -469,17 +460,105 @@ pub(crate) fn lathe_turning(
                 let retract =
                     after_thread == Some((m.x_start, m.z_start)) && m.z == m.z_start && outward;
                 if !retract {
-                    check(HitKind::Rapid);
+                    check(stock, &tool, &path, HitKind::Rapid);
                 }
             }
             MoveKind::Thread => {
                 let radial = (m.x_dia - m.x_start).abs() / 2.0;
                 if role == Role::Threading && !outward && radial > (m.z - m.z_start).abs() {
-                    check(HitKind::Entry);
+                    check(stock, &tool, &path, HitKind::Entry);
                 }
                 thread_end = Some((m.x_dia, m.z));
             }
         }
+        // The holder against the stock as this move leaves it, and the tool and its holder
+        // against the chuck (outside).
+        let sweeps = holder.map(|h| {
+            let mount = Mount {
+                id: tool.id,
+                internal: tool.internal,
+                tip_dz: match role {
+                    Role::Turning => 0.0,
+                    _ => tool_tip_dz(&tool, role),
+                },
+            };
+            holder::sweeps(&h, mount, (m.z_start, m.x_start), (m.z, m.x_dia), arc)
+        });
+        for (shape, hp) in sweeps.iter().flatten() {
+            check(stock, shape, hp, HitKind::Holder);
+        }
+        if let (Some(c), false) = (&chuck, tool.internal) {
+            // The insert as a line up from its lowest point, two cells wide (its edges run
+            // on without end in the stock's shapes; above the tip the holder stands for it).
+            let tip = TurningTool {
+                nose_radius: 0.0,
+                flat: 2.0 * dz,
+                lead_angle: 0.0,
+                trail_angle: 0.0,
+                anchor: (tool_tip_dz(&tool, role) - dz, 0.0),
+                ..tool
+            };
+            let tip_path =
+                TurnPath::of_move(&tip, sense, (m.z_start, m.x_start), (m.z, m.x_dia), arc);
+            let mut worst = c.rapid_depth(&tip, &tip_path);
+            for (shape, hp) in sweeps.iter().flatten() {
+                if let Some(h) = c.rapid_depth(shape, hp) {
+                    worst = Some(worst.map_or(h, |w: (f64, f64)| if h.0 > w.0 { h } else { w }));
+                }
+            }
+            if let Some(hit) = worst {
+                record(&mut out.rapids, m, &tool, role, HitKind::Chuck, hit);
+            }
+        }
     }
     out
+}
+
+/// The z of a tool's lowest point less the driven point's: a turning insert's nose
+/// bottom (`r_n` after its imaginary tip), an insert's tip centre.
+fn tool_tip_dz(tool: &TurningTool, role: Role) -> f64 {
+    match role {
+        Role::Turning => tool.nose_radius,
+        _ => tool.anchor.0 + tool.flat / 2.0,
+    }
+}
+
+/// Record a move of `tool` that meets material `hit = (depth, z)` deep: the moves of one
+/// block and kind (a cycle's passes) are one hit, the deepest, with their count. Below the
+/// report's rounding it is none (as milling's rapids).
+fn record(
+    hits: &mut Vec<RapidHit>,
+    m: &nc::Move,
+    tool: &TurningTool,
+    role: Role,
+    kind: HitKind,
+    (depth, z): (f64, f64),
+) {
+    if depth < 5e-7 {
+        return;
+    }
+    match hits
+        .iter_mut()
+        .rev()
+        .take_while(|h| h.line == m.line && h.file == m.file)
+        .find(|h| (h.tool, h.kind) == (tool.id, kind))
+    {
+        Some(h) => {
+            h.moves += 1;
+            if depth > h.depth {
+                (h.depth, h.z) = (depth, z);
+            }
+        }
+        None => hits.push(RapidHit {
+            file: m.file.clone(),
+            line: m.line,
+            depth,
+            z,
+            internal: tool.internal,
+            tool: tool.id,
+            role,
+            kind,
+            moves: 1,
+        }),
+    }
 }

@@ -20,6 +20,8 @@ mod gauging;
 mod gltf;
 /// The scenes' reports against reviewed goldens and hand-derived expectations.
 mod goldens;
+/// Issue 28: tool holders, boring bars and the chuck against closed-form clearances.
+mod holders;
 /// Hostile input, class by class: clean errors naming the place, never a panic or a hang.
 mod hostile;
 /// The HTML report: self-contained, the report's rows, the passes of the findings.
@@ -36,6 +38,8 @@ mod nc_data;
 mod oracle;
 /// Output files all or nothing, symlinks, `-`, closed pipes, CI formats, `vpcut check`.
 mod outputs;
+/// Issue 26: the drawn part's chamfers in the ideal thread, against closed forms.
+mod part_outline;
 /// `vpcut plan`: planned screws round-trip through every dialect and simulate clean.
 mod plan;
 /// The pictures that need no GPU against the report and the exact cut.

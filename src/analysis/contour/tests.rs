@@ -28,6 +28,7 @@ fn m30() -> ThreadSpec {
             spin: 1.0,
         },
         turns: 18.0,
+        outline: None,
     }
 }
 
