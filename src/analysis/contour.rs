@@ -75,6 +75,8 @@ pub(crate) struct Surface<'a> {
     pub(crate) tools: &'a [Tool],
     /// Sampling step (mm).
     pub(crate) dz: f64,
+    /// The blank's z span: nothing is cut beyond it, and the contour is sampled only on it.
+    pub(crate) z_span: (f64, f64),
     /// Deviations up to it are no finding (mm).
     pub(crate) tolerance: f64,
 }
@@ -82,6 +84,10 @@ pub(crate) struct Surface<'a> {
 /// The gouges (each cutter's deepest, beyond the tolerance) and the leftover stretches.
 pub(crate) fn check(s: &Surface) -> (Vec<PartGouge>, Vec<PartLeftover>) {
     let (lo, hi) = s.profile.z_span();
+    let (lo, hi) = (lo.max(s.z_span.0), hi.min(s.z_span.1));
+    if lo > hi {
+        return (Vec::new(), Vec::new());
+    }
     // Sample every dz, and just beside every point of the contour on both sides (a step's
     // two radii; a tenth of a micrometre off it, so that a move ending on a face's z is
     // not read as cutting into the face).

@@ -493,9 +493,14 @@ impl Profile {
     }
 
     /// A contour that is not cut (the chuck and its jaws, turning with the part): its
-    /// radius at every cell of its span (the larger side at a step), every `dz`.
-    pub(crate) fn outline(contour: &PartProfile, dz: f64) -> Profile {
+    /// radius at every cell of its span within `within` (the larger side at a step), every
+    /// `dz`; `None` where they do not meet.
+    pub(crate) fn outline(contour: &PartProfile, within: (f64, f64), dz: f64) -> Option<Profile> {
         let (z_lo, z_hi) = contour.z_span();
+        let (z_lo, z_hi) = (z_lo.max(within.0), z_hi.min(within.1));
+        if z_lo > z_hi {
+            return None;
+        }
         let mut p = Profile::new((z_lo, z_hi), dz, 0.0, 0.0);
         for j in 0..p.q.len() {
             let z = p.z(j);
@@ -506,7 +511,7 @@ impl Profile {
             p.q[j] = r;
         }
         p.q_blank = p.q.iter().copied().fold(0.0, f64::max);
-        p
+        Some(p)
     }
 
     /// The cells a swept shape reaches below the blank in.

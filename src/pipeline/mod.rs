@@ -290,6 +290,7 @@ fn part_check(
         passes: if on_this { passes } else { &[] },
         tools,
         dz: job.sim.axial_spacing,
+        z_span: (b.z_front - b.length, b.z_front),
         tolerance: job.sim.tolerance,
     }))
 }

@@ -547,7 +547,7 @@ fn rapid_message(h: &RapidHit) -> String {
         }
         HitKind::Chuck => {
             return format!(
-                "{}:{}: the {tool} T{} or its holder runs {:.4} mm into the chuck or its jaws at z {:.3} ([machine] chuck{more})",
+                "{}:{}: the {tool} T{} (its tip or its holder) runs {:.4} mm into the chuck or its jaws at z {:.3} ([machine] chuck{more})",
                 h.file, h.line, h.tool, h.depth, h.z
             )
         }

@@ -406,7 +406,8 @@ pub(crate) fn lathe_turning(
     if tools.is_empty() {
         return out;
     }
-    let chuck = chuck.map(|c| Profile::outline(c, dz));
+    // The chuck where tools can reach the part: the blank's span and a metre beyond.
+    let chuck = chuck.and_then(|c| Profile::outline(c, (z_span.0 - 1000.0, z_span.1 + 1000.0), dz));
     let mut outer_stock = Profile::new(z_span, dz, outer.q_blank, outer.q_floor);
     let mut inner_stock = inner.map(|s| Profile::new(z_span, dz, s.q_blank, s.q_floor));
     // Where the last thread move ended (diameter, z), while the next move may be the

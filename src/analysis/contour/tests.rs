@@ -107,6 +107,7 @@ fn run(
         passes,
         tools: &[insert()],
         dz: 0.01,
+        z_span: (-1000.0, 1000.0),
         tolerance: 0.01,
     })
 }
