@@ -32,6 +32,8 @@ mod linuxcnc;
 mod milling;
 /// NC programs as data: `tests/data/nc/<dialect>/*.nc` against their reviewed `*.moves`.
 mod nc_data;
+/// Okuma OSP-P programs through jobs: a whole part program cut and gauged.
+mod okuma;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
 /// Output files all or nothing, symlinks, `-`, closed pipes, CI formats, `vpcut check`.
