@@ -53,6 +53,8 @@ mod robust;
 /// `--gltf` alone: the model meshed as the columns stream, the full grid's bytes.
 mod streamed_mesh;
 mod streaming;
+/// Taps: tapping strokes cut the internal thread and its chamfer cone; the feed's finding.
+mod taps;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;
 /// No false PASS: randomized clean cuts pass, short defects fail on their turn and flank.
