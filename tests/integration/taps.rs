@@ -140,3 +140,57 @@ fn every_dialects_tapping_cuts_with_the_tap() {
         }
     }
 }
+
+#[test]
+fn bad_tap_keys_name_their_key() {
+    // (the tool table's keys, the key the error names, words of the message)
+    let cases = [
+        (
+            "diameter = 10.0\nchamfer_threads = 3",
+            "tool[0].kind",
+            "`pitch`",
+        ),
+        (
+            "pitch = 1.5\nchamfer_threads = 3",
+            "tool[0].kind",
+            "`diameter`",
+        ),
+        (
+            "diameter = 10.0\npitch = 1.5",
+            "tool[0].kind",
+            "chamfer_length",
+        ),
+        (
+            "diameter = 10.0\npitch = 1.5\nchamfer_threads = 3\nchamfer_length = 4",
+            "tool[0].chamfer_threads",
+            "not both",
+        ),
+        (
+            "diameter = 10.0\npitch = 1.5\nchamfer_threads = 3\nchamfer_diameter = 11",
+            "tool[0].chamfer_diameter",
+            "at most the major diameter",
+        ),
+        (
+            "diameter = 10.0\npitch = 12\nchamfer_threads = 3",
+            "tool[0].pitch",
+            "below the diameter",
+        ),
+        (
+            "diameter = 10.0\npitch = 1.5\nchamfer_threads = 3\nangle = 60",
+            "tool[0].angle",
+            "does not apply",
+        ),
+    ];
+    for (keys, key, words) in cases {
+        let toml = format!(
+            "[blank]\ndiameter = 20.0\nbore = 8.5\nlength = 30.0\n\
+             [thread]\nside = \"internal\"\nform = \"iso-metric\"\nmajor_diameter = 10.0\npitch = 1.5\nminor_diameter = 8.5\nlength = 12.0\n\
+             [[tool]]\nid = 5\nkind = \"tap\"\n{keys}\n\
+             [program]\nfile = \"T.NC\"\ndialect = \"fanuc\"\n"
+        );
+        let load = |f: &str| (f == "T.NC").then(|| FANUC.to_string());
+        let e = Job::from_toml_with(&toml, "job.toml", &load).expect_err(keys);
+        let text = e.to_string();
+        assert!(text.contains(key) && text.contains(words), "{keys}: {text}");
+    }
+}
