@@ -81,7 +81,7 @@ pub use model::standards::{
 pub use model::stock::{Grid, Stock, Surface};
 pub use model::thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};
 pub use model::tolerance::{RootZone, SizeLimits, ThreadClass, UnitSystem};
-pub use model::tool::{Body, DepthLimits, Edge, Reference, Tool};
+pub use model::tool::{Body, DepthLimits, Edge, Reference, Tap, Tool};
 pub use nc::{
     decode_program, interpret, interpret_with, path_lead, to_csv, ArcGeometry, CompSide,
     DecimalPoint, Diagnostic, Dialect, Dwell, DwellTime, Feed, G76Params, GcodeSystem,

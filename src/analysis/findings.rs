@@ -61,11 +61,13 @@ pub enum FindingKind {
     Program,
     /// A continuous thread chain changes the lead at a joint.
     ThreadChain,
+    /// A tap's feed per revolution is not its pitch.
+    TapFeed,
 }
 
 impl FindingKind {
     /// Every kind, in report order.
-    pub const ALL: [FindingKind; 23] = [
+    pub const ALL: [FindingKind; 24] = [
         FindingKind::NotCompared,
         FindingKind::Gauge,
         FindingKind::Placement,
@@ -89,6 +91,7 @@ impl FindingKind {
         FindingKind::AxisAcceleration,
         FindingKind::Program,
         FindingKind::ThreadChain,
+        FindingKind::TapFeed,
     ];
 
     /// The name the report uses (`not_compared`, `gouge`, ...).
@@ -117,6 +120,7 @@ impl FindingKind {
             FindingKind::AxisAcceleration => "axis_acceleration",
             FindingKind::Program => "program",
             FindingKind::ThreadChain => "thread_chain",
+            FindingKind::TapFeed => "tap_feed",
         }
     }
 }
@@ -179,6 +183,9 @@ impl FindingKind {
             }
             FindingKind::ThreadChain => {
                 "A chained thread block re-programs the lead law without a re-sync."
+            }
+            FindingKind::TapFeed => {
+                "A tap is fed at another feed per revolution than its pitch: it strips the thread."
             }
         }
     }

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 pub(crate) struct ToolpathArgs {
     /// The main program; subprograms are looked up beside it.
     pub(crate) program: PathBuf,
-    /// Controller dialect: `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d` or `siemens-840d`.
+    /// Controller dialect: `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d`, `siemens-840d` or `okuma`.
     /// FANUC/GSK cycles take their variant from the block's words: a G76 with K or D is the
     /// one-block G76 of Haas and FANUC 0T (else FANUC 0i's two blocks); G71/G72 with D (G73
     /// with I, K or D) the one-block 0T/Haas form; G70..G75 list every move they make
@@ -95,7 +95,7 @@ fn parse_gcode_system(s: &str) -> Result<vpcut::GcodeSystem, String> {
 pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     let dialect = vpcut::Dialect::from_name(&args.dialect).with_context(|| {
         format!(
-            "unknown dialect `{}`: expected `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d` or `siemens-840d`",
+            "unknown dialect `{}`: expected `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d`, `siemens-840d` or `okuma`",
             args.dialect
         )
     })?;

@@ -25,7 +25,7 @@ use crate::model::pass::Pass;
 pub(crate) use crate::model::setup::{Blank, ChainLink, CycleTime, Machine};
 use crate::model::thread::ThreadSpec;
 use crate::model::tolerance::ThreadClass;
-use crate::model::tool::{Holder, Tool};
+use crate::model::tool::{Holder, Tap, Tool};
 use crate::nc::{Diagnostic, NcError, Severity};
 use crate::toolpath::{self, LatheTool, LatheTurning, ProgramError, Role, TurnStock};
 
@@ -209,6 +209,10 @@ pub struct Job {
     pub(crate) turning_tools: Vec<TurningTool>,
     /// What the program's turning moves cut, and its rapids that meet material.
     pub(crate) turning: LatheTurning,
+    /// The taps (`kind = "tap"`); each one's tooth is in `tools` under its id.
+    pub(crate) taps: Vec<Tap>,
+    /// The program's tap strokes whose feed is not the tap's pitch.
+    pub(crate) tap_feeds: Vec<toolpath::TapFeed>,
 }
 
 impl Job {
@@ -268,8 +272,14 @@ impl Job {
         match pending {
             Pending::Lathe(program) => {
                 let path = toolpath::interpret(&program, load).map_err(fail)?;
-                let lathe = toolpath::lathe_passes(&path.moves, &self.tools, &self.turning_tools)
-                    .map_err(fail)?;
+                let lathe = toolpath::lathe_passes(
+                    &path.moves,
+                    &self.tools,
+                    &self.turning_tools,
+                    &self.taps,
+                )
+                .map_err(fail)?;
+                self.tap_feeds = lathe.tap_feeds;
                 let offset = self.passes.len();
                 self.chains.extend(lathe.links.into_iter().map(|mut l| {
                     l.pass += offset;

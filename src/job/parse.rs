@@ -7,7 +7,7 @@ use super::forms::resolve_thread;
 use super::mill::{self, MillParts};
 use super::schema::ToolKind;
 use super::schema::{RawJob, SideName, SpindleName};
-use super::tools::{check_tool_keys, resolve_holder, resolve_tool, resolve_turning};
+use super::tools::{check_tool_keys, resolve_holder, resolve_tap, resolve_tool, resolve_turning};
 use super::{process, program, Job, JobError, SimConfig, DEFAULT_MAX_DEXELS};
 use crate::model::helix::Spindle;
 use crate::model::part::{PartError, PartProfile};
@@ -206,6 +206,8 @@ pub(super) fn resolve(
             cycle_time: None,
             turning_tools: Vec::new(),
             turning: Default::default(),
+            taps: Vec::new(),
+            tap_feeds: Vec::new(),
         };
         return Ok(Parsed {
             job,
@@ -230,7 +232,17 @@ pub(super) fn resolve(
     }
     let mut tools = Vec::with_capacity(raw.tool.len());
     let mut turning_tools = Vec::new();
+    let mut taps = Vec::new();
     for (i, t) in raw.tool.iter().enumerate() {
+        if t.kind == ToolKind::Tap {
+            if raw.program.is_none() {
+                return Err(cx.err(
+                    &format!("tool[{i}].kind"),
+                    "a tap cuts by the strokes of a [program] (G84, G33.1, G331, CYCLE84); this job has none",
+                ));
+            }
+            taps.push(resolve_tap(t, i, cx)?);
+        }
         if t.kind == ToolKind::Turning {
             if raw.program.is_none() {
                 return Err(cx.err(
@@ -315,6 +327,8 @@ pub(super) fn resolve(
         cycle_time: None,
         turning_tools,
         turning: Default::default(),
+        taps,
+        tap_feeds: Vec::new(),
     };
     Ok(Parsed { job, program })
 }

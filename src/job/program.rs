@@ -157,7 +157,7 @@ pub(super) fn program(
         cx.err(
             "program.dialect",
             format!(
-                "expected `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d` or `siemens-840d`, got `{}`",
+                "expected `fanuc`, `gsk980`, `linuxcnc`, `siemens-802d`, `siemens-840d` or `okuma`, got `{}`",
                 pr.dialect
             ),
         )

@@ -213,6 +213,7 @@ pub(super) enum ToolKind {
     Mesh,
     ThreadMill,
     Turning,
+    Tap,
 }
 
 #[derive(Deserialize, Clone, Copy, Default, PartialEq)]
@@ -262,6 +263,8 @@ pub(super) struct RawTool {
     pub(super) drill_diameter: Option<f64>,
     pub(super) point_angle: Option<f64>,
     pub(super) chamfer_diameter: Option<f64>,
+    pub(super) chamfer_length: Option<f64>,
+    pub(super) chamfer_threads: Option<f64>,
     pub(super) h: Option<u32>,
     pub(super) d: Option<u32>,
     pub(super) d_value: Option<f64>,

@@ -1,13 +1,14 @@
 //! `[[tool]]` tables into [`Tool`]s: the edge of each kind of tool, the keys each kind
 //! takes, mesh tools (OBJ, read through the loader) and the insert body behind the edge;
-//! turning tools (`kind = "turning"`) into [`TurningTool`]s.
+//! turning tools (`kind = "turning"`) into [`TurningTool`]s; taps (`kind = "tap"`) into a
+//! [`Tap`] and the threading insert of its tooth.
 
 use super::ctx::Ctx;
 use super::schema::{HolderKind, RawTool, RefName, SideName, ToolKind};
 use super::JobError;
 use crate::kernel::turn::TurningTool;
 use crate::model::solid::Solid;
-use crate::model::tool::{Body, DepthLimits, Edge, Holder, Reference, Tool};
+use crate::model::tool::{Body, DepthLimits, Edge, Holder, Reference, Tap, Tool};
 
 pub(super) fn resolve_tool(
     t: &RawTool,
@@ -94,6 +95,7 @@ pub(super) fn resolve_tool(
                 "a turning tool cuts no thread: passes and [process] need a threading tool",
             ))
         }
+        ToolKind::Tap => return Ok(resolve_tap(t, i, cx)?.tooth()),
     };
     let depth_per_pass = depth_limits(t, &key, cx)?;
     if t.kind == ToolKind::Mesh {
@@ -180,15 +182,70 @@ pub(super) fn resolve_turning(t: &RawTool, i: usize, cx: &Ctx) -> Result<Turning
     ))
 }
 
+/// A `kind = "tap"` tool: `diameter` (the major diameter), `pitch`, the chamfer by
+/// `chamfer_length` (mm) or `chamfer_threads` (pitches), and `chamfer_diameter` at its tip
+/// (default: the basic minor diameter `D - 1.082532 P`, ISO 68-1).
+pub(super) fn resolve_tap(t: &RawTool, i: usize, cx: &Ctx) -> Result<Tap, JobError> {
+    let key = |k: &str| format!("tool[{i}].{k}");
+    let need = |k: &str, v: Option<f64>, what: &str| {
+        v.ok_or_else(|| cx.err(&key("kind"), format!("a tap needs `{k}` ({what})")))
+    };
+    let major = cx.positive(
+        &key("diameter"),
+        need("diameter", t.diameter, "the major diameter, mm")?,
+    )?;
+    let pitch = cx.positive(&key("pitch"), need("pitch", t.pitch, "mm")?)?;
+    if pitch >= major {
+        return Err(cx.err(
+            &key("pitch"),
+            format!("expected a pitch below the diameter {major} mm, got {pitch}"),
+        ));
+    }
+    let chamfer_length = match (t.chamfer_length, t.chamfer_threads) {
+        (Some(_), Some(_)) => {
+            return Err(cx.err(
+                &key("chamfer_threads"),
+                "give `chamfer_length` (mm) or `chamfer_threads` (pitches), not both",
+            ))
+        }
+        (Some(l), None) => cx.non_negative(&key("chamfer_length"), l)?,
+        (None, Some(n)) => cx.non_negative(&key("chamfer_threads"), n)? * pitch,
+        (None, None) => {
+            return Err(cx.err(
+                &key("kind"),
+                "a tap needs `chamfer_length` (mm) or `chamfer_threads` (pitches): the length of its chamfer",
+            ))
+        }
+    };
+    let minor = major - 1.082532 * pitch;
+    let chamfer_diameter = match t.chamfer_diameter {
+        Some(d) => cx.positive(&key("chamfer_diameter"), d)?,
+        None => minor,
+    };
+    if chamfer_diameter > major {
+        return Err(cx.err(
+            &key("chamfer_diameter"),
+            format!("expected at most the major diameter {major} mm, got {chamfer_diameter}"),
+        ));
+    }
+    Ok(Tap {
+        id: t.id,
+        pitch,
+        major_diameter: major,
+        chamfer_length,
+        chamfer_diameter,
+    })
+}
+
 /// Every optional `[[tool]]` key and the kinds of tool it applies to: a key set on a tool
 /// of another kind is an error that says so.
 pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), JobError> {
-    use ToolKind::{Grooving, Mesh, ThreadMill, Threading, Trapezoidal, Turning};
+    use ToolKind::{Grooving, Mesh, Tap, ThreadMill, Threading, Trapezoidal, Turning};
     const INSERTS: &[ToolKind] = &[Grooving, Threading, Trapezoidal];
     const MILL: &[ToolKind] = &[ThreadMill];
     const LIMITED: &[ToolKind] = &[Grooving, Threading, Trapezoidal, Mesh];
     const LATHE: &[ToolKind] = &[Grooving, Threading, Trapezoidal, Mesh, Turning];
-    let keys: [(&str, bool, &[ToolKind]); 39] = [
+    let keys: [(&str, bool, &[ToolKind]); 41] = [
         ("holder", t.holder.is_some(), LATHE),
         (
             "max_depth_per_pass",
@@ -242,8 +299,8 @@ pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), Job
         ("mesh_units", t.mesh_units.is_some(), &[Mesh]),
         ("mesh_body", t.mesh_body.is_some(), &[Mesh]),
         ("cutter", t.cutter.is_some(), MILL),
-        ("diameter", t.diameter.is_some(), MILL),
-        ("pitch", t.pitch.is_some(), MILL),
+        ("diameter", t.diameter.is_some(), &[ThreadMill, Tap]),
+        ("pitch", t.pitch.is_some(), &[ThreadMill, Tap]),
         ("teeth", t.teeth.is_some(), MILL),
         ("tooth_depth", t.tooth_depth.is_some(), MILL),
         ("first_tooth", t.first_tooth.is_some(), MILL),
@@ -252,7 +309,13 @@ pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), Job
         ("flutes", t.flutes.is_some(), MILL),
         ("drill_diameter", t.drill_diameter.is_some(), MILL),
         ("point_angle", t.point_angle.is_some(), MILL),
-        ("chamfer_diameter", t.chamfer_diameter.is_some(), MILL),
+        (
+            "chamfer_diameter",
+            t.chamfer_diameter.is_some(),
+            &[ThreadMill, Tap],
+        ),
+        ("chamfer_length", t.chamfer_length.is_some(), &[Tap]),
+        ("chamfer_threads", t.chamfer_threads.is_some(), &[Tap]),
         ("h", t.h.is_some(), MILL),
         ("d", t.d.is_some(), MILL),
         ("d_value", t.d_value.is_some(), MILL),
@@ -267,6 +330,8 @@ pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), Job
             "this key applies to `kind = \"mesh\"` tools only"
         } else if *kinds == MILL {
             "this key applies to `kind = \"thread-mill\"` tools only"
+        } else if *kinds == [Tap] {
+            "this key applies to `kind = \"tap\"` tools only"
         } else {
             "this key does not apply to this kind of tool"
         };

@@ -151,6 +151,59 @@ pub struct DepthLimits {
     pub min: Option<f64>,
 }
 
+/// A tap (`kind = "tap"`): on the lathe's axis, the internal thread's profile at full depth
+/// behind a chamfer. Its section at one angle is a row of teeth one pitch apart, each the
+/// groove of the basic internal thread (ISO 68-1: 60 deg flanks, the root flat P/8 at the
+/// major diameter, the tooth's [`Tap::tooth`]); the chamfer's cone cuts them down from the
+/// major diameter at `chamfer_length` behind the tip to `chamfer_diameter` at the tip.
+/// With a feed equal to the pitch every tooth runs in the first tooth's groove, so the cut
+/// at the end of the stroke is the thread's helix at full depth where the full teeth
+/// reached and, in the chamfer zone, the helix cut down to the cone at the tap's last
+/// position (`toolpath::tap_passes`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tap {
+    /// The id the program's T words select.
+    pub id: u32,
+    /// Pitch (mm): the lead the tap's thread has.
+    pub pitch: f64,
+    /// Major diameter of the thread it cuts (mm).
+    pub major_diameter: f64,
+    /// Length of the chamfer along the axis (mm), from the tip to the first full tooth.
+    pub chamfer_length: f64,
+    /// Diameter of the chamfer at the tip (mm).
+    pub chamfer_diameter: f64,
+}
+
+impl Tap {
+    /// One tooth, as a threading insert: the basic internal thread's groove (60 deg, the
+    /// P/8 root flat at the major diameter), its reference point in the middle of the flat.
+    pub fn tooth(&self) -> Tool {
+        Tool {
+            id: self.id,
+            edge: Edge::Trapezoid {
+                tip: self.pitch / 8.0,
+                left_angle: 30f64.to_radians(),
+                right_angle: 30f64.to_radians(),
+            },
+            reference: Reference::Tip,
+            body: None,
+            length: None,
+            depth_per_pass: DepthLimits::default(),
+        }
+    }
+
+    /// The diameter the chamfer's cone reaches `s` mm behind the tip: `chamfer_diameter`
+    /// at the tip, rising linearly to the major diameter at `chamfer_length`, the major
+    /// diameter beyond.
+    pub fn cone_diameter(&self, s: f64) -> f64 {
+        if self.chamfer_length <= 0.0 || s >= self.chamfer_length {
+            return self.major_diameter;
+        }
+        let u = (s / self.chamfer_length).max(0.0);
+        self.chamfer_diameter + u * (self.major_diameter - self.chamfer_diameter)
+    }
+}
+
 /// The profile prepared for the sweep kernel: `h(v) = max(0, (vl - v)*cl, (v - vr)*cr)`
 /// inside `[v_min, v_max]`, the round nose, or a solid's section.
 #[derive(Clone, Debug)]

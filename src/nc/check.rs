@@ -846,7 +846,7 @@ pub(super) fn check_program(
                     l.i += 1;
                 }
             }
-            Dialect::Fanuc | Dialect::Gsk980 => {
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Okuma => {
                 let mut facts = BlockFacts::default();
                 let _ = fanuc_block(&mut l, strict, &mut facts);
                 for (n, col) in facts.gotos {

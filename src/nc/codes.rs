@@ -89,7 +89,7 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
         ))
     };
     match dialect {
-        Dialect::Fanuc | Dialect::Gsk980 => match (g, whole) {
+        Dialect::Fanuc | Dialect::Gsk980 | Dialect::Okuma => match (g, whole) {
             (0..=4 | 17 | 18 | 19 | 20 | 21 | 28 | 32 | 34 | 40 | 41 | 42 | 50, true) => {
                 Verdict::Run
             }
@@ -173,7 +173,7 @@ pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
     }
     let m = c / 10;
     let known = match dialect {
-        Dialect::Fanuc | Dialect::Gsk980 => {
+        Dialect::Fanuc | Dialect::Gsk980 | Dialect::Okuma => {
             // M29: rigid tapping mode (`fanuc::tap_modes`).
             matches!(m, 0..=5 | 8 | 9 | 13 | 14 | 19 | 23 | 24 | 29 | 30 | 41..=44 | 98 | 99)
         }
@@ -373,6 +373,7 @@ fn name(d: Dialect) -> &'static str {
         Dialect::Siemens802d => "Siemens 802D",
         Dialect::Siemens840d => "Siemens 840D",
         Dialect::Linuxcnc => "LinuxCNC lathe",
+        Dialect::Okuma => "Okuma OSP-P",
     }
 }
 

@@ -74,7 +74,7 @@ impl Interp<'_> {
                 let n = r_index(idx, col)?;
                 Ok(*self.vars.r.get(&n).unwrap_or(&0.0))
             }
-            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => {
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc | Dialect::Okuma => {
                 // Null (vacant, and #0) is carried as NaN: 0 in arithmetic, but not equal
                 // to 0 under EQ/NE (controllers.md 4.1).
                 let idx = var_number(idx, col, true)?;
@@ -140,7 +140,7 @@ impl Interp<'_> {
                 ("<", |a, b| a < b),
                 (">", |a, b| a > b),
             ],
-            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => &[
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc | Dialect::Okuma => &[
                 ("EQ", |a, b| a == b),
                 ("NE", |a, b| a != b),
                 ("LE", |a, b| a <= b),

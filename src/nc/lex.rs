@@ -108,7 +108,7 @@ impl<'a> Cursor<'a> {
     pub(super) fn brackets(&self) -> (&'static str, &'static str) {
         match self.dialect {
             Dialect::Siemens802d | Dialect::Siemens840d => ("(", ")"),
-            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc => ("[", "]"),
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc | Dialect::Okuma => ("[", "]"),
         }
     }
 

@@ -14,6 +14,8 @@
 //! - `siemens`: Siemens 802D blocks, labels and jumps; `siemens_840d`, `siemens_vars` and
 //!   `siemens_flow`: the 840D's statements, user variables and control structures;
 //!   `siemens_cycles`: the thread cycles CYCLE97/CYCLE99 as their moves;
+//! - `okuma`: Okuma OSP-P lathe programs, a reader of their own (`okuma_expr` the
+//!   expressions, `okuma_cycles` the thread cycles G33/G34/G71 as moves);
 //! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
 //! - `lcnc_expr`: LinuxCNC expressions and numbered/named parameters;
 //! - `motion`: modal state, motion words, and recording moves;
@@ -48,6 +50,12 @@ mod mill;
 mod motion;
 #[cfg(test)]
 mod mrc_tests;
+mod okuma;
+mod okuma_cycles;
+mod okuma_expr;
+mod okuma_parse;
+#[cfg(test)]
+mod okuma_tests;
 mod program;
 #[cfg(test)]
 mod real_tests;
@@ -97,6 +105,9 @@ pub enum Dialect {
     /// Siemens SINUMERIK 840D (sl): 802D and user variables (`DEF`), structured control
     /// flow, `PROC` parameters, the thread cycles CYCLE97/CYCLE99 and G331/G332.
     Siemens840d,
+    /// Okuma OSP-P lathe (`.MIN`/`.SSB`): G33/G34 thread cycles, the G71 compound thread
+    /// cutting cycle, `CALL`/`RTS`, common and local variables (`okuma`).
+    Okuma,
 }
 
 impl Dialect {
@@ -108,6 +119,7 @@ impl Dialect {
             "linuxcnc" => Some(Dialect::Linuxcnc),
             "siemens-802d" => Some(Dialect::Siemens802d),
             "siemens-840d" => Some(Dialect::Siemens840d),
+            "okuma" => Some(Dialect::Okuma),
             _ => None,
         }
     }
@@ -455,7 +467,7 @@ impl NcError {
         v
     }
 
-    fn from_diagnostics(mut all: Vec<Diagnostic>) -> NcError {
+    pub(super) fn from_diagnostics(mut all: Vec<Diagnostic>) -> NcError {
         let k = all
             .iter()
             .position(|d| d.severity == Severity::Error)
@@ -578,6 +590,9 @@ pub fn interpret_with(
     loader: &dyn Fn(&str) -> Option<Source>,
     opts: &Options,
 ) -> Result<Toolpath, NcError> {
+    if dialect == Dialect::Okuma {
+        return okuma::interpret(main, loader, opts);
+    }
     let real = dialect;
     let gsk = dialect == Dialect::Gsk980;
     let dialect = dialect.syntax();
@@ -821,7 +836,9 @@ impl Interp<'_> {
             let step = match dialect {
                 Dialect::Siemens802d | Dialect::Siemens840d => m.siemens_block(&cur, pc, text),
                 Dialect::Linuxcnc => m.lcnc_block(&cur, pc, text),
-                Dialect::Fanuc | Dialect::Gsk980 => m.fanuc_block(&cur, pc, text, &mut loops),
+                Dialect::Fanuc | Dialect::Gsk980 | Dialect::Okuma => {
+                    m.fanuc_block(&cur, pc, text, &mut loops)
+                }
             };
             m.check_inch_lead(before);
             // Columns are in the comment-stripped text; map back roughly to the line.
@@ -986,7 +1003,7 @@ fn main_m99(warnings: &mut Vec<Diagnostic>, at: NcError) {
 /// Why a thread move cannot be cut as programmed, if it cannot: a lead that is not positive
 /// at the start or that reaches zero before the end (`L^2 = F^2 + 2 K s` along z: a real
 /// control alarms), or a move without axial travel.
-fn lead_problem(mv: &Move) -> Option<String> {
+pub(super) fn lead_problem(mv: &Move) -> Option<String> {
     let (f, k) = (mv.lead?, mv.lead_change.unwrap_or(0.0));
     let s = (mv.z - mv.z_start).abs();
     if s == 0.0 && mv.x_dia == mv.x_start {

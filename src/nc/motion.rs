@@ -668,7 +668,7 @@ impl Interp<'_> {
     pub(super) fn need_feed(&self, w: &Words) -> Result<(), Fail> {
         let g = self.modal.motion;
         let alarm = match self.real_dialect() {
-            Dialect::Fanuc | Dialect::Gsk980 => "alarm 011, feed zero",
+            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Okuma => "alarm 011, feed zero",
             Dialect::Siemens802d | Dialect::Siemens840d => "alarm 10860, feedrate not programmed",
             Dialect::Linuxcnc => "\"cannot do G1 with zero feed rate\"",
         };

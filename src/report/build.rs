@@ -253,6 +253,26 @@ pub(crate) fn build_report(
             )
         });
     }
+    for t in &job.tap_feeds {
+        findings.push(Finding {
+            file: Some(t.file.clone()),
+            line: Some(t.line),
+            value: Some(r6(t.feed - t.pitch)),
+            unit: Some("mm/rev"),
+            ..Finding::new(
+                FindingKind::TapFeed,
+                Severity::Error,
+                format!(
+                    "{}:{}: the tap is fed {} mm/rev, its pitch is {} mm: every tooth cuts {} mm/rev off the groove the one before it cut, and the thread is stripped",
+                    t.file,
+                    t.line,
+                    r6(t.feed),
+                    r6(t.pitch),
+                    r6((t.feed - t.pitch).abs())
+                ),
+            )
+        });
+    }
     for h in &job.turning.rapids {
         findings.push(Finding {
             z_mm: Some(r6(h.z)),

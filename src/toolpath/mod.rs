@@ -9,7 +9,8 @@
 //!   ([`lathe_turning`]);
 //! - on a mill, the milling moves into the kernel's [`MillPath`] in the part's frame
 //!   (`mill::mill_path`);
-//! - a lathe program's cycle time from its moves and dwells (`cycle::cycle_time`).
+//! - a lathe program's cycle time from its moves and dwells (`cycle::cycle_time`);
+//! - a tap's strokes (thread moves on the axis) into passes of its tooth (`tap`).
 //!
 //! It knows the job only through what it is given (the program to run, the tools or
 //! cutters, the machine's axis and speed) and does no IO: the program's text and its
@@ -20,13 +21,15 @@ use crate::kernel::turn::{Profile, TurnCut, TurnPath, Turned, TurningTool};
 use crate::model::part::PartProfile;
 use crate::model::pass::Pass;
 use crate::model::setup::ChainLink;
-use crate::model::tool::{Holder, Tool};
+use crate::model::tool::{Holder, Tap, Tool};
 use crate::nc::{self, Dialect, MoveKind, NcError, Source, Toolpath};
 
 mod cycle;
 mod mill;
+mod tap;
 pub(crate) use cycle::cycle_time;
 pub(crate) use mill::{mill_path, MillSetup};
+pub(crate) use tap::TapFeed;
 
 /// A program to run: the file the job names, its dialect and the interpreter's options.
 #[derive(Clone, Debug)]
@@ -95,8 +98,11 @@ pub(crate) struct LathePasses {
     pub(crate) rpm: Vec<Option<f64>>,
     /// Each pass is a threading cycle's (`nc::Move::cycle`).
     pub(crate) cycle: Vec<bool>,
-    /// Warnings about blocks as a whole (a tap's blocks, not simulated), in program order.
+    /// Warnings about blocks as a whole (a tap's blocks without a tap tool), in program
+    /// order.
     pub(crate) warnings: Vec<StageWarning>,
+    /// The tap strokes whose feed is not the tap's pitch, one a block.
+    pub(crate) tap_feeds: Vec<TapFeed>,
 }
 
 /// A warning of the program stage about a block as a whole (its column is 0).
@@ -119,6 +125,7 @@ pub(crate) fn lathe_passes(
     moves: &[nc::Move],
     tools: &[Tool],
     turning: &[TurningTool],
+    taps: &[Tap],
 ) -> Result<LathePasses, ProgramError> {
     let fail = |m: &nc::Move, message: String| ProgramError::Move {
         file: m.file.clone(),
@@ -126,6 +133,8 @@ pub(crate) fn lathe_passes(
         message,
     };
     let mut out = LathePasses::default();
+    // Each tap's direction into the hole: that of its first stroke.
+    let mut tap_dirs: std::collections::HashMap<u32, f64> = std::collections::HashMap::new();
     // A thread move that goes nowhere (a repeated block) cuts nothing.
     let goes = |m: &&nc::Move| m.z != m.z_start || m.x_dia != m.x_start;
     for m in moves
@@ -134,21 +143,54 @@ pub(crate) fn lathe_passes(
         .filter(goes)
     {
         // A thread move along the spindle axis is a tap's (G84, G33.1, G331/G332, CYCLE84,
-        // G32 at X0): a threading tool's pass there would cut the whole part away, and there
-        // is no tap tool yet. The block is left out with a warning (once a block); the
-        // program's other threads are simulated.
+        // G32 at X0): with a `kind = "tap"` tool its inward strokes become passes of the
+        // tap's tooth (`tap`); without one, a threading tool's pass there would cut the
+        // whole part away, so the block is left out with a warning (once a block).
         if m.x_start.abs() < 1e-9 && m.x_dia.abs() < 1e-9 {
-            let seen = out
-                .warnings
-                .iter()
-                .any(|w| (w.file.as_str(), w.line) == (m.file.as_str(), m.line));
-            if !seen {
-                out.warnings.push(StageWarning {
+            let Some(tap) = m.tool.and_then(|id| taps.iter().find(|t| t.id == id)) else {
+                let seen = out
+                    .warnings
+                    .iter()
+                    .any(|w| (w.file.as_str(), w.line) == (m.file.as_str(), m.line));
+                if !seen {
+                    out.warnings.push(StageWarning {
+                        file: m.file.clone(),
+                        line: m.line,
+                        message: "tapping (a thread move along the spindle axis, X0) is not simulated with a tool that is not a tap (kind = \"tap\"): this block's moves cut nothing".into(),
+                        hint: "give the tap as a [[tool]] with kind = \"tap\" (diameter, pitch, chamfer_length or chamfer_threads) and the T number the program selects".into(),
+                    });
+                }
+                continue;
+            };
+            let dir = if m.z < m.z_start { -1.0 } else { 1.0 };
+            let inward = *tap_dirs.entry(tap.id).or_insert(dir);
+            if dir != inward {
+                // The way out on the same helix cuts nothing more.
+                continue;
+            }
+            let lead = m.lead.unwrap_or(0.0);
+            if (lead - tap.pitch).abs() > tap::FEED_TOLERANCE
+                && !out
+                    .tap_feeds
+                    .iter()
+                    .any(|f| (f.file.as_str(), f.line) == (m.file.as_str(), m.line))
+            {
+                out.tap_feeds.push(TapFeed {
                     file: m.file.clone(),
                     line: m.line,
-                    message: "tapping (a thread move along the spindle axis, X0) is not simulated: vpcut has no tap tool yet, so this block's moves cut nothing".into(),
-                    hint: "the program's other thread blocks are simulated; `vpcut toolpath` lists the tap's moves".into(),
+                    feed: lead,
+                    pitch: tap.pitch,
                 });
+            }
+            let tool = tools
+                .iter()
+                .position(|t| t.id == tap.id)
+                .expect("a tap's tooth is in the tool list");
+            for pass in tap::stroke_passes(m, tap, tool).map_err(|e| fail(m, e))? {
+                out.blocks.push((m.file.clone(), m.line));
+                out.rpm.push(m.speed.at(pass.x_end.abs()));
+                out.cycle.push(m.cycle);
+                out.passes.push(pass);
             }
             continue;
         }

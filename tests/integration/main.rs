@@ -34,6 +34,8 @@ mod linuxcnc;
 mod milling;
 /// NC programs as data: `tests/data/nc/<dialect>/*.nc` against their reviewed `*.moves`.
 mod nc_data;
+/// Okuma OSP-P programs through jobs: a whole part program cut and gauged.
+mod okuma;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.
 mod oracle;
 /// Output files all or nothing, symlinks, `-`, closed pipes, CI formats, `vpcut check`.
@@ -55,6 +57,8 @@ mod robust;
 /// `--gltf` alone: the model meshed as the columns stream, the full grid's bytes.
 mod streamed_mesh;
 mod streaming;
+/// Taps: tapping strokes cut the internal thread and its chamfer cone; the feed's finding.
+mod taps;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;
 /// No false PASS: randomized clean cuts pass, short defects fail on their turn and flank.

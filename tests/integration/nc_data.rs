@@ -21,13 +21,14 @@ use vpcut::{
 };
 
 /// The dialect folders and what they run as.
-const DIALECTS: [(&str, Dialect, bool); 6] = [
+const DIALECTS: [(&str, Dialect, bool); 7] = [
     ("fanuc", Dialect::Fanuc, false),
     ("gsk", Dialect::Gsk980, false),
     ("siemens", Dialect::Siemens802d, false),
     ("siemens-840d", Dialect::Siemens840d, false),
     ("linuxcnc", Dialect::Linuxcnc, false),
     ("fanuc-mill", Dialect::Fanuc, true),
+    ("okuma", Dialect::Okuma, false),
 ];
 
 /// The milling machine of `fanuc-mill`: G54's work zero at (100, 50, -10), G57's at the
@@ -204,12 +205,12 @@ fn render(result: &Result<Toolpath, Box<vpcut::NcError>>) -> String {
     out
 }
 
-/// The `.nc` files of a folder, sorted.
+/// The `.nc` files of a folder (Okuma's `.MIN` main programs too), sorted.
 fn programs(dir: &Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .map(|d| {
             d.filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "nc"))
+                .filter(|p| p.extension().is_some_and(|x| x == "nc" || x == "MIN"))
                 .collect()
         })
         .unwrap_or_default();
@@ -346,7 +347,7 @@ fn corpus_programs_are_listed_and_run_to_their_threads() {
         let index = std::fs::read_to_string(dir.join("CORPUS.md"))
             .unwrap_or_else(|_| panic!("{folder}: corpus programs but no CORPUS.md"));
         for name in &corpus {
-            let stem = name.trim_end_matches(".nc");
+            let stem = name.trim_end_matches(".nc").trim_end_matches(".MIN");
             assert!(
                 index.contains(&format!("`{name}`")) || index.contains(&format!("`{stem}`")),
                 "{folder}/{name} is not listed in {folder}/CORPUS.md"
@@ -365,7 +366,7 @@ fn corpus_programs_are_listed_and_run_to_their_threads() {
         for listed in index.lines().filter_map(|l| {
             let l = l.strip_prefix("| `")?;
             let listed = &l[..l.find('`')?];
-            Some(if listed.ends_with(".nc") {
+            Some(if listed.ends_with(".nc") || listed.ends_with(".MIN") {
                 listed.to_string()
             } else {
                 format!("{listed}.nc")

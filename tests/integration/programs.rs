@@ -204,8 +204,9 @@ fn g55_work_offset_shifts_a_g32_pass() {
 
 /// Rigid tapping runs in the interpreter (its moves are thread moves along the axis); a job
 /// whose program also taps (with another tool) simulates its thread and leaves the tapping
-/// block out with a warning at that block, whatever the code (vpcut has no tap tool yet: a
-/// threading tool's pass at X0 would cut the whole part away). Issue 30: it used to stop
+/// block out with a warning at that block, whatever the code, when the job has no tap tool
+/// of that T number (a threading tool's pass at X0 would cut the whole part away; with a
+/// `kind = "tap"` tool the strokes cut, `taps.rs`). Issue 30: it used to stop
 /// the whole job. Oracle: the same program without its tapping blocks gives the same pass.
 #[test]
 fn tapping_blocks_are_warned_and_the_thread_is_simulated() {

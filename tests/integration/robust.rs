@@ -118,6 +118,7 @@ fn corrupted_corpus_programs_never_panic() {
         ("siemens", Dialect::Siemens802d),
         ("siemens-840d", Dialect::Siemens840d),
         ("linuxcnc", Dialect::Linuxcnc),
+        ("okuma", Dialect::Okuma),
     ];
     let limits = Limits {
         max_blocks: 20_000,
@@ -131,7 +132,7 @@ fn corrupted_corpus_programs_never_panic() {
             .unwrap()
             .map(|e| e.unwrap().path())
             .filter(|p| {
-                p.extension().is_some_and(|x| x == "nc")
+                p.extension().is_some_and(|x| x == "nc" || x == "MIN")
                     && p.file_name()
                         .unwrap()
                         .to_string_lossy()
