@@ -170,17 +170,18 @@ impl Interp<'_> {
                 }
                 // Haas `R1` in the P/Q block asks for type II (Haas lathe manual, G71 "R1 Type
                 // II roughing"); FANUC takes type II from block P naming both X and Z.
-                let haas_type_ii =
-                    match w.vals.get("R") {
-                        None => false,
-                        Some(&(r, _)) if r == 1.0 => true,
-                        Some(&(r, col)) => return Err((
+                let haas_type_ii = match w.vals.get("R") {
+                    None => false,
+                    Some(&(r, _)) if r == 1.0 => true,
+                    Some(&(r, col)) => {
+                        return Err((
                             col,
                             format!(
                                 "G{g} R{r} in the P/Q block: Haas reads R1 (type II roughing) only"
                             ),
-                        )),
-                    };
+                        ))
+                    }
+                };
                 let depth = match self.increment_or_units(w, "D") {
                     Some(d) => d,
                     None => self.thread.cycles.depth.ok_or((
