@@ -172,7 +172,7 @@ impl Interp<'_> {
                 // II roughing"); FANUC takes type II from block P naming both X and Z.
                 let haas_type_ii = match w.vals.get("R") {
                     None => false,
-                    Some(&(r, _)) if r == 1.0 => true,
+                    Some(&(1.0, _)) => true,
                     Some(&(r, col)) => {
                         return Err((
                             col,
