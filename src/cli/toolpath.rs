@@ -128,6 +128,7 @@ pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     opts.settings.reference_point = args.reference_point;
     opts.settings.second_reference_point = args.second_reference_point;
     opts.settings.gcode_system = args.gcode_system.unwrap_or_default();
+    opts.settings.gcode_system_named = args.gcode_system.is_some();
     opts.settings.decimal_point = args.decimal_point.unwrap_or_default();
     opts.settings.input_increment = args.input_increment.unwrap_or_default();
     opts.settings.power_on.inch = args.units.as_deref() == Some("inch");

@@ -46,6 +46,7 @@ pub(super) fn lathe_program(
                 format!("expected \"A\", \"B\" or \"C\" (FANUC lathe G-code system), got `{g}`"),
             )
         })?;
+        settings.gcode_system_named = true;
     }
     if let Some(m) = &pr.feed_mode {
         settings.power_on.per_minute = match m.as_str() {

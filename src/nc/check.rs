@@ -612,6 +612,18 @@ fn siemens_block(
     if rest.is_empty() || !l.eat(":") {
         l.i = save;
     }
+    // G74/G75 (reference and fixed point approach): the axes named with any value
+    // (`G75 X1=0 Z1=0`, `FP=1`); the run reads the block (`siemens::fixed_point`).
+    l.ws();
+    let head = &l.s[l.i..];
+    if (head.starts_with(b"G74") || head.starts_with(b"G75"))
+        && !head
+            .get(3)
+            .is_some_and(|b| b.is_ascii_digit() || *b == b'.')
+    {
+        l.i = l.s.len();
+        return Ok(());
+    }
     while !l.at_end() {
         let at = l.i;
         let Some(c) = l.peek() else { break };

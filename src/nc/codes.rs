@@ -127,7 +127,8 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
                 Verdict::Run
             }
             (500 | 601 | 602 | 603 | 700 | 710, true) => Verdict::Run,
-            (74 | 75, true) => refused("reference or fixed point approach"),
+            // Reference and fixed point approach (`siemens::fixed_point`).
+            (74 | 75, true) => Verdict::Run,
             (53 | 153 | 158 | 159, true) => refused("frame or machine coordinates"),
             (110..=112, true) => refused("polar coordinates"),
             (331 | 332, true) => refused("tapping"),

@@ -168,12 +168,20 @@ impl Interp<'_> {
                         ));
                     }
                 }
-                if let Some(&(r, col)) = w.vals.get("R") {
-                    return Err((
-                        col,
-                        format!("G{g} R{r} in the P/Q block: type II roughing (Haas R1, pockets) is not simulated by vpcut"),
-                    ));
-                }
+                // Haas `R1` in the P/Q block asks for type II (Haas lathe manual, G71 "R1 Type
+                // II roughing"); FANUC takes type II from block P naming both X and Z.
+                let haas_type_ii = match w.vals.get("R") {
+                    None => false,
+                    Some(&(1.0, _)) => true,
+                    Some(&(r, col)) => {
+                        return Err((
+                            col,
+                            format!(
+                                "G{g} R{r} in the P/Q block: Haas reads R1 (type II roughing) only"
+                            ),
+                        ))
+                    }
+                };
                 let depth = match self.increment_or_units(w, "D") {
                     Some(d) => d,
                     None => self.thread.cycles.depth.ok_or((
@@ -200,6 +208,7 @@ impl Interp<'_> {
                     pc,
                     (depth, retract),
                     (du, dw),
+                    haas_type_ii,
                 )
             }
             73 => {
@@ -399,6 +408,7 @@ impl Interp<'_> {
         pc: usize,
         (dd, e): (f64, f64),
         (du, dw): (f64, f64),
+        haas_type_ii: bool,
     ) -> Result<Step, Fail> {
         let range = self.shape_range(w, prog, g)?;
         let start = (self.x, self.z);
@@ -414,15 +424,17 @@ impl Interp<'_> {
             .first()
             .filter(|_| first == 1)
             .map_or(MoveKind::Rapid, |m| m.kind);
-        if first == 1 {
-            let m = &moves[0];
-            let (p, q) = (f.ab((m.x_start, m.z_start)), f.ab((m.x_dia, m.z)));
-            if p.1 != q.1 || m.kind == MoveKind::Arc {
-                return Err((
-                    1,
-                    format!("G{g}: block P moves {other} too: type II roughing (pockets, P with both X and Z) is not simulated by vpcut; type I needs block P to move along {axis} only"),
-                ));
-            }
+        // Type II (FANUC 0i: block P names both X and Z, `W0` where Z stays; Haas: R1). A
+        // type II shape may have pockets; without one it is cut as type I (below).
+        let named_both = prog.blocks[range.0].2.to_ascii_uppercase();
+        let names = |c: &[char]| named_both.chars().any(|ch| c.contains(&ch));
+        let type_ii = haas_type_ii || (names(&['X', 'U']) && names(&['Z', 'W']));
+        if first == 1 && moves[0].kind == MoveKind::Arc {
+            // FANUC alarm PS0065 (G00/G01 IS NOT IN THE FIRST BLOCK OF SHAPE PROGRAM).
+            return Err((
+                1,
+                format!("G{g}: block P is an arc: the control alarms (FANUC PS0065, G00/G01 is not in the first block of shape program)"),
+            ));
         }
         let segs: Vec<Seg> = moves[first..]
             .iter()
@@ -458,25 +470,63 @@ impl Interp<'_> {
         if s == 0.0 {
             return Err((1, format!("G{g}: the start point is on the shape's start (moved by the allowance) in {axis}: no stock to remove")));
         }
-        let end = segs.last().map_or(bottom, |sg| sg.q);
-        let dir = sign(end.1 - bottom.1);
+        // The shape's direction along the passes: towards its point farthest from its start.
+        let far = segs
+            .iter()
+            .map(|sg| sg.q.1)
+            .max_by(|x, y| (x - bottom.1).abs().total_cmp(&(y - bottom.1).abs()))
+            .unwrap_or(bottom.1);
+        let end = (bottom.0, far);
+        let dir = sign(far - bottom.1);
         if dir == 0.0 {
             return Err((
                 1,
                 format!("G{g}: the finishing shape does not move along {other}"),
             ));
         }
-        for sg in &segs {
-            let bad = s * (sg.q.0 - sg.p.0) < -1e-9 || dir * (sg.q.1 - sg.p.1) < -1e-9;
-            if bad || arc_turns(&sg.mv) {
+        // A move that goes back along the passes is no alarm when it runs wholly at or
+        // beyond the first pass's level (a last block that retracts over the finished
+        // shape, `N20 G00 G40 Z0.1`): no pass meets it, only the finishing pass runs it.
+        let top = s * (a_start.0 - s * dd - bottom.0);
+        let inside: Vec<&Seg> = segs
+            .iter()
+            .filter(|sg| {
+                let h = |p: Ab| s * (p.0 - bottom.0);
+                let above = h(sg.p) >= top - 1e-9 && h(sg.q) >= top - 1e-9;
+                !(above && dir * (sg.q.1 - sg.p.1) < 0.0)
+            })
+            .collect();
+        for sg in &inside {
+            if dir * (sg.q.1 - sg.p.1) < -1e-9 {
                 return Err((
                     1,
                     format!(
-                        "G{g}: the finishing shape is not monotonic in X and Z at line {}: type I roughing needs a shape that goes one way in X and one way in Z (arcs within a quadrant); type II (pockets) is not simulated by vpcut",
+                        "G{g}: the finishing shape goes back along {other} at line {}: the control alarms (FANUC PS0064, the finishing shape is not a monotonous change); only moves above the first pass (none meets them) may go back",
                         sg.mv.line
                     ),
                 ));
             }
+            if s * (sg.q.0 - sg.p.0) < -1e-9 || arc_turns(&sg.mv) {
+                let why = if type_ii {
+                    "a type II pocket, which vpcut does not simulate yet"
+                } else {
+                    "type I roughing alarms on it (FANUC PS0064, the finishing shape is not a monotonous change); a pocket needs type II (block P naming both X and Z, Haas R1), which vpcut does not simulate yet"
+                };
+                return Err((
+                    1,
+                    format!(
+                        "G{g}: the finishing shape turns back in {axis} at line {}: {why}",
+                        sg.mv.line
+                    ),
+                ));
+            }
+        }
+        if type_ii {
+            self.out.notes.push((
+                1,
+                format!("G{g}: type II roughing (block P names both X and Z, or Haas R1) of a shape without pockets, cut as type I"),
+                "each rough pass retracts at 45 deg instead of following the shape up to the pass above; the last pass along the shape is the same".into(),
+            ));
         }
         let b0 = a_start.1;
         let mut at = start;
@@ -631,7 +681,7 @@ impl Interp<'_> {
         let to_xz = |c: f64, d: f64| if face { (2.0 * d, c) } else { (2.0 * c, d) };
         let (c0, d0) = to_cd(x0, z0);
         let (c1, d1) = to_cd(x1, z1);
-        let (peck, step) = if face { (dk, di) } else { (di, dk) };
+        let (peck, mut step) = if face { (dk, di) } else { (di, dk) };
         let (pw, sw) = if face { ("Q", "P") } else { ("P", "Q") };
         if c1 == c0 {
             return Err((
@@ -646,13 +696,15 @@ impl Interp<'_> {
             return Err((1, format!("G{g} needs {pw} (the peck depth) > 0")));
         }
         if d1 != d0 && step <= 0.0 {
-            return Err((
+            // A zero step with a shift to go (`G75 X30. Z-33. P3000 Q0` from a start at
+            // another Z): one plunge at the start and one at the end, a warning.
+            let axis = if face { "X" } else { "Z" };
+            self.out.notes.push((
                 1,
-                format!(
-                    "G{g} needs {sw} (the step) > 0 to move from the start to the end {}",
-                    if face { "X" } else { "Z" }
-                ),
+                format!("G{g} {sw}0 with an end {axis} away from the start: one plunge at the start {axis} and one at the end {axis}"),
+                format!("{sw} is the step between plunges; write it (or move to the end {axis} first) to say where the control plunges"),
             ));
+            step = (d1 - d0).abs();
         }
         let (sc, sd) = (sign(c1 - c0), sign(d1 - d0));
         let (len, span) = ((c1 - c0).abs(), (d1 - d0).abs());

@@ -7,7 +7,8 @@ use super::lex::Cursor;
 use super::{Interp, MoveKind, Program, Step, Sync, Words};
 
 /// The first G76 block's `P(mm)(rr)(aa)` (`controllers.md` 2.3; GSK 980TDc writes it the
-/// same way): six digits at most, mm finishing passes 01..99, rr chamfer 00..99 (0.1 L),
+/// same way): six digits at most, mm finishing passes 00..99 (00, which program generators
+/// write, cuts no pass at the full depth after the roughing's last at k - d), rr chamfer 00..99 (0.1 L),
 /// aa tool angle one of 80, 60, 55, 30, 29, 0 degrees. Anything else is an alarm on the
 /// control and an error here, at the P word.
 fn g76_p(p: f64, col: usize) -> Result<(u32, u32, u32), Fail> {
@@ -19,12 +20,6 @@ fn g76_p(p: f64, col: usize) -> Result<(u32, u32, u32), Fail> {
     }
     let p = p as u32;
     let (m, r, a) = (p / 10_000, (p / 100) % 100, p % 100);
-    if m == 0 {
-        return Err((
-            col,
-            format!("G76 P{p:06}: the finishing passes mm must be 01..99, got 00"),
-        ));
-    }
     if ![80, 60, 55, 30, 29, 0].contains(&a) {
         return Err((
             col,
@@ -460,6 +455,13 @@ impl Interp<'_> {
         }
         for _ in 0..s.m {
             depths.push(k);
+        }
+        if s.m == 0 && s.d > 0.0 {
+            self.out.notes.push((
+                1,
+                format!("G76 with 00 finishing passes (P00rraa) and a finishing allowance R ({} mm): the last pass stops that much short of the thread height", s.d),
+                "the finishing passes mm of P(mmrraa) cut the full height k; with 00 only the roughing runs, to k - d".into(),
+            ));
         }
         // The root diameter is X; passes stand back from it by (k - d_n), on the side
         // of the start point (outside for external threads, inside for internal).

@@ -39,6 +39,7 @@ mod codes;
 #[cfg(test)]
 mod cycle_tests;
 mod cycles;
+mod detect;
 mod expr;
 mod fanuc;
 mod lcnc_expr;
@@ -336,6 +337,10 @@ pub struct Settings {
     pub mill: Option<MillSettings>,
     /// FANUC/GSK lathe G-code system (A, B or C; [`GcodeSystem`]).
     pub gcode_system: GcodeSystem,
+    /// Whether the job or the command line named the G-code system. When not, a FANUC
+    /// lathe program that shows system B or C (G90/G91, G94/G95 as modes, and nothing of
+    /// system A) is read in that system, with a warning (`detect`).
+    pub gcode_system_named: bool,
     /// How a FANUC/GSK number without a decimal point is read ([`DecimalPoint`]).
     pub decimal_point: DecimalPoint,
     /// The least input increment of FANUC/GSK words without a decimal point
@@ -398,6 +403,7 @@ impl Default for Settings {
             second_reference_point: None,
             mill: None,
             gcode_system: GcodeSystem::A,
+            gcode_system_named: false,
             decimal_point: DecimalPoint::Standard,
             input_increment: InputIncrement::Micrometre,
             power_on: PowerOn::default(),
@@ -596,6 +602,21 @@ pub fn interpret_with(
     let real = dialect;
     let gsk = dialect == Dialect::Gsk980;
     let dialect = dialect.syntax();
+    let detected = detect::detected_system(main, real, opts);
+    let with_system;
+    let opts = match &detected {
+        Some(d) => {
+            with_system = Options {
+                settings: Settings {
+                    gcode_system: d.0,
+                    ..opts.settings.clone()
+                },
+                ..opts.clone()
+            };
+            &with_system
+        }
+        None => opts,
+    };
     let mut m = Interp::new(dialect, gsk, loader, opts);
     m.cfg.s840 = real == Dialect::Siemens840d;
     m.lc.st.home28 = m.frames.reference;
@@ -678,6 +699,9 @@ pub fn interpret_with(
         return Err(NcError::from_diagnostics(diagnostics));
     }
     let mut warnings = diagnostics;
+    if let Some((system, line, why)) = detected {
+        warnings.insert(0, detect::system_warning(main, system, line, &why));
+    }
     let moves = m.run(prog, &mut warnings).map_err(|mut e| {
         e.others = warnings.clone();
         e

@@ -270,3 +270,113 @@ fn cycles_in_gcode_systems_b_and_c_are_the_system_a_cycles() {
     let b_inc = run_in(GcodeSystem::B, &inc);
     assert_eq!(a, b_inc);
 }
+
+/// Issue 27: a shape that ends by going back along the passes (`N20 G00 G40 Z0.1`, Haas and
+/// FANUC shop programs) runs when the move lies above the first pass, and then the
+/// second method is the same shape without it: every move of the cycle up to the end of
+/// the last pass along the shape is the same (no pass meets the added move). Where the
+/// move goes back at a level the passes meet, the run stops with FANUC's alarm PS0064.
+/// Random monotonic shapes for G71 outside and inside and G72 (seeded).
+#[test]
+fn a_shape_that_goes_back_above_the_first_pass_roughs_as_without_it() {
+    let mut rng = Rng(27);
+    let mut alarms = 0;
+    let q = |v: f64| (v * 1000.0).round() / 1000.0;
+    let run_result = |text: &str| {
+        let src = Source {
+            name: "T.NC".into(),
+            text: text.into(),
+        };
+        let opts = Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        };
+        interpret_with(&src, Dialect::Fanuc, &|_| None, &opts)
+    };
+    for case in 0..240 {
+        let facing = case % 3 == 2;
+        let outside = facing || case % 3 == 0;
+        let s = if outside { 1.0 } else { -1.0 };
+        let g = if facing { 72 } else { 71 };
+        let a_first = if facing {
+            rng.mm(-25.0, -10.0)
+        } else if outside {
+            rng.mm(5.0, 15.0)
+        } else {
+            rng.mm(25.0, 35.0)
+        };
+        let b0 = if facing {
+            rng.mm(40.0, 60.0)
+        } else {
+            rng.mm(1.0, 3.0)
+        };
+        let mut pts = vec![(q(a_first), q(b0))];
+        for k in 0..2 + (rng.next() % 4) as usize {
+            let (a, b) = *pts.last().expect("one");
+            let db = rng.mm(1.0, 6.0);
+            let da = rng.mm(0.5, 4.0);
+            pts.push(if k == 0 {
+                (a, q(b - db))
+            } else {
+                (q(a + s * da), q(b - db))
+            });
+        }
+        let a_last = pts.last().expect("points").0;
+        let a_start = q(a_last + s * rng.mm(0.5, 5.0));
+        let dd = q(rng.mm(0.3, 3.0));
+        let xz = |(a, b): (f64, f64)| if facing { (2.0 * b, a) } else { (2.0 * a, b) };
+        let start = xz((a_start, b0));
+        let depth_word = if facing { "W" } else { "U" };
+        let head = format!(
+            "G0 X{:.3} Z{:.3}\nG{g} {depth_word}{dd:.3} R0.5\nG{g} P10 Q20 U0 W0 F0.2\n",
+            start.0, start.1
+        );
+        let first = xz(pts[0]);
+        let mut body = if facing {
+            format!("N10 G0 Z{:.3}\n", first.1)
+        } else {
+            format!("N10 G0 X{:.3}\n", first.0)
+        };
+        for &p in &pts[1..] {
+            let (x, z) = xz(p);
+            body.push_str(&format!("G1 X{x:.3} Z{z:.3}\n"));
+        }
+        let plain = format!("{head}{body}N20 G1\nM30\n");
+        // Up to a level `up` above the last point, then back to the start's b.
+        let back = |up: f64| {
+            let top = xz((q(a_last + s * up), b0));
+            let (x, z) = xz((q(a_last + s * up), pts.last().expect("points").1));
+            format!(
+                "{head}{body}G1 X{x:.3} Z{z:.3}\nN20 G0 X{:.3} Z{:.3}\nM30\n",
+                top.0, top.1
+            )
+        };
+        // Above the first pass (the start's level less dd): the same roughing.
+        let above = back((a_start * s - a_last * s - dd + 0.2).max(0.05));
+        let want = run_result(&plain).unwrap_or_else(|e| panic!("case {case}: {e}\n{plain}"));
+        let got = run_result(&above).unwrap_or_else(|e| panic!("case {case}: {e}\n{above}"));
+        // The plain cycle ends with the last pass along the shape and the rapids back.
+        let cycle = |t: &Toolpath| -> Vec<Move> {
+            t.moves.iter().filter(|m| m.line == 3).cloned().collect()
+        };
+        let (w, gm) = (cycle(&want), cycle(&got));
+        let rapids_back = w
+            .iter()
+            .rev()
+            .take_while(|m| m.kind == MoveKind::Rapid)
+            .count();
+        let common = w.len() - rapids_back;
+        assert_eq!(w[..common], gm[..common], "case {case}\n{above}");
+        // Below the first pass: a pass meets the move that goes back: PS0064.
+        if s * (a_start - a_last) > dd + 0.3 {
+            let below = back(0.1);
+            let e = run_result(&below).expect_err(&below);
+            assert!(e.message.contains("PS0064"), "case {case}: {e}\n{below}");
+            alarms += 1;
+        }
+    }
+    assert!(
+        alarms > 40,
+        "{alarms} shapes went back where a pass meets them"
+    );
+}

@@ -2,12 +2,13 @@
 //! GOTO, IF .. GOTOF, subprogram calls by name with P repeats, RET, the thread cycles
 //! CYCLE97/CYCLE99 (`siemens_cycles`); with the 840D (`Config::s840`) its statements
 //! (`siemens_840d`), user variables (`siemens_vars`) and structured control flow
-//! (`siemens_flow`).
+//! (`siemens_flow`); G74/G75 reference and fixed point approach; a GUD the program assigns
+//! without a DEF and a cycle of the machine that is not found are warnings.
 
 use super::codes;
 use super::expr::{r_index, Fail};
 use super::lex::Cursor;
-use super::{Interp, Program, Step, Words};
+use super::{Interp, MoveKind, Program, Step, Words};
 
 impl Interp<'_> {
     pub(super) fn siemens_block(
@@ -29,6 +30,9 @@ impl Interp<'_> {
         if name.is_empty() || !c.eat(":") {
             // Not a label: read the block from the start.
             c.i = save;
+        }
+        if let Some(step) = self.fixed_point(prog, pc, &c.s[c.i..])? {
+            return Ok(step);
         }
         if self.cfg.s840 {
             if let Some(step) = self.s840_statement(prog, pc, &mut c)? {
@@ -61,6 +65,22 @@ impl Interp<'_> {
             }
             if s840 && self.user_var(&name).is_some() {
                 self.assign_user(&mut c, &name)?;
+                continue;
+            }
+            // `NAME=` with a name that is no address: a GUD of the machine (840D).
+            if s840
+                && name.len() > 1
+                && !codes::siemens_address(&name)
+                && !codes::siemens_keyword(&name)
+                && {
+                    let mut k = c.i;
+                    while c.s.get(k) == Some(&b' ') {
+                        k += 1;
+                    }
+                    c.s.get(k) == Some(&b'=') && c.s.get(k + 1) != Some(&b'=')
+                }
+            {
+                self.assign_gud(&mut c, &name, at + 1)?;
                 continue;
             }
             // An address letter (or R) and its number.
@@ -170,6 +190,15 @@ impl Interp<'_> {
                     // A subprogram called by name, with an optional repeat `P n`; on the
                     // 840D with arguments `NAME(a, b)` for its PROC, in a scope of its own.
                     if s840 && c.peek() == Some(b'(') {
+                        // A cycle that is nowhere to be found (a manufacturer's cycle of
+                        // the machine, `_APPROACH_WITH_A_AXIS(..)`): a warning naming it.
+                        if self.find_program(call).is_none() {
+                            self.unknown(
+                                at + 1,
+                                format!("cycle `{call}` not found (in this file or as {call}.SPF beside it): a cycle of the machine, skipped; its moves are missing from the toolpath"),
+                            )?;
+                            break;
+                        }
                         self.call_args(&mut c, at + 1)?;
                     }
                     let mut times = 1;
@@ -210,6 +239,60 @@ impl Interp<'_> {
             }
         }
         self.apply(&w, prog, pc)
+    }
+
+    /// `G74 X1=0 Z1=0` (reference point approach) and `G75 [FP=n] X1=0 Z1=0` (fixed point
+    /// approach), SINUMERIK 802D/840D programming manuals, "Fixed point approach G75" and
+    /// "Reference point approach G74": the named axes go at rapid straight to the point the
+    /// machine data holds (the values written are ignored); nothing else in the block. The
+    /// reference point is the job's `reference_point`, fixed point 1 (the default) its
+    /// `second_reference_point` (machine coordinates, as FANUC's G28/G30).
+    fn fixed_point(
+        &mut self,
+        prog: &Program,
+        pc: usize,
+        rest: &[u8],
+    ) -> Result<Option<Step>, Fail> {
+        let text = String::from_utf8_lossy(rest).to_string();
+        let t = text.trim_start();
+        let g = if t.starts_with("G74") {
+            74
+        } else if t.starts_with("G75") {
+            75
+        } else {
+            return Ok(None);
+        };
+        if t[3..].starts_with(|ch: char| ch.is_ascii_digit() || ch == '.') {
+            return Ok(None);
+        }
+        let after = &t[3..];
+        if let Some(k) = after.find("FP=") {
+            let digits: String = after[k + 3..]
+                .chars()
+                .take_while(char::is_ascii_digit)
+                .collect();
+            if g == 75 && digits != "1" {
+                return Err((
+                    1,
+                    format!("G75 FP={digits}: only fixed point 1 is known (the job's [program] second_reference_point)"),
+                ));
+            }
+        }
+        let named = |a: char| after.contains(a);
+        let point = if g == 74 {
+            self.frames.reference
+        } else {
+            self.frames.reference2
+        };
+        let end = (
+            if named('X') { point.0 } else { self.x },
+            if named('Z') { point.1 } else { self.z },
+        );
+        if end != (self.x, self.z) {
+            self.emit(prog, pc, MoveKind::Rapid, (self.x, self.z), end, None);
+        }
+        (self.x, self.z) = end;
+        Ok(Some(Step::Next))
     }
 
     pub(super) fn label(

@@ -48,6 +48,9 @@ pub(super) struct S840State {
     pub(super) tool_names: Vec<String>,
     /// DIAM90 is active (diameters in G90; G91 X, in radius there, is refused).
     pub(super) diam90: bool,
+    /// Global user data (GUD) the program assigns without a DEF: the machine's definition
+    /// files define them (issue 27, `TEST=1`); REAL scalars seen by every program level.
+    pub(super) gud: HashMap<String, UserVar>,
 }
 
 impl UserVar {
@@ -243,7 +246,29 @@ impl Interp<'_> {
 
     /// The user variable `name` of the running program, if defined.
     pub(super) fn user_var(&self, name: &str) -> Option<&UserVar> {
-        self.scope().and_then(|s| s.get(name))
+        self.scope()
+            .and_then(|s| s.get(name))
+            .or_else(|| self.vars.s840.gud.get(name))
+    }
+
+    /// `NAME = value` where NAME is no variable of the program: on the control a global user
+    /// variable (GUD) that a definition file of the machine defines (`DEF NCK REAL TEST` in
+    /// `_N_UGUD_DEF`); kept as a REAL scalar from here on, with a warning naming it.
+    pub(super) fn assign_gud(&mut self, c: &mut Cursor, name: &str, at: usize) -> Result<(), Fail> {
+        self.vars.s840.gud.insert(
+            name.to_string(),
+            UserVar {
+                ty: VarType::Real,
+                dims: (1, 1),
+                values: vec![0.0],
+            },
+        );
+        self.out.notes.push((
+            at,
+            format!("`{name}` is not defined in the program: taken as a global user variable (GUD) of the machine"),
+            format!("the control needs `{name}` in a GUD definition file (DEF NCK REAL {name} or DEF CHAN ...); vpcut keeps it as a REAL from this assignment on"),
+        ));
+        self.assign_user(c, name)
     }
 
     /// The element index of `var` named at `c` (`[i]`, `[i, j]`, or nothing for a
@@ -320,7 +345,13 @@ impl Interp<'_> {
         }
         let v = self.expr(c)?;
         let v = var.typed(v);
-        if let Some(slot) = self.scope_mut().get_mut(name) {
+        let local = self.scope().is_some_and(|s| s.contains_key(name));
+        let slot = if local {
+            self.scope_mut().get_mut(name)
+        } else {
+            self.vars.s840.gud.get_mut(name)
+        };
+        if let Some(slot) = slot {
             slot.values[k] = v;
         }
         Ok(())

@@ -60,8 +60,33 @@ fn fanuc_g76_depth_schedule_and_flank_infeed() {
         assert_eq!(m.lead, Some(2.0));
         prev = depth;
     }
-    let e = run("G76 P010060 Q0.1 R0\n", Dialect::Fanuc).unwrap_err();
-    assert!(e.message.contains("no decimal point"), "{e}");
+    // Q with a point: 0.1 mm with a warning (Haas; a FANUC 0i alarms PS0007), the same
+    // passes as Q100.
+    let full = |text: &str| {
+        let src = Source {
+            name: "T.NC".into(),
+            text: text.into(),
+        };
+        let opts = Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        };
+        interpret_with(&src, Dialect::Fanuc, &|_| None, &opts).unwrap()
+    };
+    let plain = full("G0 X30 Z5\nG76 P020060 Q100 R0.05\nG76 X24 Z-20 P1300 Q450 F2\nM30\n");
+    let pointed = full("G0 X30 Z5\nG76 P020060 Q0.1 R0.05\nG76 X24 Z-20 P1.3 Q0.45 F2\nM30\n");
+    assert_eq!(plain.moves, pointed.moves);
+    assert!(plain.warnings.is_empty(), "{:?}", plain.warnings);
+    let said: Vec<&str> = pointed
+        .warnings
+        .iter()
+        .map(|w| w.message.as_str())
+        .collect();
+    assert_eq!(said.len(), 3, "{said:?}");
+    assert!(
+        said.iter().all(|m| m.contains("has a decimal point")),
+        "{said:?}"
+    );
 }
 
 /// Seed 000's first program (GSK 980TDC, OCR-corrected: `00001` -> `O0001`,

@@ -197,11 +197,13 @@ impl Interp<'_> {
         self.length(w, k).map(|v| v * xs)
     }
 
-    /// A word that always counts in the least input increment (FANUC G74..G76 `P`/`Q`:
-    /// "never take a point") in mm; with a decimal point it is refused, as the control
-    /// alarms. `what` names the code in the message.
+    /// A word that counts in the least input increment (FANUC G74..G76 `P`/`Q`: "never take
+    /// a point"), in mm. Written with a decimal point it is read in program units with a
+    /// warning: Haas and the FANUC-style controls of program generators accept
+    /// `G76 X38.05 Z-40. P0.974 Q0.3` (issue 27), where a FANUC 0i alarms (PS0007, illegal
+    /// use of decimal point). `what` names the code in the message.
     pub(super) fn increment_word(
-        &self,
+        &mut self,
         w: &Words,
         k: &str,
         what: &str,
@@ -210,18 +212,17 @@ impl Interp<'_> {
             return Ok(None);
         };
         if w.points.iter().any(|p| p == k) {
-            return Err((
+            let (unit, inc) = if self.modal.inch {
+                ("in", self.cfg.increment.inch())
+            } else {
+                ("mm", self.cfg.increment.mm())
+            };
+            self.out.notes.push((
                 col,
-                format!(
-                    "{what} {k} counts in the least input increment ({} {}) and takes no decimal point",
-                    if self.modal.inch {
-                        self.cfg.increment.inch()
-                    } else {
-                        self.cfg.increment.mm()
-                    },
-                    if self.modal.inch { "in" } else { "mm" }
-                ),
+                format!("{what} {k}{v} has a decimal point: read as {v} {unit}, as the controls that accept the point here do (Haas, FANUC-style controls of program generators)"),
+                format!("{what} {k} counts in the least input increment ({inc} {unit}) without a point; a FANUC 0i alarms on the point (PS0007, illegal use of decimal point)"),
             ));
+            return Ok(Some(v * self.unit()));
         }
         Ok(Some(v * self.increment_mm()))
     }

@@ -43,7 +43,9 @@ struct Ctx {
 enum Unit {
     /// An address that takes a point (X, Z, U, W, R, I, K, J, G71 U/R, ...).
     Length,
-    /// Never a point: the least input increment (G74..G76 P/Q).
+    /// The least input increment (G74..G76 P/Q: "never a point" on a FANUC 0i, which
+    /// alarms PS0007); written with a point, program units with a warning, as Haas and the
+    /// FANUC-style controls of program generators read `G76 P0.974 Q0.3` (issue 27).
     Increment,
     /// The least increment without a point, program units with one, in either mode
     /// (one-block G76 K/D, G71 D).
@@ -63,7 +65,7 @@ fn manual(unit: Unit, literal: f64, point: bool, calculator: bool, c: Ctx) -> Op
     match unit {
         Unit::Length if point || calculator => Some(literal * c.unit),
         Unit::Length => Some(literal * c.inc),
-        Unit::Increment if point => None,
+        Unit::Increment if point => Some(literal * c.unit),
         Unit::Increment => Some(literal * c.inc),
         Unit::IncrementOrUnits if point => Some(literal * c.unit),
         Unit::IncrementOrUnits => Some(literal * c.inc),
@@ -207,7 +209,8 @@ fn rows() -> Vec<Row> {
             template: "G0 X600. Z10.\nG76 P010060 Q100 R0.\nG76 X300. Z-100. P5000 Q{v} F2.\n",
             word: "Q",
             plain: ("1000", ""),
-            point: ("1.", ""),
+            // Below the height in inch too (0.1 in < P5000 = 0.5 in).
+            point: ("0.1", ""),
             unit: Unit::Increment,
             probe: |m, c| 5000.0 * c.inc - (first(m).x_dia - last(m).x_dia) / 2.0,
         },

@@ -7,6 +7,8 @@ mod support;
 mod bodies;
 /// The command line: exit codes, error messages, atomic outputs.
 mod cli;
+/// Issue 27: the coverage tables in `docs/coverage/` against the NC corpus.
+mod coverage;
 /// Issue 28: programs that crash on the machine fail at their block; their fixes pass.
 mod crashes;
 /// Issue 28: cycle times against derivations by hand.

@@ -91,7 +91,9 @@ fn every_corpus_program_runs_strictly_with_its_thread_moves() {
 }
 
 /// Before issue 17 a FANUC tape whose blocks end in `;` on one line read as one comment:
-/// nothing ran. Now it runs, and system-B programs read in system A are refused by name.
+/// nothing ran. Now it runs, and a system-B program read in a system A that the job names
+/// is refused by name (strict). Issue 27: with no system named, the program's system is
+/// read from it: the same moves as with `gcode_system = "B"`, and one warning naming it.
 #[test]
 fn the_corpus_needs_what_issue_17_added() {
     let dir = crate::support::root().join("tests/data/programs");
@@ -100,11 +102,33 @@ fn the_corpus_needs_what_issue_17_added() {
         name: "fanuc-system-b.nc".into(),
         text,
     };
-    let strict = NcOptions {
-        strict: true,
+    let with = |system: Option<GcodeSystem>, strict: bool| NcOptions {
+        strict,
+        settings: Settings {
+            gcode_system: system.unwrap_or(GcodeSystem::A),
+            gcode_system_named: system.is_some(),
+            ..Settings::default()
+        },
         ..NcOptions::default()
     };
-    assert!(interpret_with(&src, Dialect::Fanuc, &|_| None, &strict).is_err());
+    let named_a = with(Some(GcodeSystem::A), true);
+    assert!(interpret_with(&src, Dialect::Fanuc, &|_| None, &named_a).is_err());
+    let read = interpret_with(&src, Dialect::Fanuc, &|_| None, &with(None, false)).unwrap();
+    let named_b = interpret_with(
+        &src,
+        Dialect::Fanuc,
+        &|_| None,
+        &with(Some(GcodeSystem::B), false),
+    )
+    .unwrap();
+    assert_eq!(read.moves, named_b.moves);
+    assert!(read.moves.iter().any(|m| m.kind == MoveKind::Thread));
+    let said: Vec<&str> = read.warnings.iter().map(|w| w.message.as_str()).collect();
+    assert_eq!(said.len(), named_b.warnings.len() + 1, "{said:?}");
+    assert!(
+        said[0].starts_with("read in FANUC G-code system B"),
+        "{said:?}"
+    );
 }
 
 /// `vpcut toolpath` runs the corpus with its flags: the G-code system, and the reference
