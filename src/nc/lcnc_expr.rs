@@ -129,12 +129,10 @@ pub(super) struct Params {
     pub(super) levels: Vec<Level>,
 }
 
-/// One subroutine call's named locals and running `repeat` counters.
+/// One subroutine call's named locals.
 #[derive(Default)]
 pub(super) struct Level {
     pub(super) named: HashMap<String, f64>,
-    /// (program, block of the `repeat`) -> runs left.
-    pub(super) repeats: HashMap<(usize, usize), i64>,
 }
 
 /// Operator precedence levels, lowest first.

@@ -246,7 +246,7 @@ fn bad_lines_are_errors_with_columns() {
         ("G0 X[1+]\n", 1, 8, "expected a value"),
         ("G0 X[1/0]\n", 1, 7, "division by zero"),
         ("G0 X[SQRT[-1]]\n", 1, 6, "SQRT of -1"),
-        ("o1 endwhile\n", 1, 1, "no matching o1 while"),
+        ("o1 endwhile\n", 1, 1, "undefined O-word label"),
         ("o1 while [1]\nG0 X1\n", 1, 1, "no matching o1 endwhile"),
         ("o1 frob\n", 1, 4, "expected sub, endsub"),
         (
@@ -283,7 +283,7 @@ fn bad_lines_are_errors_with_columns() {
         assert!(e.message.contains(msg), "{text}: {e}");
     }
     let e = run("o1 return\n").unwrap_err();
-    assert!(e.message.contains("outside a subroutine"), "{e}");
+    assert!(e.message.contains("not in a subroutine definition"), "{e}");
     let e = run("o1 sub\nG0 X1\n").unwrap_err();
     assert!(e.message.contains("no matching o1 endsub"), "{e}");
     // No line can exhaust the stack: nesting, signs and parameters of parameters.

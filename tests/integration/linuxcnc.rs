@@ -630,3 +630,90 @@ fn rigid_tapping_matches_linuxcnc() {
     }
     assert_eq!(n_taps, 9);
 }
+
+/// Issue 27: `return`/`endsub` inside nested `if`/`while`/`do`/`repeat` blocks, against
+/// rs274 (`tests/data/linuxcnc/flow/`: hand-written cases and 24 seeded random programs of
+/// `gen.py`, references by `regen.sh`). Where rs274 runs a program, every move is its move
+/// (kind, start and end to its 4 printed decimals); where it stops (`NAME.err`), vpcut
+/// refuses it too, with rs274's words (the text before the quote: "duplicate O-word
+/// label", "undefined O-word label", "not in a subroutine definition") at rs274's line or
+/// naming it.
+#[test]
+fn return_inside_blocks_matches_linuxcnc() {
+    let dir = root().join("tests/data/linuxcnc/flow");
+    let programs = reference_programs(&dir);
+    assert!(programs.len() >= 30, "{} programs", programs.len());
+    let (mut n_errors, mut n_moves) = (0, 0);
+    let mut failures = Vec::new();
+    for (name, src, _, _) in &programs {
+        let canon = std::fs::read_to_string(dir.join(format!("{name}.canon"))).unwrap();
+        let want = canon_moves(&canon, 1.0);
+        let loader = |file: &str| -> Option<Source> {
+            let text = std::fs::read_to_string(dir.join(file)).ok()?;
+            Some(Source {
+                name: file.to_string(),
+                text,
+            })
+        };
+        let got = interpret(src, Dialect::Linuxcnc, &loader, Limits::default());
+        if let Ok(err) = std::fs::read_to_string(dir.join(format!("{name}.err"))) {
+            n_errors += 1;
+            let first = err.lines().next().unwrap();
+            let (line, text) = first.split_once(": ").unwrap();
+            let line: usize = line.parse().unwrap();
+            let words = text.split([':', '-']).next().unwrap().trim();
+            match got {
+                Ok(_) => failures.push(format!("{name}: runs, rs274 stops: {first}")),
+                Err(e) => {
+                    let at = e.line == line || e.message.contains(&format!("line {line}"));
+                    if !at || !e.message.contains(words) {
+                        failures.push(format!("{name}: {e}\n   vs rs274 {first}"));
+                    }
+                }
+            }
+            continue;
+        }
+        let moves = match got {
+            Ok(m) => m,
+            Err(e) => {
+                failures.push(format!("{name}: {e}"));
+                continue;
+            }
+        };
+        let moves: Vec<&vpcut::Move> = moves
+            .iter()
+            .filter(|m| m.x_dia != m.x_start || m.z != m.z_start)
+            .collect();
+        let want: Vec<&CanonMove> = want
+            .iter()
+            .filter(|w| (w.to[0] - w.from[0]).hypot(w.to[1] - w.from[1]) > 0.6e-4)
+            .collect();
+        if moves.len() != want.len() {
+            failures.push(format!(
+                "{name}: {} moves, rs274 {}",
+                moves.len(),
+                want.len()
+            ));
+            continue;
+        }
+        for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
+            n_moves += 1;
+            let got = [m.x_start / 2.0, m.z_start, m.x_dia / 2.0, m.z];
+            let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
+            let bad = (0..4).any(|c| (got[c] - exp[c]).abs() > 0.51e-4)
+                || (m.kind == MoveKind::Rapid) != w.rapid;
+            if bad {
+                failures.push(format!("{name} move {k}: {m:?}\n   vs rs274 {w:?}"));
+                break;
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} programs differ from rs274:\n{}",
+        failures.len(),
+        programs.len(),
+        failures.join("\n")
+    );
+    assert!(n_errors >= 6 && n_moves > 500, "{n_errors} {n_moves}");
+}
