@@ -839,7 +839,8 @@ impl Interp<'_> {
         Ok(step)
     }
 
-    /// `o<name> call` of a subroutine not in this file: `name.ngc` beside it.
+    /// `o<name> call` of a subroutine not in this file: `name.ngc` beside it, else in the
+    /// folders of `Settings::subroutine_path`.
     fn lc_load_sub(&mut self, key: &str) -> Result<(), Fail> {
         let lname = key.to_lowercase();
         let Some(name) = lname.strip_prefix("o<").and_then(|n| n.strip_suffix('>')) else {
@@ -849,10 +850,29 @@ impl Interp<'_> {
             ));
         };
         let file = format!("{name}.ngc");
-        let Some(src) = (self.progs.loader)(&file) else {
+        // rs274 (`find_ngc_file`): the working folder (beside the program), then each
+        // folder of SUBROUTINE_PATH in turn; the first file found is the one.
+        let found = std::iter::once(file.clone())
+            .chain(self.cfg.subroutine_path.iter().map(|d| {
+                let d = d.trim_end_matches('/');
+                if d.is_empty() {
+                    file.clone()
+                } else {
+                    format!("{d}/{file}")
+                }
+            }))
+            .find_map(|f| (self.progs.loader)(&f));
+        let Some(src) = found else {
+            let searched = if self.cfg.subroutine_path.is_empty() {
+                String::new()
+            } else {
+                format!(" or in {}", self.cfg.subroutine_path.join(", "))
+            };
             return Err((
                 1,
-                format!("subroutine {lname} not found (in this file or as {file} beside it)"),
+                format!(
+                    "subroutine {lname} not found (in this file, as {file} beside it{searched})"
+                ),
             ));
         };
         for p in load(&src).into_iter().skip(1) {

@@ -717,3 +717,104 @@ fn return_inside_blocks_matches_linuxcnc() {
     );
     assert!(n_errors >= 6 && n_moves > 500, "{n_errors} {n_moves}");
 }
+
+/// Issue 27: `o<name> call` files found through the INI's SUBROUTINE_PATH, against rs274
+/// run with that INI (`tests/data/linuxcnc/subpath/`: `rs274 -i rs274.ini -g main.ngc
+/// main.canon`). The folders are read from the same `rs274.ini`; the program's own folder
+/// comes first (`beside.ngc` over `lib1/beside.ngc`), then the folders in order (`lib1`'s
+/// spring pass over `lib2`'s). Every move is rs274's; without the path the call is an
+/// error that names the file it looked for.
+#[test]
+fn subroutine_path_matches_linuxcnc() {
+    let dir = root().join("tests/data/linuxcnc/subpath");
+    let ini = std::fs::read_to_string(dir.join("rs274.ini")).unwrap();
+    let path: Vec<String> = ini
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("SUBROUTINE_PATH"))
+        .unwrap()
+        .trim_start_matches([' ', '='])
+        .split(':')
+        .map(|s| s.trim().to_string())
+        .collect();
+    assert_eq!(path.len(), 3);
+    let canon = std::fs::read_to_string(dir.join("main.canon")).unwrap();
+    let want = canon_moves(&canon, 1.0);
+    let src = Source {
+        name: "main.ngc".into(),
+        text: std::fs::read_to_string(dir.join("main.ngc")).unwrap(),
+    };
+    let loader = |file: &str| -> Option<Source> {
+        let text = std::fs::read_to_string(dir.join(file)).ok()?;
+        Some(Source {
+            name: file.to_string(),
+            text,
+        })
+    };
+    let mut opts = vpcut::NcOptions::default();
+    opts.settings.subroutine_path = path;
+    let moves = vpcut::interpret_with(&src, Dialect::Linuxcnc, &loader, &opts)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .moves;
+    let moves: Vec<&vpcut::Move> = moves
+        .iter()
+        .filter(|m| m.x_dia != m.x_start || m.z != m.z_start)
+        .collect();
+    let want: Vec<&CanonMove> = want
+        .iter()
+        .filter(|w| (w.to[0] - w.from[0]).hypot(w.to[1] - w.from[1]) > 0.6e-4)
+        .collect();
+    assert_eq!(moves.len(), want.len());
+    assert!(want.len() >= 18 && want.iter().filter(|w| w.path_lead.is_some()).count() == 4);
+    for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
+        let got = [m.x_start / 2.0, m.z_start, m.x_dia / 2.0, m.z];
+        let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
+        assert!(
+            (0..4).all(|c| (got[c] - exp[c]).abs() <= 0.51e-4),
+            "move {k}: {m:?} vs rs274 {w:?}"
+        );
+        assert_eq!(m.kind == MoveKind::Rapid, w.rapid, "move {k}");
+        assert_eq!(
+            m.kind == MoveKind::Thread,
+            w.path_lead.is_some(),
+            "move {k}"
+        );
+    }
+    let e = interpret(&src, Dialect::Linuxcnc, &loader, Limits::default()).unwrap_err();
+    assert!(
+        e.message.contains("o<pass> not found") && e.message.contains("pass.ngc"),
+        "{e}"
+    );
+    assert_eq!(e.line, 8, "{e}");
+}
+
+/// `[program] subroutine_path` in a job: the folders reach the interpreter; a non-LinuxCNC
+/// dialect or an empty entry is an error naming the key.
+#[test]
+fn job_subroutine_path_key() {
+    let job = |dialect: &str, path: &str| {
+        format!(
+            "[blank]\ndiameter = 24.0\nlength = 40.0\nz_front = 0.0\n\n[thread]\nside = \"external\"\nform = \"iso-metric\"\nmajor_diameter = 24.0\npitch = 1.5\nturns = 10\nz_start = 0.0\n\n[[tool]]\nid = 1\nkind = \"threading\"\nangle = 60.0\ntip_flat = 0.1875\nreference = \"tip\"\n\n[program]\nfile = \"main.ngc\"\ndialect = \"{dialect}\"\nsubroutine_path = {path}\n"
+        )
+    };
+    let main = "G18 G21 G7 G95\nG0 X26 Z5 S300 M3\no<pass> call [22.2]\nM2\n";
+    let pass = "o<pass> sub\nG0 X#1 Z5\nG33 Z-15 K1.5\nG0 X26\nG0 Z5\no<pass> endsub\n";
+    let load = |f: &str| match f {
+        "main.ngc" => Some(main.to_string()),
+        "macros/pass.ngc" => Some(pass.to_string()),
+        _ => None,
+    };
+    let ok = vpcut::Job::from_toml_with(&job("linuxcnc", "[\"macros\"]"), "job.toml", &load);
+    let ok = ok.unwrap_or_else(|e| panic!("{e}"));
+    drop(ok);
+    for (dialect, path, says) in [
+        ("fanuc", "[\"macros\"]", "a LinuxCNC setting"),
+        ("linuxcnc", "[\"\"]", "entry 1 is empty"),
+        ("linuxcnc", "[]", "o<pass> not found"),
+    ] {
+        let err = vpcut::Job::from_toml_with(&job(dialect, path), "job.toml", &load)
+            .err()
+            .unwrap_or_else(|| panic!("{dialect} {path}: no error"))
+            .to_string();
+        assert!(err.contains(says), "{dialect} {path}: {err}");
+    }
+}
