@@ -381,3 +381,74 @@ fn rigid_tap_refusals() {
     let m = run("G0 X0 Z5\nM3\nG33.1 Z5 K1\n").unwrap();
     assert_eq!(m.len(), 1);
 }
+
+/// G90.1 (issue 27): I and K are the arc's centre in the program's frame (work offset and
+/// G92 applied, I a radius in G7 and G8), G91.1 the centre less the start. Seeded random
+/// arcs in random frames: the same arc written both ways (the centre worked out by hand
+/// for each) gives the same moves and the same centre; rs274 itself is the oracle of
+/// `corpus-g10l2-fixtures` (tests/integration/linuxcnc.rs).
+#[test]
+fn absolute_arc_centres_equal_incremental_ones() {
+    let mut state = 0x2790_1_u64;
+    let mut next = move || {
+        // xorshift64*: uniform in [0, 1).
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..64 {
+        let (ox, oz) = (4.0 * next() - 2.0, 60.0 * next() - 30.0);
+        let g92z = if case % 3 == 0 { 5.0 * next() } else { 0.0 };
+        let diameter = case % 2 == 0;
+        // Centre (radius, z) in the program frame, start and end on the circle.
+        let (cr, cz, r) = (5.0 + 10.0 * next(), -20.0 * next(), 1.0 + 4.0 * next());
+        let (a0, a1) = (6.28 * next(), 6.28 * next());
+        let s = (cr + r * a0.sin(), cz + r * a0.cos());
+        let e = (cr + r * a1.sin(), cz + r * a1.cos());
+        let xw = |rad: f64| if diameter { 2.0 * rad } else { rad };
+        let head = format!(
+            "G18 G21 {}\nG10 L2 P2 X{ox:.6} Z{oz:.6}\nG55\nG92.1\nG0 X{:.9} Z{:.9}\n{}",
+            if diameter { "G7" } else { "G8" },
+            xw(s.0),
+            s.1 - g92z,
+            if g92z != 0.0 {
+                format!("G92 Z{:.9}\n", s.1)
+            } else {
+                String::new()
+            }
+        );
+        let g = if case % 4 < 2 { "G2" } else { "G3" };
+        let abs = format!(
+            "{head}G90.1 {g} X{:.9} Z{:.9} I{:.9} K{:.9} F100\nM2\n",
+            xw(e.0),
+            e.1,
+            cr,
+            cz
+        );
+        let inc = format!(
+            "{head}G91.1 {g} X{:.9} Z{:.9} I{:.9} K{:.9} F100\nM2\n",
+            xw(e.0),
+            e.1,
+            cr - s.0,
+            cz - s.1
+        );
+        let (a, b) = (run(&abs), run(&inc));
+        let (a, b) = (
+            a.unwrap_or_else(|e| panic!("{abs}{e}")),
+            b.unwrap_or_else(|e| panic!("{inc}{e}")),
+        );
+        assert_eq!(a.len(), b.len(), "{abs}");
+        let arc = |m: &[Move]| m.iter().find(|m| m.kind == MoveKind::Arc).cloned().unwrap();
+        let (p, q) = (arc(&a), arc(&b));
+        let (pc, qc) = (p.arc.unwrap(), q.arc.unwrap());
+        for (u, v) in [
+            (p.x_dia, q.x_dia),
+            (p.z, q.z),
+            (pc.x_centre_dia, qc.x_centre_dia),
+            (pc.z_centre, qc.z_centre),
+        ] {
+            assert!((u - v).abs() < 1e-6, "{abs}{p:?}\n{q:?}");
+        }
+    }
+}
