@@ -241,7 +241,7 @@ fn expressions_as_rs274() {
 
 #[test]
 fn bad_lines_are_errors_with_columns() {
-    let cases: [(&str, usize, usize, &str); 20] = [
+    let cases: [(&str, usize, usize, &str); 22] = [
         ("#1=1+2\n", 1, 5, "expected a word"),
         ("G0 X[1+]\n", 1, 8, "expected a value"),
         ("G0 X[1/0]\n", 1, 7, "division by zero"),
@@ -276,6 +276,19 @@ fn bad_lines_are_errors_with_columns() {
             "already opened a block at line 2",
         ),
         ("G0 X#<_ini[a]b>\n", 1, 5, "(machine state) is not modelled"),
+        // rs274 draws these arcs in XY and YZ (its canon: ARC_FEED in the selected plane).
+        (
+            "G19\nG2 X10 Z-5 R5 F100\n",
+            2,
+            1,
+            "G2 in the G19 plane (YZ) is not simulated",
+        ),
+        (
+            "G17 G3 X10 Z-5 R5 F100\n",
+            1,
+            1,
+            "G3 in the G17 plane (XY) is not simulated",
+        ),
     ];
     for (text, line, col, msg) in cases {
         let e = run(text).unwrap_err();

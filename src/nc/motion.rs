@@ -809,6 +809,19 @@ impl Interp<'_> {
     fn arc(&mut self, w: &Words, prog: &Program, pc: usize, end: (f64, f64)) -> Result<(), Fail> {
         let g = self.modal.motion;
         let cw = g == 2;
+        // rs274 draws a G2/G3 in the plane G17/G19 select (XY, YZ): vpcut's lathe moves
+        // are in XZ only.
+        if self.cfg.dialect == Dialect::Linuxcnc && self.lc.st.plane != 180 {
+            let (name, axes) = if self.lc.st.plane == 170 {
+                ("G17", "XY")
+            } else {
+                ("G19", "YZ")
+            };
+            return Err((
+                1,
+                format!("G{g} in the {name} plane ({axes}) is not simulated: vpcut's lathe arcs are in the XZ plane (G18)"),
+            ));
+        }
         let radius_word = if self.cfg.dialect == Dialect::Siemens802d {
             "CR"
         } else {
