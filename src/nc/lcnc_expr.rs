@@ -356,6 +356,18 @@ impl Interp<'_> {
         }
     }
 
+    /// rs274 (`read_named_parameter_setting` calls `add_named_param`): a named parameter a
+    /// line sets exists (as 0) from the moment its name is read, before the value's
+    /// expression, so `#<n> = [#<n> + 1]` counts from 0 where `#<n>` was never set.
+    pub(super) fn lc_declare(&mut self, name: &str) {
+        let table = if name.starts_with('_') {
+            &mut self.lc.params.globals
+        } else {
+            &mut self.lc_level().named
+        };
+        table.entry(name.to_string()).or_insert(0.0);
+    }
+
     /// After `#`: which parameter (`n`, `[expr]`, `#..`, `<name>`).
     pub(super) fn lc_param(&self, c: &mut Cursor) -> Result<Param, Fail> {
         let at = c.col();

@@ -465,3 +465,27 @@ fn absolute_arc_centres_equal_incremental_ones() {
         }
     }
 }
+
+/// A named parameter a line sets exists (as 0) once its name is read, before the value:
+/// `#<k> = [#<k> + 1]` counts from 0 (rs274 2.9.0~pre1, `add_named_param` in
+/// `read_named_parameter_setting`). rs274's canon for the same lines: X1 X2 (counter),
+/// X2 (global), X3 X3 (a local, fresh in each call), X1 (`#<a> = 2 #<c> = [#<a> + 1]`:
+/// the line's settings take effect after it, so `#<a>` reads 0), and "Named parameter
+/// #<a> not defined" where the value reads a name set later on the line, or never.
+#[test]
+fn a_parameter_being_set_reads_as_zero() {
+    close(
+        &xs("#<k> = [#<k> + 1]\nG0 X#<k>\n#<k> = [#<k> + 1]\nG0 X#<k>\n"),
+        &[1.0, 2.0],
+    );
+    close(&xs("#<_g> = [#<_g> + 2]\nG0 X#<_g>\n"), &[2.0]);
+    close(
+        &xs("o1 sub\n#<loc> = [#<loc> + 3]\nG0 X#<loc>\no1 endsub\no1 call\nG0 X0\no1 call\n"),
+        &[3.0, 0.0, 3.0],
+    );
+    close(&xs("#<a> = 2 #<c> = [#<a> + 1]\nG0 X#<c>\n"), &[1.0]);
+    for text in ["#<c> = [#<a> + 1] #<a> = 2\n", "#<a> = [#<b> + 1]\n"] {
+        let e = run(text).unwrap_err();
+        assert!(e.message.contains("is not defined"), "{text}: {e}");
+    }
+}

@@ -427,6 +427,9 @@ impl Interp<'_> {
                 if !c.eat("=") {
                     return c.err("expected `=` after the parameter");
                 }
+                if let Param::Named(n) = &p {
+                    self.lc_declare(n);
+                }
                 let v = self.lc_value(&mut c)?;
                 sets.push((p, v));
                 continue;
