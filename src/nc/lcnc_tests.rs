@@ -402,7 +402,7 @@ fn rigid_tap_refusals() {
 /// `corpus-g10l2-fixtures` (tests/integration/linuxcnc.rs).
 #[test]
 fn absolute_arc_centres_equal_incremental_ones() {
-    let mut state = 0x2790_1_u64;
+    let mut state = 0x0002_7901_u64;
     let mut next = move || {
         // xorshift64*: uniform in [0, 1).
         state ^= state << 13;
@@ -416,7 +416,10 @@ fn absolute_arc_centres_equal_incremental_ones() {
         let diameter = case % 2 == 0;
         // Centre (radius, z) in the program frame, start and end on the circle.
         let (cr, cz, r) = (5.0 + 10.0 * next(), -20.0 * next(), 1.0 + 4.0 * next());
-        let (a0, a1) = (6.28 * next(), 6.28 * next());
+        let (a0, a1) = (
+            std::f64::consts::TAU * next(),
+            std::f64::consts::TAU * next(),
+        );
         let s = (cr + r * a0.sin(), cz + r * a0.cos());
         let e = (cr + r * a1.sin(), cz + r * a1.cos());
         let xw = |rad: f64| if diameter { 2.0 * rad } else { rad };
