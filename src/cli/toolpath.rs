@@ -58,6 +58,11 @@ pub(crate) struct ToolpathArgs {
     /// main`; default: the one that ends in M30 and that no other calls).
     #[arg(long, value_name = "ONNNN")]
     pub(crate) main: Option<String>,
+    /// LinuxCNC: a folder searched for the file of an `o<name> call` that the program does
+    /// not define, after the program's own folder (the INI's SUBROUTINE_PATH; repeat the
+    /// option for several, searched in order; relative to the program's folder).
+    #[arg(long, value_name = "DIR")]
+    pub(crate) subroutine_path: Vec<String>,
 }
 
 /// `standard` or `calculator` of `--decimal-point`.
@@ -133,6 +138,7 @@ pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     opts.settings.input_increment = args.input_increment.unwrap_or_default();
     opts.settings.power_on.inch = args.units.as_deref() == Some("inch");
     opts.settings.main = args.main.clone();
+    opts.settings.subroutine_path = args.subroutine_path.clone();
     let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts).map_err(|mut e| {
         name_files(&mut e, &inputs);
         e

@@ -399,6 +399,7 @@ impl Job {
             feed_mode: None,
             x_mode: None,
             main: None,
+            subroutine_path: Vec::new(),
         };
         let cx = Ctx::empty(file);
         let program = program::lathe_program(&pr, None, &cx, true)?;

@@ -163,6 +163,24 @@ pub(super) fn program(
             ),
         )
     })?;
+    if !pr.subroutine_path.is_empty() && dialect != Dialect::Linuxcnc {
+        return Err(cx.err(
+            "program.subroutine_path",
+            format!(
+                "a LinuxCNC setting (the INI's SUBROUTINE_PATH, where `o<name> call` finds name.ngc): {} programs call subprograms otherwise",
+                pr.dialect
+            ),
+        ));
+    }
+    for (k, d) in pr.subroutine_path.iter().enumerate() {
+        if d.trim().is_empty() {
+            return Err(cx.err(
+                "program.subroutine_path",
+                format!("expected folder names, entry {} is empty", k + 1),
+            ));
+        }
+    }
+    settings.subroutine_path = pr.subroutine_path.clone();
     if !matches!(dialect, Dialect::Fanuc | Dialect::Gsk980) {
         // Siemens and LinuxCNC read every number in program units and a file is one program
         // (its subprograms are called by name).

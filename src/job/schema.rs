@@ -69,6 +69,9 @@ pub(super) struct RawProgram {
     pub(super) x_mode: Option<String>,
     /// The main program of a file that holds several: "O1000".
     pub(super) main: Option<String>,
+    /// LinuxCNC: folders searched for `o<name> call` files (the INI's SUBROUTINE_PATH).
+    #[serde(default)]
+    pub(super) subroutine_path: Vec<String>,
 }
 
 #[derive(Deserialize)]

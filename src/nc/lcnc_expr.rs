@@ -129,12 +129,10 @@ pub(super) struct Params {
     pub(super) levels: Vec<Level>,
 }
 
-/// One subroutine call's named locals and running `repeat` counters.
+/// One subroutine call's named locals.
 #[derive(Default)]
 pub(super) struct Level {
     pub(super) named: HashMap<String, f64>,
-    /// (program, block of the `repeat`) -> runs left.
-    pub(super) repeats: HashMap<(usize, usize), i64>,
 }
 
 /// Operator precedence levels, lowest first.
@@ -356,6 +354,18 @@ impl Interp<'_> {
                 self.lc_level().named.insert(name, v);
             }
         }
+    }
+
+    /// rs274 (`read_named_parameter_setting` calls `add_named_param`): a named parameter a
+    /// line sets exists (as 0) from the moment its name is read, before the value's
+    /// expression, so `#<n> = [#<n> + 1]` counts from 0 where `#<n>` was never set.
+    pub(super) fn lc_declare(&mut self, name: &str) {
+        let table = if name.starts_with('_') {
+            &mut self.lc.params.globals
+        } else {
+            &mut self.lc_level().named
+        };
+        table.entry(name.to_string()).or_insert(0.0);
     }
 
     /// After `#`: which parameter (`n`, `[expr]`, `#..`, `<name>`).

@@ -241,12 +241,12 @@ fn expressions_as_rs274() {
 
 #[test]
 fn bad_lines_are_errors_with_columns() {
-    let cases: [(&str, usize, usize, &str); 20] = [
+    let cases: [(&str, usize, usize, &str); 22] = [
         ("#1=1+2\n", 1, 5, "expected a word"),
         ("G0 X[1+]\n", 1, 8, "expected a value"),
         ("G0 X[1/0]\n", 1, 7, "division by zero"),
         ("G0 X[SQRT[-1]]\n", 1, 6, "SQRT of -1"),
-        ("o1 endwhile\n", 1, 1, "no matching o1 while"),
+        ("o1 endwhile\n", 1, 1, "undefined O-word label"),
         ("o1 while [1]\nG0 X1\n", 1, 1, "no matching o1 endwhile"),
         ("o1 frob\n", 1, 4, "expected sub, endsub"),
         (
@@ -276,6 +276,19 @@ fn bad_lines_are_errors_with_columns() {
             "already opened a block at line 2",
         ),
         ("G0 X#<_ini[a]b>\n", 1, 5, "(machine state) is not modelled"),
+        // rs274 draws these arcs in XY and YZ (its canon: ARC_FEED in the selected plane).
+        (
+            "G19\nG2 X10 Z-5 R5 F100\n",
+            2,
+            1,
+            "G2 in the G19 plane (YZ) is not simulated",
+        ),
+        (
+            "G17 G3 X10 Z-5 R5 F100\n",
+            1,
+            1,
+            "G3 in the G17 plane (XY) is not simulated",
+        ),
     ];
     for (text, line, col, msg) in cases {
         let e = run(text).unwrap_err();
@@ -283,7 +296,7 @@ fn bad_lines_are_errors_with_columns() {
         assert!(e.message.contains(msg), "{text}: {e}");
     }
     let e = run("o1 return\n").unwrap_err();
-    assert!(e.message.contains("outside a subroutine"), "{e}");
+    assert!(e.message.contains("not in a subroutine definition"), "{e}");
     let e = run("o1 sub\nG0 X1\n").unwrap_err();
     assert!(e.message.contains("no matching o1 endsub"), "{e}");
     // No line can exhaust the stack: nesting, signs and parameters of parameters.
@@ -380,4 +393,102 @@ fn rigid_tap_refusals() {
     }
     let m = run("G0 X0 Z5\nM3\nG33.1 Z5 K1\n").unwrap();
     assert_eq!(m.len(), 1);
+}
+
+/// G90.1 (issue 27): I and K are the arc's centre in the program's frame (work offset and
+/// G92 applied, I a radius in G7 and G8), G91.1 the centre less the start. Seeded random
+/// arcs in random frames: the same arc written both ways (the centre worked out by hand
+/// for each) gives the same moves and the same centre; rs274 itself is the oracle of
+/// `corpus-g10l2-fixtures` (tests/integration/linuxcnc.rs).
+#[test]
+fn absolute_arc_centres_equal_incremental_ones() {
+    let mut state = 0x0002_7901_u64;
+    let mut next = move || {
+        // xorshift64*: uniform in [0, 1).
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..64 {
+        let (ox, oz) = (4.0 * next() - 2.0, 60.0 * next() - 30.0);
+        let g92z = if case % 3 == 0 { 5.0 * next() } else { 0.0 };
+        let diameter = case % 2 == 0;
+        // Centre (radius, z) in the program frame, start and end on the circle.
+        let (cr, cz, r) = (5.0 + 10.0 * next(), -20.0 * next(), 1.0 + 4.0 * next());
+        let (a0, a1) = (
+            std::f64::consts::TAU * next(),
+            std::f64::consts::TAU * next(),
+        );
+        let s = (cr + r * a0.sin(), cz + r * a0.cos());
+        let e = (cr + r * a1.sin(), cz + r * a1.cos());
+        let xw = |rad: f64| if diameter { 2.0 * rad } else { rad };
+        let head = format!(
+            "G18 G21 {}\nG10 L2 P2 X{ox:.6} Z{oz:.6}\nG55\nG92.1\nG0 X{:.9} Z{:.9}\n{}",
+            if diameter { "G7" } else { "G8" },
+            xw(s.0),
+            s.1 - g92z,
+            if g92z != 0.0 {
+                format!("G92 Z{:.9}\n", s.1)
+            } else {
+                String::new()
+            }
+        );
+        let g = if case % 4 < 2 { "G2" } else { "G3" };
+        let abs = format!(
+            "{head}G90.1 {g} X{:.9} Z{:.9} I{:.9} K{:.9} F100\nM2\n",
+            xw(e.0),
+            e.1,
+            cr,
+            cz
+        );
+        let inc = format!(
+            "{head}G91.1 {g} X{:.9} Z{:.9} I{:.9} K{:.9} F100\nM2\n",
+            xw(e.0),
+            e.1,
+            cr - s.0,
+            cz - s.1
+        );
+        let (a, b) = (run(&abs), run(&inc));
+        let (a, b) = (
+            a.unwrap_or_else(|e| panic!("{abs}{e}")),
+            b.unwrap_or_else(|e| panic!("{inc}{e}")),
+        );
+        assert_eq!(a.len(), b.len(), "{abs}");
+        let arc = |m: &[Move]| m.iter().find(|m| m.kind == MoveKind::Arc).cloned().unwrap();
+        let (p, q) = (arc(&a), arc(&b));
+        let (pc, qc) = (p.arc.unwrap(), q.arc.unwrap());
+        for (u, v) in [
+            (p.x_dia, q.x_dia),
+            (p.z, q.z),
+            (pc.x_centre_dia, qc.x_centre_dia),
+            (pc.z_centre, qc.z_centre),
+        ] {
+            assert!((u - v).abs() < 1e-6, "{abs}{p:?}\n{q:?}");
+        }
+    }
+}
+
+/// A named parameter a line sets exists (as 0) once its name is read, before the value:
+/// `#<k> = [#<k> + 1]` counts from 0 (rs274 2.9.0~pre1, `add_named_param` in
+/// `read_named_parameter_setting`). rs274's canon for the same lines: X1 X2 (counter),
+/// X2 (global), X3 X3 (a local, fresh in each call), X1 (`#<a> = 2 #<c> = [#<a> + 1]`:
+/// the line's settings take effect after it, so `#<a>` reads 0), and "Named parameter
+/// #<a> not defined" where the value reads a name set later on the line, or never.
+#[test]
+fn a_parameter_being_set_reads_as_zero() {
+    close(
+        &xs("#<k> = [#<k> + 1]\nG0 X#<k>\n#<k> = [#<k> + 1]\nG0 X#<k>\n"),
+        &[1.0, 2.0],
+    );
+    close(&xs("#<_g> = [#<_g> + 2]\nG0 X#<_g>\n"), &[2.0]);
+    close(
+        &xs("o1 sub\n#<loc> = [#<loc> + 3]\nG0 X#<loc>\no1 endsub\no1 call\nG0 X0\no1 call\n"),
+        &[3.0, 0.0, 3.0],
+    );
+    close(&xs("#<a> = 2 #<c> = [#<a> + 1]\nG0 X#<c>\n"), &[1.0]);
+    for text in ["#<c> = [#<a> + 1] #<a> = 2\n", "#<a> = [#<b> + 1]\n"] {
+        let e = run(text).unwrap_err();
+        assert!(e.message.contains("is not defined"), "{text}: {e}");
+    }
 }

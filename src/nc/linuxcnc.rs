@@ -7,8 +7,12 @@
 //! call` of a subroutine not in the file loads `name.ngc` beside it, as rs274 does. Every
 //! call is a new level of `#1..#30` (the arguments) and of named locals; `endsub`/`return`
 //! with a value sets `#<_value>` and `#<_value_returned>` (else both 0). Loops and `if`
-//! chains are matched by their O-word within one program: `while`/`endwhile`,
-//! `do`/`while`, `repeat`/`endrepeat` (count rounded half to even, as rs274), `if`/`elseif`/
+//! chains are matched by their O-word within one program (labels local to it, as rs274's:
+//! `o100 if` inside `o100 sub` is another label than the sub's, and `o100 return` there
+//! returns from the sub whether or not an `if` or loop of that number encloses it):
+//! `while`/`endwhile`, `do`/`while`, `repeat`/`endrepeat` (count rounded half to even, one
+//! count per repeat for the run as rs274 keeps it, so a repeat left by `return` resumes
+//! with what was left on the next call), `if`/`elseif`/
 //! `else`/`endif`, `break` and `continue` (of `while` and `do` loops only, as in rs274; in a `do` loop, as rs274 2.9.0~pre1 does,
 //! `continue` runs the next line of the loop's O-word: the closing `while`, which tests, or
 //! a later `break` of that loop, which leaves it; and after a `break` out of a `while` loop
@@ -69,6 +73,13 @@ impl Kw {
             _ => return None,
         })
     }
+    /// `sub`, `endsub`, `call` and `return` name a subroutine (rs274's "global" O-words);
+    /// the others are labels of the program (or subroutine) they stand in, so `o100 if`
+    /// inside `o100 sub` is another label than the sub's and `o100 return` is no line of
+    /// that `if` (`Interp::read_o`: the local names are prefixed with the sub's name).
+    fn local(self) -> bool {
+        !matches!(self, Kw::Sub | Kw::Endsub | Kw::Call | Kw::Return)
+    }
     fn name(self) -> &'static str {
         match self {
             Kw::Sub => "sub",
@@ -96,35 +107,52 @@ impl Kw {
 struct Flow {
     words: Vec<Option<(String, Kw)>>,
     dup_of: Vec<Option<usize>>,
+    /// For a block that opens an `if`, loop or `repeat`: the first later block that opens
+    /// another one with its label (rs274 errors there, whatever runs between).
+    first_dup: Vec<Option<usize>>,
 }
 
 impl Flow {
+    /// rs274 (`convert_control_functions`) keeps one table of the labels opened so far: a
+    /// `while` whose label opened a `do` closes it; any other opening of a label in the
+    /// table is a duplicate. The scan here is that table, read once in file order.
     fn new(prog: &Program) -> Flow {
         let words: Vec<Option<(String, Kw)>> = prog.blocks.iter().map(|b| oword_of(&b.2)).collect();
         let mut dup_of = vec![None; words.len()];
-        let mut opened: HashMap<&str, usize> = HashMap::new();
+        let mut first_dup = vec![None; words.len()];
+        // Each label's first opening block, and whether a line closing it came since.
+        let mut opened: HashMap<&str, (usize, Kw, bool)> = HashMap::new();
         for (i, w) in words.iter().enumerate() {
             let Some((key, kw)) = w else { continue };
-            let opens = match kw {
-                Kw::If | Kw::Do | Kw::Repeat => true,
-                // A while opens a loop when its endwhile comes before any other line of its
-                // O-word (else it closes a do loop).
-                Kw::While => words[i + 1..]
-                    .iter()
-                    .flatten()
-                    .find(|(k, w)| k == key && !matches!(w, Kw::Break | Kw::Continue))
-                    .is_some_and(|(_, w)| *w == Kw::Endwhile),
-                _ => false,
-            };
-            if opens {
-                if let Some(&j) = opened.get(key.as_str()) {
+            let entry = opened.get_mut(key.as_str());
+            if matches!(kw, Kw::Endif | Kw::Endwhile | Kw::Endrepeat) {
+                if let Some(e) = entry {
+                    e.2 = true;
+                }
+                continue;
+            }
+            if !matches!(kw, Kw::If | Kw::Do | Kw::Repeat | Kw::While) {
+                continue;
+            }
+            match entry {
+                Some(e) if e.1 == Kw::Do && *kw == Kw::While => e.2 = true,
+                Some(&mut (j, _, closed)) => {
                     dup_of[i] = Some(j);
-                } else {
-                    opened.insert(key, i);
+                    // Inside the block it opens: the block cannot be matched.
+                    if !closed {
+                        first_dup[j].get_or_insert(i);
+                    }
+                }
+                None => {
+                    opened.insert(key, (i, *kw, false));
                 }
             }
         }
-        Flow { words, dup_of }
+        Flow {
+            words,
+            dup_of,
+            first_dup,
+        }
     }
 }
 
@@ -139,6 +167,9 @@ pub(super) struct Lcnc {
     /// rs274 2.9.0~pre1: after a `break` out of a while loop, the next closing `while` of a
     /// do loop does not loop (whatever its test); a `break` out of a do loop clears this.
     broke_while: bool,
+    /// What is left of each `repeat`'s count, by (program, block): one table for the run,
+    /// as rs274's.
+    repeats: HashMap<(usize, usize), i64>,
     /// Machine state that only the predefined parameters read (`lcnc_expr::lc_predefined`).
     pub(super) st: LcState,
 }
@@ -396,6 +427,9 @@ impl Interp<'_> {
                 if !c.eat("=") {
                     return c.err("expected `=` after the parameter");
                 }
+                if let Param::Named(n) = &p {
+                    self.lc_declare(n);
+                }
                 let v = self.lc_value(&mut c)?;
                 sets.push((p, v));
                 continue;
@@ -587,7 +621,11 @@ impl Interp<'_> {
         // The next (or previous) line of this O-word, break and continue left out.
         let is = |k: usize| -> Option<Kw> {
             match &flow.words[k] {
-                Some((kk, w)) if *kk == key && !matches!(w, Kw::Break | Kw::Continue) => Some(*w),
+                Some((kk, w))
+                    if *kk == key && w.local() && !matches!(w, Kw::Break | Kw::Continue) =>
+                {
+                    Some(*w)
+                }
                 _ => None,
             }
         };
@@ -599,6 +637,39 @@ impl Interp<'_> {
                 format!("{lname} {}: no matching {lname} {what}", kw.name()),
             )
         };
+        // rs274 looks a closing line's label up among the blocks opened before it
+        // (`control_find_oword`): none is "undefined O-word label".
+        let closes = matches!(
+            kw,
+            Kw::Elseif
+                | Kw::Else
+                | Kw::Endif
+                | Kw::Endwhile
+                | Kw::Endrepeat
+                | Kw::Break
+                | Kw::Continue
+        );
+        let opened =
+            (0..pc).any(|k| matches!(is(k), Some(Kw::If | Kw::While | Kw::Do | Kw::Repeat)));
+        if closes && !opened {
+            return Err((
+                1,
+                format!(
+                    "undefined O-word label: {lname} {} (no {lname} if, while, do or repeat before it)",
+                    kw.name()
+                ),
+            ));
+        }
+        if let Some(k) = flow.first_dup[pc] {
+            return Err((
+                1,
+                format!(
+                    "duplicate O-word label: the {lname} {} at line {} is already defined here (use another number)",
+                    flow.words[k].as_ref().map_or("", |w| w.1.name()),
+                    prog.blocks[k].0
+                ),
+            ));
+        }
         if let Some(j) = flow.dup_of[pc] {
             return Err((
                 1,
@@ -621,7 +692,10 @@ impl Interp<'_> {
             }
             Kw::Endsub | Kw::Return => {
                 if self.lc_depth() == 0 {
-                    return Err((1, format!("{lname} {} outside a subroutine", kw.name())));
+                    return Err((
+                        1,
+                        format!("not in a subroutine definition: {lname} {}", kw.name()),
+                    ));
                 }
                 let value = if c.done() {
                     None
@@ -692,7 +766,9 @@ impl Interp<'_> {
                     // and runs it: the closing while (which tests), or a later break or
                     // continue of the same loop.
                     let k = (pc + 1..flow.words.len())
-                        .find(|&k| matches!(&flow.words[k], Some((kk, _)) if *kk == key))
+                        .find(
+                            |&k| matches!(&flow.words[k], Some((kk, w)) if *kk == key && w.local()),
+                        )
                         .unwrap_or(end);
                     Step::Jump(k)
                 } else {
@@ -718,28 +794,21 @@ impl Interp<'_> {
                         format!("{lname} repeat: the break or continue at line {} cannot leave a repeat (only while and do loops)", prog.blocks[k].0),
                     ));
                 }
-                if n >= 1.0 {
-                    self.lc_level().repeats.insert((id, pc), n.min(1e15) as i64);
+                // rs274 keeps one count per repeat for the whole run (`offset_map`): set
+                // when the count is unset, one less each time the repeat line runs the
+                // body, unset when it skips it. A repeat left by `return` keeps what is
+                // left, so the next call runs the body only that many times.
+                let slot = self.lc.repeats.entry((id, pc));
+                let left = *slot.or_insert(n.clamp(-1.0, 1e15) as i64);
+                if left > 0 {
+                    self.lc.repeats.insert((id, pc), left - 1);
                     Step::Next
                 } else {
+                    self.lc.repeats.remove(&(id, pc));
                     Step::Jump(end + 1)
                 }
             }
-            Kw::Endrepeat => {
-                let start = prev(Kw::Repeat).ok_or_else(|| missing("repeat"))?;
-                let level = self.lc_level();
-                let left = level.repeats.get_mut(&(id, start)).ok_or((
-                    1,
-                    format!("{lname} endrepeat reached without running {lname} repeat"),
-                ))?;
-                *left -= 1;
-                if *left > 0 {
-                    Step::Jump(start + 1)
-                } else {
-                    level.repeats.remove(&(id, start));
-                    Step::Next
-                }
-            }
+            Kw::Endrepeat => Step::Jump(prev(Kw::Repeat).ok_or_else(|| missing("repeat"))?),
             Kw::If | Kw::Elseif | Kw::Else => {
                 let test = match kw {
                     Kw::If => true,
@@ -773,7 +842,8 @@ impl Interp<'_> {
         Ok(step)
     }
 
-    /// `o<name> call` of a subroutine not in this file: `name.ngc` beside it.
+    /// `o<name> call` of a subroutine not in this file: `name.ngc` beside it, else in the
+    /// folders of `Settings::subroutine_path`.
     fn lc_load_sub(&mut self, key: &str) -> Result<(), Fail> {
         let lname = key.to_lowercase();
         let Some(name) = lname.strip_prefix("o<").and_then(|n| n.strip_suffix('>')) else {
@@ -783,10 +853,29 @@ impl Interp<'_> {
             ));
         };
         let file = format!("{name}.ngc");
-        let Some(src) = (self.progs.loader)(&file) else {
+        // rs274 (`find_ngc_file`): the working folder (beside the program), then each
+        // folder of SUBROUTINE_PATH in turn; the first file found is the one.
+        let found = std::iter::once(file.clone())
+            .chain(self.cfg.subroutine_path.iter().map(|d| {
+                let d = d.trim_end_matches('/');
+                if d.is_empty() {
+                    file.clone()
+                } else {
+                    format!("{d}/{file}")
+                }
+            }))
+            .find_map(|f| (self.progs.loader)(&f));
+        let Some(src) = found else {
+            let searched = if self.cfg.subroutine_path.is_empty() {
+                String::new()
+            } else {
+                format!(" or in {}", self.cfg.subroutine_path.join(", "))
+            };
             return Err((
                 1,
-                format!("subroutine {lname} not found (in this file or as {file} beside it)"),
+                format!(
+                    "subroutine {lname} not found (in this file, as {file} beside it{searched})"
+                ),
             ));
         };
         for p in load(&src).into_iter().skip(1) {

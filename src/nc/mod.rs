@@ -360,6 +360,12 @@ pub struct Settings {
     /// What a FANUC/GSK two-block G76 uses when the program leaves its first block out:
     /// the control's parameters (FANUC No. 5142, 5143, 5140, 5141).
     pub g76: G76Params,
+    /// LinuxCNC: the folders searched, in order, for the file `name.ngc` of an
+    /// `o<name> call` that the program's file does not define, after the program's own
+    /// folder (the INI's `[RS274NGC] SUBROUTINE_PATH`, as `Interp::find_ngc_file` searches
+    /// it: the first folder that has the file wins). Names as the loader reads them
+    /// (relative to the job's folder).
+    pub subroutine_path: Vec<String>,
 }
 
 /// Tool offsets by number: the shift (X as a diameter, Z) of the tool's point.
@@ -410,6 +416,7 @@ impl Default for Settings {
             main: None,
             tool_offsets: None,
             g76: G76Params::default(),
+            subroutine_path: Vec::new(),
         }
     }
 }

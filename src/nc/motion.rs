@@ -802,12 +802,26 @@ impl Interp<'_> {
 
     /// G02/G03 in the XZ plane from the current point to `end` (diameter, z): centre from
     /// `R` (Siemens `CR=`; positive: the arc of at most 180 deg, negative: the longer one)
-    /// or from `I`/`K` (centre minus start; I is a radius value in every X mode, as FANUC
-    /// and Siemens lathes and Beckhoff's G51 diameter mode write it). The end must lie on
+    /// or from `I`/`K` (centre minus start, or under LinuxCNC's G90.1 the centre; I is a
+    /// radius value in every X mode, as FANUC and Siemens lathes, Beckhoff's G51 diameter
+    /// mode and rs274 write it). The end must lie on
     /// the circle through the start within `ARC_TOLERANCE`.
     fn arc(&mut self, w: &Words, prog: &Program, pc: usize, end: (f64, f64)) -> Result<(), Fail> {
         let g = self.modal.motion;
         let cw = g == 2;
+        // rs274 draws a G2/G3 in the plane G17/G19 select (XY, YZ): vpcut's lathe moves
+        // are in XZ only.
+        if self.cfg.dialect == Dialect::Linuxcnc && self.lc.st.plane != 180 {
+            let (name, axes) = if self.lc.st.plane == 170 {
+                ("G17", "XY")
+            } else {
+                ("G19", "YZ")
+            };
+            return Err((
+                1,
+                format!("G{g} in the {name} plane ({axes}) is not simulated: vpcut's lathe arcs are in the XZ plane (G18)"),
+            ));
+        }
         let radius_word = if self.cfg.dialect == Dialect::Siemens802d {
             "CR"
         } else {
@@ -841,7 +855,15 @@ impl Interp<'_> {
         } else if w.vals.contains_key("I") || w.vals.contains_key("K") {
             let i = self.length(w, "I").unwrap_or(0.0);
             let k = self.length(w, "K").unwrap_or(0.0);
-            let c = (a.0 + k, a.1 + i);
+            // LinuxCNC G90.1: I and K are the centre itself, in the program's frame
+            // (work offset and G92 applied; I a radius value in G7 too, as rs274 reads it).
+            let c = if self.cfg.dialect == Dialect::Linuxcnc && self.lc.st.ijk_absolute {
+                let (ox, oz) = self.frames.offsets[self.frames.work];
+                let (gx, gz) = self.frames.g92_off;
+                (oz + gz + k, (ox + gx) / 2.0 + i)
+            } else {
+                (a.0 + k, a.1 + i)
+            };
             let (ra, rb) = ((a.0 - c.0).hypot(a.1 - c.1), (b.0 - c.0).hypot(b.1 - c.1));
             if (ra - rb).abs() > ARC_TOLERANCE {
                 let col = w.vals.get("I").or(w.vals.get("K")).map_or(1, |v| v.1);

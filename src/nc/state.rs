@@ -58,6 +58,8 @@ pub(super) struct Config {
     pub(super) increment: super::InputIncrement,
     /// The tool offsets the job defines (`Settings::tool_offsets`).
     pub(super) offsets: Option<super::ToolOffsets>,
+    /// LinuxCNC's subroutine folders (`Settings::subroutine_path`).
+    pub(super) subroutine_path: Vec<String>,
 }
 
 /// The programs of a run.
@@ -237,6 +239,7 @@ impl<'l> Interp<'l> {
                 decimal_point: opts.settings.decimal_point,
                 increment: opts.settings.input_increment,
                 offsets: opts.settings.tool_offsets.clone(),
+                subroutine_path: opts.settings.subroutine_path.clone(),
             },
             progs: Programs {
                 loader,
