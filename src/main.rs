@@ -533,7 +533,7 @@ fn places(
     job_text: &str,
     job: &vpcut::Job,
     inputs: &Inputs,
-) -> Vec<Place> {
+) -> Vec<(Place, Option<Place>)> {
     let program_file = |name: &str| inputs.program_file(name);
     report
         .findings

@@ -232,6 +232,10 @@ pub struct Finding {
     /// 1-based column in `file`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub column: Option<usize>,
+    /// The job file's key the finding is about, where no NC block made it (a pass of
+    /// `[[pass]]` as `pass[2]`, `thread.z_start`, `machine`): the job's own source.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub key: Option<String>,
     /// The value (unit in `unit`); absent where a finding has none (program findings).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub value: Option<f64>,
@@ -258,6 +262,7 @@ impl Finding {
             file: None,
             line: None,
             column: None,
+            key: None,
             value: None,
             unit: None,
             message,
@@ -267,6 +272,16 @@ impl Finding {
     /// Whether it fails the job.
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
+    }
+
+    /// Where it is, for a person: `file:line:col` of its NC block, else `job key K`;
+    /// `None` where it has neither.
+    pub fn source(&self) -> Option<String> {
+        match (&self.file, self.line, &self.key) {
+            (Some(f), Some(l), _) => Some(format!("{f}:{l}:{}", self.column.unwrap_or(1))),
+            (_, _, Some(k)) => Some(format!("job key {k}")),
+            _ => None,
+        }
     }
 }
 

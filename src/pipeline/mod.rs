@@ -552,6 +552,7 @@ fn run<S: Sink>(
             }
         }
     }
+    report::locate(job, &merged.dev, &mut report.findings);
     report.timing_s = report::Timing {
         setup: t_setup,
         sweep: t_sweep,

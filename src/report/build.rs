@@ -565,6 +565,11 @@ pub(crate) fn add_part(
         &job.turning.outer_blocks
     };
     let surface = if bore { "bore's contour" } else { "contour" };
+    let part_key = if bore {
+        "part.bore_profile"
+    } else {
+        "part.profile"
+    };
     /// The deepest gouge of one NC block, what made it (in words) and how many did.
     struct Block<'a> {
         file: Option<String>,
@@ -625,6 +630,7 @@ pub(crate) fn add_part(
                 Cutter::Move(_) => None,
             },
             z_mm: Some(r6(g.z)),
+            key: b.file.is_none().then(|| part_key.to_string()),
             file: b.file,
             line: b.line,
             value: Some(r6(g.depth)),
@@ -645,6 +651,7 @@ pub(crate) fn add_part(
     for l in leftovers {
         report.findings.push(Finding {
             z_mm: Some(r6(l.z)),
+            key: Some(part_key.to_string()),
             value: Some(r6(l.height)),
             unit: Some("mm"),
             ..Finding::new(

@@ -9,8 +9,10 @@ use crate::diag::Severity;
 use serde::Serialize;
 use std::fmt::Write as _;
 
+mod blame;
 mod build;
 mod gauge;
+pub(crate) use blame::locate;
 pub(crate) use build::{add_part, build_report};
 pub(crate) use gauge::add_gauge;
 pub use gauge::{
@@ -604,14 +606,15 @@ impl Report {
         let FindingCounts { errors, warnings } = FindingCounts::of(&self.findings);
         let _ = writeln!(s, "\n  findings: {errors} errors, {warnings} warnings");
         // Grouped by severity and kind, in report order, with the first few messages.
-        let mut groups: Vec<(Severity, FindingKind, Vec<&str>)> = Vec::new();
+        let mut groups: Vec<(Severity, FindingKind, Vec<String>)> = Vec::new();
         for f in &self.findings {
+            let m = located(f);
             match groups
                 .iter_mut()
                 .find(|g| (g.0, g.1) == (f.severity, f.kind))
             {
-                Some(g) => g.2.push(&f.message),
-                None => groups.push((f.severity, f.kind, vec![&f.message])),
+                Some(g) => g.2.push(m),
+                None => groups.push((f.severity, f.kind, vec![m])),
             }
         }
         const SHOWN: usize = 3;
@@ -634,6 +637,19 @@ impl Report {
             }
         }
         s
+    }
+}
+
+/// A finding's message led by its source (`file:line:col: ` of its NC block, or `job key
+/// K: `), unless the message already names its block.
+fn located(f: &Finding) -> String {
+    let named = match (&f.file, f.line) {
+        (Some(file), Some(line)) => f.message.starts_with(&format!("{file}:{line}:")),
+        _ => false,
+    };
+    match f.source() {
+        Some(src) if !named => format!("{src}: {}", f.message),
+        _ => f.message.clone(),
     }
 }
 

@@ -669,11 +669,13 @@ fn sarif_has_the_required_structure_and_program_lines() {
         program.contains(&("O0003.NC".to_string(), 24, 10)),
         "{program:?}"
     );
-    // Deviations point at the job's [thread].
+    // Deviations point at the pass that cut them: the job's one [[pass]] (no program).
     let gouge = at("gouge");
-    let thread_line = small("seed002-equal-groove")
+    let text = small("seed002-equal-groove");
+    assert_eq!(text.matches("[[pass]]").count(), 1);
+    let thread_line = text
         .lines()
-        .position(|l| l.trim_start().starts_with("[thread]"))
+        .position(|l| l.trim_start().starts_with("[[pass]]"))
         .unwrap() as u64
         + 1;
     assert!(

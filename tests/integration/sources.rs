@@ -1,0 +1,236 @@
+//! Issue 29: every finding at its source. Each finding of every scene, of the crash jobs
+//! (`tests/data/crash`, both programs) and of the M30x2 gauge jobs (`tests/data/gauge`,
+//! with and without a tolerance class) names the NC block that made it (a line of a file
+//! the job read) or the job's key (a table the job file has); the places the hand
+//! derivations give are checked; every SARIF result has a physical location.
+
+use crate::support::{root, scene_text, scenes};
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::path::Path;
+use vpcut::{simulate_report, FindingKind, Job, Report, SimOptions};
+
+/// Run a job text whose programs are read from `dir` (with `edit` applied to each program
+/// text); the report and the programs read (name -> text).
+fn run_in(
+    dir: &Path,
+    text: &str,
+    edit: &dyn Fn(&str) -> String,
+) -> (Job, Report, BTreeMap<String, String>) {
+    let read = RefCell::new(BTreeMap::new());
+    let load = |f: &str| {
+        let t = edit(&std::fs::read_to_string(dir.join(f)).ok()?);
+        read.borrow_mut().insert(f.to_string(), t.clone());
+        Some(t)
+    };
+    let job = Job::from_toml_with(text, "job.toml", &load).unwrap_or_else(|e| panic!("{e}"));
+    let report = simulate_report(&job, &SimOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    (job, report, read.into_inner())
+}
+
+/// Every finding has a source: a line of a program the job read, or a key whose table the
+/// job file has (`pass[2]`: at least three `[[pass]]`). A check of a pass from the program
+/// is at that pass's thread block.
+fn check_sources(what: &str, text: &str, job: &Job, r: &Report, read: &BTreeMap<String, String>) {
+    for f in &r.findings {
+        match (&f.file, f.line, &f.key) {
+            (Some(file), Some(line), _) => {
+                // The file as the job names it, or a program of a file it read (`O2`).
+                let lines = read
+                    .get(file)
+                    .map(|t| t.lines().count())
+                    .or_else(|| read.values().map(|t| t.lines().count()).max());
+                let lines = lines.unwrap_or_else(|| panic!("{what}: {file} not read: {f:?}"));
+                assert!(
+                    (1..=lines).contains(&line),
+                    "{what}: line {line} of {file}: {f:?}"
+                );
+                if let Some(p) = f.pass {
+                    let is_check = !matches!(
+                        f.kind,
+                        FindingKind::Gouge
+                            | FindingKind::Leftover
+                            | FindingKind::Lead
+                            | FindingKind::GrooveWidth
+                            | FindingKind::ToothWidth
+                            | FindingKind::MissingFeature
+                            | FindingKind::SplitFeature
+                            | FindingKind::FlankInterference
+                    );
+                    if let (true, Some(b)) =
+                        (is_check, job.pass_blocks.iter().find(|b| b.0 + 1 == p))
+                    {
+                        assert_eq!((&b.1, b.2), (file, line), "{what}: {f:?}");
+                    }
+                }
+            }
+            (_, _, Some(key)) => {
+                let table = key.split(['.', '[']).next().unwrap();
+                let nth = key.split_once('[').map_or(0, |(_, n)| {
+                    n.split(']').next().unwrap().parse::<usize>().unwrap()
+                });
+                let headers = text
+                    .lines()
+                    .filter(|l| {
+                        let t = l.trim();
+                        t == format!("[{table}]") || t == format!("[[{table}]]")
+                    })
+                    .count();
+                assert!(
+                    headers > nth || (table == "simulation" && f.kind == FindingKind::NotCompared),
+                    "{what}: key {key} has no table in the job: {f:?}"
+                );
+            }
+            _ => panic!("{what}: a finding without a source: {f:?}"),
+        }
+    }
+}
+
+#[test]
+fn every_finding_of_every_scene_is_at_its_source() {
+    for scene in scenes() {
+        let dir = root().join("scenes").join(&scene);
+        let text = scene_text(&scene);
+        let (job, r, read) = run_in(&dir, &text, &|t| t.to_string());
+        check_sources(&scene, &text, &job, &r, &read);
+    }
+}
+
+#[test]
+fn every_finding_of_the_crash_and_gauge_jobs_is_at_its_source() {
+    let crash = root().join("tests/data/crash");
+    for case in [
+        "first-cut-too-deep",
+        "g76-first-block-missing",
+        "rapid-below-crest",
+        "thread-into-shoulder",
+    ] {
+        let dir = crash.join(case);
+        let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+        for program in ["crash.nc", "fixed.nc"] {
+            let text = text.replace("crash.nc", program);
+            let (job, r, read) = run_in(&dir, &text, &|t| t.to_string());
+            check_sources(&format!("{case}/{program}"), &text, &job, &r, &read);
+        }
+    }
+    let dir = root().join("tests/data/gauge");
+    let text = std::fs::read_to_string(dir.join("m30x2.toml")).unwrap();
+    for program in ["O1001.NC", "O1002.NC"] {
+        for designation in ["M30x2-6g", "M30x2-6h", "M30x2"] {
+            let text = text
+                .replace("O1001.NC", program)
+                .replace("M30x2-6g", designation);
+            let (job, r, read) = run_in(&dir, &text, &|t| t.to_string());
+            check_sources(&format!("{program} {designation}"), &text, &job, &r, &read);
+        }
+    }
+}
+
+/// turned-m20x2.5-fanuc turns the major diameter to X19.8 at N100 (line 15 of O0017.NC)
+/// before threading M20x2.5: the crest of every turn stands (20 - 19.8) / 2 = 0.1 mm under
+/// the drawing's. Those crest gouges were made by N100, not by a thread pass.
+#[test]
+fn the_crest_a_turning_pass_cut_is_blamed_on_that_pass() {
+    let scene = "turned-m20x2.5-fanuc";
+    let dir = root().join("scenes").join(scene);
+    let (_, r, read) = run_in(&dir, &scene_text(scene), &|t| t.to_string());
+    let n100 = read["O0017.NC"].lines().nth(14).unwrap();
+    assert!(n100.starts_with("N100 Z-30.0"), "{n100}");
+    let crests: Vec<_> = r
+        .findings
+        .iter()
+        .filter(|f| f.kind == FindingKind::Gouge && f.flank == Some(vpcut::Flank::Crest))
+        .collect();
+    assert!(!crests.is_empty());
+    for f in crests {
+        assert_eq!(
+            (f.file.as_deref(), f.line),
+            (Some("O0017.NC"), Some(15)),
+            "{f:?}"
+        );
+        assert!((f.value.unwrap() - 0.1).abs() < 1e-3, "{f:?}");
+        assert_eq!(f.pass, None, "a turning move is no thread pass: {f:?}");
+    }
+}
+
+/// O1002 with the G76's final X27.8 instead of X27.546 (basic size M30x2, no class): the
+/// root stands (27.8 - 27.546) / 2 = 0.127 mm high on every turn. Every leftover is at the
+/// G76's second block (N210, line 24), the block whose passes stopped short.
+#[test]
+fn a_short_g76_final_x_is_blamed_on_its_block() {
+    let dir = root().join("tests/data/gauge");
+    let text = std::fs::read_to_string(dir.join("m30x2.toml"))
+        .unwrap()
+        .replace("O1001.NC", "O1002.NC")
+        .replace("M30x2-6g", "M30x2");
+    let (_, r, read) = run_in(&dir, &text, &|t| t.replace("X27.546", "X27.8"));
+    assert!(read["O1002.NC"]
+        .lines()
+        .nth(23)
+        .unwrap()
+        .starts_with("N210 G76 X27.8"));
+    let left: Vec<_> = r
+        .findings
+        .iter()
+        .filter(|f| f.kind == FindingKind::Leftover)
+        .collect();
+    assert!(!left.is_empty());
+    for f in left {
+        assert_eq!(
+            (f.file.as_deref(), f.line),
+            (Some("O1002.NC"), Some(24)),
+            "{f:?}"
+        );
+    }
+}
+
+/// `vpcut check --sarif` over every scene: every result has a physical location with a
+/// file and a line; a result in an NC program has the job file as its related location.
+#[test]
+fn every_sarif_result_has_a_physical_location() {
+    let jobs: Vec<String> = scenes()
+        .iter()
+        .map(|s| {
+            root()
+                .join("scenes")
+                .join(s)
+                .join("job.toml")
+                .display()
+                .to_string()
+        })
+        .collect();
+    let dir = std::env::temp_dir().join(format!("vpcut-sources-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let sarif = dir.join("all.sarif");
+    let mut args = vec![
+        "check".to_string(),
+        "-q".into(),
+        "--sarif".into(),
+        sarif.display().to_string(),
+    ];
+    args.extend(jobs);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+        .args(&args)
+        .output()
+        .unwrap();
+    assert!(
+        matches!(out.status.code(), Some(0 | 1)),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&sarif).unwrap()).unwrap();
+    let results = v["runs"][0]["results"].as_array().unwrap();
+    assert!(!results.is_empty());
+    for r in results {
+        let p = &r["locations"][0]["physicalLocation"];
+        let uri = p["artifactLocation"]["uri"].as_str().unwrap_or("");
+        assert!(!uri.is_empty(), "{r}");
+        assert!(p["region"]["startLine"].as_u64().unwrap_or(0) >= 1, "{r}");
+        if !uri.ends_with(".toml") {
+            let j = &r["relatedLocations"][0]["physicalLocation"]["artifactLocation"]["uri"];
+            assert!(j.as_str().unwrap_or("").ends_with("job.toml"), "{r}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
