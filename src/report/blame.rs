@@ -88,7 +88,8 @@ pub(crate) fn maker_at(job: &Job, theta: f64, z: f64, dz: f64, reach: f64) -> Op
 }
 
 /// The pass whose cut comes nearest along the axis to a dexel no pass cut (within `reach`
-/// mm either side): the one that left it standing. The first pass among equals.
+/// mm either side: the thread's length): the one that left it standing. The first pass
+/// among equals.
 fn nearest_pass(job: &Job, c: Column, reach: f64) -> Option<Maker> {
     let n = ((reach / c.dz).ceil() as usize).clamp(1, 100_000);
     let col = Column {
@@ -197,9 +198,11 @@ fn table_key(job: &Job, f: &Finding) -> &'static str {
 /// pass or a move of the program made it, else the job key. Findings that have a place
 /// keep it.
 pub(crate) fn locate(job: &Job, dev: &Deviation, findings: &mut [Finding]) {
-    // A lead's worth either side: the passes of the turn's groove.
+    // The thread's length and a lead either side: a block that stops short leaves the
+    // turns after it uncut, and it is the nearest pass's.
     let law = job.thread.helix.law;
-    let reach = law.f.abs().max(law.lead(job.thread.turns).abs());
+    let lead = law.f.abs().max(law.lead(job.thread.turns).abs());
+    let reach = lead * (job.thread.turns.abs() + 1.0);
     for f in findings.iter_mut() {
         if f.file.is_some() && f.line.is_some() {
             continue;
