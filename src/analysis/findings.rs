@@ -244,6 +244,25 @@ pub struct Finding {
     pub unit: Option<&'static str>,
     /// One line for a person.
     pub message: String,
+    /// Where a finding stands for many (one block's deviations on many turns): what they
+    /// cover. The finding's own fields are the worst one's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub extent: Option<Extent>,
+}
+
+/// What the findings a finding stands for cover.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Extent {
+    /// How many findings it stands for.
+    pub findings: usize,
+    /// The first and last turn.
+    pub turns: Option<[i64; 2]>,
+    /// The flanks (`left`, `right`, `root`, `crest`), in order of appearance.
+    pub flanks: Vec<&'static str>,
+    /// The lowest and highest axial position (mm).
+    pub z_mm: Option<[f64; 2]>,
+    /// How many of each kind, in report order.
+    pub kinds: Vec<(&'static str, usize)>,
 }
 
 impl Finding {
@@ -266,6 +285,7 @@ impl Finding {
             value: None,
             unit: None,
             message,
+            extent: None,
         }
     }
 

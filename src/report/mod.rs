@@ -4,7 +4,7 @@
 //! mm rounded to 1e-6 mm (volumes to 1e-6 mm^3), angles in degrees rounded to 1e-4, so the
 //! file is byte-identical between runs and thread counts; only `timing_s` changes.
 
-pub use crate::analysis::findings::{Finding, FindingCounts, FindingKind, Verdict};
+pub use crate::analysis::findings::{Extent, Finding, FindingCounts, FindingKind, Verdict};
 use crate::diag::Severity;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -12,12 +12,14 @@ use std::fmt::Write as _;
 mod blame;
 mod build;
 mod gauge;
+mod group;
 pub(crate) use blame::locate;
 pub(crate) use build::{add_part, build_report};
 pub(crate) use gauge::add_gauge;
 pub use gauge::{
     GaugeElementInfo, GaugeInfo, GaugeLimits, InchView, LimitPair, OverWires, PlacementInfo, Range,
 };
+pub(crate) use group::group;
 
 /// The schema tag.
 pub const SCHEMA: &str = "vpcut.report/1";

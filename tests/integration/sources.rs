@@ -234,3 +234,164 @@ fn every_sarif_result_has_a_physical_location() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// One cause, one finding: single mistakes in the M30x2 G76 program of
+/// `tests/data/crash/g76-first-block-missing/fixed.nc` (which passes), each giving exactly
+/// one error at the block that holds the mistake. Sizes by hand where the mistake has a
+/// closed form: a final X of 27.8 instead of d3 = 27.546 leaves the root
+/// (27.8 - 27.546) / 2 = 0.127 mm high; X27.3 cuts it (27.546 - 27.3) / 2 = 0.123 mm deep;
+/// a rapid to X28 through the 30 mm bar runs (30 - 28) / 2 = 1 mm into it. The program's
+/// G76 is its line 9 (N50), after `%`, O, a comment and N10..N45.
+#[test]
+fn each_single_mistake_gives_one_error_at_its_block() {
+    let dir = root().join("tests/data/crash/g76-first-block-missing");
+    let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+    let fixed = std::fs::read_to_string(dir.join("fixed.nc")).unwrap();
+    assert!(fixed.lines().nth(8).unwrap().starts_with("N50 G76 X27.546"));
+    type Case = (
+        &'static str,
+        &'static str,
+        &'static str,
+        Option<FindingKind>,
+        usize,
+        Option<f64>,
+    );
+    let cases: [Case; 9] = [
+        (
+            "final depth short",
+            "X27.546",
+            "X27.8",
+            Some(FindingKind::Leftover),
+            9,
+            Some(0.127),
+        ),
+        (
+            "final depth too deep",
+            "X27.546",
+            "X27.3",
+            Some(FindingKind::Gouge),
+            9,
+            Some(0.123),
+        ),
+        ("lead too long", "F2.0", "F2.1", None, 9, None),
+        ("lead too short", "F2.0", "F1.5", None, 9, None),
+        (
+            "start point (phase) off",
+            "X32.0 Z5.0",
+            "X32.0 Z5.5",
+            None,
+            9,
+            None,
+        ),
+        (
+            "spindle reversed",
+            "M03",
+            "M04",
+            Some(FindingKind::Hand),
+            9,
+            None,
+        ),
+        (
+            "thread too short",
+            "Z-39.5",
+            "Z-20.0",
+            Some(FindingKind::Leftover),
+            9,
+            None,
+        ),
+        (
+            "rapid through the bar",
+            "N60 G00 X100.0 Z100.0",
+            "N60 G00 X100.0 Z100.0\nN65 G00 X28.0 Z-10.0",
+            Some(FindingKind::RapidCut),
+            11,
+            Some(1.0),
+        ),
+        (
+            "finishing pass too deep",
+            "X27.546",
+            "X27.4",
+            Some(FindingKind::Gouge),
+            9,
+            Some(0.073),
+        ),
+    ];
+    let (_, ok, _) = run_in(&dir, &text, &|_| fixed.clone());
+    assert_eq!(ok.finding_counts.errors, 0, "{:#?}", ok.findings);
+    for (what, from, to, kind, line, size) in cases {
+        let program = fixed.replace(from, to);
+        assert_ne!(program, fixed, "{what}");
+        let (_, r, _) = run_in(&dir, &text, &|_| program.clone());
+        let errors: Vec<_> = r.findings.iter().filter(|f| f.is_error()).collect();
+        assert_eq!(errors.len(), 1, "{what}: {:#?}", errors);
+        let e = errors[0];
+        assert_eq!(
+            (e.file.as_deref(), e.line),
+            (Some("crash.nc"), Some(line)),
+            "{what}: {e:?}"
+        );
+        if let Some(k) = kind {
+            assert_eq!(e.kind, k, "{what}: {e:?}");
+        }
+        if let Some(v) = size {
+            assert!((e.value.unwrap() - v).abs() < 2e-3, "{what}: {e:?}");
+        }
+    }
+}
+
+/// Rust's debug formatting in a text a person reads: `Some(..)`, `None`, `Ok(..)`,
+/// `Err(..)`, a struct's `{ field: .. }`, a list `[1, 2]` of a `Vec`.
+fn debug_shape(s: &str) -> Option<&'static str> {
+    let words = ["Some(", "Ok(", "Err(", "None", " { ", "\\\""];
+    words.into_iter().find(|w| {
+        s.match_indices(w).any(|(i, _)| {
+            // `None` as a word, not inside another one.
+            *w != "None"
+                || !s[i + 4..]
+                    .chars()
+                    .next()
+                    .is_some_and(|c| c.is_alphanumeric())
+        })
+    })
+}
+
+/// No message of any scene's report (findings, summary) and no diagnostic of the NC corpus
+/// (`tests/data/nc`: the reviewed `*.moves` hold every warning and error the interpreter
+/// gives, equal to its output by `nc_data`) has Rust's debug formatting.
+#[test]
+fn no_message_has_debug_formatting() {
+    for (w, shape) in [
+        ("Some(2)", true),
+        ("tool T0202", false),
+        ("None", true),
+        ("Nonexistent", false),
+    ] {
+        assert_eq!(debug_shape(w).is_some(), shape, "{w}");
+    }
+    for scene in scenes() {
+        let dir = root().join("scenes").join(&scene);
+        let (_, r, _) = run_in(&dir, &scene_text(&scene), &|t| t.to_string());
+        for f in &r.findings {
+            assert_eq!(debug_shape(&f.message), None, "{scene}: {}", f.message);
+        }
+        let summary = r.summary_with(&Default::default());
+        assert_eq!(debug_shape(&summary), None, "{scene}: {summary}");
+    }
+    let mut stack = vec![root().join("tests/data/nc")];
+    let mut n = 0;
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "moves") {
+                n += 1;
+                let text = std::fs::read_to_string(&p).unwrap();
+                for l in text.lines().filter(|l| !l.starts_with('#')) {
+                    assert_eq!(debug_shape(l), None, "{}: {l}", p.display());
+                }
+            }
+        }
+    }
+    assert!(n > 10, "{n} corpus programs");
+}
