@@ -138,7 +138,7 @@ pub(crate) fn build_report(
                         FindingKind::NotCompared,
                         Severity::Warning,
                         format!(
-                            "turn {n}: no dexel of it lies on the simulated stock ([simulation] z_range): it is not checked"
+                            "turn {n}: no part of it lies on the simulated stock ([simulation] z_range): it is not checked"
                         ),
                     )
                 });
@@ -267,7 +267,7 @@ pub(crate) fn build_report(
         findings.push(Finding::new(
             FindingKind::NotCompared,
             Severity::Error,
-            "no dexel of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
+            "no part of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
         ));
     }
     // A given z_start the cut does not follow: the ideal is kept where the job puts it.
@@ -446,7 +446,7 @@ fn turn_findings(
             Severity::Error,
             0.0,
             format!(
-                "turn {}: a groove or tooth the drawing has is not found at the pitch diameter on some generator",
+                "turn {}: a groove or tooth the drawing has is not formed at the pitch diameter at one or more of the measured angles",
                 row.turn
             ),
         ));
@@ -458,7 +458,7 @@ fn turn_findings(
                 Severity::Error,
                 err,
                 format!(
-                    "turn {}: lead off by up to {:.4} mm (reference generator: measured {} vs ideal {})",
+                    "turn {}: lead off by up to {:.4} mm (at the reference angle: measured {} vs ideal {})",
                     row.turn,
                     err,
                     fmt_opt(row.measured_lead_mm),

@@ -458,14 +458,23 @@ impl Report {
             Some(t) => (t, "in all"),
             None => (self.timing_s.total, "simulating"),
         };
+        let t = &self.thread;
         let _ = writeln!(
             s,
-            "  stock {} x {} dexels at {} mm, {} passes, {} dexel updates, {} s {what}",
+            "  thread: major diameter {} mm, pitch diameter {} mm, minor diameter {} mm, depth {} mm",
+            num(t.major_diameter_mm, 4),
+            num(t.pitch_diameter_mm, 4),
+            num(t.minor_diameter_mm, 4),
+            num((t.major_diameter_mm - t.minor_diameter_mm) / 2.0, 4)
+        );
+        let _ = writeln!(
+            s,
+            "  simulated every {} deg and {} mm along z ({} x {} points), {} passes, {} s {what}",
+            num(360.0 / self.stock.angular_cells.max(1) as f64, 4),
+            num(self.stock.axial_spacing_mm, 4),
             count(self.stock.angular_cells as f64),
             count(self.stock.axial_cells as f64),
-            num(self.stock.axial_spacing_mm, 4),
             count(self.passes as f64),
-            count(self.kernel.dexel_updates as f64),
             num(time, 3)
         );
         let loc = |l: &Option<Location>| match l {

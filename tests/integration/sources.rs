@@ -376,6 +376,25 @@ fn no_message_has_debug_formatting() {
         }
         let summary = r.summary_with(&Default::default());
         assert_eq!(debug_shape(&summary), None, "{scene}: {summary}");
+        // The machinist's words: no internal terms; the thread's diameters and depth.
+        let lower = summary.to_lowercase();
+        for word in ["dexel", "generator"] {
+            assert!(!lower.contains(word), "{scene}: {word} in {summary}");
+        }
+        let t = &r.thread;
+        let line = format!(
+            "thread: major diameter {:.4} mm, pitch diameter {:.4} mm, minor diameter {:.4} mm, depth {:.4} mm",
+            t.major_diameter_mm,
+            t.pitch_diameter_mm,
+            t.minor_diameter_mm,
+            (t.major_diameter_mm - t.minor_diameter_mm) / 2.0
+        );
+        assert!(summary.contains(&line), "{scene}: {summary}");
+        if scene == "iso-m20x2.5-radial" {
+            // ISO 68-1 M20x2.5, external root d3: d2 = 20 - 0.649519 x 2.5, depth h3 =
+            // 0.613435 x 2.5 = 1.5336.
+            assert!(summary.contains("major diameter 20.0000 mm, pitch diameter 18.3762 mm, minor diameter 16.9328 mm, depth 1.5336 mm"), "{summary}");
+        }
     }
     let mut stack = vec![root().join("tests/data/nc")];
     let mut n = 0;
