@@ -236,7 +236,7 @@ impl PictureArgs {
             }
         }
         let renderer = progress.stage("starting the renderer", || {
-            vpcut::Renderer::new(self.msaa.unwrap_or(4))
+            cli::quiet::gpu_quiet(|| vpcut::Renderer::new(self.msaa.unwrap_or(4)))
         })?;
         renderer.check(&base)?;
         Ok(Some(Pictures {

@@ -414,3 +414,44 @@ fn no_message_has_debug_formatting() {
     }
     assert!(n > 10, "{n} corpus programs");
 }
+
+/// Quiet success: `simulate -q --png` on every scene, without a desktop session
+/// (`XDG_RUNTIME_DIR` unset: the Vulkan stack's drivers print an `error:` line then), prints
+/// nothing on standard error when the run succeeds (exit 0, or 1 for a fail verdict is not
+/// asked for here). Without a GPU adapter `--png` fails; that run is not a success and is
+/// skipped, as the render tests are.
+#[test]
+fn a_successful_quiet_run_prints_nothing_on_standard_error() {
+    let dir = std::env::temp_dir().join(format!("vpcut-quiet-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("x.png");
+    let mut ran = 0;
+    for scene in scenes() {
+        let job = root().join("scenes").join(&scene).join("job.toml");
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .args(["simulate", "-q", "--size", "256x192", "--png"])
+            .arg(&png)
+            .arg(&job)
+            .env_remove("XDG_RUNTIME_DIR")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap();
+        match out.status.code() {
+            Some(0) => {
+                ran += 1;
+                assert!(
+                    out.stderr.is_empty(),
+                    "{scene}: {}",
+                    String::from_utf8_lossy(&out.stderr)
+                );
+            }
+            Some(2) if std::env::var_os("VPCUT_REQUIRE_RENDER").is_none() => {}
+            c => panic!(
+                "{scene}: exit {c:?}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            ),
+        }
+    }
+    eprintln!("{ran} scenes rendered quietly");
+    let _ = std::fs::remove_dir_all(&dir);
+}
