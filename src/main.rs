@@ -421,6 +421,11 @@ struct CheckArgs {
     /// Print nothing but errors.
     #[arg(long, short = 'q')]
     quiet: bool,
+    /// Check only shard I of N (`2/4`), for a CI matrix: the jobs sorted by path and dealt
+    /// round robin, so the N shards together check every job once whatever order the
+    /// shell lists them in (see docs/ci-formats.md).
+    #[arg(long, value_name = "I/N", value_parser = cli::shard::parse_shard)]
+    shard: Option<cli::shard::Shard>,
     #[command(flatten)]
     ci: CiArgs,
 }
@@ -894,7 +899,10 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
 fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     use rayon::prelude::*;
     let clock = Instant::now();
-    let jobs: Vec<&Path> = args.jobs.iter().map(PathBuf::as_path).collect();
+    let mut jobs: Vec<&Path> = args.jobs.iter().map(PathBuf::as_path).collect();
+    if let Some(shard) = args.shard {
+        jobs = cli::shard::select(&jobs, shard);
+    }
     let mut outs = Outputs::new(&jobs);
     let slots = args.ci.slots(&mut outs)?;
     set_threads(args.threads)?;

@@ -455,3 +455,68 @@ fn a_successful_quiet_run_prints_nothing_on_standard_error() {
     eprintln!("{ran} scenes rendered quietly");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `vpcut check --shard I/N`: over five jobs given in two orders, the shards of N = 1..4
+/// check every job exactly once (by the JUnit suites' files), the same jobs whatever the
+/// order; a bad spec is a usage error (exit 2) that says what was expected.
+#[test]
+fn check_shards_cover_the_jobs_once() {
+    let dir = std::env::temp_dir().join(format!("vpcut-shard-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let names = ["e.toml", "a.toml", "c.toml", "b.toml", "d.toml"];
+    for n in names {
+        std::fs::write(dir.join(n), crate::support::small("iso-m20x2.5-radial")).unwrap();
+    }
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .current_dir(&dir)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let files = |xml: &str| -> Vec<String> {
+        xml.match_indices("<testsuite name=")
+            .map(|(i, _)| {
+                let rest = &xml[i..];
+                let f = rest.find(" file=\"").unwrap() + 7;
+                rest[f..f + rest[f..].find('"').unwrap()].to_string()
+            })
+            .collect()
+    };
+    let mut reversed = names;
+    reversed.reverse();
+    for count in 1..=4 {
+        let mut all = Vec::new();
+        for index in 1..=count {
+            let spec = format!("{index}/{count}");
+            let mut got = Vec::new();
+            for order in [&names, &reversed] {
+                let mut args = vec!["check", "-q", "--junit", "-", "--shard", &spec];
+                args.extend(order.iter());
+                let out = run(&args);
+                assert_eq!(
+                    out.status.code(),
+                    Some(0),
+                    "{}",
+                    String::from_utf8_lossy(&out.stderr)
+                );
+                got.push(files(&String::from_utf8_lossy(&out.stdout)));
+            }
+            assert_eq!(got[0], got[1], "shard {spec}");
+            all.extend(got.swap_remove(0));
+        }
+        all.sort();
+        let mut want: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+        want.sort();
+        assert_eq!(all, want, "{count} shards");
+    }
+    for bad in ["0/2", "3/2", "x"] {
+        let out = run(&["check", "--shard", bad, "a.toml"]);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("expected I/N"),
+            "{bad}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
