@@ -105,7 +105,7 @@ pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use output::stream::{simulate_meshed, Meshed};
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
-    CycleTimeInfo, Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo, GaugeLimits,
-    InchView, InputFile, LimitPair, OverWires, Painter, PlacementInfo, Range, Report, SummaryStyle,
-    Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
+    CycleTimeInfo, Extent, Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo,
+    GaugeLimits, InchView, InputFile, LimitPair, OverWires, Painter, PlacementInfo, Range, Report,
+    SummaryStyle, Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
 };

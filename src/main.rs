@@ -236,7 +236,7 @@ impl PictureArgs {
             }
         }
         let renderer = progress.stage("starting the renderer", || {
-            vpcut::Renderer::new(self.msaa.unwrap_or(4))
+            cli::quiet::gpu_quiet(|| vpcut::Renderer::new(self.msaa.unwrap_or(4)))
         })?;
         renderer.check(&base)?;
         Ok(Some(Pictures {
@@ -421,6 +421,11 @@ struct CheckArgs {
     /// Print nothing but errors.
     #[arg(long, short = 'q')]
     quiet: bool,
+    /// Check only shard I of N (`2/4`), for a CI matrix: the jobs sorted by path and dealt
+    /// round robin, so the N shards together check every job once whatever order the
+    /// shell lists them in (see docs/ci-formats.md).
+    #[arg(long, value_name = "I/N", value_parser = cli::shard::parse_shard)]
+    shard: Option<cli::shard::Shard>,
     #[command(flatten)]
     ci: CiArgs,
 }
@@ -533,7 +538,7 @@ fn places(
     job_text: &str,
     job: &vpcut::Job,
     inputs: &Inputs,
-) -> Vec<Place> {
+) -> Vec<(Place, Option<Place>)> {
     let program_file = |name: &str| inputs.program_file(name);
     report
         .findings
@@ -894,7 +899,10 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
 fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     use rayon::prelude::*;
     let clock = Instant::now();
-    let jobs: Vec<&Path> = args.jobs.iter().map(PathBuf::as_path).collect();
+    let mut jobs: Vec<&Path> = args.jobs.iter().map(PathBuf::as_path).collect();
+    if let Some(shard) = args.shard {
+        jobs = cli::shard::select(&jobs, shard);
+    }
     let mut outs = Outputs::new(&jobs);
     let slots = args.ci.slots(&mut outs)?;
     set_threads(args.threads)?;

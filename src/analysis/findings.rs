@@ -246,6 +246,10 @@ pub struct Finding {
     /// 1-based column in `file`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub column: Option<usize>,
+    /// The job file's key the finding is about, where no NC block made it (a pass of
+    /// `[[pass]]` as `pass[2]`, `thread.z_start`, `machine`): the job's own source.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub key: Option<String>,
     /// The value (unit in `unit`); absent where a finding has none (program findings).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub value: Option<f64>,
@@ -254,6 +258,25 @@ pub struct Finding {
     pub unit: Option<&'static str>,
     /// One line for a person.
     pub message: String,
+    /// Where a finding stands for many (one block's deviations on many turns): what they
+    /// cover. The finding's own fields are the worst one's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub extent: Option<Extent>,
+}
+
+/// What the findings a finding stands for cover.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Extent {
+    /// How many findings it stands for.
+    pub findings: usize,
+    /// The first and last turn.
+    pub turns: Option<[i64; 2]>,
+    /// The flanks (`left`, `right`, `root`, `crest`), in order of appearance.
+    pub flanks: Vec<&'static str>,
+    /// The lowest and highest axial position (mm).
+    pub z_mm: Option<[f64; 2]>,
+    /// How many of each kind, in report order.
+    pub kinds: Vec<(&'static str, usize)>,
 }
 
 impl Finding {
@@ -272,15 +295,27 @@ impl Finding {
             file: None,
             line: None,
             column: None,
+            key: None,
             value: None,
             unit: None,
             message,
+            extent: None,
         }
     }
 
     /// Whether it fails the job.
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
+    }
+
+    /// Where it is, for a person: `file:line:col` of its NC block, else `job key K`;
+    /// `None` where it has neither.
+    pub fn source(&self) -> Option<String> {
+        match (&self.file, self.line, &self.key) {
+            (Some(f), Some(l), _) => Some(format!("{f}:{l}:{}", self.column.unwrap_or(1))),
+            (_, _, Some(k)) => Some(format!("job key {k}")),
+            _ => None,
+        }
     }
 }
 

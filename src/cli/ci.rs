@@ -22,8 +22,9 @@ pub(crate) struct Place {
 pub(crate) struct Checked {
     /// Its report.
     pub(crate) report: vpcut::Report,
-    /// Where each finding is, in the report's order.
-    pub(crate) places: Vec<Place>,
+    /// Where each finding is, in the report's order, and where in the job file it belongs
+    /// when that is elsewhere (SARIF's related location).
+    pub(crate) places: Vec<(Place, Option<Place>)>,
 }
 
 /// A job that could not be read or simulated.
@@ -175,12 +176,21 @@ pub(crate) fn junit(cases: &[Case]) -> String {
                         continue;
                     }
                     suites.push_str(">\n");
+                    // Where a finding is: its place, as SARIF gives it.
+                    let at = |f: &vpcut::Finding| {
+                        let i = c.report.findings.iter().position(|g| std::ptr::eq(g, f));
+                        i.and_then(|i| c.places.get(i))
+                            .map_or(String::new(), |(p, _)| {
+                                format!("{}:{}:{}: ", p.file.display(), p.line, p.column)
+                            })
+                    };
                     for f in &t.failures {
                         let _ = writeln!(
                             suites,
-                            "      <failure type=\"{}\" message=\"{}\">{}</failure>",
+                            "      <failure type=\"{}\" message=\"{}\">{}{}</failure>",
                             xml(f.kind.name()),
                             xml(&f.message),
+                            xml(&at(f)),
                             xml(&f.message)
                         );
                     }
@@ -188,7 +198,7 @@ pub(crate) fn junit(cases: &[Case]) -> String {
                         let text: Vec<String> = t
                             .warnings
                             .iter()
-                            .map(|f| format!("warning {}: {}", f.kind, f.message))
+                            .map(|f| format!("{}warning {}: {}", at(f), f.kind, f.message))
                             .collect();
                         let _ = writeln!(
                             suites,
@@ -270,20 +280,21 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
             .position(|r| r.0 == kind)
             .expect("every finding kind has a rule")
     };
-    let location = |p: &Place| {
-        json!([{
+    let physical = |p: &Place| {
+        json!({
             "physicalLocation": {
                 "artifactLocation": { "uri": uri(&p.file) },
                 "region": { "startLine": p.line.max(1), "startColumn": p.column.max(1) }
             }
-        }])
+        })
     };
+    let location = |p: &Place| json!([physical(p)]);
     let mut results = Vec::new();
     for case in cases {
         let job = case.job.display().to_string();
         match &case.result {
             Ok(c) => {
-                for (f, p) in c.report.findings.iter().zip(&c.places) {
+                for (f, (p, job_place)) in c.report.findings.iter().zip(&c.places) {
                     let i = rule_index(f.kind.name());
                     let mut props = serde_json::Map::new();
                     props.insert("job".into(), json!(job));
@@ -301,14 +312,24 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
                             props.insert(k.into(), v);
                         }
                     }
-                    results.push(json!({
+                    if let Some(k) = &f.key {
+                        props.insert("job_key".into(), json!(k));
+                    }
+                    let mut result = json!({
                         "ruleId": rules[i].0,
                         "ruleIndex": i,
                         "level": if f.is_error() { "error" } else { "warning" },
                         "message": { "text": format!("{}: {}", case.name(), f.message) },
                         "locations": location(p),
                         "properties": props,
-                    }));
+                    });
+                    if let Some(j) = job_place {
+                        let mut related = physical(j);
+                        related["id"] = json!(0);
+                        related["message"] = json!({ "text": "the job" });
+                        result["relatedLocations"] = json!([related]);
+                    }
+                    results.push(result);
                 }
             }
             Err(e) => {
@@ -346,17 +367,20 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
     s
 }
 
-/// Where a finding is: its program line when it has one (a program diagnostic, a milling
-/// move, the thread block of the pass it is about), else the job file at the table it
-/// concerns (`[thread]` for deviations and measurements, `[machine]` for machine checks,
-/// the pass's `[[pass]]`, else `[program]` or `[process]`), else the job file's first line.
+/// Where a finding is, and where in the job file it belongs: its NC block when it has one
+/// (a program diagnostic, a milling move, the block whose pass or move cut it), with the
+/// job file at its key or table as the related place; else the job file at the finding's
+/// key (`pass[2]` is the third `[[pass]]`, `thread.z_start` the line of `z_start` in
+/// `[thread]`), else at the table the kind concerns (`[thread]` for deviations and
+/// measurements, `[machine]` for machine checks, the pass's `[[pass]]`, else `[program]`
+/// or `[process]`), else the job file's first line.
 pub(crate) fn place(
     f: &vpcut::Finding,
     job_path: &Path,
     job_text: &str,
     program_file: &dyn Fn(&str) -> Option<PathBuf>,
     pass_blocks: &[(usize, String, usize)],
-) -> Place {
+) -> (Place, Option<Place>) {
     let in_program = |file: &str, line: usize, column: usize| Place {
         file: program_file(file).unwrap_or_else(|| {
             job_path
@@ -367,23 +391,74 @@ pub(crate) fn place(
         line,
         column: column.max(1),
     };
+    let (line, column) = job_line(f, job_text).unwrap_or((1, 1));
+    let in_job = Place {
+        file: job_path.to_path_buf(),
+        line,
+        column,
+    };
     if let (Some(file), Some(line)) = (&f.file, f.line) {
-        return in_program(file, line, f.column.unwrap_or(1));
+        return (in_program(file, line, f.column.unwrap_or(1)), Some(in_job));
     }
     // A pass check of a pass from the program: its thread block.
     if let Some(b) = pass_blocks.iter().find(|b| Some(b.0 + 1) == f.pass) {
-        return in_program(&b.1, b.2, 1);
+        return (in_program(&b.1, b.2, 1), Some(in_job));
     }
-    let header = |name: &str, nth: usize| {
-        job_text
-            .lines()
-            .enumerate()
-            .filter(|(_, l)| l.trim_start().starts_with(name))
-            .nth(nth)
-            .map(|(i, l)| (i + 1, l.len() - l.trim_start().len() + 1))
-    };
+    (in_job, None)
+}
+
+/// The line (1-based) and column of a table's header in a job's text: the `nth` (0-based)
+/// `[name]` or `[[name]]` header.
+fn header(job_text: &str, name: &str, nth: usize) -> Option<(usize, usize)> {
+    job_text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| {
+            let t = l.trim_start();
+            let inner = t.trim_start_matches('[');
+            t.starts_with('[')
+                && inner.starts_with(name)
+                && inner[name.len()..].trim_start().starts_with(']')
+        })
+        .nth(nth)
+        .map(|(i, l)| (i + 1, l.len() - l.trim_start().len() + 1))
+}
+
+/// The line of `key = ...` inside the table whose header is at `from` (1-based), before the
+/// next header.
+fn key_line(job_text: &str, from: usize, key: &str) -> Option<(usize, usize)> {
+    job_text
+        .lines()
+        .enumerate()
+        .skip(from)
+        .take_while(|(_, l)| !l.trim_start().starts_with('['))
+        .find(|(_, l)| {
+            let t = l.trim_start();
+            t.strip_prefix(key)
+                .is_some_and(|r| r.trim_start().starts_with('='))
+        })
+        .map(|(i, l)| (i + 1, l.len() - l.trim_start().len() + 1))
+}
+
+/// Where a finding belongs in the job file: its key (`table.key`, `table[n].key`, `table`),
+/// else the table its kind concerns, else the pass's `[[pass]]`, `[program]` or
+/// `[process]`.
+fn job_line(f: &vpcut::Finding, job_text: &str) -> Option<(usize, usize)> {
+    let by_key = f.key.as_deref().and_then(|k| {
+        let (table, rest) = k.split_once('.').unwrap_or((k, ""));
+        let (table, nth) = match table.split_once('[') {
+            Some((t, n)) => (t, n.trim_end_matches(']').parse().ok()?),
+            None => (table, 0),
+        };
+        let at = header(job_text, table, nth)?;
+        Some(if rest.is_empty() {
+            at
+        } else {
+            key_line(job_text, at.0, rest).unwrap_or(at)
+        })
+    });
     use vpcut::FindingKind as K;
-    let found = match f.kind {
+    let by_kind = || match f.kind {
         K::Gouge
         | K::Leftover
         | K::MissingFeature
@@ -391,20 +466,19 @@ pub(crate) fn place(
         | K::GrooveWidth
         | K::ToothWidth
         | K::SplitFeature
-        | K::PitchDiameter => header("[thread]", 0),
-        K::FeedLimit | K::RunIn | K::AxisAcceleration => header("[machine]", 0),
-        K::FlankInterference => header("[[tool]]", 0),
+        | K::PitchDiameter => header(job_text, "thread", 0),
+        K::FeedLimit | K::RunIn | K::AxisAcceleration => header(job_text, "machine", 0),
+        K::FlankInterference => header(job_text, "tool", 0),
         _ => None,
-    }
-    .or_else(|| f.pass.and_then(|p| header("[[pass]]", p.saturating_sub(1))))
-    .or_else(|| header("[program]", 0))
-    .or_else(|| header("[process]", 0));
-    let (line, column) = found.unwrap_or((1, 1));
-    Place {
-        file: job_path.to_path_buf(),
-        line,
-        column,
-    }
+    };
+    by_key
+        .or_else(by_kind)
+        .or_else(|| {
+            f.pass
+                .and_then(|p| header(job_text, "pass", p.saturating_sub(1)))
+        })
+        .or_else(|| header(job_text, "program", 0))
+        .or_else(|| header(job_text, "process", 0))
 }
 
 #[cfg(test)]
@@ -437,7 +511,7 @@ mod tests {
             "name = \"x\"\n\n[blank]\ndiameter = 1\n\n  [thread]\nform = \"square\"\n[machine]\n";
         let f = |kind| vpcut::Finding::new(kind, vpcut::Severity::Error, String::new());
         let none = |_: &str| None;
-        let at = |kind| place(&f(kind), Path::new("j.toml"), job, &none, &[]);
+        let at = |kind| place(&f(kind), Path::new("j.toml"), job, &none, &[]).0;
         assert_eq!(
             (
                 at(vpcut::FindingKind::Gouge).line,
@@ -459,7 +533,8 @@ mod tests {
             column: Some(4),
             ..f(vpcut::FindingKind::Program)
         };
-        let p = place(&program, Path::new("jobs/j.toml"), job, &none, &[]);
+        let (p, related) = place(&program, Path::new("jobs/j.toml"), job, &none, &[]);
+        assert_eq!(related.map(|r| r.line), Some(1));
         assert_eq!(
             p,
             Place {

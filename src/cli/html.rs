@@ -33,7 +33,9 @@ impl Html {
         let (renderer, note) = if has_renderer {
             (None, None)
         } else {
-            match progress.stage("starting the renderer", || vpcut::Renderer::new(4)) {
+            match progress.stage("starting the renderer", || {
+                crate::cli::quiet::gpu_quiet(|| vpcut::Renderer::new(4))
+            }) {
                 Ok(r) => match r.check(&options(vpcut::View::Iso)) {
                     Ok(()) => (Some(r), None),
                     Err(e) => (None, Some(format!("No renders: {e}."))),

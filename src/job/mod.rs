@@ -171,6 +171,9 @@ pub struct Job {
     /// Where the passes that come from the `[program]` are in it: (pass index, file as the
     /// job names the program, 1-based line of the thread block). Empty without a program.
     pub pass_blocks: Vec<(usize, String, usize)>,
+    /// How many of the passes are the job's own `[[pass]]` tables (the first ones); the
+    /// rest come from the `[process]` or the program.
+    pub(crate) explicit_passes: usize,
     /// The spindle speed of each pass (rev/min): the program's (`G97 S`, or `G96 S` at the
     /// pass's diameter within its clamp), else `[machine] spindle_rpm`.
     pub pass_rpm: Vec<f64>,
@@ -408,6 +411,7 @@ impl Job {
             passes: Vec::new(),
             chains: Vec::new(),
             pass_blocks: Vec::new(),
+            explicit_passes: 0,
             pass_rpm: Vec::new(),
             pass_cycle: Vec::new(),
             program_warnings: Vec::new(),

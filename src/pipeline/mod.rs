@@ -553,6 +553,10 @@ fn run<S: Sink>(
             }
         }
     }
+    report::locate(job, &merged.dev, &mut report.findings);
+    report.findings = report::group(std::mem::take(&mut report.findings));
+    report.verdict = rank(&mut report.findings);
+    report.finding_counts = FindingCounts::of(&report.findings);
     report.timing_s = report::Timing {
         setup: t_setup,
         sweep: t_sweep,

@@ -138,7 +138,7 @@ pub(crate) fn build_report(
                         FindingKind::NotCompared,
                         Severity::Warning,
                         format!(
-                            "turn {n}: no dexel of it lies on the simulated stock ([simulation] z_range): it is not checked"
+                            "turn {n}: no part of it lies on the simulated stock ([simulation] z_range): it is not checked"
                         ),
                     )
                 });
@@ -294,7 +294,7 @@ pub(crate) fn build_report(
         findings.push(Finding::new(
             FindingKind::NotCompared,
             Severity::Error,
-            "no dexel of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
+            "no part of the thread lies on the simulated stock: nothing was compared, so nothing is verified (check thread.z_start against the blank and [simulation] z_range)".to_string(),
         ));
     }
     // A given z_start the cut does not follow: the ideal is kept where the job puts it.
@@ -473,7 +473,7 @@ fn turn_findings(
             Severity::Error,
             0.0,
             format!(
-                "turn {}: a groove or tooth the drawing has is not found at the pitch diameter on some generator",
+                "turn {}: a groove or tooth the drawing has is not formed at the pitch diameter at one or more of the measured angles",
                 row.turn
             ),
         ));
@@ -485,7 +485,7 @@ fn turn_findings(
                 Severity::Error,
                 err,
                 format!(
-                    "turn {}: lead off by up to {:.4} mm (reference generator: measured {} vs ideal {})",
+                    "turn {}: lead off by up to {:.4} mm (at the reference angle: measured {} vs ideal {})",
                     row.turn,
                     err,
                     fmt_opt(row.measured_lead_mm),
@@ -612,6 +612,11 @@ pub(crate) fn add_part(
         &job.turning.outer_blocks
     };
     let surface = if bore { "bore's contour" } else { "contour" };
+    let part_key = if bore {
+        "part.bore_profile"
+    } else {
+        "part.profile"
+    };
     /// The deepest gouge of one NC block, what made it (in words) and how many did.
     struct Block<'a> {
         file: Option<String>,
@@ -672,6 +677,7 @@ pub(crate) fn add_part(
                 Cutter::Move(_) => None,
             },
             z_mm: Some(r6(g.z)),
+            key: b.file.is_none().then(|| part_key.to_string()),
             file: b.file,
             line: b.line,
             value: Some(r6(g.depth)),
@@ -692,6 +698,7 @@ pub(crate) fn add_part(
     for l in leftovers {
         report.findings.push(Finding {
             z_mm: Some(r6(l.z)),
+            key: Some(part_key.to_string()),
             value: Some(r6(l.height)),
             unit: Some("mm"),
             ..Finding::new(

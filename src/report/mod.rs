@@ -4,18 +4,22 @@
 //! mm rounded to 1e-6 mm (volumes to 1e-6 mm^3), angles in degrees rounded to 1e-4, so the
 //! file is byte-identical between runs and thread counts; only `timing_s` changes.
 
-pub use crate::analysis::findings::{Finding, FindingCounts, FindingKind, Verdict};
+pub use crate::analysis::findings::{Extent, Finding, FindingCounts, FindingKind, Verdict};
 use crate::diag::Severity;
 use serde::Serialize;
 use std::fmt::Write as _;
 
+mod blame;
 mod build;
 mod gauge;
+mod group;
+pub(crate) use blame::locate;
 pub(crate) use build::{add_part, build_report};
 pub(crate) use gauge::add_gauge;
 pub use gauge::{
     GaugeElementInfo, GaugeInfo, GaugeLimits, InchView, LimitPair, OverWires, PlacementInfo, Range,
 };
+pub(crate) use group::group;
 
 /// The schema tag.
 pub const SCHEMA: &str = "vpcut.report/1";
@@ -454,14 +458,23 @@ impl Report {
             Some(t) => (t, "in all"),
             None => (self.timing_s.total, "simulating"),
         };
+        let t = &self.thread;
         let _ = writeln!(
             s,
-            "  stock {} x {} dexels at {} mm, {} passes, {} dexel updates, {} s {what}",
+            "  thread: major diameter {} mm, pitch diameter {} mm, minor diameter {} mm, depth {} mm",
+            num(t.major_diameter_mm, 4),
+            num(t.pitch_diameter_mm, 4),
+            num(t.minor_diameter_mm, 4),
+            num((t.major_diameter_mm - t.minor_diameter_mm) / 2.0, 4)
+        );
+        let _ = writeln!(
+            s,
+            "  simulated every {} deg and {} mm along z ({} x {} points), {} passes, {} s {what}",
+            num(360.0 / self.stock.angular_cells.max(1) as f64, 4),
+            num(self.stock.axial_spacing_mm, 4),
             count(self.stock.angular_cells as f64),
             count(self.stock.axial_cells as f64),
-            num(self.stock.axial_spacing_mm, 4),
             count(self.passes as f64),
-            count(self.kernel.dexel_updates as f64),
             num(time, 3)
         );
         let loc = |l: &Option<Location>| match l {
@@ -604,14 +617,15 @@ impl Report {
         let FindingCounts { errors, warnings } = FindingCounts::of(&self.findings);
         let _ = writeln!(s, "\n  findings: {errors} errors, {warnings} warnings");
         // Grouped by severity and kind, in report order, with the first few messages.
-        let mut groups: Vec<(Severity, FindingKind, Vec<&str>)> = Vec::new();
+        let mut groups: Vec<(Severity, FindingKind, Vec<String>)> = Vec::new();
         for f in &self.findings {
+            let m = located(f);
             match groups
                 .iter_mut()
                 .find(|g| (g.0, g.1) == (f.severity, f.kind))
             {
-                Some(g) => g.2.push(&f.message),
-                None => groups.push((f.severity, f.kind, vec![&f.message])),
+                Some(g) => g.2.push(m),
+                None => groups.push((f.severity, f.kind, vec![m])),
             }
         }
         const SHOWN: usize = 3;
@@ -634,6 +648,19 @@ impl Report {
             }
         }
         s
+    }
+}
+
+/// A finding's message led by its source (`file:line:col: ` of its NC block, or `job key
+/// K: `), unless the message already names its block.
+fn located(f: &Finding) -> String {
+    let named = match (&f.file, f.line) {
+        (Some(file), Some(line)) => f.message.starts_with(&format!("{file}:{line}:")),
+        _ => false,
+    };
+    match f.source() {
+        Some(src) if !named => format!("{src}: {}", f.message),
+        _ => f.message.clone(),
     }
 }
 

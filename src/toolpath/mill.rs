@@ -41,10 +41,12 @@ pub(crate) fn mill_path(
         .ok_or_else(|| {
             fail(
                 m,
-                format!(
-                    "milling with tool {:?}, which the job's [[tool]] list does not define",
-                    m.tool
-                ),
+                match m.tool {
+                    Some(t) => format!(
+                        "milling with tool {t}, which the job's [[tool]] list does not define"
+                    ),
+                    None => "a milling move without a T word in a job with several cutters: select the cutter with a T word".to_string(),
+                },
             )
         })?;
         let part = |p: [f64; 3]| [p[0] - axis[0], p[1] - axis[1], p[2]];

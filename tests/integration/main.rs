@@ -56,6 +56,8 @@ mod real_programs;
 mod render;
 /// Bad input never panics.
 mod robust;
+/// Issue 29: every finding at its NC block or job key; SARIF's physical locations.
+mod sources;
 /// `--gltf` alone: the model meshed as the columns stream, the full grid's bytes.
 mod streamed_mesh;
 mod streaming;

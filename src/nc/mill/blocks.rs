@@ -189,8 +189,13 @@ impl Interp<'_> {
                 return Err((
                     col,
                     format!(
-                        "H{h} is not a length offset of the job's tools (expected one of {:?})",
-                        st.settings.length_offsets
+                        "H{h} is not a length offset of the job's tools (expected one of {})",
+                        st.settings
+                            .length_offsets
+                            .iter()
+                            .map(|o| o.to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
                 ));
             }
@@ -202,7 +207,8 @@ impl Interp<'_> {
         }
         if let Some(&(d, col)) = w.vals.get("D") {
             let known = st.settings.radius_offsets.iter().map(|o| o.0);
-            let expected = format!("expected D0 or one of {:?}", known.collect::<Vec<_>>());
+            let known: Vec<String> = known.map(|o| o.to_string()).collect();
+            let expected = format!("expected D0 or one of {}", known.join(", "));
             let n = d.round() as u32;
             st.d_radius = match st.settings.radius_offsets.iter().find(|o| o.0 == n) {
                 _ if d < 0.0 => None,

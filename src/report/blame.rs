@@ -1,0 +1,253 @@
+//! Every finding at its source: the NC block whose pass or turning move made a deviation
+//! (the dexel of the extreme re-cut by each pass alone and by each turning move alone: the
+//! deepest cut is the one that left the surface there, turning moves first among equals as
+//! a lathe program turns before it threads), the thread block of a machine check's pass,
+//! and for what no block made, the job file's key (`pass[2]`, `thread.z_start`).
+//!
+//! The report's per-turn measurement findings (lead, widths, missing and split features)
+//! are blamed at their turn's worst deviation: the place the turn is most off.
+
+use crate::analysis::compare::{Deviation, Extreme, TurnDeviation};
+use crate::analysis::findings::{Finding, FindingKind};
+use crate::job::Job;
+use crate::kernel::sweep::{sweep_column, Column};
+use crate::kernel::turn::envelope;
+use crate::model::stock::Surface;
+use crate::model::thread::{Flank, Side};
+
+/// What cut a dexel last to its final depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Maker {
+    /// A threading pass (0-based index into `Job::passes`).
+    Pass(usize),
+    /// A turning (feed or arc) move of the program, 0-based in its surface's moves.
+    Move(usize),
+}
+
+/// How close a cut must come to the deepest to count as reaching it (mm): the stock holds
+/// `f32`, the re-cut the same arithmetic, so equal cuts agree far closer than this.
+const SAME_CUT_MM: f64 = 1e-5;
+
+/// The thread's surface, its blank radius (signed: negative inside) and its floor.
+fn surface(job: &Job) -> (Surface, f64, f64) {
+    let b = &job.blank;
+    match job.thread.side {
+        Side::External => (Surface::Outer, b.diameter / 2.0, b.bore / 2.0),
+        Side::Internal => (Surface::Inner, -b.bore / 2.0, -b.diameter / 2.0),
+    }
+}
+
+/// What made the dexel at `theta`, `z` of the thread's surface: the deepest of every pass's
+/// and every turning move's own cut (turning first, then passes in order, among equals);
+/// where nothing cut it, the pass whose cut comes nearest within `reach` mm along the
+/// axis; `None` where there is none or the job is a milling job.
+pub(crate) fn maker_at(job: &Job, theta: f64, z: f64, dz: f64, reach: f64) -> Option<Maker> {
+    if job.mill.is_some() || !theta.is_finite() || !z.is_finite() {
+        return None;
+    }
+    let (s, q_blank, q_floor) = surface(job);
+    let mut cuts: Vec<(Maker, f64)> = Vec::new();
+    let turned = match s {
+        Surface::Outer => &job.turning.outer,
+        Surface::Inner => &job.turning.inner,
+    };
+    for (i, cut) in turned.cuts.iter().enumerate() {
+        let Some((lo, hi)) = cut.span(q_blank) else {
+            continue;
+        };
+        if z < lo || z > hi {
+            continue;
+        }
+        let e = envelope(&cut.tool, &cut.path, z);
+        let v = e.max(q_floor) - q_blank;
+        if v < 0.0 {
+            cuts.push((Maker::Move(i), v));
+        }
+    }
+    let c = Column {
+        theta,
+        z0: z,
+        dz: dz.max(1e-9),
+        q_blank,
+        surface: s,
+    };
+    let mut col = [0f32; 1];
+    for (k, p) in job.passes.iter().enumerate() {
+        col[0] = 0.0;
+        sweep_column(&mut col, c, std::slice::from_ref(p), &job.tools);
+        let v = f64::from(col[0]);
+        if v < 0.0 {
+            cuts.push((Maker::Pass(k), v));
+        }
+    }
+    let deepest = cuts.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
+    cuts.iter()
+        .find(|c| c.1 <= deepest + SAME_CUT_MM)
+        .map(|c| c.0)
+        .or_else(|| nearest_pass(job, c, reach))
+}
+
+/// The pass whose cut comes nearest along the axis to a dexel no pass cut (within `reach`
+/// mm either side: the thread's length): the one that left it standing. The first pass
+/// among equals.
+fn nearest_pass(job: &Job, c: Column, reach: f64) -> Option<Maker> {
+    let n = ((reach / c.dz).ceil() as usize).clamp(1, 100_000);
+    let col = Column {
+        z0: c.z0 - n as f64 * c.dz,
+        ..c
+    };
+    let mut q = vec![0f32; 2 * n + 1];
+    let mut best: Option<(usize, usize)> = None;
+    for (k, p) in job.passes.iter().enumerate() {
+        q.fill(0.0);
+        sweep_column(&mut q, col, std::slice::from_ref(p), &job.tools);
+        let near = q
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v < 0.0)
+            .map(|(j, _)| j.abs_diff(n))
+            .min();
+        if let Some(d) = near {
+            if best.is_none_or(|b| d < b.1) {
+                best = Some((k, d));
+            }
+        }
+    }
+    best.map(|b| Maker::Pass(b.0))
+}
+
+/// The program block (file, 1-based line) of what made a dexel; or the job key of a pass
+/// that does not come from the program.
+fn source_of(job: &Job, m: Maker) -> (Option<(String, usize)>, Option<String>) {
+    let (s, _, _) = surface(job);
+    match m {
+        Maker::Pass(k) => match job.pass_blocks.iter().find(|b| b.0 == k) {
+            Some(b) => (Some((b.1.clone(), b.2)), None),
+            None => (None, Some(pass_key(job, k))),
+        },
+        Maker::Move(i) => {
+            let blocks = match s {
+                Surface::Outer => &job.turning.outer_blocks,
+                Surface::Inner => &job.turning.inner_blocks,
+            };
+            (blocks.get(i).cloned(), None)
+        }
+    }
+}
+
+/// The job key of a pass that no program block made: its `[[pass]]` table, else the
+/// `[process]` that generated it.
+fn pass_key(job: &Job, k: usize) -> String {
+    if k < job.explicit_passes {
+        format!("pass[{k}]")
+    } else {
+        "process".to_string()
+    }
+}
+
+/// The turn's worst deviation (gouge or leftover, any flank).
+fn worst(td: &TurnDeviation) -> Option<Extreme> {
+    match (td.max_gouge(), td.max_leftover()) {
+        (Some(g), Some(l)) => Some(if l.value > g.value { l } else { g }),
+        (g, l) => g.or(l),
+    }
+}
+
+/// The exact extreme a deviation finding reports (its turn and flank's), or the turn's
+/// worst for the turn's measurement findings.
+fn extreme_of(dev: &Deviation, f: &Finding) -> Option<Extreme> {
+    let td = dev.turns.get(&(f.start?, f.turn?))?;
+    match f.kind {
+        FindingKind::Gouge | FindingKind::Leftover => {
+            let k = Flank::ALL.iter().position(|&x| Some(x) == f.flank)?;
+            if f.kind == FindingKind::Gouge {
+                td.gouge[k]
+            } else {
+                td.leftover[k]
+            }
+        }
+        FindingKind::Lead
+        | FindingKind::GrooveWidth
+        | FindingKind::ToothWidth
+        | FindingKind::MissingFeature
+        | FindingKind::SplitFeature => worst(td),
+        _ => None,
+    }
+}
+
+/// The key of the job's table a finding that no block made is about: for a deviation or a
+/// measurement no pass reached, what should have cut it (the program, the process, the
+/// passes).
+fn table_key(job: &Job, f: &Finding) -> &'static str {
+    use FindingKind as K;
+    match f.kind {
+        K::Placement => "thread.z_start",
+        K::NotCompared => "simulation.z_range",
+        K::Gauge => "thread.designation",
+        K::FeedLimit | K::RunIn | K::AxisAcceleration => "machine",
+        K::FlankInterference | K::HeadLength | K::DepthPerPass | K::InfeedAngle => "tool",
+        K::Program | K::RapidCut => "program",
+        _ if job.mill.is_some() || !job.pass_blocks.is_empty() => "program",
+        _ if job.explicit_passes < job.passes.len() => "process",
+        _ if job.explicit_passes > 0 => "pass",
+        _ => "thread",
+    }
+}
+
+/// Give every finding of `findings` its source: an NC block (file, line, column 1) where a
+/// pass or a move of the program made it, else the job key. Findings that have a place
+/// keep it.
+pub(crate) fn locate(job: &Job, dev: &Deviation, findings: &mut [Finding]) {
+    // The thread's length and a lead either side: a block that stops short leaves the
+    // turns after it uncut, and it is the nearest pass's.
+    let law = job.thread.helix.law;
+    let lead = law.f.abs().max(law.lead(job.thread.turns).abs());
+    let reach = lead * (job.thread.turns.abs() + 1.0);
+    for f in findings.iter_mut() {
+        if f.file.is_some() && f.line.is_some() {
+            continue;
+        }
+        // What made it: the pass a check is about, else the dexel's cutter.
+        let maker = match f.pass {
+            Some(p) if p >= 1 && !matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover) => {
+                Some(Maker::Pass(p - 1))
+            }
+            _ => {
+                let at = extreme_of(dev, f)
+                    .map(|e| (e.theta, e.z))
+                    .or_else(|| match f.kind {
+                        FindingKind::FlankInterference => {
+                            Some((f.angle_deg?.to_radians(), f.z_mm?))
+                        }
+                        _ => None,
+                    });
+                at.and_then(|(theta, z)| maker_at(job, theta, z, dev_dz(job), reach))
+            }
+        };
+        if let Some(m) = maker {
+            if let Maker::Pass(k) = m {
+                f.pass.get_or_insert(k + 1);
+            }
+            let (block, key) = source_of(job, m);
+            if let Some((file, line)) = block {
+                f.file = Some(file);
+                f.line = Some(line);
+                f.column.get_or_insert(1);
+                continue;
+            }
+            if key.is_some() {
+                f.key = key;
+                continue;
+            }
+        }
+        if f.key.is_none() {
+            f.key = Some(table_key(job, f).to_string());
+        }
+    }
+}
+
+/// The axial spacing of the cells the job is simulated on (only the width of the one cell
+/// re-cut: the cut at a cell's centre does not depend on it).
+fn dev_dz(job: &Job) -> f64 {
+    job.sim.axial_spacing
+}
