@@ -89,7 +89,14 @@ impl<'a, 'v> Parser<'a, 'v> {
 
     /// A whole expression; the text must end after it.
     pub(super) fn whole(mut self) -> Result<f64, Fail> {
+        let start = self.col();
         let v = self.condition()?;
+        if !(v.is_finite() && v.abs() < 1e12) {
+            return Err((
+                start,
+                format!("the expression's value {v:e} is out of range"),
+            ));
+        }
         if let Some(c) = self.peek() {
             return Err((self.col(), format!("unexpected `{c}` after the expression")));
         }
@@ -225,7 +232,9 @@ impl<'a, 'v> Parser<'a, 'v> {
                 }
                 let t: String = self.s[start..self.i].iter().collect();
                 t.parse::<f64>()
-                    .map_err(|_| (col, format!("`{t}` is not a number")))
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or((col, format!("`{t}` is not a number")))
             }
             Some(c) if c.is_ascii_alphabetic() => {
                 let w = self.word();

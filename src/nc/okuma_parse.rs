@@ -191,7 +191,9 @@ fn parse_block(text: &str) -> Result<(Option<String>, bool, Vec<Item>), Fail> {
                 ))?;
                 let v = t
                     .parse::<f64>()
-                    .map_err(|_| (j, format!("`{t}` is not a number")))?;
+                    .ok()
+                    .filter(|v| v.is_finite() && v.abs() < 1e9)
+                    .ok_or((j, format!("`{t}` is not a number vpcut can use (at most 9 digits before the point)")))?;
                 items.push(Item::Word(c, Val::Num(v), i));
                 i = j + t.len();
             }

@@ -767,3 +767,58 @@ fn the_command_line_exits_2_naming_the_place() {
     assert_eq!(code, Some(0), "{err}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Okuma OSP-P (issue 27): every class of bad input above in the `okuma` dialect: values
+/// out of range, runaway loops and calls, malformed words and statements: a clean error at
+/// its line and column, within the bound, no panic.
+#[test]
+fn okuma_bad_input_stops_cleanly() {
+    let o = &[Dialect::Okuma];
+    fails(
+        o,
+        &format!("G00 X{}\n", nines(400)),
+        1,
+        Some(6),
+        "not a number",
+    );
+    fails(
+        o,
+        "VC1=99999999*99999999*99999999\nG00 X=VC1\n",
+        1,
+        Some(5),
+        "out of range",
+    );
+    fails(o, "VC1=SQRT[-4]\n", 1, Some(5), "out of its domain");
+    fails(o, "VC1=1/[VC2]\n", 1, Some(6), "division by zero");
+    fails(o, "N1 GOTO N1\n", 1, None, "more than");
+    fails(
+        o,
+        "N1 CALL OSUB\nM02\nOSUB\nCALL OSUB\nRTS\n",
+        4,
+        None,
+        "subprogram",
+    );
+    fails(o, "IF [1 EQ 1 N10\n", 1, None, "`]`");
+    fails(
+        o,
+        "G00 X1 Z1\nG01 Z-5 F\n",
+        2,
+        Some(10),
+        "expected a number",
+    );
+    fails(o, "G00 X10 Z0\nG33 X9 Z-10 F0\n", 2, None, "positive lead");
+    fails(
+        o,
+        "G00 X10 Z0\nCALL OX Q-1\n",
+        2,
+        Some(9),
+        "whole number of repeats",
+    );
+    // A loop that makes moves without end stops at the moves limit.
+    let limits = Limits {
+        max_moves: 1000,
+        ..Limits::default()
+    };
+    let e = nc_with(Dialect::Okuma, "N1 G00 X10\nG00 X20\nGOTO N1\n", limits).unwrap_err();
+    assert!(e.message.contains("moves"), "{e}");
+}
