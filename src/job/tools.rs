@@ -587,9 +587,9 @@ pub(super) fn resolve_holder(
                 "left",
                 need(
                     "left",
-                    "how far the shank reaches to the -z side of the tip",
+                    "how far the shank reaches to the -z side of the tip (negative: it starts that far to the +z side)",
                 )?,
-                0.0,
+                -10_000.0,
             )?;
             let right = finite(
                 "right",
@@ -597,7 +597,7 @@ pub(super) fn resolve_holder(
                     "right",
                     "how far the shank reaches to the +z side of the tip",
                 )?,
-                0.0,
+                -10_000.0,
             )?;
             let clearance = finite(
                 "clearance",
@@ -629,15 +629,21 @@ pub(super) fn resolve_holder(
                 need("reach", "the tip's distance from the bar's centre line")?,
                 0.0,
             )?;
-            let front = finite("front", h.front.unwrap_or(0.0), 0.0)?;
+            let front = finite("front", h.front.unwrap_or(0.0), -10_000.0)?;
             let length = finite(
                 "length",
                 need(
                     "length",
                     "how far the bar reaches from the tip toward +z, out of the bore",
                 )?,
-                0.0,
+                -10_000.0,
             )?;
+            if front + length <= 0.0 {
+                return Err(cx.err(
+                    &key("length"),
+                    "expected a bar of some length (front + length > 0)",
+                ));
+            }
             if diameter <= 0.0 {
                 return Err(cx.err(&key("diameter"), "expected a bar diameter over 0 mm"));
             }

@@ -277,9 +277,14 @@ fn holders_are_checked_key_by_key() {
             "tool[0].holder.reach",
         ),
         (
-            "{ kind = \"shank\", left = -1.0, right = 2.0, clearance = 1.0 }",
+            "{ kind = \"shank\", left = -3.0, right = 2.0, clearance = 1.0 }",
             "external",
-            "tool[0].holder.left",
+            "tool[0].holder.right",
+        ),
+        (
+            "{ kind = \"shank\", left = 1.0, right = 2.0, clearance = -1.0 }",
+            "external",
+            "tool[0].holder.clearance",
         ),
     ] {
         let text = base(holder, side);
