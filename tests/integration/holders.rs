@@ -295,3 +295,53 @@ fn holders_are_checked_key_by_key() {
         assert!(msg.contains(key), "{holder}: {msg}");
     }
 }
+
+/// No false collision on the scenes: every lathe scene whose program drives its tools, with
+/// holders as a catalogue would size them (a turning tool's shank starting 0.5 mm to the +z
+/// side of its tip and 8 mm above it, as a 95 deg holder's; an insert's 2 mm above the
+/// thread's depth, flush with its tip), meets nothing: no `collision` finding.
+#[test]
+fn catalogue_holders_meet_nothing_on_the_lathe_scenes() {
+    let mut checked = 0;
+    for name in crate::support::scenes() {
+        let text = crate::support::small(&name);
+        if !text.contains("[program]") || text.contains("kind = \"mill\"") {
+            continue;
+        }
+        let depth = crate::support::scene_job(&name).thread.depth();
+        let mut doc: toml_edit::DocumentMut = text.parse().unwrap();
+        let Some(tools) = doc.get_mut("tool").and_then(|t| t.as_array_of_tables_mut()) else {
+            continue;
+        };
+        for t in tools.iter_mut() {
+            let kind = t
+                .get("kind")
+                .and_then(|k| k.as_str())
+                .unwrap_or("")
+                .to_string();
+            let holder = match kind.as_str() {
+                "turning" => {
+                    "{ kind = \"shank\", left = -0.5, right = 25.0, clearance = 8.0 }".to_string()
+                }
+                "threading" | "grooving" | "trapezoidal" | "mesh" => format!(
+                    "{{ kind = \"shank\", left = 0.0, right = 25.0, clearance = {} }}",
+                    depth + 2.0
+                ),
+                _ => continue,
+            };
+            let v: toml_edit::Item = format!("x = {holder}")
+                .parse::<toml_edit::DocumentMut>()
+                .unwrap()["x"]
+                .clone();
+            t.insert("holder", v);
+        }
+        let dir = crate::support::root().join("scenes").join(&name);
+        let load = |f: &str| std::fs::read_to_string(dir.join(f)).ok();
+        let job = Job::from_toml_with(&doc.to_string(), "job.toml", &load)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let r = simulate_report(&job, &SimOptions::default()).unwrap();
+        assert!(collisions(&r).is_empty(), "{name}: {:#?}", collisions(&r));
+        checked += 1;
+    }
+    assert!(checked >= 7, "{checked} lathe scenes with programs");
+}
