@@ -576,8 +576,71 @@ pub fn differ(planned: &[Pass], read: &[Pass]) -> Option<String> {
             && a.tool == b.tool
             && a.spindle == b.spindle;
         if !close {
-            return Some(format!("pass {}: planned {a:?}, read {b:?}", i + 1));
+            return Some(format!(
+                "pass {}: planned {}; read {}",
+                i + 1,
+                pass_text(a),
+                pass_text(b)
+            ));
         }
     }
     None
+}
+
+/// A pass in the words of a program: its diameters, z span, lead, start angle, tool and
+/// spindle direction.
+fn pass_text(p: &Pass) -> String {
+    let change = if p.lead_change != 0.0 {
+        format!(" changing {:.6} per rev", p.lead_change)
+    } else {
+        String::new()
+    };
+    format!(
+        "X{:.4} to X{:.4}, Z{:.4} to Z{:.4}, lead {:.6}{change}, start angle {:.3} deg, tool[{}], {}",
+        p.x_start,
+        p.x_end,
+        p.z_start,
+        p.z_end,
+        p.lead,
+        p.start_angle.to_degrees(),
+        p.tool,
+        match p.spindle {
+            crate::model::helix::Spindle::Cw => "M03",
+            crate::model::helix::Spindle::Ccw => "M04",
+        }
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::helix::Spindle;
+
+    #[test]
+    fn a_difference_is_said_in_a_programs_words() {
+        let a = Pass {
+            tool: 0,
+            x_start: 27.546,
+            x_end: 27.546,
+            z_start: 5.0,
+            z_end: -36.0,
+            lead: 2.0,
+            lead_change: 0.0,
+            start_angle: 0.0,
+            spindle: Spindle::Cw,
+        };
+        let b = Pass {
+            lead: 2.1,
+            ..a.clone()
+        };
+        let msg = differ(std::slice::from_ref(&a), &[b]).expect("a difference");
+        assert_eq!(
+            msg,
+            "pass 1: planned X27.5460 to X27.5460, Z5.0000 to Z-36.0000, lead 2.000000, start angle 0.000 deg, tool[0], M03; read X27.5460 to X27.5460, Z5.0000 to Z-36.0000, lead 2.100000, start angle 0.000 deg, tool[0], M03"
+        );
+        assert_eq!(
+            differ(std::slice::from_ref(&a), std::slice::from_ref(&a)),
+            None
+        );
+    }
 }

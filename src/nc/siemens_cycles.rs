@@ -423,19 +423,20 @@ impl Interp<'_> {
                 "IANG {iang}: the infeed angle must lie within ±90 degrees"
             ));
         }
-        let whole = |v: f64, what: &str, min: f64| -> Result<u32, Fail> {
-            if v.fract() != 0.0 || v < min || v > 1e5 {
+        let whole = |v: f64, what: &str, min: f64, max: f64| -> Result<u32, Fail> {
+            if v.fract() != 0.0 || v < min || v > max {
                 return Err((
                     at,
-                    format!("{name}: {what} {v} must be a whole number from {min}"),
+                    format!("{name}: {what} {v} must be a whole number from {min} to {max}"),
                 ));
             }
             Ok(v as u32)
         };
-        let nrc = whole(nrc, "NRC (roughing cuts)", 1.0)?;
-        let nid = whole(nid, "NID (idle passes)", 0.0)?;
-        let numt = whole(numt.max(1.0), "NUMT (starts)", 1.0)?;
-        let vari = whole(vari, "VARI", 1.0)?;
+        let nrc = whole(nrc, "NRC (roughing cuts)", 1.0, 1e5)?;
+        let nid = whole(nid, "NID (idle passes)", 0.0, 1e5)?;
+        let numt = whole(numt.max(1.0), "NUMT (starts)", 1.0, 1e5)?;
+        // A coded VARI (the 840D sl's, 300103) is said as such below.
+        let vari = whole(vari, "VARI", 1.0, 1e9)?;
         if vari > 4 {
             return err(format!(
                 "VARI {vari}: the machining type is 1..4 (Siemens alarm 61002)"

@@ -172,6 +172,15 @@ fn cycle97_pitch_by_size_and_its_errors() {
         ("CYCLE97(1,,0,-10,10,10,2,1,1,0,0,0,2,0,5,1)", "VARI"),
         ("CYCLE97(1,,0,0,10,10,2,1,1,0,0,0,2,0,1,1)", "SPL = FPL"),
         ("CYCLE97(1,,0,-10,10,10,2,1,1,0,0,0,0,0,1,1)", "NRC"),
+        // A coded VARI is named whole, with the range that runs (the message was cut off).
+        (
+            "CYCLE97(1,,0,-10,10,10,2,1,1,0,0,0,2,0,300103,1)",
+            "VARI 300103: the machining type is 1..4",
+        ),
+        (
+            "CYCLE97(1,,0,-10,10,10,2,1,1,0,0,0,2.5,0,1,1)",
+            "must be a whole number from 1 to 100000",
+        ),
         ("CYCLE97(1,,0,-2,10,20,2,1,1,0,0,0,2,0,1,1)", "45 degrees"),
         (
             "CYCLE99(0,10,-10,10,2,1,1,0,0,0,2,0,1.5,1100103,1,0)",
