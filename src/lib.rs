@@ -59,7 +59,7 @@ mod pipeline;
 mod report;
 mod toolpath;
 
-pub use analysis::compare::{compare, Deviation, Extreme, TurnDeviation};
+pub use analysis::compare::{column_deviation, compare, Deviation, Extreme, Place, TurnDeviation};
 pub use analysis::measure::{measure, MeasureConfig, TurnMeasure};
 pub use analysis::place::Placement;
 pub use gen::{plan, post};
@@ -90,19 +90,19 @@ pub use nc::{
     Toolpath,
 };
 pub use output::glb::{from_glb, to_glb, GlbError};
-pub use output::html::{
-    finding_passes, finding_point, to_html, FindingPass, FindingPlace, HtmlPage, HtmlPicture,
-};
-pub use output::mesh::{build_scene, ideal_mesh, stock_mesh, tool_mesh, toolpath, SceneOptions};
+pub use output::html::{finding_point, to_html, FindingPlace, HtmlPage, HtmlPicture};
+pub use output::mesh::{build_scene, ideal_mesh, stock_mesh, toolpath, SceneOptions};
 pub use output::plot::chart::band_colour;
 pub use output::plot::developed::{developed_plot, developed_view, DevelopedPlot};
-pub use output::plot::section::{section_view, trace_view};
-pub use output::plot::{section_profile, signed_deviation};
+pub use output::plot::section::{section_view, trace_plot, trace_view, TraceMark, TracePlot};
+pub use output::plot::{section_angle, section_profile, signed_deviation};
 pub use output::render::{
-    encode_png, RenderError, RenderOptions, Renderer, ToolpathMode, View, SHADER,
+    captions, encode_png, Captions, RenderError, RenderOptions, Renderer, ToolpathMode, View,
+    SHADER,
 };
 pub use output::scene::{Focus, Legend, Mesh, PathKind, Polyline, Scene};
 pub use output::stream::{simulate_meshed, Meshed};
+pub use output::tool::tool_mesh;
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
     CycleTimeInfo, Extent, Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo,

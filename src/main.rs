@@ -843,7 +843,13 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             vpcut::Verdict::Fail => "FAIL",
         };
         let title = format!("{name}: {verdict}");
-        let angle = args.section_angle.unwrap_or(0.0).to_radians();
+        let angle = args.section_angle.map_or_else(
+            || {
+                let out = grids.as_ref().expect("the grid was kept");
+                vpcut::section_angle(&out.deviation, &stock.grid, tol)
+            },
+            f64::to_radians,
+        );
         // The page alone shows them at most 720 pixels wide: smaller ones cost less.
         let (dw, dh, sw, sh, tw, th) = if let Some((w, h)) = args.plot_size {
             (w, h, w, (h * 2).div_ceil(3), w, (h * 5).div_ceil(9))
@@ -856,19 +862,21 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             let deviation = &grids.as_ref().expect("the grid was kept").deviation;
             let dev = vpcut::developed_view(stock, &job.thread, deviation, tol, dw, dh, &title);
             let sec = vpcut::section_view(stock, &job.thread, angle, tol, sw, sh, &title);
-            let tr = vpcut::trace_view(stock, &job.thread, angle, tol, tw, th, &title);
+            let tr = vpcut::trace_view(stock, &job.thread, deviation, angle, tol, tw, th, &title);
             (png(&dev), png(&sec), png(&tr))
         });
-        plots = Some([dev?, sec?, tr?]);
+        plots = Some(([dev?, sec?, tr?], angle));
     }
-    if let (Some((developed, section, trace)), Some([dev, sec, tr])) = (plot_slots, &plots) {
+    if let (Some((developed, section, trace)), Some(([dev, sec, tr], _))) = (plot_slots, &plots) {
         outs.put(developed, dev)?;
         outs.put(section, sec)?;
         outs.put(trace, tr)?;
     }
-    if let (Some(h), Some(o), Some(scene), Some(plots)) = (&html, &grids, &picture_scene, plots) {
+    if let (Some(h), Some(o), Some(scene), Some((plots, angle))) =
+        (&html, &grids, &picture_scene, plots)
+    {
         let renderer = pictures.as_ref().map(|p| &p.renderer);
-        h.write(&job, o, scene, plots, renderer, &mut outs, &progress)?;
+        h.write(&job, o, scene, plots, angle, renderer, &mut outs, &progress)?;
     }
     if ci_slots.0.is_some() || ci_slots.1.is_some() {
         let case = Case {

@@ -35,14 +35,49 @@ pub struct Extreme {
     pub start: u32,
     /// Part of the profile nearest to the point.
     pub flank: Flank,
+    /// Where the point's groove crossing lies in its turn: the helix parameter past the
+    /// turn's first (0 at the turn's start angle, 1 at its end). Among values the report
+    /// writes alike, the extreme is the one nearest the middle of its turn.
+    pub turn_fraction: f64,
 }
 
+/// Values that differ by less than this (mm) may be written alike by the report (it
+/// rounds to 1e-6 mm): a point below an extreme by at least this cannot replace it.
+pub(crate) const TIE_MARGIN: f64 = 2e-6;
+
 impl Extreme {
+    /// The value as the report writes it, in units of its last digit (1e-6 mm).
+    fn written(&self) -> f64 {
+        (self.value * 1e6).round()
+    }
+
+    /// How far the point lies from the middle of its turn, in turns.
+    fn off_middle(&self) -> f64 {
+        (self.turn_fraction.clamp(0.0, 1.0) - 0.5).abs()
+    }
+
+    /// Whether `self` replaces `other` as an extreme: a larger value as the report writes
+    /// it, or the same written value nearer the middle of its turn. A defect that runs
+    /// evenly along the thread so has its place half a turn from each turn's start, not at
+    /// the columns met first (the start angle), where the end of one turn and the start
+    /// of the next are one spot reported twice. A total order on `(written value, off
+    /// middle)`: the merged extremes do not depend on the order points are met in, but
+    /// among exact equals the first wins.
+    pub(crate) fn beats(&self, other: &Extreme) -> bool {
+        let (a, b) = (self.written(), other.written());
+        a > b || (a == b && self.off_middle() < other.off_middle())
+    }
+
     fn keep_max(slot: &mut Option<Extreme>, e: Extreme) {
-        if slot.is_none_or(|s| e.value > s.value) {
+        if slot.is_none_or(|s| e.beats(&s)) {
             *slot = Some(e);
         }
     }
+}
+
+/// The helix parameter of a groove past its turn's first (see [`Extreme::turn_fraction`]).
+fn turn_fraction(g: &ThreadGroove) -> f64 {
+    (g.g - (g.turn - 1) as f64).clamp(0.0, 1.0)
 }
 
 /// Deviation statistics of one turn.
@@ -108,8 +143,9 @@ struct Flat<'a> {
     equal_groove: bool,
     /// The flat the walk is on.
     open: Option<OpenFlat>,
-    /// Flats found deviating all across: the turn and the extreme.
-    found: Vec<((u32, i64), Extreme)>,
+    /// Flats found deviating all across: the turn, the extreme, and the z of the flat's
+    /// first and last dexel.
+    found: Vec<((u32, i64), Extreme, (f64, f64))>,
 }
 
 /// A root or crest flat being walked.
@@ -184,10 +220,31 @@ impl Flat<'_> {
                     turn: key.1,
                     start: key.0,
                     flank: if o.root { Flank::Root } else { Flank::Crest },
+                    turn_fraction: self.grooves.get(pick).map_or(0.5, turn_fraction),
                 },
+                o.z,
             ));
         }
     }
+}
+
+/// A per-turn extreme as the report's findings give it ([`Deviation::places`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Place {
+    /// A gouge (else a leftover).
+    pub gouge: bool,
+    /// The extreme: its value, place, turn and flank.
+    pub extreme: Extreme,
+    /// The adjacent turn whose extreme lies on the same spot, given here once.
+    pub also: Option<i64>,
+}
+
+/// Whether two extremes lie on one spot of the part: on columns at most one and a half
+/// columns apart (across the 0/360 deg join too) and within two cells along the axis.
+fn same_spot(a: &Extreme, b: &Extreme, grid: &Grid) -> bool {
+    let d = (a.theta - b.theta).rem_euclid(std::f64::consts::TAU);
+    let gap = d.min(std::f64::consts::TAU - d);
+    gap <= 1.5 * grid.dtheta() + 1e-12 && (a.z - b.z).abs() <= 2.0 * grid.dz + 1e-12
 }
 
 /// The comparison of a whole stock.
@@ -228,6 +285,56 @@ impl Deviation {
             }
         }
         best
+    }
+
+    /// The per-turn extremes beyond `tol` that the report gives as findings, one per place:
+    /// where the extremes of two adjacent turns (same start and kind) lie on one spot of
+    /// the part (the end of one turn meets the start of the next at the start angle, so a
+    /// defect there can be the worst of both), the spot is given once, as the larger of the
+    /// two (the earlier turn's on a tie), naming the other turn (`also`). Every other
+    /// extreme is given as it is. Turn order, then gouge before leftover, then flank order.
+    pub fn places(&self, tol: f64, grid: &Grid) -> Vec<Place> {
+        let mut all: Vec<Place> = Vec::new();
+        for td in self.turns.values() {
+            for (gouge, slots) in [(true, &td.gouge), (false, &td.leftover)] {
+                for e in slots.iter().flatten().filter(|e| e.value > tol) {
+                    all.push(Place {
+                        gouge,
+                        extreme: *e,
+                        also: None,
+                    });
+                }
+            }
+        }
+        let same = |a: &Place, b: &Place| {
+            let (x, y) = (&a.extreme, &b.extreme);
+            a.gouge == b.gouge
+                && x.start == y.start
+                && x.turn.abs_diff(y.turn) == 1
+                && same_spot(x, y, grid)
+        };
+        // Which of two at one spot is given: the larger, the earlier turn's on a tie.
+        let wins = |a: &Place, b: &Place| {
+            let (x, y) = (&a.extreme, &b.extreme);
+            x.value > y.value || (x.value == y.value && x.turn < y.turn)
+        };
+        let mut out = Vec::with_capacity(all.len());
+        for (i, p) in all.iter().enumerate() {
+            if all
+                .iter()
+                .enumerate()
+                .any(|(k, q)| k != i && same(p, q) && wins(q, p))
+            {
+                continue;
+            }
+            let also = all
+                .iter()
+                .enumerate()
+                .find(|(k, q)| *k != i && same(p, q))
+                .map(|(_, q)| q.extreme.turn);
+            out.push(Place { also, ..*p });
+        }
+        out
     }
 
     /// Total gouge volume.
@@ -276,6 +383,25 @@ pub fn compare(stock: &Stock, thread: &ThreadSpec, window: (f64, f64)) -> Deviat
     total
 }
 
+/// The signed deviation of every cell of column `i` of `stock`'s thread surface, as the
+/// report's comparison counts it (window: the grid's span, as the pipeline compares):
+/// the values the report's extremes are the largest of ([`Comparer::signed`]). Empty
+/// without the thread's surface.
+pub fn column_deviation(stock: &Stock, thread: &ThreadSpec, i: usize) -> Vec<Option<f64>> {
+    let surface = match thread.side {
+        crate::model::thread::Side::External => Surface::Outer,
+        crate::model::thread::Side::Internal => Surface::Inner,
+    };
+    let grid = stock.grid;
+    let Some(q) = stock.surface(surface) else {
+        return Vec::new();
+    };
+    let Some(col) = q.get(i * grid.n_z..(i + 1) * grid.n_z) else {
+        return Vec::new();
+    };
+    Comparer::new(grid, stock.blank_q(surface), surface, thread, grid.window()).signed(i, col)
+}
+
 /// Columns per tile of a grid of `n_theta` columns: 64 tiles (or one column each), so
 /// that the tiles do not depend on the thread count.
 pub(crate) fn tile_columns(n_theta: usize) -> usize {
@@ -284,10 +410,11 @@ pub(crate) fn tile_columns(n_theta: usize) -> usize {
 
 /// The largest gouge and leftover per turn and flank of the columns compared before, in
 /// one tile (compared in column order on one thread). A point whose radial gap is at most
-/// the smallest of them over the four flanks cannot beat the earlier column's extreme on
-/// whichever flank it lies (its normal distance is at most its gap, and an earlier point
-/// wins a tie), so its normal distance is not computed: the merged extremes are exactly
-/// those of comparing every point, whatever the tiles.
+/// the smallest of them over the four flanks, less [`TIE_MARGIN`], cannot beat the earlier
+/// column's extreme on whichever flank it lies (its normal distance is at most its gap,
+/// and only a value the report writes alike could win by its place in the turn), so its
+/// normal distance is not computed: the merged extremes are exactly those of comparing
+/// every point, whatever the tiles.
 #[derive(Default)]
 pub(crate) struct Prior {
     turns: BTreeMap<(u32, i64), ([f64; 4], [f64; 4])>,
@@ -389,6 +516,30 @@ impl<'a> Comparer<'a> {
     /// Compare column `i` of the grid, its stored values `col`.
     /// `prior`: the extremes of the columns before it in its tile.
     pub(crate) fn column(&self, i: usize, col: &[f32], prior: &Prior) -> Deviation {
+        self.column_with(i, col, prior, None)
+    }
+
+    /// The signed deviation of every cell of column `i` (stored values `col`) as the
+    /// comparison counts it (negative: gouge; `None`: not compared): the normal distance,
+    /// or on a root (crest) that deviates all across, the larger of it and the flat's
+    /// radial size. The extremes the report gives are the largest of these values; the
+    /// pictures draw them ([`column_deviation`]).
+    pub(crate) fn signed(&self, i: usize, col: &[f32]) -> Vec<Option<f64>> {
+        let mut cells = vec![None; col.len()];
+        self.column_with(i, col, &Prior::default(), Some(&mut cells));
+        cells
+    }
+
+    /// [`Comparer::column`], and with `cells` every cell's signed deviation (every distance
+    /// computed).
+    fn column_with(
+        &self,
+        i: usize,
+        col: &[f32],
+        prior: &Prior,
+        mut cells: Option<&mut [Option<f64>]>,
+    ) -> Deviation {
+        let prunes = self.prunes() && cells.is_none();
         let (grid, thread, window, surface, q_blank) = (
             &self.grid,
             self.thread,
@@ -453,6 +604,7 @@ impl<'a> Comparer<'a> {
             }
         };
         let key_of = |g: usize| grooves.get(g).map_or((0, 0), |g| (g.start, g.turn));
+        let fraction_of = |g: usize| grooves.get(g).map_or(0.5, turn_fraction);
         let mut groove = 0usize;
         let mut next_groove = groove_end(groove);
         let nv = ideal.verts.len();
@@ -577,6 +729,9 @@ impl<'a> Comparer<'a> {
                 _ => flat.close(),
             }
             if gap == 0.0 {
+                if let Some(c) = cells.as_deref_mut() {
+                    c[j..j0 + e].fill(Some(0.0));
+                }
                 k = e;
                 continue;
             }
@@ -591,12 +746,13 @@ impl<'a> Comparer<'a> {
             // The points of the run that may beat the extremes so far; the others are
             // proven unable to (`runs::danger`).
             let whole = [(0, m)];
-            let ranges: &[(usize, usize)] = if self.prunes() && m > 2 {
+            let ranges: &[(usize, usize)] = if prunes && m > 2 {
                 let mut floor = [f64::NEG_INFINITY; 4];
                 for f in 0..4 {
                     floor[f] = slots[f]
                         .map_or(f64::NEG_INFINITY, |e| e.value)
-                        .max(before[f]);
+                        .max(before[f])
+                        - TIE_MARGIN;
                 }
                 let run = runs::Run {
                     z_of: |i: usize| grid.z(j + i),
@@ -619,14 +775,15 @@ impl<'a> Comparer<'a> {
                     // it in the tile ([`Prior`]), on any flank they can be nearest to.
                     let mut floor = [0.0; 4];
                     for f in 0..4 {
-                        floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]);
+                        floor[f] = slots[f].map_or(0.0, |e| e.value).max(before[f]) - TIE_MARGIN;
                     }
-                    if self.prunes()
-                        && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor)
-                    {
+                    if prunes && cannot_win(&ideal, &kinds, seg, (z, h_cut), gap.abs(), &floor) {
                         continue;
                     }
                     let (d, flank) = ideal.distance_near(seg, z, h_cut, gap.abs());
+                    if let Some(c) = cells.as_deref_mut() {
+                        c[j + i] = Some(gap.signum() * d);
+                    }
                     Extreme::keep_max(
                         &mut slots[flank.index()],
                         Extreme {
@@ -636,6 +793,7 @@ impl<'a> Comparer<'a> {
                             turn: key.1,
                             start: key.0,
                             flank,
+                            turn_fraction: fraction_of(groove),
                         },
                     );
                 }
@@ -648,7 +806,22 @@ impl<'a> Comparer<'a> {
         }
         IDEAL_HEIGHTS.with(|b| *b.borrow_mut() = ideal_h);
         flat.close();
-        for (k0, e) in flat.found {
+        for (k0, e, (za, zb)) in flat.found {
+            if let Some(c) = cells.as_deref_mut() {
+                // Every dexel of the flat deviates by at least its least radial gap.
+                let v = if e.flank == Flank::Root {
+                    e.value
+                } else {
+                    -e.value
+                };
+                let ja = ((za - grid.z0) / grid.dz).round().max(0.0) as usize;
+                let jb = (((zb - grid.z0) / grid.dz).round().max(0.0) as usize).min(c.len() - 1);
+                for x in c[ja..=jb].iter_mut().flatten() {
+                    if x.abs() < v.abs() {
+                        *x = v;
+                    }
+                }
+            }
             let td = out.turns.entry(k0).or_default();
             let slots = if e.flank == Flank::Root {
                 &mut td.leftover

@@ -50,8 +50,9 @@ impl Html {
         })
     }
 
-    /// Render, attribute the findings and write the page into its slot. `plots` are the
-    /// developed view's and the section's PNGs; `renderer` the run's own, if it has one.
+    /// Render, place the findings and write the page into its slot. `plots` are the
+    /// developed view's, the section's and the trace's PNGs, the section and the trace at
+    /// `angle` (rad); `renderer` the run's own, if it has one.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn write(
         &self,
@@ -59,6 +60,7 @@ impl Html {
         outcome: &vpcut::Outcome,
         scene: &vpcut::Scene,
         plots: [Vec<u8>; 3],
+        angle: f64,
         renderer: Option<&vpcut::Renderer>,
         outs: &mut Outputs,
         progress: &Progress,
@@ -77,19 +79,15 @@ impl Html {
                 });
             }
         }
-        let places = progress.stage("finding the passes that made the findings", || {
-            let passes = vpcut::finding_passes(job, outcome, &report.findings);
-            report
-                .findings
-                .iter()
-                .zip(passes)
-                .map(|(f, pass)| vpcut::FindingPlace {
-                    pass,
-                    point: vpcut::finding_point(outcome, job, f),
-                })
-                .collect::<Vec<_>>()
-        });
+        let places: Vec<vpcut::FindingPlace> = report
+            .findings
+            .iter()
+            .map(|f| vpcut::FindingPlace {
+                point: vpcut::finding_point(outcome, job, f),
+            })
+            .collect();
         let [developed, section, trace] = plots;
+        let deg = angle.to_degrees().rem_euclid(360.0);
         let plots = [
             vpcut::HtmlPicture {
                 caption: "developed view: the deviation over angle x z, in bands of the tolerance"
@@ -97,11 +95,13 @@ impl Html {
                 png: developed,
             },
             vpcut::HtmlPicture {
-                caption: "axial section: machined and ideal profile".into(),
+                caption: format!("axial section at {deg:.1}\u{b0}: machined and ideal profile"),
                 png: section,
             },
             vpcut::HtmlPicture {
-                caption: "deviation along z on four generators, with the tolerance".into(),
+                caption: format!(
+                    "deviation along z on the generators at {deg:.1}\u{b0} and every 90\u{b0} on, with the tolerance and the report's worst places"
+                ),
                 png: trace,
             },
         ];

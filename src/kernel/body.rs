@@ -374,6 +374,30 @@ fn taper(pass: &Pass) -> f64 {
     }
 }
 
+/// The tool's solid behind its edge as faces in the tool frame (`V` from the tip centre, the
+/// reference point for a mesh): the insert's ([`insert_faces`]: what the sweep cuts with)
+/// or the mesh's; `None` for an edge without a body. What the 3D outputs draw.
+pub(crate) fn body_faces(tool: &Tool) -> Option<Vec<Face>> {
+    match (&tool.edge, tool.body) {
+        (
+            &Edge::Trapezoid {
+                tip,
+                left_angle,
+                right_angle,
+            },
+            Some(body),
+        ) => Some(insert_faces(
+            &body,
+            -tip / 2.0,
+            tip / 2.0,
+            cot(left_angle),
+            cot(right_angle),
+        )),
+        (Edge::Mesh { solid, .. }, _) => Some(solid.faces.clone()),
+        _ => None,
+    }
+}
+
 /// The insert's faces in the tool frame (`h H + y Y + v V >= d`): the tip, raised by the
 /// front clearance with depth; each flank (sloped: `H >= (vl + Y slope_l - V) cl`;
 /// vertical: `V >= vl + Y slope_l`), set back by its clearance and the inclination; the back

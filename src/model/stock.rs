@@ -65,6 +65,14 @@ impl Grid {
     pub fn dexels(&self) -> usize {
         self.n_theta * self.n_z
     }
+
+    /// The axial span of the cells (mm): the comparison's window.
+    pub fn window(&self) -> (f64, f64) {
+        (
+            self.z(0) - 0.5 * self.dz,
+            self.z(self.n_z.saturating_sub(1)) + 0.5 * self.dz,
+        )
+    }
 }
 
 /// Which surface of the stock.

@@ -336,7 +336,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, GlbError> {
             },
             "focus": scene.focus.as_ref().map(|f| serde_json::json!({
                 "kind": f.kind, "value_mm": f.value_mm, "point_mm": f.point,
-                "turn": f.turn, "flank": f.flank,
+                "turn": f.turn, "flank": f.flank, "angle_deg": f.angle_deg, "z_mm": f.z_mm,
             })),
             "report": serde_json::from_str::<serde_json::Value>(&scene.summary)
                 .unwrap_or(serde_json::Value::Null),
@@ -402,16 +402,24 @@ pub fn from_glb(bytes: &[u8]) -> Result<Scene, GlbError> {
         f => {
             let p = &f["point_mm"];
             let c = |k: usize| p[k].as_f64().map(|x| x as f32);
+            let point = [
+                c(0).ok_or_else(|| missing("focus point"))?,
+                c(1).ok_or_else(|| missing("focus point"))?,
+                c(2).ok_or_else(|| missing("focus point"))?,
+            ];
+            // A model from before the place was written: the point's.
+            let angle = f64::from(point[1])
+                .atan2(f64::from(point[0]))
+                .to_degrees()
+                .rem_euclid(360.0);
             Some(Focus {
                 kind: f["kind"].as_str().unwrap_or("gouge").to_string(),
                 value_mm: f["value_mm"].as_f64().unwrap_or(0.0),
-                point: [
-                    c(0).ok_or_else(|| missing("focus point"))?,
-                    c(1).ok_or_else(|| missing("focus point"))?,
-                    c(2).ok_or_else(|| missing("focus point"))?,
-                ],
+                point,
                 turn: f["turn"].as_i64().unwrap_or(0),
                 flank: f["flank"].as_str().unwrap_or("").to_string(),
+                angle_deg: f["angle_deg"].as_f64().unwrap_or(angle),
+                z_mm: f["z_mm"].as_f64().unwrap_or(f64::from(point[2])),
             })
         }
     };

@@ -1,21 +1,24 @@
 //! The HTML report: one self-contained page (no network, no third-party code) with the
 //! verdict, the job and the thread, the per-turn table with the cells beyond tolerance
-//! marked, the sortable findings (each with the pass that made it where that is known), the
-//! pictures as `data:` PNGs, and a WebGL2 view of the cut part written for this page
-//! (`html/viewer.js`).
+//! marked, the sortable findings (each with the pass and the NC block or job key the
+//! report gives it), the pictures as `data:` PNGs, and a WebGL2 view of the cut part
+//! written for this page (`html/viewer.js`).
+//!
+//! Every number and place on the page is the report's, written as the report writes it:
+//! the page works nothing out again (`tests/integration/pictures.rs` reads the page back
+//! against the report for every scene).
 //!
 //! The tables are written here as HTML, so the page reads without scripts; the 3D scene is
 //! embedded as base64 of flat little-endian arrays (positions `f32`, sRGB colours `u8`,
 //! indices `u32`, 4-byte aligned) described by a small JSON header. Pure: the caller writes
 //! the returned text.
 
-mod passes;
+mod place;
 
-pub use passes::{finding_passes, finding_point, FindingPass};
+pub use place::finding_point;
 
-use crate::analysis::findings::FindingKind;
 use crate::output::scene::{Mesh, PathKind, Scene};
-use crate::report::{r6, Finding, Report, TurnRow};
+use crate::report::{r6, Finding, Report};
 use std::fmt::Write as _;
 
 const TEMPLATE: &str = include_str!("html/page.html");
@@ -32,11 +35,9 @@ pub struct HtmlPicture {
     pub png: Vec<u8>,
 }
 
-/// Where a finding is and what made it, beside the report's own fields.
+/// Where a finding is on the cut part, beside the report's own fields.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FindingPlace {
-    /// The pass that cut its dexel ([`finding_passes`]).
-    pub pass: Option<FindingPass>,
     /// Its point on the cut surface (mm, part frame; [`finding_point`]), where the 3D view
     /// flies to.
     pub point: Option<[f32; 3]>,
@@ -286,17 +287,24 @@ fn summary(r: &Report) -> String {
     s
 }
 
-/// Whether a finding of `kind` is on a turn row.
-fn flagged(r: &Report, row: &TurnRow, kind: FindingKind) -> bool {
-    r.findings.iter().any(|f| {
-        f.kind == kind && f.turn == Some(row.turn) && f.start.is_none_or(|s| s == row.start)
-    })
+/// Whether a measured value is off its drawing's by more than the tolerance (the rule the
+/// report's lead and width findings apply; the row's are the reference angle's).
+fn off(value: Option<f64>, ideal: Option<f64>, tol: f64) -> bool {
+    matches!((value, ideal), (Some(v), Some(i)) if (v - i).abs() > tol)
 }
 
-/// The per-turn table.
+/// The per-turn table, with a caption that says where its leads and widths are measured.
 fn turns_table(r: &Report) -> String {
     let tol = r.tolerance_mm;
-    let mut s = String::from(
+    let m = &r.measurement;
+    let mut s = format!(
+        "<p class=\"note\">Leads and widths of each turn as measured at the reference angle \
+         {}\u{b0} (a variable lead's drawing widths change along a turn); \"lead err\" is \
+         the largest over the {} measured angles. The findings give the worst angle's \
+         values, with the angle.</p>",
+        m.reference_angle_deg, m.generators
+    );
+    s.push_str(
         "<table id=\"turns\" class=\"sortable\"><thead><tr>\
          <th>turn</th><th>start</th><th>lead ideal</th><th>lead</th><th>lead err (all gen.)</th>\
          <th>groove ideal</th><th>groove</th><th>tooth ideal</th><th>tooth</th>\
@@ -314,21 +322,28 @@ fn turns_table(r: &Report) -> String {
         );
         cell(&mut s, Some(t.turn as f64), false);
         cell(&mut s, Some(f64::from(t.start)), false);
-        let lead = flagged(r, t, FindingKind::Lead);
         cell(&mut s, t.ideal_lead_mm, false);
-        cell(&mut s, t.measured_lead_mm, lead);
-        cell(&mut s, t.lead_spread.max_error_mm, lead);
+        cell(
+            &mut s,
+            t.measured_lead_mm,
+            off(t.measured_lead_mm, t.ideal_lead_mm, tol),
+        );
+        cell(
+            &mut s,
+            t.lead_spread.max_error_mm,
+            t.lead_spread.max_error_mm.is_some_and(|e| e > tol),
+        );
         cell(&mut s, t.ideal_groove_width_mm, false);
         cell(
             &mut s,
             t.groove_width_mm,
-            flagged(r, t, FindingKind::GrooveWidth),
+            off(t.groove_width_mm, t.ideal_groove_width_mm, tol),
         );
         cell(&mut s, t.ideal_tooth_width_mm, false);
         cell(
             &mut s,
             t.tooth_width_mm,
-            flagged(r, t, FindingKind::ToothWidth),
+            off(t.tooth_width_mm, t.ideal_tooth_width_mm, tol),
         );
         cell(&mut s, t.min_diameter_mm, false);
         cell(&mut s, t.max_diameter_mm, false);
@@ -359,7 +374,7 @@ fn findings_table(r: &Report, places: &[FindingPlace]) -> String {
         "<table id=\"findings\" class=\"sortable\"><thead><tr>\
          <th>#</th><th>severity</th><th>kind</th><th>turn</th><th>start</th><th>flank</th>\
          <th>angle deg</th><th>z mm</th><th>value</th><th>unit</th><th>pass</th>\
-         <th>NC block</th><th>message</th></tr></thead><tbody>\n",
+         <th>source</th><th>message</th></tr></thead><tbody>\n",
     );
     let none = FindingPlace::default();
     for (k, f) in r.findings.iter().enumerate() {
@@ -386,27 +401,28 @@ fn row(s: &mut String, k: usize, f: &Finding, place: &FindingPlace) {
     cell(s, f.z_mm, false);
     cell(s, f.value, false);
     let _ = write!(s, "<td>{}</td>", f.unit.unwrap_or(""));
-    // The pass: the report's own (machine checks), else the one that cut the dexel.
-    let pass = f.pass.or(place.pass.as_ref().map(|p| p.pass));
-    if pass.is_none() && f.kind == FindingKind::Leftover && place.point.is_some() {
-        s.push_str("<td data-v=\"\" title=\"no pass cut this dexel\">blank</td>");
-    } else {
-        cell(s, pass.map(|p| p as f64), false);
-    }
-    let block = match (&place.pass, &f.file) {
-        (
-            Some(FindingPass {
-                block: Some((file, line)),
-                ..
-            }),
-            _,
-        ) => {
-            format!("{}:{line}", esc(file))
-        }
-        (_, Some(file)) => format!("{}:{}", esc(file), f.line.unwrap_or(0)),
+    // The pass and the source are the report's (`report::blame`): the NC block of the pass
+    // or turning move that cut the place, else the job key.
+    cell(s, f.pass.map(|p| p as f64), false);
+    let _ = writeln!(
+        s,
+        "<td>{}</td><td>{}</td></tr>",
+        esc(&source(f)),
+        esc(&f.message)
+    );
+}
+
+/// Where a finding comes from, as the report says: `file:line:column` of its NC block,
+/// else the job file's key (`job key process`), else nothing.
+pub(crate) fn source(f: &Finding) -> String {
+    match (&f.file, f.line, &f.key) {
+        (Some(file), Some(line), _) => match f.column {
+            Some(c) => format!("{file}:{line}:{c}"),
+            None => format!("{file}:{line}"),
+        },
+        (_, _, Some(key)) => format!("job key {key}"),
         _ => String::new(),
-    };
-    let _ = writeln!(s, "<td>{block}</td><td>{}</td></tr>", esc(&f.message));
+    }
 }
 
 /// Pictures as figures with `data:` PNGs.

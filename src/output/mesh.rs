@@ -36,7 +36,6 @@ use crate::model::helix::Hand;
 use crate::model::pass::Pass;
 use crate::model::stock::{Grid, Stock, Surface};
 use crate::model::thread::{Side, ThreadSpec};
-use crate::model::tool::Tool;
 use crate::output::plot::BLANK;
 use crate::output::profile::{
     refined, strip_rungs, surfacers, MeshColumn, Profile, Shape, WholeStock,
@@ -49,9 +48,6 @@ use std::f64::consts::{PI, TAU};
 
 /// Colour of the ideal surface (sRGB): the one colour of the ideal (plots, renders, .glb).
 pub(crate) use crate::output::plot::IDEAL_COLOUR;
-/// Colour of the tool (sRGB).
-pub(crate) const TOOL_COLOUR: [u8; 3] = [150, 155, 165];
-
 /// How to build a scene.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SceneOptions {
@@ -117,7 +113,7 @@ pub(crate) fn finish_scene(
         },
         tool: match &job.mill {
             Some(mj) => cutter_mesh(mj),
-            None => tool_mesh(job),
+            None => crate::output::tool::tool_mesh(job),
         },
         legend,
         focus,
@@ -181,6 +177,8 @@ pub(crate) fn focus(
         point: point(r, e.theta, e.z),
         turn: e.turn,
         flank: e.flank.name().to_string(),
+        angle_deg: crate::report::r4(e.theta.to_degrees().rem_euclid(360.0)),
+        z_mm: r6(e.z),
     })
 }
 
@@ -556,16 +554,20 @@ pub(crate) fn ideal_sheet(thread: &ThreadSpec, shape: &Shape, e: f64) -> Mesh {
     mesh
 }
 
-/// A schematic rapid from `a` to `b` (each `(r, theta, z)`): out to the clearance radius,
-/// around it (the shorter way, 5 deg a step, z moving evenly: a straight chord would cut
-/// through the part), and in.
+/// A schematic rapid from `a` to `b` (each `(r, theta, z)`), as a lathe makes it in the
+/// axial plane: out to the clearance radius at `a`'s angle, along the axis at that radius
+/// and angle to `b`'s z, around the clearance circle there (the shorter way, 5 deg a
+/// step) to `b`'s angle, and in. Every point but the ends lies on the clearance radius,
+/// outside the part (inside the bore), and the axial stretch runs parallel to the part's
+/// outline: no view draws it across the part's silhouette (a helix around the part from
+/// one end to the other would cross it in every view).
 fn rapid(a: (f64, f64, f64), b: (f64, f64, f64), clear: f64) -> Vec<[f32; 3]> {
     let turn = (b.1 - a.1 + PI).rem_euclid(TAU) - PI;
     let steps = ((turn.abs() / 5f64.to_radians()).ceil() as usize).max(1);
-    let mut pts = vec![point(a.0, a.1, a.2)];
+    let mut pts = vec![point(a.0, a.1, a.2), point(clear, a.1, a.2)];
     pts.extend((0..=steps).map(|k| {
         let u = k as f64 / steps as f64;
-        point(clear, a.1 + u * turn, a.2 + u * (b.2 - a.2))
+        point(clear, a.1 + u * turn, b.2)
     }));
     pts.push(point(b.0, b.1, b.2));
     pts
@@ -629,7 +631,7 @@ fn cutter_mesh(mj: &crate::MillJob) -> Mesh {
             }
         }
     }
-    mesh.colors = vec![TOOL_COLOUR; mesh.positions.len()];
+    mesh.colors = vec![crate::output::tool::TOOL_COLOUR; mesh.positions.len()];
     mesh
 }
 
@@ -707,87 +709,4 @@ pub fn toolpath(passes: &[Pass], blank: &(f64, f64), thread: &ThreadSpec) -> Vec
         prev_end = Some(pose(t_end));
     }
     out
-}
-
-/// The tool's edge profile, extruded 3 mm tangentially and carried on a shank, at the end
-/// of the last pass (empty without passes).
-pub fn tool_mesh(job: &Job) -> Mesh {
-    let Some((p, tool, t_end)) = job.passes.iter().rev().find_map(|p| {
-        let tool = job.tools.get(p.tool)?;
-        Some((p, tool, p.revolutions()?))
-    }) else {
-        return Mesh::default();
-    };
-    let h = p.helix();
-    let z_ref = h.z(t_end);
-    let theta = h.theta0 - h.spin * TAU * t_end;
-    let r_tip = p.radius_at(z_ref);
-    let sense = job.thread.sense();
-    let depth = job.thread.depth();
-    edge_solid(
-        tool,
-        r_tip,
-        theta,
-        z_ref - tool.reference_offset(),
-        sense,
-        depth,
-    )
-}
-
-/// The prism of an edge profile: `h(v) <= h <= top` in the axial plane at `theta`, tip
-/// at radius `r_tip` and axial position `z_tip`, standing away from the part (`sense`).
-fn edge_solid(tool: &Tool, r_tip: f64, theta: f64, z_tip: f64, sense: f64, depth: f64) -> Mesh {
-    let top = depth.max(0.5) * 1.5;
-    let (v0, v1) = tool.span(top);
-    let n = 48;
-    // The profile polygon, counter-clockwise in (v, h): the edge from v1 down to the tip
-    // and up to v0 is convex, then the top edge closes it.
-    let mut poly: Vec<(f64, f64)> = (0..=n)
-        .map(|k| {
-            let v = v1 + (v0 - v1) * k as f64 / n as f64;
-            (v, tool.height(v).min(top))
-        })
-        .collect();
-    if let crate::model::tool::Edge::Trapezoid { tip, .. } = tool.edge {
-        // The tip corners exactly.
-        poly.push((-tip / 2.0, 0.0));
-        poly.push((tip / 2.0, 0.0));
-        poly.retain(|&(_, h)| h.is_finite());
-        poly.sort_by(|a, b| b.0.total_cmp(&a.0));
-        poly.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-12);
-    }
-    let half = 1.5;
-    let (c, s) = (theta.cos(), theta.sin());
-    let at = |v: f64, hh: f64, w: f64| -> [f32; 3] {
-        let r = r_tip + sense * hh;
-        [
-            (r * c - w * s) as f32,
-            (r * s + w * c) as f32,
-            (z_tip + v) as f32,
-        ]
-    };
-    let mut mesh = Mesh::default();
-    let k = poly.len() as u32;
-    for w in [-half, half] {
-        for &(v, hh) in &poly {
-            mesh.positions.push(at(v, hh, w));
-        }
-    }
-    mesh.colors = vec![TOOL_COLOUR; mesh.positions.len()];
-    // Caps (fans; the polygon is convex) and sides.
-    for a in 1..k - 1 {
-        mesh.indices.extend_from_slice(&[0, a + 1, a]);
-        mesh.indices.extend_from_slice(&[k, k + a, k + a + 1]);
-    }
-    for a in 0..k {
-        let b = (a + 1) % k;
-        mesh.indices
-            .extend_from_slice(&[a, b, k + b, a, k + b, k + a]);
-    }
-    if sense < 0.0 {
-        for t in mesh.indices.chunks_mut(3) {
-            t.swap(1, 2);
-        }
-    }
-    mesh
 }

@@ -78,6 +78,11 @@ pub struct Focus {
     pub turn: i64,
     /// Its flank as the report names it (`left`, `right`, `root`, `crest`), or empty.
     pub flank: String,
+    /// Its angle on the part (deg, 0..360) and axial position (mm), as the report rounds
+    /// them (its `max_gouge_at` or `max_leftover_at`).
+    pub angle_deg: f64,
+    /// See `angle_deg`.
+    pub z_mm: f64,
 }
 
 /// A simulated job as a 3D scene.

@@ -74,10 +74,7 @@ pub(super) fn thread_surface(thread: &ThreadSpec) -> Surface {
 
 /// The axial span of the grid's cells (the comparison's window).
 pub(super) fn grid_window(grid: &Grid) -> (f64, f64) {
-    (
-        grid.z(0) - 0.5 * grid.dz,
-        grid.z(grid.n_z - 1) + 0.5 * grid.dz,
-    )
+    grid.window()
 }
 
 /// Where the measurement columns run (the thread and two leads and its depth beyond, inside

@@ -48,21 +48,37 @@ pub(crate) fn build_report(
     };
     let mut findings: Vec<Finding> = Vec::new();
     let mut turns = Vec::new();
-    // Index the measurements by (start, turn): the reference generator, and all of them.
+    // The deviation findings, one per place of the part.
+    let places: BTreeMap<(u32, i64, bool, usize), Option<i64>> = dev
+        .places(tol, &grid)
+        .iter()
+        .map(|p| {
+            let e = &p.extreme;
+            ((e.start, e.turn, p.gouge, e.flank.index()), p.also)
+        })
+        .collect();
+    // Index the measurements by (start, turn): the reference generator, and all of them
+    // with their generator's angle (equally spaced from the thread's start angle, as
+    // `measure` places them).
     let mut reference: BTreeMap<(u32, i64), &TurnMeasure> = BTreeMap::new();
-    let mut by_turn: BTreeMap<(u32, i64), Vec<&TurnMeasure>> = BTreeMap::new();
+    let mut by_turn: BTreeMap<(u32, i64), Vec<(f64, &TurnMeasure)>> = BTreeMap::new();
     for (g, list) in measures.iter().enumerate() {
+        let angle =
+            thread.helix.theta0 + std::f64::consts::TAU * g as f64 / measures.len().max(1) as f64;
         for m in list {
             if g == 0 {
                 reference.entry((m.start, m.turn)).or_insert(m);
             }
-            by_turn.entry((m.start, m.turn)).or_default().push(m);
+            by_turn
+                .entry((m.start, m.turn))
+                .or_default()
+                .push((angle, m));
         }
     }
     for s in 0..thread.starts {
         for n in 1..=thread.whole_turns() {
             let m = reference.get(&(s, n)).copied();
-            let all: &[&TurnMeasure] = by_turn.get(&(s, n)).map_or(&[], Vec::as_slice);
+            let all: &[(f64, &TurnMeasure)] = by_turn.get(&(s, n)).map_or(&[], Vec::as_slice);
             let td = dev.turns.get(&(s, n)).cloned().unwrap_or_default();
             let flank = |f: Flank| report::FlankRow {
                 max_gouge_mm: r6(td.gouge[f.index()].map_or(0.0, |e| e.value)),
@@ -72,7 +88,7 @@ pub(crate) fn build_report(
                 *v = Some(v.map_or((x, x), |(a, b)| (a.min(x), b.max(x))));
             };
             let (mut ideal_rng, mut meas_rng, mut max_err) = (None, None, None::<f64>);
-            for g in all {
+            for (_, g) in all {
                 if let Some(i) = g.ideal_lead {
                     fold(&mut ideal_rng, i);
                 }
@@ -143,7 +159,15 @@ pub(crate) fn build_report(
                     )
                 });
             }
-            turn_findings(&row, &td, all, tol, &mut findings);
+            turn_findings(
+                &row,
+                &td,
+                &places,
+                all,
+                thread.helix.theta0,
+                tol,
+                &mut findings,
+            );
             turns.push(row);
         }
     }
@@ -420,10 +444,17 @@ pub(crate) fn build_report(
     }
 }
 
+/// The findings of one turn: its deviations beyond the tolerance that `places` gives (one
+/// per place of the part, [`Deviation::places`]), missing features, its lead, its widths
+/// (`all`: the turn's measurement on every generator, with the generator's angle; the
+/// reference generator's angle `reference`), split features.
+#[allow(clippy::too_many_arguments)]
 fn turn_findings(
     row: &TurnRow,
     td: &TurnDeviation,
-    all: &[&TurnMeasure],
+    places: &BTreeMap<(u32, i64, bool, usize), Option<i64>>,
+    all: &[(f64, &TurnMeasure)],
+    reference: f64,
     tol: f64,
     out: &mut Vec<Finding>,
 ) {
@@ -443,6 +474,14 @@ fn turn_findings(
             if e.value <= tol {
                 continue;
             }
+            let key = (e.start, e.turn, kind == FindingKind::Gouge, f.index());
+            // Given with the adjacent turn's at the same place, or here naming it.
+            let Some(also) = places.get(&key) else {
+                continue;
+            };
+            let also = also.map_or(String::new(), |t| {
+                format!(" (also turn {t}'s worst there: the turns meet at this place)")
+            });
             let l = location(&e);
             out.push(Finding {
                 flank: Some(f),
@@ -453,7 +492,7 @@ fn turn_findings(
                     Severity::Error,
                     e.value,
                     format!(
-                        "turn {} {}: {kind} {:.4} mm at {:.1} deg, z {:.3}",
+                        "turn {} {}: {kind} {:.4} mm at {:.1} deg, z {:.3}{also}",
                         row.turn,
                         f.label(),
                         e.value,
@@ -464,7 +503,7 @@ fn turn_findings(
             });
         }
     }
-    if all.iter().any(|m| {
+    if all.iter().any(|(_, m)| {
         (m.ideal_groove.is_some() && m.groove.is_none())
             || (m.ideal_tooth.is_some() && m.tooth.is_none())
     }) {
@@ -494,8 +533,10 @@ fn turn_findings(
             ));
         }
     }
-    // Widths on every generator: the worst difference from the ideal (the row shows the
-    // reference generator's).
+    // Widths on every generator: the worst difference from the ideal, at its generator's
+    // angle, with the drawing's width there. On a variable lead the drawing's width changes
+    // along the turn, so where that is not the reference angle the message also gives the
+    // reference angle's, which the turn row shows.
     for (kind, what, pick) in [
         (
             FindingKind::GrooveWidth,
@@ -508,26 +549,41 @@ fn turn_findings(
     ] {
         let worst = all
             .iter()
-            .filter_map(|m| pick(m))
-            .fold(None::<(f64, f64)>, |acc, (i, g)| match acc {
-                Some((ai, ag)) if (ag - ai).abs() >= (g - i).abs() => Some((ai, ag)),
-                _ => Some((i, g)),
+            .filter_map(|(a, m)| pick(m).map(|v| (*a, v)))
+            .fold(None::<(f64, (f64, f64))>, |acc, (a, (i, g))| match acc {
+                Some((aa, (ai, ag))) if (ag - ai).abs() >= (g - i).abs() => Some((aa, (ai, ag))),
+                _ => Some((a, (i, g))),
             });
-        if let Some((i, g)) = worst {
+        if let Some((angle, (i, g))) = worst {
             if (g - i).abs() > tol {
-                out.push(base(
-                    kind,
-                    Severity::Error,
-                    g - i,
-                    format!(
-                        "turn {}: {what} width {g:.4} mm, drawing {i:.4} mm",
-                        row.turn
+                let angle_deg = r4(angle.to_degrees().rem_euclid(360.0));
+                let at_reference = match all
+                    .iter()
+                    .find(|(a, _)| *a == reference)
+                    .and_then(|(_, m)| pick(m))
+                {
+                    Some((ri, _)) if angle != reference => format!(
+                        " ({ri:.4} mm at the reference angle {:.1} deg, as the turn row gives it)",
+                        reference.to_degrees().rem_euclid(360.0)
                     ),
-                ));
+                    _ => String::new(),
+                };
+                out.push(Finding {
+                    angle_deg: Some(angle_deg),
+                    ..base(
+                        kind,
+                        Severity::Error,
+                        g - i,
+                        format!(
+                            "turn {}: {what} width {g:.4} mm at {angle_deg:.1} deg, where the drawing's is {i:.4} mm{at_reference}",
+                            row.turn
+                        ),
+                    )
+                });
             }
         }
     }
-    if all.iter().any(|m| m.split) {
+    if all.iter().any(|(_, m)| m.split) {
         out.push(base(
             FindingKind::SplitFeature,
             Severity::Warning,

@@ -1,14 +1,15 @@
 //! The HTML report without a browser (`tests/browser/check.sh` opens it in one): the page is
 //! self-contained (no address outside it), holds the verdict, every turn row and every
-//! finding of the report; the pass a gouge or leftover is attributed to is the first pass
+//! finding of the report; the pass the report gives a gouge or leftover is the first pass
 //! after which the dexel is as deep as it ends; program jobs name the pass's NC block; the
-//! CLI writes the page for the biggest seed scene under 15 MB.
+//! CLI writes the page for the biggest seed scene under 15 MB. (`pictures.rs` reads every
+//! scene's page back against its report.)
 
 use crate::support::{root, run_scene, scene_job};
 use std::process::Command;
 use vpcut::{
-    build_scene, finding_passes, finding_point, sweep_column, to_html, Column, FindingKind,
-    FindingPlace, Flank, HtmlPage, HtmlPicture, Outcome, SceneOptions, Surface,
+    build_scene, finding_point, sweep_column, to_html, Column, FindingKind, FindingPlace, Flank,
+    HtmlPage, HtmlPicture, Outcome, SceneOptions, Surface,
 };
 
 /// The page of a simulated scene, with a stand-in picture.
@@ -23,14 +24,11 @@ fn page(name: &str) -> (Outcome, Vec<FindingPlace>, String) {
             ideal: true,
         },
     );
-    let passes = finding_passes(&job, &out, &out.report.findings);
     let places: Vec<FindingPlace> = out
         .report
         .findings
         .iter()
-        .zip(passes)
-        .map(|(f, pass)| FindingPlace {
-            pass,
+        .map(|f| FindingPlace {
             point: finding_point(&out, &job, f),
         })
         .collect();
@@ -112,14 +110,15 @@ fn page_is_self_contained_and_holds_the_report() {
         if let Some(v) = f.value {
             assert!(row.contains(&format!("data-v=\"{v}\"")), "{row}");
         }
-        if let Some(p) = &places[k].pass {
-            assert!(row.contains(&format!("data-v=\"{}\"", p.pass)), "{row}");
+        if let Some(p) = f.pass {
+            assert!(row.contains(&format!("data-v=\"{p}\"")), "{row}");
         }
-        // A gouge was cut by some pass; a leftover may be blank no pass touched.
+        // A gouge was cut by some pass.
         if f.kind == FindingKind::Gouge {
-            assert!(places[k].pass.is_some(), "finding {k} has no pass");
+            assert!(f.pass.is_some(), "finding {k} has no pass");
         }
         if matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover) {
+            assert!(places[k].point.is_some(), "finding {k} has no place");
             assert!(row.contains("data-point=\""), "finding {k} has no place");
         }
     }
@@ -128,9 +127,9 @@ fn page_is_self_contained_and_holds_the_report() {
     assert!(html.contains("<script type=\"text/plain\" id=\"scene-data\">"));
 }
 
-/// The attributed pass is the first after which the dexel is as deep as it ends: the
-/// passes before it leave it shallower, those up to it reach its final value. Dexels no
-/// pass touched (blank left over) have none.
+/// The report's pass of a gouge or leftover (the page shows it) is the first after which
+/// the dexel is as deep as it ends: the passes before it leave it shallower, those up to
+/// it reach its final value.
 #[test]
 fn the_pass_of_a_finding_is_the_one_that_cut_it() {
     for name in ["seed002-equal-tooth", "seed002-siemens-equal-groove"] {
@@ -139,12 +138,10 @@ fn the_pass_of_a_finding_is_the_one_that_cut_it() {
             continue;
         }
         let out = run_scene(name);
-        let passes = finding_passes(&job, &out, &out.report.findings);
         let g = out.stock.grid;
         let mut checked = 0;
-        for (f, p) in out.report.findings.iter().zip(&passes) {
+        for f in &out.report.findings {
             if !matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover) {
-                assert!(p.is_none());
                 continue;
             }
             // The exact place of the extreme the finding reports.
@@ -162,7 +159,7 @@ fn the_pass_of_a_finding_is_the_one_that_cut_it() {
             let i = (t / g.dtheta()).round() as usize % g.n_theta;
             let j = ((z - g.z0) / g.dz).round() as usize;
             let fin = out.stock.outer[i * g.n_z + j];
-            let Some(p) = p else {
+            let Some(pass) = f.pass else {
                 assert!(
                     fin >= 0.0,
                     "{name}: {}: a cut dexel without a pass",
@@ -182,19 +179,17 @@ fn the_pass_of_a_finding_is_the_one_that_cut_it() {
                 sweep_column(&mut col, c, &job.passes[..n], &job.tools);
                 col[j]
             };
-            let k = p.pass - 1;
+            let k = pass - 1;
             assert!(
                 (cut(k + 1) - fin).abs() < 1e-5,
-                "{name}: {}: passes 1..={} cut {} not {fin}",
+                "{name}: {}: passes 1..={pass} cut {} not {fin}",
                 f.message,
-                p.pass,
                 cut(k + 1)
             );
             assert!(
                 cut(k) > fin + 1e-6,
-                "{name}: {}: the passes before {} already cut {}",
+                "{name}: {}: the passes before {pass} already cut {}",
                 f.message,
-                p.pass,
                 cut(k)
             );
             checked += 1;
@@ -210,11 +205,11 @@ fn program_findings_name_the_nc_block() {
     let job = scene_job(name);
     assert!(!job.pass_blocks.is_empty());
     let out = run_scene(name);
-    let passes = finding_passes(&job, &out, &out.report.findings);
-    let blocks: Vec<_> = passes
+    let blocks: Vec<_> = out
+        .report
+        .findings
         .iter()
-        .flatten()
-        .filter_map(|p| p.block.clone())
+        .filter_map(|f| Some((f.file.clone()?, f.line?)))
         .collect();
     assert!(!blocks.is_empty());
     let dir = root().join("scenes").join(name);

@@ -44,6 +44,8 @@ mod oracle;
 mod outputs;
 /// Issue 26: the drawn part's chamfers in the ideal thread, against closed forms.
 mod part_outline;
+/// Issue 29: every picture, the page and the model's extras against the report.
+mod pictures;
 /// `vpcut plan`: planned screws round-trip through every dialect and simulate clean.
 mod plan;
 /// The pictures that need no GPU against the report and the exact cut.

@@ -108,7 +108,18 @@ fn developed_view_shows_the_reported_extremes() {
     let draw = || developed_plot(&out.stock, &j.thread, &out.deviation, tol, 500, 300, "t").image;
     let (a, b) = (pool(1).install(draw), pool(2).install(draw));
     assert_eq!(a.as_raw(), b.as_raw());
-    let draw = || trace_view(&out.stock, &j.thread, 0.3, tol, 500, 300, "t");
+    let draw = || {
+        trace_view(
+            &out.stock,
+            &j.thread,
+            &out.deviation,
+            0.3,
+            tol,
+            500,
+            300,
+            "t",
+        )
+    };
     let (a, b) = (pool(1).install(draw), pool(2).install(draw));
     assert_eq!(a.as_raw(), b.as_raw());
 }

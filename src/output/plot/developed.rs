@@ -3,20 +3,22 @@
 //! crossings as thin lines, turn numbers on the right, the worst gouge and leftover ringed,
 //! axes with units, a title and a legend.
 //!
-//! A pixel covers a block of dexels and shows the largest signed normal deviation of the
-//! block (as `compare` measures it), so no extreme is lost to the picture's resolution.
+//! A pixel covers a block of dexels and shows the largest signed deviation of the block as
+//! the report's comparison counts it ([`column_deviation`]: the normal distance, a root or
+//! crest off all across at its radial size), so no extreme is lost to the picture's
+//! resolution and the worst pixel is the report's worst value.
 
 use super::chart::{
     band_colour, legend_column, mm, picture, rgb, text_px, Swatch, BAND_EDGES, GOUGE_BANDS,
     LEFTOVER_BANDS, NOT_COMPARED, WITHIN,
 };
-use super::{signed_deviation, surface};
-use crate::analysis::compare::{Deviation, Extreme};
+use crate::analysis::compare::{column_deviation, Deviation, Extreme};
 use crate::model::stock::Stock;
 use crate::model::thread::{ColumnIdeal, ThreadSpec};
 use image::RgbImage;
 use plotters::prelude::*;
 use rayon::prelude::*;
+use std::f64::consts::TAU;
 
 /// Colour of the pitch-helix (turn) lines over within-tolerance pixels.
 const TURN_LINE: [u8; 3] = [90, 90, 90];
@@ -34,9 +36,14 @@ pub struct DevelopedPlot {
     /// The worst gouge and the worst leftover beyond the tolerance, ringed: the signed
     /// value (mm; the comparison's, so the report's) and the pixel of its dexel.
     pub worst: [Option<(f64, [u32; 2])>; 2],
+    /// The largest gouge (negative) and leftover any pixel of the field shows (mm): the
+    /// deviations the colours stand for.
+    pub shown: [Option<f64>; 2],
     /// The turn labels on the right edge: `(turn, start, z)`, start 1-based, at the centre
-    /// of each groove of the drawing on the 360 deg generator (labels that would overlap
-    /// the one above are left out).
+    /// of each turn's groove on the last generator (towards 360 deg) where the turn has
+    /// one in the field: the 360 deg generator for every whole turn, an earlier one (with a
+    /// dotted leader to it) for a turn that ends before it. Labels that would overlap one
+    /// already drawn are left out.
     pub turn_labels: Vec<(i64, u32, f64)>,
 }
 
@@ -58,9 +65,43 @@ fn compared_span(stock: &Stock, thread: &ThreadSpec) -> (f64, f64) {
     )
 }
 
+/// Where each turn of the drawing is labelled: `(turn, start, z, theta)`, the centre of its
+/// groove on the last generator towards 360 deg where that centre lies in the field
+/// `z_lo..z_hi` (the 360 deg one for a whole turn), ordered from the largest z down.
+/// Generators are tried from 360 deg down, 720 of them at most.
+pub(crate) fn turn_places(
+    stock: &Stock,
+    thread: &ThreadSpec,
+    (z_lo, z_hi): (f64, f64),
+) -> Vec<(i64, u32, f64, f64)> {
+    let grid = stock.grid;
+    let (z_first, z_last) = (grid.z(0), grid.z(grid.n_z - 1));
+    let n = grid.n_theta;
+    let step = n.div_ceil(720).max(1);
+    let mut out: Vec<(i64, u32, f64, f64)> = Vec::new();
+    let last = n - 1;
+    let mut i = last as isize;
+    while i >= 0 {
+        let theta = grid.theta(i as usize);
+        let ideal = thread.column(theta, z_first, z_last);
+        for g in &ideal.grooves {
+            let mid = 0.5 * (g.z_lo + g.z_hi);
+            let inside =
+                mid >= z_lo && mid <= z_hi && ideal.span.is_some_and(|(a, b)| mid >= a && mid <= b);
+            if inside && !out.iter().any(|o| (o.0, o.1) == (g.turn, g.start)) {
+                // The 360 deg generator's place is at the field's right edge.
+                let at = if i as usize == last { TAU } else { theta };
+                out.push((g.turn, g.start, mid, at));
+            }
+        }
+        i -= step as isize;
+    }
+    out.sort_by(|a, b| b.2.total_cmp(&a.2));
+    out
+}
+
 /// Per pixel column of a `w` x `h` field over `z_lo..z_hi`: for every row (top = largest z)
-/// the block's largest signed deviation and whether a pitch-helix crossing lies in it; and
-/// the turn labels of the last column (turn, z).
+/// the block's largest signed deviation and whether a pitch-helix crossing lies in it.
 #[allow(clippy::type_complexity)]
 fn field(
     stock: &Stock,
@@ -70,10 +111,7 @@ fn field(
     (z_lo, z_hi): (f64, f64),
 ) -> Option<Vec<Vec<(Option<f64>, bool)>>> {
     let grid = stock.grid;
-    let s = surface(thread);
-    let q = stock.surface(s)?;
-    let q_blank = stock.blank_q(s);
-    let sense = s.sense();
+    stock.surface(super::surface(thread))?;
     let (z_first, z_last) = (grid.z(0), grid.z(grid.n_z - 1));
     let j_of = |z: f64| (((z - z_first) / grid.dz).round().max(0.0) as usize).min(grid.n_z);
     let (ja, jb) = (
@@ -88,34 +126,19 @@ fn field(
             .map(|px| {
                 let i0 = px * grid.n_theta / w;
                 let i1 = ((px + 1) * grid.n_theta / w).max(i0 + 1);
-                let ideals: Vec<ColumnIdeal> = (i0..i1)
-                    .map(|i| thread.column(grid.theta(i), z_first, z_last))
+                let ideal: ColumnIdeal = thread.column(grid.theta((i0 + i1) / 2), z_first, z_last);
+                let cols: Vec<Vec<Option<f64>>> = (i0..i1)
+                    .map(|i| column_deviation(stock, thread, i))
                     .collect();
-                let ideal = &ideals[(i1 - i0) / 2];
                 let mut out = Vec::with_capacity(h);
                 for py in 0..h {
                     let j1 = ja + n - py * n / h;
                     let j0 = (ja + n - (py + 1) * n / h).min(j1 - 1);
                     let mut d: Option<f64> = None;
-                    for (i, col_ideal) in (i0..i1).zip(&ideals) {
-                        let col = &q[i * grid.n_z..(i + 1) * grid.n_z];
-                        let span = col_ideal.span;
-                        for (j, &qj) in col.iter().enumerate().take(j1).skip(j0) {
-                            let z = grid.z(j);
-                            if !span.is_some_and(|(a, b)| z >= a && z <= b) {
-                                continue;
-                            }
-                            let r = sense * (qj as f64 + q_blank);
-                            let best = d.map_or(-1.0, f64::abs);
-                            // The radial gap bounds the normal distance.
-                            let gap = (thread.height(r) - col_ideal.height_at(z)).abs();
-                            if gap <= best {
-                                continue;
-                            }
-                            if let Some(v) = signed_deviation(thread, col_ideal, z, r) {
-                                if v.abs() > best {
-                                    d = Some(v);
-                                }
+                    for col in &cols {
+                        for v in col.iter().take(j1).skip(j0).flatten() {
+                            if d.is_none_or(|b| v.abs() > b.abs()) {
+                                d = Some(*v);
                             }
                         }
                     }
@@ -142,9 +165,9 @@ pub fn developed_plot(
 ) -> DevelopedPlot {
     let px = text_px(width, height);
     let (z_lo, z_hi) = compared_span(stock, thread);
-    let grid = stock.grid;
     let mut field_px = [0u32; 4];
     let mut worst = [None, None];
+    let mut shown: [Option<f64>; 2] = [None, None];
     let mut labels = Vec::new();
     let image = picture(width, height, |root| {
         root.fill(&WHITE)?;
@@ -185,6 +208,12 @@ pub fn developed_plot(
         ];
         let cols = field(stock, thread, fw as usize, fh as usize, (z_lo, z_hi))
             .unwrap_or_else(|| vec![vec![(None, false); fh as usize]; fw as usize]);
+        for d in cols.iter().flatten().filter_map(|c| c.0) {
+            let k = usize::from(d > 0.0);
+            if d != 0.0 && shown[k].is_none_or(|s: f64| d.abs() > s.abs()) {
+                shown[k] = Some(d);
+            }
+        }
         for (x, col) in cols.iter().enumerate() {
             let within = |y: usize| col[y].0.is_some_and(|d| d.abs() <= tol);
             for (y, &(d, line)) in col.iter().enumerate() {
@@ -235,36 +264,36 @@ pub fn developed_plot(
                 root.draw(&Circle::new((x, y), ring + 3, WHITE.stroke_width(1)))?;
             }
         }
-        // Turn numbers on the right: every groove of the drawing on the 360 deg generator,
-        // at its centre, with the turn (and start) the comparison files its dexels under.
-        let ideal = thread.column(
-            grid.theta(grid.n_theta - 1),
-            grid.z(0),
-            grid.z(grid.n_z - 1),
-        );
+        // Turn numbers on the right: every turn of the drawing (the report's turn rows), at
+        // the centre of its groove on the last generator towards 360 deg where it has one in
+        // the field, with the turn (and start) the comparison files its dexels under. A
+        // turn that ends before 360 deg (a part turn) gets a dotted leader from there.
         let multi = thread.starts > 1;
         let style = ("sans-serif", px * if multi { 0.75 } else { 0.9 })
             .into_font()
             .color(&BLACK);
         let y_of = |z: f64| yr.start as f64 + (z_hi - z) / (z_hi - z_lo) * fh as f64;
-        let mut last_y = f64::NEG_INFINITY;
-        let mut grooves: Vec<_> = ideal.grooves.clone();
-        grooves.sort_by(|a, b| b.z_lo.total_cmp(&a.z_lo));
-        for g in &grooves {
-            let mid = 0.5 * (g.z_lo + g.z_hi);
-            if mid < z_lo || mid > z_hi {
-                continue;
-            }
+        let gap = px * if multi { 0.95 } else { 1.1 };
+        let mut placed: Vec<f64> = Vec::new();
+        for (turn, start, mid, theta) in turn_places(stock, thread, (z_lo, z_hi)) {
             let y = y_of(mid);
-            if (y - last_y).abs() < px * if multi { 0.95 } else { 1.1 } {
+            if placed.iter().any(|p| (y - p).abs() < gap) {
                 continue;
             }
-            last_y = y;
-            labels.push((g.turn, g.start + 1, mid));
+            placed.push(y);
+            labels.push((turn, start + 1, mid));
+            let x = xr.start as f64 + theta.to_degrees() / 360.0 * fw as f64;
+            if x < xr.end as f64 - 2.0 {
+                let mut k = x.ceil() as i32;
+                while k < xr.end {
+                    root.draw_pixel((k, y as i32), &BLACK)?;
+                    k += 3;
+                }
+            }
             let text = if multi {
-                format!("T{} s{}", g.turn, g.start + 1)
+                format!("T{turn} s{}", start + 1)
             } else {
-                format!("T{}", g.turn)
+                format!("T{turn}")
             };
             root.draw(&Text::new(
                 text,
@@ -330,10 +359,13 @@ pub fn developed_plot(
         let y = legend_column(&right, lx, (px * 1.5) as i32, px * 0.85, &items)?;
         let note = ("sans-serif", px * 0.8).into_font().color(&BLACK);
         for (k, line) in [
-            "normal distance in the",
-            "axial plane; a pixel shows",
-            "the largest of its dexels;",
-            "1-pixel bands drawn 3 high",
+            "the report's deviation: the",
+            "normal distance in the axial",
+            "plane (a root or crest off",
+            "all across: its radial size);",
+            "a pixel shows the largest",
+            "of its dexels; 1-pixel",
+            "bands drawn 3 high",
         ]
         .iter()
         .enumerate()
@@ -351,6 +383,7 @@ pub fn developed_plot(
         field: field_px,
         z: (z_lo, z_hi),
         worst,
+        shown,
         turn_labels: labels,
     }
 }

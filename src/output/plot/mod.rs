@@ -3,7 +3,8 @@
 //!
 //! - the **developed view** ([`developed`]): the deviation field unrolled over the compared
 //!   span, in tolerance bands (within, 1-2x, 2-5x, over 5x; gouge blue, leftover orange-red);
-//! - the **axial section** and the **deviation trace** ([`section`]).
+//! - the **axial section** and the **deviation trace** ([`section`]), by default through the
+//!   report's worst deviation ([`section_angle`]).
 //!
 //! Here: the signed deviation they share and the colours of the 3D model's vertices (the
 //! same tolerance bands, with the uncut blank and the cut but not compared surface in
@@ -13,7 +14,8 @@ pub(crate) mod chart;
 pub(crate) mod developed;
 pub(crate) mod section;
 
-use crate::model::stock::{Stock, Surface};
+use crate::analysis::compare::Deviation;
+use crate::model::stock::{Grid, Stock, Surface};
 use crate::model::thread::{ColumnIdeal, Side, ThreadSpec};
 
 /// Where a tool body cut past its edge (3D model and renders).
@@ -66,7 +68,15 @@ pub(crate) fn surface_colour(d: Option<f64>, cut: bool, tol: f64) -> [u8; 3] {
 /// The dexel column nearest to the angle `theta` (rad).
 pub(crate) fn generator(stock: &Stock, theta: f64) -> usize {
     let grid = stock.grid;
-    ((theta.rem_euclid(std::f64::consts::TAU) / grid.dtheta()).round() as usize) % grid.n_theta
+    (((theta - grid.theta0).rem_euclid(std::f64::consts::TAU) / grid.dtheta()).round() as usize)
+        % grid.n_theta
+}
+
+/// The angle (rad) the axial section and the trace show when none is asked for: that of
+/// the report's worst deviation beyond the tolerance (the one the close-up shows), so both
+/// pictures run through it; 0 when the cut is within the tolerance.
+pub fn section_angle(dev: &Deviation, grid: &Grid, tol: f64) -> f64 {
+    crate::output::mesh::worst(dev, grid, tol).map_or(0.0, |w| grid.theta(w.2))
 }
 
 /// Machined and ideal radius along the generator at `theta`: `(z, r_cut, r_ideal)` per cell

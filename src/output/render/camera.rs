@@ -102,14 +102,27 @@ impl Camera {
     }
 }
 
+/// Whether a picture of `scene` draws the tool: not for an internal thread, in any view (in
+/// the bore it would hide the thread the cut-away and the sections are there to show),
+/// and not when there is none. The caption says when a tool is left out, and the framing
+/// leaves it out too.
+pub(crate) fn draws_tool(scene: &Scene) -> bool {
+    !scene.tool.indices.is_empty() && !internal(scene)
+}
+
 /// Frame `view` of `scene` in a `width` x `height` image.
 pub(crate) fn camera(scene: &Scene, view: View, width: u32, height: u32) -> Camera {
+    let tool: &[[f32; 3]] = if draws_tool(scene) {
+        &scene.tool.positions
+    } else {
+        &[]
+    };
     let pts = || {
         scene
             .stock
             .positions
             .iter()
-            .chain(&scene.tool.positions)
+            .chain(tool)
             .chain(scene.toolpath.iter().flat_map(|p| &p.points))
             .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
     };
@@ -386,6 +399,8 @@ mod tests {
             point: [p.x as f32, p.y as f32, p.z as f32],
             turn: 3,
             flank: "left".into(),
+            angle_deg: theta.to_degrees(),
+            z_mm: -47.0,
         });
         let c = camera(&s, View::Closeup, 640, 480);
         let (x, y) = c.pixel(p);

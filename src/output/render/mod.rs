@@ -115,6 +115,11 @@ pub(crate) fn is_internal(scene: &Scene) -> bool {
     camera::internal(scene)
 }
 
+/// Whether a picture of `scene` draws the tool ([`camera::draws_tool`]).
+pub(crate) fn draws_tool(scene: &Scene) -> bool {
+    camera::draws_tool(scene)
+}
+
 /// How the HTML viewer shows the toolpath at first (`full`, `dimmed` or `hidden`: the
 /// renders' automatic rule on the iso view at 1024 x 768) and the fraction of the part's
 /// pixels its lines cross there.
@@ -259,8 +264,8 @@ impl Renderer {
             size: (opts.width, gpu_h),
             background: BACKGROUND,
             uniforms,
-            // A cut-away view shows the bore: the tool in it would hide the thread.
-            meshes: if cam.cutaway {
+            // An internal thread's views show the bore: the tool in it would hide the thread.
+            meshes: if !draws_tool(scene) {
                 vec![(&stock, &scene.stock.indices)]
             } else {
                 vec![(&stock, &scene.stock.indices), (&tool, &scene.tool.indices)]
@@ -454,28 +459,41 @@ fn legend_px(w: u32, h: u32) -> f64 {
     text_px(w, h) * 0.9
 }
 
-/// Captions, the colour bar and the key in the strip above the part (`strip` rows), and
-/// the close-up's marker with its turn, flank, z and value on the part. `path` is how the
-/// toolpath was drawn and the fraction of the part its lines cross.
-fn overlay(
-    root: &Area,
-    scene: &Scene,
-    opts: &RenderOptions,
-    cam: &Camera,
-    strip: u32,
-    path: (Look, f64),
-) -> Res<()> {
+/// What a picture of `scene` says in words (the renderer draws these; plain code, tested
+/// without a GPU against the report).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Captions {
+    /// The first line above the part: the job, the verdict, the view (with the section's
+    /// angles, a close-up's width), what was cut away or left out (the tool, the toolpath).
+    pub title: String,
+    /// The close-up's label at the worst finding: its kind, turn, flank, angle, z and
+    /// value, as the report writes them.
+    pub marker: Option<String>,
+    /// Whether the picture draws the tool (the title says when it does not).
+    pub tool_drawn: bool,
+}
+
+/// The words of a picture of `scene` drawn as `opts` say.
+pub fn captions(scene: &Scene, opts: &RenderOptions) -> Captions {
+    let strip = strip_height(opts.width, opts.height);
+    let cam = camera::camera(scene, opts.view, opts.width, opts.height - strip);
+    let path = toolpath_look(scene, opts, &cam);
+    Captions {
+        title: title_line(scene, opts, &cam, path),
+        marker: (opts.view == View::Closeup)
+            .then(|| scene.focus.as_ref().map(|f| marker_label(scene, f)))
+            .flatten(),
+        tool_drawn: draws_tool(scene),
+    }
+}
+
+/// The title line: the job, the verdict, the view, what was cut away or left out. `path`
+/// is how the toolpath was drawn and the fraction of the part its lines cross.
+fn title_line(scene: &Scene, opts: &RenderOptions, cam: &Camera, path: (Look, f64)) -> String {
     let summary: serde_json::Value = serde_json::from_str(&scene.summary).unwrap_or_default();
     let job = summary["job"].as_str().unwrap_or("");
     let verdict = summary["verdict"].as_str().unwrap_or("").to_uppercase();
-    let (w, h) = (opts.width as i32, opts.height as i32);
-    let px = legend_px(opts.width, opts.height);
-    let font = |k: f64| ("sans-serif", px * k).into_font().color(&BLACK);
-    root.draw(&PathElement::new(
-        vec![(0, strip as i32 - 1), (w, strip as i32 - 1)],
-        RGBColor(180, 180, 180),
-    ))?;
-    // Row 1: the job, the verdict, the view, what was cut away or left out.
+    let w = opts.width as i32;
     let mut caption = match cam.section_angle {
         Some(theta) => format!(
             "{}: section at {:.1}\u{b0} (top) and {:.1}\u{b0}",
@@ -484,11 +502,14 @@ fn overlay(
             (theta.to_degrees() + 180.0).rem_euclid(360.0)
         ),
         None if cam.cutaway => format!(
-            "{}, internal thread: near half cut away along the axis, tool not drawn",
+            "{}, internal thread: near half cut away along the axis",
             opts.view.name()
         ),
         None => opts.view.name().to_string(),
     };
+    if !scene.tool.indices.is_empty() && !draws_tool(scene) {
+        caption += ", tool not drawn";
+    }
     if opts.view == View::Closeup {
         caption += &format!(", {:.2} mm wide", cam.mm_per_px * w as f64);
     }
@@ -511,9 +532,50 @@ fn overlay(
         }
         _ => {}
     }
+    format!("{job}  {verdict}  \u{2014}  {caption}")
+}
+
+/// The close-up's label at the worst finding, in the report's numbers: kind, turn, flank,
+/// angle (deg, 0.1), z (mm, 0.001) and value (mm, as the report writes it).
+fn marker_label(scene: &Scene, f: &crate::output::scene::Focus) -> String {
+    let flank = match f.flank.as_str() {
+        "" => String::new(),
+        "left" | "right" => format!(" {} flank", f.flank),
+        other => format!(" {other}"),
+    };
+    let tol = scene.legend.tolerance_mm;
+    let times = if tol > 0.0 {
+        format!(" ({:.1}x tol)", f.value_mm / tol)
+    } else {
+        String::new()
+    };
+    format!(
+        "worst {}: turn {}{flank}, {:.1}\u{b0}, z {:.3} mm, {} mm{times}",
+        f.kind, f.turn, f.angle_deg, f.z_mm, f.value_mm
+    )
+}
+
+/// Captions, the colour bar and the key in the strip above the part (`strip` rows), and
+/// the close-up's marker with its turn, flank, z and value on the part. `path` is how the
+/// toolpath was drawn and the fraction of the part its lines cross.
+fn overlay(
+    root: &Area,
+    scene: &Scene,
+    opts: &RenderOptions,
+    cam: &Camera,
+    strip: u32,
+    path: (Look, f64),
+) -> Res<()> {
+    let (w, h) = (opts.width as i32, opts.height as i32);
+    let px = legend_px(opts.width, opts.height);
+    let font = |k: f64| ("sans-serif", px * k).into_font().color(&BLACK);
+    root.draw(&PathElement::new(
+        vec![(0, strip as i32 - 1), (w, strip as i32 - 1)],
+        RGBColor(180, 180, 180),
+    ))?;
     let pad = (px * 0.6) as i32;
     root.draw(&Text::new(
-        format!("{job}  {verdict}  \u{2014}  {caption}"),
+        title_line(scene, opts, cam, path),
         (pad, (px * 0.4) as i32),
         font(1.1),
     ))?;
@@ -627,21 +689,7 @@ fn overlay(
             let r = (px * 1.3) as i32;
             root.draw(&Circle::new((cx, cy), r + 1, WHITE.stroke_width(1)))?;
             root.draw(&Circle::new((cx, cy), r, BLACK.stroke_width(2)))?;
-            let flank = match f.flank.as_str() {
-                "" => String::new(),
-                "left" | "right" => format!(" {} flank", f.flank),
-                other => format!(" {other}"),
-            };
-            let tol = scene.legend.tolerance_mm;
-            let times = if tol > 0.0 {
-                format!(" ({:.1}x tol)", f.value_mm / tol)
-            } else {
-                String::new()
-            };
-            let label = format!(
-                "worst {}: turn {}{flank}, z {:.2} mm, {:.3} mm{times}",
-                f.kind, f.turn, f.point[2], f.value_mm
-            );
+            let label = marker_label(scene, f);
             let (tw, th) = root
                 .estimate_text_size(&label, &font(1.0))
                 .map_or((0, 0), |s| (s.0 as i32, s.1 as i32));
