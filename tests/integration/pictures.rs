@@ -21,7 +21,7 @@
 use crate::support::{job, run_scene, scene_job, scenes, Rng};
 use serde_json::Value;
 use vpcut::{
-    build_scene, captions, column_deviation, developed_plot, finding_point, from_glb,
+    build_scene, captions, developed_plot, finding_point, from_glb,
     section_angle, simulate, to_glb, to_html, trace_plot, FindingPlace, HtmlPage, HtmlPicture, Job,
     Outcome, PathKind, RenderOptions, SceneOptions, SimOptions, ToolpathMode, View,
 };
@@ -384,18 +384,15 @@ fn every_picture_and_the_page_equal_the_report() {
                         assert_eq!(g, 0, "{name}: the worst on the first generator");
                     }
                     if let Some((g, [x, y])) = m.on {
-                        // The curve reads the value there: the traced column's cell.
-                        let col = column_deviation(
-                            &out.stock,
-                            &job.thread,
-                            ((trace.generators[g].to_radians() - grid.theta0)
-                                .rem_euclid(std::f64::consts::TAU)
-                                / grid.dtheta())
-                            .round() as usize
-                                % grid.n_theta,
-                        );
-                        let j = ((m.z - grid.z0) / grid.dz).round() as usize;
-                        let read = col[j].unwrap();
+                        // The curve as drawn reads the value there.
+                        // (A flat's place is the middle of its dexels: a cell's centre
+                        // or half way between two, which read the same.)
+                        let read = trace.curves[g]
+                            .iter()
+                            .filter(|p| (p.0 - m.z).abs() <= 0.5 * grid.dz + 1e-9)
+                            .map(|p| p.1)
+                            .min_by(|a, b| (a - m.value).abs().total_cmp(&(b - m.value).abs()))
+                            .unwrap_or_else(|| panic!("{name}: no curve at z {}", m.z));
                         assert!(
                             (read - m.value).abs() <= 2e-6,
                             "{name}: the curve reads {read} where the mark says {}",

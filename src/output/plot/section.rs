@@ -222,6 +222,8 @@ pub struct TracePlot {
     pub d: (f64, f64),
     /// The traced generators' angles (deg), as their legend names them.
     pub generators: Vec<f64>,
+    /// The curves as drawn, one per generator: `(z, deviation)` per compared cell (mm).
+    pub curves: Vec<Vec<(f64, f64)>>,
     /// The report's worst gouge and worst leftover beyond the tolerance.
     pub worst: [Option<TraceMark>; 2],
 }
@@ -411,6 +413,7 @@ pub fn trace_plot(
         z: spans.0,
         d: spans.1,
         generators: lines.iter().map(|l| l.0).collect(),
+        curves: lines.into_iter().map(|l| l.1).collect(),
         worst,
     }
 }
