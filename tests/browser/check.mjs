@@ -212,7 +212,9 @@ async function checkPage(page, reportPath) {
     const r = tables.findings[i] || [];
     const want = [i + 1, f.severity, f.kind, f.turn, f.start, f.flank ?? "", f.angle_deg, f.z_mm, f.value ?? null, f.unit ?? ""];
     want.forEach((w, k) => { if ((w ?? null) !== r[k]) bad.push(`finding ${i} column ${k}: ${r[k]} != ${w}`); });
-    if (f.pass !== null && r[10] !== f.pass) bad.push(`finding ${i}: pass ${r[10]} != ${f.pass}`);
+    if ((f.pass ?? null) !== r[10]) bad.push(`finding ${i}: pass ${r[10]} != ${f.pass}`);
+    const source = f.file && f.line ? `${f.file}:${f.line}${f.column ? ":" + f.column : ""}` : (f.key ? `job key ${f.key}` : "");
+    if (r[11] !== source) bad.push(`finding ${i}: source ${r[11]} != ${source}`);
     if (r[12] !== f.message) bad.push(`finding ${i}: message`);
   });
   check(bad.length === 0, `the finding rows hold the report's numbers ${bad.slice(0, 3).join("; ")}`);
