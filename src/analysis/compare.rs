@@ -143,10 +143,13 @@ struct Flat<'a> {
     equal_groove: bool,
     /// The flat the walk is on.
     open: Option<OpenFlat>,
-    /// Flats found deviating all across: the turn, the extreme, and the z of the flat's
-    /// first and last dexel.
-    found: Vec<((u32, i64), Extreme, (f64, f64))>,
+    /// Flats found deviating all across.
+    found: Vec<FoundFlat>,
 }
+
+/// A flat found deviating all across: its turn `(start, turn)`, its extreme, and the z of
+/// its first and last dexel.
+type FoundFlat = ((u32, i64), Extreme, (f64, f64));
 
 /// A root or crest flat being walked.
 struct OpenFlat {

@@ -414,7 +414,7 @@ fn row(s: &mut String, k: usize, f: &Finding, place: &FindingPlace) {
 
 /// Where a finding comes from, as the report says: `file:line:column` of its NC block,
 /// else the job file's key (`job key process`), else nothing.
-pub(crate) fn source(f: &Finding) -> String {
+fn source(f: &Finding) -> String {
     match (&f.file, f.line, &f.key) {
         (Some(file), Some(line), _) => match f.column {
             Some(c) => format!("{file}:{line}:{c}"),

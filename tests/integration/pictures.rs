@@ -21,9 +21,9 @@
 use crate::support::{job, run_scene, scene_job, scenes, Rng};
 use serde_json::Value;
 use vpcut::{
-    build_scene, captions, developed_plot, finding_point, from_glb,
-    section_angle, simulate, to_glb, to_html, trace_plot, FindingPlace, HtmlPage, HtmlPicture, Job,
-    Outcome, PathKind, RenderOptions, SceneOptions, SimOptions, ToolpathMode, View,
+    build_scene, captions, developed_plot, finding_point, from_glb, section_angle, simulate,
+    to_glb, to_html, trace_plot, FindingPlace, HtmlPage, HtmlPicture, Job, Outcome, PathKind,
+    RenderOptions, SceneOptions, SimOptions, ToolpathMode, View,
 };
 
 /// The report as its JSON says it (the numbers as written).

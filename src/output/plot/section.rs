@@ -199,7 +199,7 @@ pub(crate) fn trace(stock: &Stock, thread: &ThreadSpec, theta: f64) -> Vec<(f64,
 pub struct TraceMark {
     /// The signed value (mm, negative: gouge): the comparison's extreme, the report's.
     pub value: f64,
-    /// Its axial position (mm) and angle (deg).
+    /// Its axial position (mm).
     pub z: f64,
     /// Its angle on the part (deg, 0..360).
     pub angle_deg: f64,
