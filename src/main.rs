@@ -326,7 +326,9 @@ struct SimulateArgs {
     /// unrolled, angle x z) and `section.png` (machined vs ideal profile along a generator).
     #[arg(long, value_name = "DIR")]
     plots: Option<PathBuf>,
-    /// Angle of the generator in `section.png` (deg on the part; default 0).
+    /// Angle of the generator in `section.png` and the first of `trace.png` (deg on the
+    /// part; default: the angle of the report's worst deviation beyond the tolerance, so
+    /// both run through it; 0 when the cut is within it).
     #[arg(long, value_name = "DEG", requires = "plots", value_parser = parse_finite)]
     section_angle: Option<f64>,
     /// Size of `developed.png` as `WIDTHxHEIGHT` pixels (default 1600x900; each side 320
