@@ -448,9 +448,14 @@ fn trapezoidal_limits_are_the_published_ones() {
             0.0011,
         );
     }
-    // No public source: refused, saying so.
+    // Tr44x12-7e (the exam solution of thread-gauging.md §1.2): es = −160 µm, Td2(7) =
+    // 425 µm on d2 = 38: 37.415 .. 37.840.
+    let c = class("Tr44x12-7e", None);
+    limits("Tr44x12-7e d2", c.pitch_diameter, 37.415, 37.840, 1e-9);
+    // No second public source: refused, saying so.
     for (d, side) in [
-        ("Tr40x7-7e", None),
+        ("Tr48x8-7e", None),
+        ("Tr40x7-8c", None),
         ("Tr40x14(P7)-8e", None),
         ("Tr40x7-7H", None),
         ("Tr10x2-7H/7e", Some(Side::Internal)),
@@ -460,6 +465,67 @@ fn trapezoidal_limits_are_the_published_ones() {
             e.contains("not in vpcut") && e.contains("public"),
             "{d}: {e}"
         );
+    }
+}
+
+/// Each shipped Tr value against a source other than the table copy it was typed from:
+/// the deviations against the published limits' (engineersedge.com, transdev.co.uk, the
+/// Tr44x12 exam, icad.pl) or ISO 965-1's e (its table at P 6, its formula in R40 at P 7);
+/// Td2 by its rule against every published Td2; Td(4) against ISO 965-1's Td(4) (its
+/// table where it lists the pitch, its formula in R40 beyond).
+#[test]
+fn trapezoidal_values_agree_with_a_second_source() {
+    // (position, pitch, |es| µm) published: d2 max = d − P/2 − es of the rows above.
+    let published = [
+        ('e', 1.5, 67.0),
+        ('e', 2.0, 71.0),
+        ('e', 3.0, 85.0),
+        ('e', 4.0, 95.0),
+        ('e', 5.0, 106.0),
+        ('e', 12.0, 160.0),
+        ('c', 2.0, 150.0),
+        // ISO 965-1 Table 1's e at P 6; its formula 50 + 11P = 127 at P 7, in R40.
+        ('e', 6.0, iso965::table_value('e', 6.0).unwrap()),
+        (
+            'e',
+            7.0,
+            trapezoidal::r40(iso965::deviation_formula('e', 7.0)),
+        ),
+    ];
+    assert_eq!(published.len(), trapezoidal::DEVIATIONS.len());
+    for (pos, p, es) in published {
+        let shipped = trapezoidal::DEVIATIONS
+            .iter()
+            .find(|t| t.0 == pos && t.1 == p)
+            .unwrap_or_else(|| panic!("{pos} {p} not shipped"));
+        assert_eq!(shipped.2 as f64, es, "es({pos}) at P {p}");
+    }
+    for (range, p, grade, published) in trapezoidal::PITCH_TOLERANCES_PUBLISHED {
+        assert_eq!(
+            trapezoidal::td2(range, p, grade),
+            published as f64,
+            "Td2({grade}) range {range} P {p}"
+        );
+    }
+    for (i, &p) in trapezoidal::PITCHES.iter().enumerate() {
+        let iso = iso965::table_value('d', p)
+            .unwrap_or_else(|| trapezoidal::r40(0.63 * iso965::td6_formula(p)));
+        assert_eq!(
+            trapezoidal::MAJOR_TOLERANCES[i] as f64,
+            iso,
+            "Td(4) at P {p}"
+        );
+    }
+    // The R40 rounding: nearest, halfway up, any decade.
+    for (v, r) in [
+        (165.0, 170.0),
+        (130.18, 132.0),
+        (343.6, 335.0),
+        (97.0, 95.0),
+        (1309.0, 1320.0),
+        (2060.0, 2120.0),
+    ] {
+        assert_eq!(trapezoidal::r40(v), r, "{v}");
     }
 }
 
