@@ -137,9 +137,15 @@ pub(crate) struct Gauge {
     pub functional: Option<(f64, (f64, f64))>,
     /// Smallest and largest simple pitch diameter of a complete turn on any generator (mm).
     pub simple: Option<(f64, f64)>,
-    /// The NOT GO gauge's worst window: the stopping value of the window that goes
-    /// furthest towards minimum material (mm), and the window's first turn.
+    /// The NOT GO gauge's worst window of `not_go_turns` turns: the size of the virtual
+    /// truncated-profile gauge that just assembles with them (the smallest ring, the
+    /// largest plug), least (ring) or greatest (plug) over the windows (mm), and the
+    /// window's first turn.
     pub not_go: Option<(f64, i64)>,
+    /// The NOT GO as single elements: the largest (external) or smallest (internal) simple
+    /// pitch diameter of a window's turns, in the window going furthest towards minimum
+    /// material (mm), and its first turn.
+    pub not_go_simple: Option<(f64, i64)>,
     /// Smallest and largest crest diameter of the complete turns (mm): the major diameter
     /// of an external thread, the minor of an internal one.
     pub crest: Option<(f64, f64)>,
@@ -163,19 +169,33 @@ struct Profile {
     pitch: f64,
     cot: f64,
     /// External: the ring's crest below its pitch line; internal: the plug's crest above.
+    /// A truncated (NOT GO) gauge: the half-height of its flanks' contact band.
     clear: f64,
     external: bool,
+    /// The NOT GO gauge's truncated profile: its flanks touch only within `clear` of its
+    /// pitch line (crest truncated there, root relieved beyond it).
+    truncated: bool,
 }
 
 /// Each point's bound at phase `phi`: (z relative to the gauge's lattice, radius).
+///
+/// A truncated ring (external) is solid where `r >= R - b` (its crest truncated) and the
+/// groove it leaves for the part's tooth is `P/4 - min(r - R, b) tan(a/2)` wide either side
+/// of its centre (the flank, then the relief beyond the band): a point `|u|` from the groove
+/// centre clears it when `R > min(r + b, r - (P/4 - |u|) cot(a/2))`, and never binds where
+/// `|u| < P/4 - b tan(a/2)` (in the relief: the flank term is below `r - b`). A truncated
+/// plug (internal) mirrors it.
 fn bound(p: &Profile, zr: f64, r: f64, phi: f64) -> f64 {
     let x = zr - phi;
     let u = (x - p.pitch * (x / p.pitch).round()).abs();
     let need = r - (0.25 * p.pitch - u) * p.cot;
-    if p.external {
-        need.min(r + p.clear)
-    } else {
-        need.max(r - p.clear)
+    match (p.external, p.truncated) {
+        (true, false) => need.min(r + p.clear),
+        (false, false) => need.max(r - p.clear),
+        (true, true) if need < r - p.clear => f64::NEG_INFINITY,
+        (true, true) => need.min(r + p.clear),
+        (false, true) if need > r + p.clear => f64::INFINITY,
+        (false, true) => need.max(r - p.clear),
     }
 }
 
@@ -259,6 +279,16 @@ fn points(
     pitch: f64,
     span: (f64, f64),
 ) -> Vec<(f64, f64)> {
+    points_by(thread, columns, pitch, &|_| span)
+}
+
+/// [`points`] with each column's own z range (`span_of` its angle).
+fn points_by(
+    thread: &ThreadSpec,
+    columns: &[GaugeColumn],
+    pitch: f64,
+    span_of: &dyn Fn(f64) -> (f64, f64),
+) -> Vec<(f64, f64)> {
     let helix = thread.helix;
     let shift = match thread.side {
         Side::External => 0.5 * pitch,
@@ -266,6 +296,7 @@ fn points(
     };
     let mut out = Vec::new();
     for c in columns {
+        let span = span_of(c.theta);
         let lattice = helix.z(helix.phase_at(c.theta)) + shift;
         let j0 = ((span.0 - c.z0) / c.dz).ceil().max(0.0) as usize;
         let j1 = (((span.1 - c.z0) / c.dz).floor().max(-1.0) + 1.0) as usize;
@@ -300,6 +331,7 @@ pub(crate) fn judge(
             0.5 * (class.basic_major - class.basic_pitch_diameter)
         },
         external,
+        truncated: false,
     };
     // Resolution on a diameter: a flank point is found within a cell (the spacing) along
     // z, that is `spacing cot(a/2)` in radius, twice on a diameter; plus the f32 rounding
@@ -344,7 +376,25 @@ pub(crate) fn judge(
                 (a.min(v), b.max(v))
             })
     });
-    let not_go = not_go_windows(turns, class.not_go_turns, external);
+    let not_go_simple = not_go_windows(turns, class.not_go_turns, external);
+    // The NOT GO gauge as a virtual truncated-profile gauge over its turns.
+    let truncated = Profile {
+        clear: not_go_band(class),
+        truncated: true,
+        ..profile
+    };
+    let not_go_env = not_go_envelope(
+        thread,
+        &truncated,
+        columns,
+        turns,
+        class.not_go_turns,
+        0.5 * rounding,
+    );
+    let ng_res = rounding
+        + 2.0 * cot * class.pitch / BINS as f64
+        + not_go_env.map_or(0.0, |f| if f.2 { 2.0 * spacing * cot } else { 0.0 });
+    let not_go = not_go_env.map(|f| (f.0, f.1));
     // Crests of the complete turns: the largest cut height between the turn's features.
     let crests: Vec<f64> = turns
         .iter()
@@ -381,10 +431,10 @@ pub(crate) fn judge(
     let mut elements = Vec::new();
     let mut element = |name: &'static str, value: Option<f64>, limit: f64, upper: bool| {
         if limit.is_finite() {
-            let res = if name == "go_functional_pitch_diameter" {
-                go_res
-            } else {
-                simple_res
+            let res = match name {
+                "go_functional_pitch_diameter" => go_res,
+                "not_go_pitch_diameter" => ng_res,
+                _ => simple_res,
             };
             elements.push(Element {
                 name,
@@ -432,8 +482,9 @@ pub(crate) fn judge(
         functional,
         simple,
         not_go,
+        not_go_simple,
         crest,
-        resolution,
+        resolution: resolution.max(ng_res),
         root,
         elements,
         verdict,
@@ -491,6 +542,83 @@ fn functional_over(
         };
         if worse {
             worst = Some((d, w, corner(p, &sub, phi, r, rounding)));
+        }
+    }
+    worst
+}
+
+/// The NOT GO gauge's flank contact band (half its height, radial, mm): a tenth of the
+/// basic profile's engaged height `(D - D1)/2` either side of the pitch line, H/8 for the
+/// ISO and Unified 60 degree profiles (5H/8 engaged). ISO 1502 §10.2 and ASME B1.2 give
+/// NOT GO gauges a truncated profile touching the flanks near the pitch line only; their
+/// truncation dimensions were not found in a public source, so this is vpcut's choice,
+/// stated in the report.
+pub(crate) fn not_go_band(class: &ThreadClass) -> f64 {
+    0.1 * (class.basic_major - class.basic_minor)
+}
+
+/// The NOT GO gauge as a virtual truncated-profile gauge (`p`, its band in `p.clear`):
+/// over each window of `n` consecutive complete turns (rounded up, at least 1; turns whose
+/// simple pitch diameter every generator measured, for every start), on every generator,
+/// the smallest ring (external) or largest plug (internal) of perfect pitch and angle that
+/// assembles with the cut; the worst window is the one whose gauge is nearest minimum
+/// material (the smallest ring, the largest plug). Returns its diameter, first turn, and
+/// whether a binding point is a corner of the sampled surface (see [`corner`]).
+fn not_go_envelope(
+    thread: &ThreadSpec,
+    p: &Profile,
+    columns: &[GaugeColumn],
+    turns: &[Vec<TurnMeasure>],
+    n: f64,
+    rounding: f64,
+) -> Option<(f64, i64, bool)> {
+    use std::collections::{BTreeMap, BTreeSet};
+    if columns.is_empty() {
+        return None;
+    }
+    // Complete turns: measured by every generator, for every start.
+    let mut seen: BTreeMap<i64, usize> = BTreeMap::new();
+    for m in turns.iter().flatten() {
+        if m.pitch_diameter.is_some() {
+            *seen.entry(m.turn).or_default() += 1;
+        }
+    }
+    let need = turns.len() * thread.starts as usize;
+    let complete: BTreeSet<i64> = seen
+        .into_iter()
+        .filter(|&(_, c)| c >= need)
+        .map(|(t, _)| t)
+        .collect();
+    let k = (n.ceil() as i64).max(1);
+    let helix = thread.helix;
+    let mut worst: Option<(f64, i64, bool)> = None;
+    for &first in &complete {
+        if !(first..first + k).all(|t| complete.contains(&t)) {
+            continue;
+        }
+        // Turn `t` on the generator at `theta` runs from its feature at revolution
+        // `t - 1 + phase` to the next: the window from `first - 1` to `first - 1 + k`.
+        let span_of = |theta: f64| {
+            let phase = helix.phase_at(theta);
+            let (a, b) = (
+                helix.z(first as f64 - 1.0 + phase),
+                helix.z((first - 1 + k) as f64 + phase),
+            );
+            (a.min(b), a.max(b))
+        };
+        let pts = points_by(thread, columns, p.pitch, &span_of);
+        if pts.is_empty() {
+            continue;
+        }
+        let (_, phi) = functional_radius(p, &reduce(p, &pts), None);
+        let r = size_at(p, &pts, phi);
+        if !r.is_finite() {
+            continue;
+        }
+        let d = 2.0 * r;
+        let worse = worst.map_or(true, |(v, _, _)| if p.external { d < v } else { d > v });
+        if worse {
+            worst = Some((d, first, corner(p, &pts, phi, r, rounding)));
         }
     }
     worst
@@ -710,6 +838,100 @@ mod tests {
                 Side::Internal => 0.5 * (c.basic_major - c.basic_pitch_diameter),
             },
             external: side == Side::External,
+            truncated: false,
+        }
+    }
+
+    /// The NOT GO gauge's truncated profile for [`class`] (band H/8).
+    fn truncated(side: Side) -> Profile {
+        Profile {
+            clear: not_go_band(&class(side)),
+            truncated: true,
+            ..profile(side)
+        }
+    }
+
+    /// The truncated NOT GO on a perfect thread reads its pitch diameter; with both flanks
+    /// opened or closed by `d` (half-angle 30 + d, k = tan(30 + d)/tan 30 - 1) it reads
+    /// `d2 + 2 |k| b/(1 + k)` (external; internal `-`): the part's flank crosses the gauge's at
+    /// the band's edge `b` from the pitch line, at `b/(1 + k)` from the part's (the hand
+    /// derivation in the module doc of `tests/integration/gauging.rs`). The full-profile
+    /// gauge (crest `c` below its pitch line, the part's crest `y_c` above) reads
+    /// `2 k c/(1 + k)` (opening) or `2 |k| y_c` (closing): more by the difference.
+    #[test]
+    fn the_truncated_not_go_reads_flank_angle_errors_at_its_band() {
+        let dz = 0.0002;
+        for side in [Side::External, Side::Internal] {
+            let t = m30(side);
+            let (ng, go) = (truncated(side), profile(side));
+            let b = ng.clear;
+            assert!((b - 0.125 * 0.866_025_4 * P).abs() < 1e-3, "band {b}");
+            let sign = if side == Side::External { 1.0 } else { -1.0 };
+            for (r2, deg) in [(14.29, 0.0), (14.30, 0.5), (14.27, -0.5), (14.31, 1.0)] {
+                let tilt = f64::to_radians(deg);
+                let centres: Vec<f64> = (0..=3).map(|k| -(k as f64) * P).collect();
+                let span = (centres[3], 0.0);
+                let cols = vec![column(&t, 0.0, r2, &centres, tilt, dz, span)];
+                let pts = points(&t, &cols, P, span);
+                let (r_ng, _) = functional_radius(&ng, &reduce(&ng, &pts), None);
+                let (r_go, _) = functional_radius(&go, &reduce(&go, &pts), None);
+                let k = (30f64.to_radians() + tilt).tan() / 30f64.to_radians().tan() - 1.0;
+                let want_ng = 2.0 * r2 + sign * 2.0 * k.abs() * b / (1.0 + k);
+                // The full profile: to the ring's crest (opening) or the part's crest
+                // (closing), whichever the flank reaches first.
+                let crest_y = (t.crest_radius - r2).abs();
+                let root_y = (r2 - t.root_radius).abs();
+                let full = if k > 0.0 {
+                    k * (go.clear / (1.0 + k)).min(root_y)
+                } else {
+                    -k * crest_y
+                };
+                let want_go = 2.0 * r2 + sign * 2.0 * full;
+                let tol = 2.0 * dz * go.cot + 1e-6;
+                assert!(
+                    (2.0 * r_ng - want_ng).abs() < tol,
+                    "{side:?} {deg} deg: NOT GO {} vs {want_ng}",
+                    2.0 * r_ng
+                );
+                assert!(
+                    (2.0 * r_go - want_go).abs() < tol,
+                    "{side:?} {deg} deg: full {} vs {want_go}",
+                    2.0 * r_go
+                );
+                if deg != 0.0 {
+                    // The truncated gauge reads less of the angle error than the full one.
+                    assert!(sign * (r_go - r_ng) > 1e-4, "{side:?} {deg}");
+                }
+            }
+        }
+    }
+
+    /// Parallel flanks with a lead error: the truncated NOT GO over two turns reads what a
+    /// full-profile gauge over the same turns reads, the pitch diameter plus the lead's
+    /// diameter equivalent over those two teeth (2 dp cot 30 for a longer lead, 0 for a
+    /// shorter one, see `functional_size_is_the_pitch_diameter_plus_the_lead_equivalent`).
+    #[test]
+    fn the_truncated_not_go_reads_the_lead_over_its_turns() {
+        for side in [Side::External, Side::Internal] {
+            let t = m30(side);
+            let (ng, go) = (truncated(side), profile(side));
+            let sign = if side == Side::External { 1.0 } else { -1.0 };
+            for (r2, dp) in [(14.29, 0.004), (14.32, -0.003), (14.28, 0.0)] {
+                let centres: Vec<f64> = (0..=2).map(|k| -(k as f64) * (P + dp)).collect();
+                let span = (centres[2], 0.0);
+                let cols = vec![column(&t, 0.0, r2, &centres, 0.0, 0.0002, span)];
+                let pts = points(&t, &cols, P, span);
+                let (r_ng, _) = functional_radius(&ng, &reduce(&ng, &pts), None);
+                let (r_go, _) = functional_radius(&go, &reduce(&go, &pts), None);
+                let want = 2.0 * r2 + sign * 2.0 * dp.max(0.0) * go.cot;
+                let tol = 2.0 * 0.0002 * go.cot + 1e-6;
+                assert!(
+                    (2.0 * r_ng - want).abs() < tol && (2.0 * r_go - want).abs() < tol,
+                    "{side:?} dp {dp}: NOT GO {} full {} vs {want}",
+                    2.0 * r_ng,
+                    2.0 * r_go
+                );
+            }
         }
     }
 

@@ -271,6 +271,15 @@ fn summary(r: &Report) -> String {
                 ),
             );
         }
+        if let (Some(v), Some(t)) = (g.not_go_simple_diameter_mm, g.not_go_simple_turn) {
+            fact(
+                "NOT GO as single elements mm",
+                format!(
+                    "simple pitch diameter {v} (turns from {t}); the gauge's truncated profile touches within {} mm of its pitch line",
+                    g.not_go_band_mm
+                ),
+            );
+        }
         if let Some(w) = g.over_wires {
             fact(
                 "over three wires mm",

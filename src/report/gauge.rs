@@ -101,12 +101,23 @@ pub struct GaugeInfo {
     pub engagement_length_mm: f64,
     /// Simple pitch diameter of the complete turns on every generator (mm).
     pub pitch_diameter_mm: Option<Range>,
-    /// The NOT GO gauge's stopping value in its worst window (mm).
+    /// The NOT GO gauge's size in its worst window of `not_go_turns` turns: the virtual
+    /// truncated-profile gauge (flank contact within `not_go_band_mm` of its pitch line)
+    /// that just assembles with them (mm).
     pub not_go_diameter_mm: Option<f64>,
     /// The first turn of that window.
     pub not_go_turn: Option<i64>,
     /// Turns the NOT GO gauge engages at once.
     pub not_go_turns: f64,
+    /// The truncated NOT GO profile's contact band: half its height either side of the
+    /// pitch line (mm, radial).
+    pub not_go_band_mm: f64,
+    /// The NOT GO as single elements: the largest (external) or smallest (internal)
+    /// simple pitch diameter of the turns of its worst window (mm), and that window's
+    /// first turn.
+    pub not_go_simple_diameter_mm: Option<f64>,
+    /// See `not_go_simple_diameter_mm`.
+    pub not_go_simple_turn: Option<i64>,
     /// Crest diameter of the complete turns: major (external) or minor (internal) (mm).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub major_diameter_mm: Option<Range>,
@@ -214,7 +225,7 @@ fn small(v: f64) -> String {
 fn element_words(name: &str) -> &'static str {
     match name {
         "go_functional_pitch_diameter" => "GO gauge: functional pitch diameter",
-        "not_go_pitch_diameter" => "NOT GO gauge: simple pitch diameter",
+        "not_go_pitch_diameter" => "NOT GO gauge (truncated profile): pitch diameter",
         "major_diameter" => "major diameter",
         "minor_diameter" => "minor diameter",
         "root_diameter" => "root diameter",
@@ -317,6 +328,9 @@ pub(crate) fn add_gauge(
         not_go_diameter_mm: g.not_go.map(|n| r6(n.0)),
         not_go_turn: g.not_go.map(|n| n.1),
         not_go_turns: class.not_go_turns,
+        not_go_band_mm: r6(crate::analysis::gauge::not_go_band(class)),
+        not_go_simple_diameter_mm: g.not_go_simple.map(|n| r6(n.0)),
+        not_go_simple_turn: g.not_go_simple.map(|n| n.1),
         major_diameter_mm: if external { crest } else { None },
         minor_diameter_mm: if external { None } else { crest },
         root_diameter_mm: g.root.map(Range::of),
@@ -367,6 +381,12 @@ pub(crate) fn summary(g: &GaugeInfo) -> String {
             e.limit,
             e.limit_mm,
             e.verdict
+        );
+    }
+    if let (Some(v), Some(t)) = (g.not_go_simple_diameter_mm, g.not_go_simple_turn) {
+        let _ = writeln!(
+            s,
+            "    NOT GO as single elements: simple pitch diameter {v:.4} mm (turns from {t})"
         );
     }
     if let Some(w) = g.over_wires {

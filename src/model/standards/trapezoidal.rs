@@ -23,7 +23,7 @@
 //!   90 P^0.4 d^0.1 (d the geometric mean of the diameter range) rounded to the R40
 //!   series, times 1.25, 1.6 or 2.0, rounded to R40 again (a value halfway between two
 //!   R40 numbers going up). This reproduces every published Td2 found (all 12 rows of
-//!   [`PITCH_TOLERANCES_PUBLISHED`], three sources, where rounding the product of the
+//!   `PITCH_TOLERANCES_PUBLISHED` in the tests, three sources, where rounding the product of the
 //!   unrounded Td2(6) instead gives 160 for Tr8x1.5-7e's published 170 and 180 for
 //!   Tr10x2-7e's 190).
 //! - **Major-diameter tolerance Td** (always grade 4, position h): the public copy's
@@ -83,6 +83,7 @@ pub(super) const MAJOR_TOLERANCES: [u16; 22] = [
 /// 200; TR12x3: 224; TR16x4: 265) and transdev.co.uk (Tr 22x5: 280; Tr 24x5: 300;
 /// Tr 25x3: 250), engineersedge.com TR320x5 (375) and Tr44x12-7e (425); grade 8 from
 /// icad.pl Tr10x2-8c (236).
+#[cfg(test)]
 pub(super) const PITCH_TOLERANCES_PUBLISHED: [(usize, f64, u8, u16); 12] = [
     (0, 1.5, 7, 170),
     (0, 2.0, 7, 190),
