@@ -68,6 +68,10 @@ pub struct GaugeElementInfo {
     pub resolution_mm: f64,
     /// `pass`, `fail`, `undecided` or `not_measured`.
     pub verdict: &'static str,
+    /// A recommendation, not a limit (ISO 965-1's least root radius): a failure is a
+    /// warning and does not decide the gauges' verdict.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub advisory: bool,
 }
 
 /// The three-wire measurement a shop can check the part with.
@@ -126,6 +130,14 @@ pub struct GaugeInfo {
     pub minor_diameter_mm: Option<Range>,
     /// Root diameter of the complete turns (mm).
     pub root_diameter_mm: Option<Range>,
+    /// External threads whose class has a root zone (ISO 965-1): the least effective root
+    /// radius of the complete turns (the largest disk that fills the root), measured up
+    /// to twice the recommended least (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub root_radius_mm: Option<f64>,
+    /// The turn of that root.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub root_radius_turn: Option<i64>,
     /// The class's limits (mm).
     pub limits: GaugeLimits,
     /// Every element checked.
@@ -229,6 +241,7 @@ fn element_words(name: &str) -> &'static str {
         "major_diameter" => "major diameter",
         "minor_diameter" => "minor diameter",
         "root_diameter" => "root diameter",
+        "root_radius" => "root radius",
         _ => "gauge element",
     }
 }
@@ -244,6 +257,9 @@ pub(crate) fn add_gauge(
     report.findings.retain(|f| !NOMINAL.contains(&f.kind));
     for e in &g.elements {
         let severity = match e.call {
+            // A recommendation is said only where the cut is clearly short of it.
+            Call::Undecided | Call::NotMeasured if e.advisory => continue,
+            Call::Fail if e.advisory => Severity::Warning,
             Call::Fail => Severity::Error,
             Call::Undecided | Call::NotMeasured => Severity::Warning,
             Call::Pass => continue,
@@ -274,6 +290,13 @@ pub(crate) fn add_gauge(
                 dia(e.limit, class),
                 (v - e.limit).abs()
             ),
+        };
+        let message = if e.advisory {
+            format!(
+                "{message} (ISO 965-1 recommends a root radius of at least 0.125P for external threads; a recommendation, not part of the gauges' verdict)"
+            )
+        } else {
+            message
         };
         let mut f = Finding::new(FindingKind::Gauge, severity, message);
         f.value = e.value.map(r6);
@@ -334,6 +357,8 @@ pub(crate) fn add_gauge(
         major_diameter_mm: if external { crest } else { None },
         minor_diameter_mm: if external { None } else { crest },
         root_diameter_mm: g.root.map(Range::of),
+        root_radius_mm: g.root_radius.map(|r| r6(r.0)),
+        root_radius_turn: g.root_radius.map(|r| r.1),
         limits: GaugeLimits {
             pitch_diameter_mm: LimitPair::of(class.pitch_diameter),
             major_diameter_mm: LimitPair::of(class.major_diameter),
@@ -349,6 +374,7 @@ pub(crate) fn add_gauge(
                 value_mm: e.value.map(r6),
                 resolution_mm: r6(e.resolution),
                 verdict: e.call.name(),
+                advisory: e.advisory,
             })
             .collect(),
         over_wires: g.over_wires.map(|(w, lo, hi)| OverWires {
@@ -380,7 +406,11 @@ pub(crate) fn summary(g: &GaugeInfo) -> String {
             o(e.value_mm),
             e.limit,
             e.limit_mm,
-            e.verdict
+            if e.advisory {
+                format!("{} (recommended)", e.verdict)
+            } else {
+                e.verdict.to_string()
+            }
         );
     }
     if let (Some(v), Some(t)) = (g.not_go_simple_diameter_mm, g.not_go_simple_turn) {
