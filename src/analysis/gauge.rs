@@ -400,7 +400,7 @@ pub(crate) fn judge(
         0.5 * rounding,
     );
     let ng_res = rounding
-        + 2.0 * cot * class.pitch / BINS as f64
+        + 2.0 * cot * class.pitch / NG_BINS as f64
         + not_go_env.map_or(0.0, |f| if f.2 { 2.0 * spacing * cot } else { 0.0 });
     let not_go = not_go_env.map(|f| (f.0, f.1));
     // Crests of the complete turns: the largest cut height between the turn's features.
@@ -619,34 +619,56 @@ fn not_go_envelope(
         .collect();
     let k = (n.ceil() as i64).max(1);
     let helix = thread.helix;
+    // The best phase over every complete window at once seeds each window's search.
+    let (lo, hi) = match (complete.first(), complete.last()) {
+        (Some(&a), Some(&b)) => (a, b),
+        _ => return None,
+    };
+    let all = points_by(thread, columns, p.pitch, &|theta| {
+        let phase = helix.phase_at(theta);
+        let (a, b) = (helix.z(lo as f64 - 1.0 + phase), helix.z(hi as f64 + phase));
+        (a.min(b), a.max(b))
+    });
+    if all.is_empty() {
+        return None;
+    }
+    let (_, phi0) = functional_radius(p, &reduce_in(p, &all, NG_BINS), None);
+    drop(all);
+    // Each window's gauge on its own (in parallel), the worst taken in turn order.
+    use rayon::prelude::*;
+    let firsts: Vec<i64> = complete
+        .iter()
+        .copied()
+        .filter(|&first| (first..first + k).all(|t| complete.contains(&t)))
+        .collect();
+    let sizes: Vec<Option<(f64, i64, bool)>> = firsts
+        .par_iter()
+        .map(|&first| {
+            // Turn `t` on the generator at `theta` runs from its feature at revolution
+            // `t - 1 + phase` to the next: the window from `first - 1` to `first - 1 + k`.
+            let span_of = |theta: f64| {
+                let phase = helix.phase_at(theta);
+                let (a, b) = (
+                    helix.z(first as f64 - 1.0 + phase),
+                    helix.z((first - 1 + k) as f64 + phase),
+                );
+                (a.min(b), a.max(b))
+            };
+            let pts = points_by(thread, columns, p.pitch, &span_of);
+            if pts.is_empty() {
+                return None;
+            }
+            let (_, phi) = functional_radius(p, &reduce_in(p, &pts, NG_BINS), Some(phi0));
+            let r = size_at(p, &pts, phi);
+            r.is_finite()
+                .then(|| (2.0 * r, first, corner(p, &pts, phi, r, rounding)))
+        })
+        .collect();
     let mut worst: Option<(f64, i64, bool)> = None;
-    for &first in &complete {
-        if !(first..first + k).all(|t| complete.contains(&t)) {
-            continue;
-        }
-        // Turn `t` on the generator at `theta` runs from its feature at revolution
-        // `t - 1 + phase` to the next: the window from `first - 1` to `first - 1 + k`.
-        let span_of = |theta: f64| {
-            let phase = helix.phase_at(theta);
-            let (a, b) = (
-                helix.z(first as f64 - 1.0 + phase),
-                helix.z((first - 1 + k) as f64 + phase),
-            );
-            (a.min(b), a.max(b))
-        };
-        let pts = points_by(thread, columns, p.pitch, &span_of);
-        if pts.is_empty() {
-            continue;
-        }
-        let (_, phi) = functional_radius(p, &reduce(p, &pts), None);
-        let r = size_at(p, &pts, phi);
-        if !r.is_finite() {
-            continue;
-        }
-        let d = 2.0 * r;
+    for (d, first, at_corner) in sizes.into_iter().flatten() {
         let worse = worst.map_or(true, |(v, _, _)| if p.external { d < v } else { d > v });
         if worse {
-            worst = Some((d, first, corner(p, &pts, phi, r, rounding)));
+            worst = Some((d, first, at_corner));
         }
     }
     worst
@@ -660,12 +682,21 @@ fn not_go_envelope(
 /// turn of every generator); the size is then taken from every point at the phase found.
 const BINS: usize = 1 << 16;
 
+/// Bins of the NOT GO's search (its windows are many and short: a coarser search, the
+/// size then from every point as for the GO): 2^13, 0.25 um at a 2 mm pitch.
+const NG_BINS: usize = 1 << 13;
+
 /// The points reduced to the binding one per bin of offset (in bin order: deterministic).
 fn reduce(p: &Profile, pts: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    let mut best: Vec<Option<(f64, f64)>> = vec![None; BINS];
+    reduce_in(p, pts, BINS)
+}
+
+/// [`reduce`] into `bins` bins per pitch.
+fn reduce_in(p: &Profile, pts: &[(f64, f64)], bins: usize) -> Vec<(f64, f64)> {
+    let mut best: Vec<Option<(f64, f64)>> = vec![None; bins];
     for &(z, r) in pts {
         let u = z - p.pitch * (z / p.pitch).round();
-        let k = (((u / p.pitch + 0.5) * BINS as f64) as usize).min(BINS - 1);
+        let k = (((u / p.pitch + 0.5) * bins as f64) as usize).min(bins - 1);
         let slot = &mut best[k];
         let better = match slot {
             None => true,
