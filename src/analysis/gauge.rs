@@ -40,6 +40,9 @@ use crate::model::thread::{Side, ThreadSpec};
 use crate::model::tolerance::{SizeLimits, ThreadClass};
 
 mod root;
+mod taper;
+
+pub(crate) use taper::StandOff;
 
 /// One generator's cut, as the measurement cut it: heights above the root per cell.
 #[derive(Clone, Debug, PartialEq)]
@@ -162,6 +165,8 @@ pub(crate) struct Gauge {
     /// The least effective root radius of the complete turns (external threads whose
     /// class has a root zone; mm) and the turn it was found on.
     pub root_radius: Option<(f64, i64)>,
+    /// A taper thread's gauge: where it stopped against its gauge plane.
+    pub stand_off: Option<StandOff>,
     /// Every element checked, in report order.
     pub elements: Vec<Element>,
     /// All of them.
@@ -175,7 +180,11 @@ pub(crate) struct Gauge {
 #[derive(Clone, Copy, Debug)]
 struct Profile {
     pitch: f64,
-    cot: f64,
+    /// The gauge's walls' cotangents on the -z and +z side of its groove (ring) or tooth
+    /// (plug) centre: `cot` both for a parallel thread; a taper's walls, seen against its
+    /// pitch cone, differ (see `taper`).
+    cot_lo: f64,
+    cot_hi: f64,
     /// External: the ring's crest below its pitch line; internal: the plug's crest above.
     /// A truncated (NOT GO) gauge: the half-height of its flanks' contact band.
     clear: f64,
@@ -195,8 +204,10 @@ struct Profile {
 /// plug (internal) mirrors it.
 fn bound(p: &Profile, zr: f64, r: f64, phi: f64) -> f64 {
     let x = zr - phi;
-    let u = (x - p.pitch * (x / p.pitch).round()).abs();
-    let need = r - (0.25 * p.pitch - u) * p.cot;
+    let xs = x - p.pitch * (x / p.pitch).round();
+    let u = xs.abs();
+    let cot = if xs >= 0.0 { p.cot_hi } else { p.cot_lo };
+    let need = r - (0.25 * p.pitch - u) * cot;
     match (p.external, p.truncated) {
         (true, false) => need.min(r + p.clear),
         (false, false) => need.max(r - p.clear),
@@ -330,9 +341,13 @@ pub(crate) fn judge(
     let external = thread.side == Side::External;
     let half = 0.5 * class.flank_angle;
     let cot = 1.0 / half.tan();
+    if class.taper_gauge.is_some() && thread.taper.is_some() {
+        return taper::judge(thread, class, columns, spacing);
+    }
     let profile = Profile {
         pitch: class.pitch,
-        cot,
+        cot_lo: cot,
+        cot_hi: cot,
         clear: if external {
             0.5 * (class.basic_pitch_diameter - class.basic_minor)
         } else {
@@ -513,6 +528,7 @@ pub(crate) fn judge(
         crest,
         resolution: resolution.max(ng_res),
         root_radius: radius.map(|(_, f)| (f.0, f.1)),
+        stand_off: None,
         root,
         elements,
         verdict,

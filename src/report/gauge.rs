@@ -142,6 +142,9 @@ pub struct GaugeInfo {
     pub limits: GaugeLimits,
     /// Every element checked.
     pub elements: Vec<GaugeElementInfo>,
+    /// A taper thread (NPT, R, Rc): its gauge's stand-off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub taper: Option<TaperInfo>,
     /// Three wires of best size (external threads).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub over_wires: Option<OverWires>,
@@ -150,6 +153,33 @@ pub struct GaugeInfo {
     pub inch: Option<InchView>,
     /// Where the limits come from.
     pub source: String,
+}
+
+/// A taper thread's gauge (ASME B1.20.1's L1 ring or plug, ISO 7-2's taper gauges): a
+/// perfect taper gauge of the basic profile fitted to the cut over its length.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TaperInfo {
+    /// `ring` (external) or `plug` (internal).
+    pub gauge: &'static str,
+    /// How far the gauge's plane stops from the part's nominal gauge plane (turns, signed:
+    /// positive where it stops short of it: more material, an external thread large or an
+    /// internal one small).
+    pub stand_off_turns: f64,
+    /// The same along z (mm).
+    pub stand_off_mm: f64,
+    /// The stand-off allowed either way (turns).
+    pub tolerance_turns: f64,
+    /// z of the gauge's plane where it stopped, and of the part's nominal gauge plane (mm).
+    pub gauge_plane_z_mm: f64,
+    /// See `gauge_plane_z_mm`.
+    pub nominal_gauge_plane_z_mm: f64,
+    /// The cut's pitch cone at the nominal gauge plane as the gauge sees it (mm), and the
+    /// basic pitch diameter there (E1).
+    pub pitch_diameter_at_gauge_plane_mm: f64,
+    /// See `pitch_diameter_at_gauge_plane_mm`.
+    pub basic_pitch_diameter_mm: f64,
+    /// The resolution of the stand-off (turns).
+    pub resolution_turns: f64,
 }
 
 /// The class's limits.
@@ -242,6 +272,7 @@ fn element_words(name: &str) -> &'static str {
         "minor_diameter" => "minor diameter",
         "root_diameter" => "root diameter",
         "root_radius" => "root radius",
+        "gauge_plane_stand_off" => "taper gauge: its plane's stand-off",
         _ => "gauge element",
     }
 }
@@ -290,6 +321,40 @@ pub(crate) fn add_gauge(
                 dia(e.limit, class),
                 (v - e.limit).abs()
             ),
+        };
+        let message = match (e.name, e.value) {
+            ("gauge_plane_stand_off", Some(v)) => {
+                let gauge = if class.internal { "plug" } else { "ring" };
+                let turns = v / class.pitch;
+                let allowed = e.limit.abs() / class.pitch;
+                let how = if v > 0.0 {
+                    format!(
+                        "stops {:.2} turns short of the gauge plane (the thread is {})",
+                        turns,
+                        if class.internal { "small" } else { "large" }
+                    )
+                } else {
+                    format!(
+                        "goes {:.2} turns past the gauge plane (the thread is {})",
+                        -turns,
+                        if class.internal { "large" } else { "small" }
+                    )
+                };
+                match e.call {
+                    Call::Undecided => format!(
+                        "the {} taper {gauge} gauge {how}, within the simulation's resolution ({:.3} turns) of the ±{allowed} turns allowed: undecided",
+                        class.designation,
+                        e.resolution / class.pitch
+                    ),
+                    _ => format!(
+                        "the {} taper {gauge} gauge {how}: over the ±{allowed} turns allowed by {:.2} turns ({:.4} mm along the axis)",
+                        class.designation,
+                        turns.abs() - allowed,
+                        (v.abs() - e.limit.abs()).abs()
+                    ),
+                }
+            }
+            _ => message,
         };
         let message = if e.advisory {
             format!(
@@ -377,6 +442,17 @@ pub(crate) fn add_gauge(
                 advisory: e.advisory,
             })
             .collect(),
+        taper: g.stand_off.map(|so| TaperInfo {
+            gauge: if class.internal { "plug" } else { "ring" },
+            stand_off_turns: r6(so.turns),
+            stand_off_mm: r6(so.mm),
+            tolerance_turns: so.tolerance_turns,
+            gauge_plane_z_mm: r6(so.plane_z),
+            nominal_gauge_plane_z_mm: r6(so.nominal_z),
+            pitch_diameter_at_gauge_plane_mm: r6(so.diameter),
+            basic_pitch_diameter_mm: r6(class.basic_pitch_diameter),
+            resolution_turns: r6(so.resolution / class.pitch),
+        }),
         over_wires: g.over_wires.map(|(w, lo, hi)| OverWires {
             wire_mm: r6(w),
             measurement_mm: Range::of((lo, hi)),
@@ -411,6 +487,18 @@ pub(crate) fn summary(g: &GaugeInfo) -> String {
             } else {
                 e.verdict.to_string()
             }
+        );
+    }
+    if let Some(t) = g.taper {
+        let _ = writeln!(
+            s,
+            "    taper {} gauge stands {:+.3} turns off the gauge plane (allowed ±{}; resolution {} turns): the cut's pitch cone {:.4} mm there, basic {:.4} mm",
+            t.gauge,
+            t.stand_off_turns,
+            t.tolerance_turns,
+            small(t.resolution_turns),
+            t.pitch_diameter_at_gauge_plane_mm,
+            t.basic_pitch_diameter_mm
         );
     }
     if let (Some(v), Some(t)) = (g.not_go_simple_diameter_mm, g.not_go_simple_turn) {

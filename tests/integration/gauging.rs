@@ -198,6 +198,7 @@ impl Case {
             engagement_length: 0.0,
             not_go_turns: 2.0,
             root: None,
+            taper_gauge: None,
             source: "test".into(),
         });
         job

@@ -34,6 +34,7 @@ fn m30(side: Side) -> ThreadSpec {
         },
         turns: 10.0,
         outline: None,
+        taper: None,
     }
 }
 
@@ -56,6 +57,7 @@ fn class(side: Side) -> ThreadClass {
         engagement_length: 0.0,
         not_go_turns: 2.0,
         root: None,
+        taper_gauge: None,
         source: "test".into(),
     }
 }
@@ -106,7 +108,8 @@ fn profile(side: Side) -> Profile {
     let c = class(side);
     Profile {
         pitch: P,
-        cot: 1.0 / 30f64.to_radians().tan(),
+        cot_lo: 1.0 / 30f64.to_radians().tan(),
+        cot_hi: 1.0 / 30f64.to_radians().tan(),
         clear: match side {
             Side::External => 0.5 * (c.basic_pitch_diameter - c.basic_minor),
             Side::Internal => 0.5 * (c.basic_major - c.basic_pitch_diameter),
@@ -161,7 +164,7 @@ fn the_truncated_not_go_reads_flank_angle_errors_at_its_band() {
                 -k * crest_y
             };
             let want_go = 2.0 * r2 + sign * 2.0 * full;
-            let tol = 2.0 * dz * go.cot + 1e-6;
+            let tol = 2.0 * dz * go.cot_hi + 1e-6;
             assert!(
                 (2.0 * r_ng - want_ng).abs() < tol,
                 "{side:?} {deg} deg: NOT GO {} vs {want_ng}",
@@ -197,8 +200,8 @@ fn the_truncated_not_go_reads_the_lead_over_its_turns() {
             let pts = points(&t, &cols, P, span);
             let (r_ng, _) = functional_radius(&ng, &reduce(&ng, &pts), None);
             let (r_go, _) = functional_radius(&go, &reduce(&go, &pts), None);
-            let want = 2.0 * r2 + sign * 2.0 * dp.max(0.0) * go.cot;
-            let tol = 2.0 * 0.0002 * go.cot + 1e-6;
+            let want = 2.0 * r2 + sign * 2.0 * dp.max(0.0) * go.cot_hi;
+            let tol = 2.0 * 0.0002 * go.cot_hi + 1e-6;
             assert!(
                 (2.0 * r_ng - want).abs() < tol && (2.0 * r_go - want).abs() < tol,
                 "{side:?} dp {dp}: NOT GO {} full {} vs {want}",
@@ -249,9 +252,9 @@ fn functional_size_is_the_pitch_diameter_plus_the_lead_equivalent() {
                 .fold(f64::MAX, f64::min);
             let drift = s_plus - s_minus;
             let sign = if side == Side::External { 1.0 } else { -1.0 };
-            let want = 2.0 * r2 + sign * drift * p.cot;
+            let want = 2.0 * r2 + sign * drift * p.cot_hi;
             assert!(
-                (2.0 * r - want).abs() < 2.0 * 0.0002 * p.cot + 1e-6,
+                (2.0 * r - want).abs() < 2.0 * 0.0002 * p.cot_hi + 1e-6,
                 "{side:?} r2 {r2} dp {dp}: {} vs {want}",
                 2.0 * r
             );
@@ -297,7 +300,7 @@ fn the_phase_search_finds_the_scans_optimum() {
             );
         // The scan's step is P/2000 in phase: at most that times cot(a/2) in radius
         // above (ring) or below (plug) the true optimum.
-        let slack = P / 2000.0 * p.cot;
+        let slack = P / 2000.0 * p.cot_hi;
         if p.external {
             assert!(
                 r <= scan + 1e-9 && r >= scan - slack,

@@ -643,6 +643,7 @@ pub(super) fn limits(
         engagement_length: engagement_length(d, p, engagement),
         not_go_turns: 2.0,
         root,
+        taper_gauge: None,
         source: if from_table {
             "ISO 965-1 tables".to_string()
         } else {

@@ -245,6 +245,7 @@ pub(super) fn limits(
         engagement_length: f64::INFINITY,
         not_go_turns: 2.0,
         root: None,
+        taper_gauge: None,
         source: "ISO 2903: Table 1 and 4 values checked against published limits; Td2 by ISO 965-1's rule (R40), checked against published limits".to_string(),
     })
 }
