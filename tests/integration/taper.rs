@@ -166,3 +166,58 @@ fn the_taper_gauge_stands_off_as_the_closed_form_says() {
     }
     assert!(verdicts.iter().all(|&n| n > 0), "{verdicts:?}");
 }
+
+/// A FANUC 0i program cutting 1/2-14 NPT with a two-block G76 whose R tapers the passes
+/// (R = the radius at the start less that at the end: negative, the pipe growing towards
+/// the chuck), placed on the cut: the stand-off is the one the final X and R were derived
+/// for (as above: the passes at full depth put the 60 deg insert's profile on the pitch
+/// cone `d` off the basic one; the cycle's flank infeed before them changes nothing), for
+/// the basic size, 0.4 turns large (a pass) and 1.3 turns small (a failure).
+#[test]
+fn a_g76_taper_program_stands_off_as_derived() {
+    let p = 25.4 / 14.0;
+    let e0 = (0.840 - (0.05 * 0.840 + 1.1) / 14.0) * 25.4;
+    let b = 30f64.to_radians();
+    let f = 0.1 * p;
+    let k = b.tan() / 32.0;
+    let off = 2.0 * (0.25 * p * (1.0 - k * k) - 0.5 * f) / b.tan();
+    let (zs, ze) = (5.0, -20.0);
+    let run = |turns_off: f64| {
+        let d = turns_off * p / 16.0;
+        let x = |z: f64| e0 + (0.0 - z) / 16.0 + d - off;
+        let r = 0.5 * (x(zs) - x(ze));
+        let program = format!(
+            "%\nO2001 (1/2-14 NPT)\nN10 G21 G18 G40 G99\nN20 T0101\nN30 G97 S400 M03\n\
+             N40 G00 X26.0 Z{zs:.3}\nN50 G76 P010060 Q50 R0.02\n\
+             N60 G76 X{:.4} Z{ze:.3} R{r:.4} P1200 Q350 F{p:.6}\nN70 G00 X60.0 Z60.0\nN80 M30\n%\n",
+            x(ze)
+        );
+        let text = format!(
+            "[blank]\ndiameter = {}\nlength = 60.0\nz_front = 0.0\n\
+             [thread]\ndesignation = \"1/2-14 NPT\"\nlength = 14.0\n\
+             [[tool]]\nid = 1\nkind = \"threading\"\nangle = 60.0\ntip_flat = {f}\nreference = \"tip\"\n\
+             [program]\nfile = \"O2001.NC\"\ndialect = \"fanuc\"\n\
+             [machine]\nspindle_rpm = 400\nmax_feed = 5000\nacceleration = 2000\n\
+             [simulation]\naxial_spacing = 0.02\nangular_cells = 90\ntolerance = 0.01\nmeasure_generators = 4\n",
+            x(ze) + 2.4
+        );
+        let load = |name: &str| (name == "O2001.NC").then(|| program.clone());
+        let job = Job::from_toml_with(&text, "npt.toml", &load).unwrap_or_else(|e| panic!("{e}"));
+        let report = simulate_report(&job, &SimOptions::default()).unwrap();
+        let g = report.gauge.clone().expect("a gauge section");
+        (report, g.taper.expect("a taper gauge"))
+    };
+    for turns_off in [0.0, 0.4, -1.3] {
+        let (report, t) = run(turns_off);
+        assert!(
+            (t.stand_off_turns - turns_off).abs() <= t.resolution_turns + 1e-5,
+            "{turns_off}: {t:?}"
+        );
+        assert_eq!(
+            report.verdict == vpcut::Verdict::Pass,
+            turns_off.abs() <= 1.0,
+            "{turns_off}: {:?}",
+            report.findings
+        );
+    }
+}

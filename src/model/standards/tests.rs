@@ -730,9 +730,10 @@ fn iso7_gauge_lengths_and_tolerances_agree() {
         let int = class(&format!("Rc{size}"), None);
         let p = ext.pitch;
         let (length, s1, s2) = pipe::R_GAUGE[i];
-        close(&format!("R{size} gauge length"), length, turns * p, 0.05);
-        close(&format!("R{size} T1/2"), s1 * p, t1, 0.05);
-        close(&format!("Rc{size} T2/2"), s2 * p, t2, 0.05);
+        // Printed to 0.1 mm (3/8: 4 3/4 turns are 6.350 mm, printed 6.4).
+        close(&format!("R{size} gauge length"), length, turns * p, 0.051);
+        close(&format!("R{size} T1/2"), s1 * p, t1, 0.051);
+        close(&format!("Rc{size} T2/2"), s2 * p, t2, 0.051);
         let g = ext.taper_gauge.unwrap();
         assert_eq!(
             (g.gauge_plane, g.length, g.tolerance_turns),
