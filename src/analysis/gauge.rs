@@ -682,7 +682,7 @@ fn not_go_envelope(
         .collect();
     let mut worst: Option<(f64, i64, bool)> = None;
     for (d, first, at_corner) in sizes.into_iter().flatten() {
-        let worse = worst.map_or(true, |(v, _, _)| if p.external { d < v } else { d > v });
+        let worse = worst.is_none_or(|(v, _, _)| if p.external { d < v } else { d > v });
         if worse {
             worst = Some((d, first, at_corner));
         }
