@@ -18,13 +18,20 @@
 //!   about the ring's best phase, found by a scan and golden-section search. Over a thread
 //!   longer than the length of engagement the ring is slid along it, one pitch at a time,
 //!   and the worst window counts (the GO ring must pass the whole thread).
-//! - **NOT GO (simple pitch diameter).** The diameter where the groove is half a pitch
-//!   wide (`measure::pitch_level`), per turn on every generator: minimum and maximum, and the
-//!   NOT GO gauge's view: it engages `not_go_turns` turns at a time and is stopped by the
-//!   largest (external) or smallest (internal) simple pitch diameter among them; the
-//!   thread fails when, in some window, that value is past the minimum-material limit.
+//! - **NOT GO (truncated profile).** The NOT GO gauge of ISO 1502 and ASME B1.2 touches the
+//!   flanks only near its pitch line: a perfect gauge whose crest is truncated and whose
+//!   root is relieved `b` from its pitch line (`not_go_band`), over `not_go_turns` turns. Its
+//!   envelope is the GO's with that profile (see `bound`), over each window of that many
+//!   complete turns on every generator; the thread fails when, in some window, the gauge
+//!   that just assembles is past the minimum-material limit (a smaller ring would enter).
+//!   It reads a flank-angle error only within its band and a lead error over its turns.
+//!   Beside it, the single elements: the simple pitch diameter (the groove half a pitch
+//!   wide, `measure::pitch_level`) per turn on every generator, minimum and maximum, and
+//!   the windows' largest (external) or smallest (internal).
 //! - **Major / minor diameter**: the crests of the complete turns (both grooves found at the
-//!   pitch line) against the class's limits.
+//!   pitch line) against the class's limits; the root's diameter, and an external ISO
+//!   thread's root radius (`root`, advisory: ISO 965-1 recommends it).
+//! - **Taper threads** (`taper`): the taper gauge's stand-off from the gauge plane, in turns.
 //!
 //! Every value within the simulation's own resolution of a limit is `undecided`, never a
 //! pass. The resolution is the stored radii's `f32` rounding, plus for the GO element,
