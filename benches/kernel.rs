@@ -76,6 +76,25 @@ fn bench_simulate(c: &mut Criterion) {
     g.finish();
 }
 
+/// The gauges (issue 26): the M30x2 FANUC program of `tests/data/gauge` judged under
+/// `M30x2-6g` (GO envelope, truncated NOT GO windows, root radius) against the same job
+/// without a class (the nominal comparison only).
+fn bench_gauge(c: &mut Criterion) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gauge");
+    let text = std::fs::read_to_string(dir.join("m30x2.toml")).expect("gauge job");
+    let load = |f: &str| std::fs::read_to_string(dir.join(f)).ok();
+    let mut g = c.benchmark_group("gauge/m30x2");
+    g.sample_size(10).measurement_time(Duration::from_secs(15));
+    for (name, designation) in [("6g", "M30x2-6g"), ("no-class", "M30x2")] {
+        let text = text.replace("M30x2-6g", designation);
+        let job = Job::from_toml_with(&text, "m30x2.toml", &load).expect("valid job");
+        g.bench_function(name, |b| {
+            b.iter(|| simulate_report(&job, &SimOptions::default()).unwrap())
+        });
+    }
+    g.finish();
+}
+
 /// Issue 20's long screw (benches/jobs/screw-1m.toml, 3.6e8 dexels): streamed, and with
 /// the whole grid kept (1.44 GB, over the default budget: raised here).
 fn bench_long(c: &mut Criterion) {
@@ -153,10 +172,19 @@ fn bench_mill(c: &mut Criterion) {
 }
 
 criterion_group!(benches, bench_sweep, bench_compare, bench_simulate);
+criterion_group!(gauges, bench_gauge);
 criterion_group!(milling, bench_mill);
 criterion_group!(planning, bench_plan);
 criterion_group!(long, bench_long);
-criterion_main!(bodies, benches, interpreters, milling, planning, long);
+criterion_main!(
+    bodies,
+    benches,
+    gauges,
+    interpreters,
+    milling,
+    planning,
+    long
+);
 
 fn bench_interpreter(c: &mut Criterion) {
     use vpcut::{interpret, Dialect, Limits, Source};

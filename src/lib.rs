@@ -79,8 +79,8 @@ pub use model::standards::{
     Standard, StandardError,
 };
 pub use model::stock::{Grid, Stock, Surface};
-pub use model::thread::{ColumnIdeal, Flank, Side, ThreadSpec, WidthRule};
-pub use model::tolerance::{RootZone, SizeLimits, ThreadClass, UnitSystem};
+pub use model::thread::{ColumnIdeal, Flank, Side, Taper, ThreadSpec, WidthRule};
+pub use model::tolerance::{RootZone, SizeLimits, TaperGauge, ThreadClass, UnitSystem};
 pub use model::tool::{Body, DepthLimits, Edge, Reference, Tap, Tool};
 pub use nc::{
     decode_program, interpret, interpret_with, path_lead, to_csv, ArcGeometry, CompSide,
@@ -107,5 +107,5 @@ pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimO
 pub use report::{
     CycleTimeInfo, Extent, Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo,
     GaugeLimits, InchView, InputFile, LimitPair, OverWires, Painter, PlacementInfo, Range, Report,
-    SummaryStyle, Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
+    SummaryStyle, TaperInfo, Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
 };

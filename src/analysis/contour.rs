@@ -111,9 +111,11 @@ pub(crate) fn check(s: &Surface) -> (Vec<PartGouge>, Vec<PartLeftover>) {
     let compared = s.thread.and_then(|t| t.1);
     let zone = s.thread.and_then(|(t, _)| {
         let (a, b) = (t.helix.z0, t.helix.z(t.turns));
+        // A taper thread's radii change along it (its cones): the band takes them all.
+        let spread = t.taper.map_or(0.0, |tp| tp.slope.abs() * (b - a).abs());
         let radii = (
-            t.root_radius.min(t.crest_radius),
-            t.root_radius.max(t.crest_radius),
+            t.root_radius.min(t.crest_radius) - spread,
+            t.root_radius.max(t.crest_radius) + spread,
         );
         // Around the thread's middle: its ends may lie in a chamfer that runs below the
         // root (the part's contour is then lower than any groove there).

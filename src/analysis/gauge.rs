@@ -18,13 +18,20 @@
 //!   about the ring's best phase, found by a scan and golden-section search. Over a thread
 //!   longer than the length of engagement the ring is slid along it, one pitch at a time,
 //!   and the worst window counts (the GO ring must pass the whole thread).
-//! - **NOT GO (simple pitch diameter).** The diameter where the groove is half a pitch
-//!   wide (`measure::pitch_level`), per turn on every generator: minimum and maximum, and the
-//!   NOT GO gauge's view: it engages `not_go_turns` turns at a time and is stopped by the
-//!   largest (external) or smallest (internal) simple pitch diameter among them; the
-//!   thread fails when, in some window, that value is past the minimum-material limit.
+//! - **NOT GO (truncated profile).** The NOT GO gauge of ISO 1502 and ASME B1.2 touches the
+//!   flanks only near its pitch line: a perfect gauge whose crest is truncated and whose
+//!   root is relieved `b` from its pitch line (`not_go_band`), over `not_go_turns` turns. Its
+//!   envelope is the GO's with that profile (see `bound`), over each window of that many
+//!   complete turns on every generator; the thread fails when, in some window, the gauge
+//!   that just assembles is past the minimum-material limit (a smaller ring would enter).
+//!   It reads a flank-angle error only within its band and a lead error over its turns.
+//!   Beside it, the single elements: the simple pitch diameter (the groove half a pitch
+//!   wide, `measure::pitch_level`) per turn on every generator, minimum and maximum, and
+//!   the windows' largest (external) or smallest (internal).
 //! - **Major / minor diameter**: the crests of the complete turns (both grooves found at the
-//!   pitch line) against the class's limits.
+//!   pitch line) against the class's limits; the root's diameter, and an external ISO
+//!   thread's root radius (`root`, advisory: ISO 965-1 recommends it).
+//! - **Taper threads** (`taper`): the taper gauge's stand-off from the gauge plane, in turns.
 //!
 //! Every value within the simulation's own resolution of a limit is `undecided`, never a
 //! pass. The resolution is the stored radii's `f32` rounding, plus for the GO element,
@@ -38,6 +45,11 @@
 use crate::analysis::measure::TurnMeasure;
 use crate::model::thread::{Side, ThreadSpec};
 use crate::model::tolerance::{SizeLimits, ThreadClass};
+
+mod root;
+mod taper;
+
+pub(crate) use taper::StandOff;
 
 /// One generator's cut, as the measurement cut it: heights above the root per cell.
 #[derive(Clone, Debug, PartialEq)]
@@ -127,6 +139,9 @@ pub(crate) struct Element {
     pub resolution: f64,
     /// The call.
     pub call: Call,
+    /// A recommendation rather than a limit (ISO 965-1's least root radius): its call is
+    /// reported, a failure as a warning, and does not decide the verdict.
+    pub advisory: bool,
 }
 
 /// The gauges' results on one thread.
@@ -137,9 +152,15 @@ pub(crate) struct Gauge {
     pub functional: Option<(f64, (f64, f64))>,
     /// Smallest and largest simple pitch diameter of a complete turn on any generator (mm).
     pub simple: Option<(f64, f64)>,
-    /// The NOT GO gauge's worst window: the stopping value of the window that goes
-    /// furthest towards minimum material (mm), and the window's first turn.
+    /// The NOT GO gauge's worst window of `not_go_turns` turns: the size of the virtual
+    /// truncated-profile gauge that just assembles with them (the smallest ring, the
+    /// largest plug), least (ring) or greatest (plug) over the windows (mm), and the
+    /// window's first turn.
     pub not_go: Option<(f64, i64)>,
+    /// The NOT GO as single elements: the largest (external) or smallest (internal) simple
+    /// pitch diameter of a window's turns, in the window going furthest towards minimum
+    /// material (mm), and its first turn.
+    pub not_go_simple: Option<(f64, i64)>,
     /// Smallest and largest crest diameter of the complete turns (mm): the major diameter
     /// of an external thread, the minor of an internal one.
     pub crest: Option<(f64, f64)>,
@@ -148,6 +169,11 @@ pub(crate) struct Gauge {
     /// Root diameter (minor of an external thread, major of an internal one): smallest and
     /// largest of the complete turns (mm).
     pub root: Option<(f64, f64)>,
+    /// The least effective root radius of the complete turns (external threads whose
+    /// class has a root zone; mm) and the turn it was found on.
+    pub root_radius: Option<(f64, i64)>,
+    /// A taper thread's gauge: where it stopped against its gauge plane.
+    pub stand_off: Option<StandOff>,
     /// Every element checked, in report order.
     pub elements: Vec<Element>,
     /// All of them.
@@ -161,21 +187,41 @@ pub(crate) struct Gauge {
 #[derive(Clone, Copy, Debug)]
 struct Profile {
     pitch: f64,
-    cot: f64,
+    /// The gauge's walls' cotangents on the -z and +z side of its groove (ring) or tooth
+    /// (plug) centre: `cot` both for a parallel thread; a taper's walls, seen against its
+    /// pitch cone, differ (see `taper`).
+    cot_lo: f64,
+    cot_hi: f64,
     /// External: the ring's crest below its pitch line; internal: the plug's crest above.
+    /// A truncated (NOT GO) gauge: the half-height of its flanks' contact band.
     clear: f64,
     external: bool,
+    /// The NOT GO gauge's truncated profile: its flanks touch only within `clear` of its
+    /// pitch line (crest truncated there, root relieved beyond it).
+    truncated: bool,
 }
 
 /// Each point's bound at phase `phi`: (z relative to the gauge's lattice, radius).
+///
+/// A truncated ring (external) is solid where `r >= R - b` (its crest truncated) and the
+/// groove it leaves for the part's tooth is `P/4 - min(r - R, b) tan(a/2)` wide either side
+/// of its centre (the flank, then the relief beyond the band): a point `|u|` from the groove
+/// centre clears it when `R > min(r + b, r - (P/4 - |u|) cot(a/2))`, and never binds where
+/// `|u| < P/4 - b tan(a/2)` (in the relief: the flank term is below `r - b`). A truncated
+/// plug (internal) mirrors it.
 fn bound(p: &Profile, zr: f64, r: f64, phi: f64) -> f64 {
     let x = zr - phi;
-    let u = (x - p.pitch * (x / p.pitch).round()).abs();
-    let need = r - (0.25 * p.pitch - u) * p.cot;
-    if p.external {
-        need.min(r + p.clear)
-    } else {
-        need.max(r - p.clear)
+    let xs = x - p.pitch * (x / p.pitch).round();
+    let u = xs.abs();
+    let cot = if xs >= 0.0 { p.cot_hi } else { p.cot_lo };
+    let need = r - (0.25 * p.pitch - u) * cot;
+    match (p.external, p.truncated) {
+        (true, false) => need.min(r + p.clear),
+        (false, false) => need.max(r - p.clear),
+        (true, true) if need < r - p.clear => f64::NEG_INFINITY,
+        (true, true) => need.min(r + p.clear),
+        (false, true) if need > r + p.clear => f64::INFINITY,
+        (false, true) => need.max(r - p.clear),
     }
 }
 
@@ -259,6 +305,16 @@ fn points(
     pitch: f64,
     span: (f64, f64),
 ) -> Vec<(f64, f64)> {
+    points_by(thread, columns, pitch, &|_| span)
+}
+
+/// [`points`] with each column's own z range (`span_of` its angle).
+fn points_by(
+    thread: &ThreadSpec,
+    columns: &[GaugeColumn],
+    pitch: f64,
+    span_of: &dyn Fn(f64) -> (f64, f64),
+) -> Vec<(f64, f64)> {
     let helix = thread.helix;
     let shift = match thread.side {
         Side::External => 0.5 * pitch,
@@ -266,6 +322,7 @@ fn points(
     };
     let mut out = Vec::new();
     for c in columns {
+        let span = span_of(c.theta);
         let lattice = helix.z(helix.phase_at(c.theta)) + shift;
         let j0 = ((span.0 - c.z0) / c.dz).ceil().max(0.0) as usize;
         let j1 = (((span.1 - c.z0) / c.dz).floor().max(-1.0) + 1.0) as usize;
@@ -291,15 +348,20 @@ pub(crate) fn judge(
     let external = thread.side == Side::External;
     let half = 0.5 * class.flank_angle;
     let cot = 1.0 / half.tan();
+    if class.taper_gauge.is_some() && thread.taper.is_some() {
+        return taper::judge(thread, class, columns, spacing);
+    }
     let profile = Profile {
         pitch: class.pitch,
-        cot,
+        cot_lo: cot,
+        cot_hi: cot,
         clear: if external {
             0.5 * (class.basic_pitch_diameter - class.basic_minor)
         } else {
             0.5 * (class.basic_major - class.basic_pitch_diameter)
         },
         external,
+        truncated: false,
     };
     // Resolution on a diameter: a flank point is found within a cell (the spacing) along
     // z, that is `spacing cot(a/2)` in radius, twice on a diameter; plus the f32 rounding
@@ -344,7 +406,25 @@ pub(crate) fn judge(
                 (a.min(v), b.max(v))
             })
     });
-    let not_go = not_go_windows(turns, class.not_go_turns, external);
+    let not_go_simple = not_go_windows(turns, class.not_go_turns, external);
+    // The NOT GO gauge as a virtual truncated-profile gauge over its turns.
+    let truncated = Profile {
+        clear: not_go_band(class),
+        truncated: true,
+        ..profile
+    };
+    let not_go_env = not_go_envelope(
+        thread,
+        &truncated,
+        columns,
+        turns,
+        class.not_go_turns,
+        0.5 * rounding,
+    );
+    let ng_res = rounding
+        + 2.0 * cot * class.pitch / NG_BINS as f64
+        + not_go_env.map_or(0.0, |f| if f.2 { 2.0 * spacing * cot } else { 0.0 });
+    let not_go = not_go_env.map(|f| (f.0, f.1));
     // Crests of the complete turns: the largest cut height between the turn's features.
     let crests: Vec<f64> = turns
         .iter()
@@ -378,13 +458,25 @@ pub(crate) fn judge(
         } else {
             (class.minor_diameter, class.major_diameter, "minor_diameter")
         };
+    // The root's radius against ISO 965-1's recommended least (external threads with a
+    // root zone), measured up to twice that.
+    let radius = class.root.filter(|_| external).and_then(|zone| {
+        let r = zone.radius_min;
+        root::root_radius(thread, columns, turns, r, 2.0 * r, 0.5 * rounding).map(|f| (r, f))
+    });
+    // A gap of `g` is a radius `g / (1/sin(b/2) - 1)` short at a corner of angle `b`; the
+    // widest corner a root has is a flat root's, b = 90 deg + a/2: its factor bounds the
+    // radius's resolution.
+    let corner_factor = 1.0 / (std::f64::consts::FRAC_PI_4 + 0.25 * class.flank_angle).sin() - 1.0;
+    let radius_res = radius.map_or(0.0, |(_, f)| f.2 / corner_factor);
     let mut elements = Vec::new();
     let mut element = |name: &'static str, value: Option<f64>, limit: f64, upper: bool| {
         if limit.is_finite() {
-            let res = if name == "go_functional_pitch_diameter" {
-                go_res
-            } else {
-                simple_res
+            let res = match name {
+                "go_functional_pitch_diameter" => go_res,
+                "not_go_pitch_diameter" => ng_res,
+                "root_radius" => radius_res,
+                _ => simple_res,
             };
             elements.push(Element {
                 name,
@@ -393,6 +485,7 @@ pub(crate) fn judge(
                 upper,
                 resolution: res,
                 call: call(value, limit, upper, res),
+                advisory: name == "root_radius",
             });
         }
     };
@@ -421,7 +514,13 @@ pub(crate) fn judge(
     // crest must clear it.
     element("root_diameter", root.map(|c| c.1), root_limits.max, true);
     element("root_diameter", root.map(|c| c.0), root_limits.min, false);
-    let verdict = elements.iter().fold(Call::Pass, |v, e| v.worse(e.call));
+    if let Some((r_min, (rho, _, _))) = radius {
+        element("root_radius", Some(rho), r_min, false);
+    }
+    let verdict = elements
+        .iter()
+        .filter(|e| !e.advisory)
+        .fold(Call::Pass, |v, e| v.worse(e.call));
     let over_wires = (external && simple.is_some()).then(|| {
         let (lo, hi) = simple.unwrap_or_default();
         let w = class.pitch / (2.0 * half.cos());
@@ -432,8 +531,11 @@ pub(crate) fn judge(
         functional,
         simple,
         not_go,
+        not_go_simple,
         crest,
-        resolution,
+        resolution: resolution.max(ng_res),
+        root_radius: radius.map(|(_, f)| (f.0, f.1)),
+        stand_off: None,
         root,
         elements,
         verdict,
@@ -496,6 +598,105 @@ fn functional_over(
     worst
 }
 
+/// The NOT GO gauge's flank contact band (half its height, radial, mm): a tenth of the
+/// basic profile's engaged height `(D - D1)/2` either side of the pitch line, H/8 for the
+/// ISO and Unified 60 degree profiles (5H/8 engaged). ISO 1502 §10.2 and ASME B1.2 give
+/// NOT GO gauges a truncated profile touching the flanks near the pitch line only; their
+/// truncation dimensions were not found in a public source, so this is vpcut's choice,
+/// stated in the report.
+pub(crate) fn not_go_band(class: &ThreadClass) -> f64 {
+    0.1 * (class.basic_major - class.basic_minor)
+}
+
+/// The NOT GO gauge as a virtual truncated-profile gauge (`p`, its band in `p.clear`):
+/// over each window of `n` consecutive complete turns (rounded up, at least 1; turns whose
+/// simple pitch diameter every generator measured, for every start), on every generator,
+/// the smallest ring (external) or largest plug (internal) of perfect pitch and angle that
+/// assembles with the cut; the worst window is the one whose gauge is nearest minimum
+/// material (the smallest ring, the largest plug). Returns its diameter, first turn, and
+/// whether a binding point is a corner of the sampled surface (see [`corner`]).
+fn not_go_envelope(
+    thread: &ThreadSpec,
+    p: &Profile,
+    columns: &[GaugeColumn],
+    turns: &[Vec<TurnMeasure>],
+    n: f64,
+    rounding: f64,
+) -> Option<(f64, i64, bool)> {
+    use std::collections::{BTreeMap, BTreeSet};
+    if columns.is_empty() {
+        return None;
+    }
+    // Complete turns: measured by every generator, for every start.
+    let mut seen: BTreeMap<i64, usize> = BTreeMap::new();
+    for m in turns.iter().flatten() {
+        if m.pitch_diameter.is_some() {
+            *seen.entry(m.turn).or_default() += 1;
+        }
+    }
+    let need = turns.len() * thread.starts as usize;
+    let complete: BTreeSet<i64> = seen
+        .into_iter()
+        .filter(|&(_, c)| c >= need)
+        .map(|(t, _)| t)
+        .collect();
+    let k = (n.ceil() as i64).max(1);
+    let helix = thread.helix;
+    // The best phase over every complete window at once seeds each window's search.
+    let (lo, hi) = match (complete.first(), complete.last()) {
+        (Some(&a), Some(&b)) => (a, b),
+        _ => return None,
+    };
+    let all = points_by(thread, columns, p.pitch, &|theta| {
+        let phase = helix.phase_at(theta);
+        let (a, b) = (helix.z(lo as f64 - 1.0 + phase), helix.z(hi as f64 + phase));
+        (a.min(b), a.max(b))
+    });
+    if all.is_empty() {
+        return None;
+    }
+    let (_, phi0) = functional_radius(p, &reduce_in(p, &all, NG_BINS), None);
+    drop(all);
+    // Each window's gauge on its own (in parallel), the worst taken in turn order.
+    use rayon::prelude::*;
+    let firsts: Vec<i64> = complete
+        .iter()
+        .copied()
+        .filter(|&first| (first..first + k).all(|t| complete.contains(&t)))
+        .collect();
+    let sizes: Vec<Option<(f64, i64, bool)>> = firsts
+        .par_iter()
+        .map(|&first| {
+            // Turn `t` on the generator at `theta` runs from its feature at revolution
+            // `t - 1 + phase` to the next: the window from `first - 1` to `first - 1 + k`.
+            let span_of = |theta: f64| {
+                let phase = helix.phase_at(theta);
+                let (a, b) = (
+                    helix.z(first as f64 - 1.0 + phase),
+                    helix.z((first - 1 + k) as f64 + phase),
+                );
+                (a.min(b), a.max(b))
+            };
+            let pts = points_by(thread, columns, p.pitch, &span_of);
+            if pts.is_empty() {
+                return None;
+            }
+            let (_, phi) = functional_radius(p, &reduce_in(p, &pts, NG_BINS), Some(phi0));
+            let r = size_at(p, &pts, phi);
+            r.is_finite()
+                .then(|| (2.0 * r, first, corner(p, &pts, phi, r, rounding)))
+        })
+        .collect();
+    let mut worst: Option<(f64, i64, bool)> = None;
+    for (d, first, at_corner) in sizes.into_iter().flatten() {
+        let worse = worst.is_none_or(|(v, _, _)| if p.external { d < v } else { d > v });
+        if worse {
+            worst = Some((d, first, at_corner));
+        }
+    }
+    worst
+}
+
 /// Bins of the reduced points per pitch: a point's bound depends only on its offset from
 /// the gauge's lattice modulo the pitch and its radius, and grows with the radius (ring) or
 /// falls with it (plug), so of the points whose offsets share a bin only the outermost
@@ -504,12 +705,21 @@ fn functional_over(
 /// turn of every generator); the size is then taken from every point at the phase found.
 const BINS: usize = 1 << 16;
 
+/// Bins of the NOT GO's search (its windows are many and short: a coarser search, the
+/// size then from every point as for the GO): 2^13, 0.25 um at a 2 mm pitch.
+const NG_BINS: usize = 1 << 13;
+
 /// The points reduced to the binding one per bin of offset (in bin order: deterministic).
 fn reduce(p: &Profile, pts: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    let mut best: Vec<Option<(f64, f64)>> = vec![None; BINS];
+    reduce_in(p, pts, BINS)
+}
+
+/// [`reduce`] into `bins` bins per pitch.
+fn reduce_in(p: &Profile, pts: &[(f64, f64)], bins: usize) -> Vec<(f64, f64)> {
+    let mut best: Vec<Option<(f64, f64)>> = vec![None; bins];
     for &(z, r) in pts {
         let u = z - p.pitch * (z / p.pitch).round();
-        let k = (((u / p.pitch + 0.5) * BINS as f64) as usize).min(BINS - 1);
+        let k = (((u / p.pitch + 0.5) * bins as f64) as usize).min(bins - 1);
         let slot = &mut best[k];
         let better = match slot {
             None => true,
@@ -597,252 +807,4 @@ fn not_go_windows(turns: &[Vec<TurnMeasure>], n: f64, external: bool) -> Option<
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::helix::{Helix, LeadLaw};
-    use crate::model::thread::WidthRule;
-    use crate::model::Rng;
-
-    const P: f64 = 2.0;
-
-    /// An ISO M30x2 thread at the basic size, external or internal, its first feature at
-    /// z = 0 going -z.
-    fn m30(side: Side) -> ThreadSpec {
-        let (d, d2, d1) = (30.0, 30.0 - 0.649519 * P, 30.0 - 1.082532 * P);
-        let d3 = 30.0 - 1.226869 * P;
-        let (root, crest) = match side {
-            Side::External => (d3 / 2.0, d / 2.0),
-            Side::Internal => (d / 2.0, d1 / 2.0),
-        };
-        ThreadSpec {
-            side,
-            root_radius: root,
-            crest_radius: crest,
-            pitch_radius: d2 / 2.0,
-            left_angle: 30f64.to_radians(),
-            right_angle: 30f64.to_radians(),
-            width: WidthRule::Groove(P / 2.0),
-            starts: 1,
-            helix: Helix {
-                z0: 0.0,
-                dir: -1.0,
-                law: LeadLaw::constant(P),
-                theta0: 0.0,
-                spin: 1.0,
-            },
-            turns: 10.0,
-            outline: None,
-        }
-    }
-
-    fn class(side: Side) -> ThreadClass {
-        ThreadClass {
-            designation: "M30x2-6g".into(),
-            class: "6g".into(),
-            units: crate::model::tolerance::UnitSystem::Metric,
-            internal: side == Side::Internal,
-            basic_major: 30.0,
-            basic_pitch_diameter: 30.0 - 0.649519 * P,
-            basic_minor: 30.0 - 1.082532 * P,
-            pitch: P,
-            starts: 1,
-            flank_angle: 60f64.to_radians(),
-            taper: 0.0,
-            pitch_diameter: SizeLimits::new(28.493, 28.663),
-            major_diameter: SizeLimits::new(29.682, 29.962),
-            minor_diameter: SizeLimits::new(f64::NEG_INFINITY, f64::INFINITY),
-            engagement_length: 0.0,
-            not_go_turns: 2.0,
-            root: None,
-            source: "test".into(),
-        }
-    }
-
-    /// The surface of a 60 deg thread on a generator: grooves (external: where the part is
-    /// low) centred at `centres`, each of half-width P/4 at pitch radius `r2`, flanks
-    /// tilted by `tilt` (rad, both flanks opening), clamped to the thread's radii.
-    fn column(
-        t: &ThreadSpec,
-        theta: f64,
-        r2: f64,
-        centres: &[f64],
-        tilt: f64,
-        dz: f64,
-        span: (f64, f64),
-    ) -> GaugeColumn {
-        let n = ((span.1 - span.0) / dz).round() as usize + 1;
-        let cot = 1.0 / (30f64.to_radians() + tilt).tan();
-        let (lo, hi) = (
-            t.root_radius.min(t.crest_radius),
-            t.root_radius.max(t.crest_radius),
-        );
-        let h = (0..n)
-            .map(|j| {
-                let z = span.0 + j as f64 * dz;
-                let u = centres
-                    .iter()
-                    .map(|c| (z - c).abs())
-                    .fold(f64::INFINITY, f64::min);
-                // Distance from the groove centre: external, the radius grows with it
-                // (the groove's wall); internal, it falls.
-                let r = match t.side {
-                    Side::External => r2 + (u - P / 4.0) * cot,
-                    Side::Internal => r2 - (u - P / 4.0) * cot,
-                };
-                t.height(r.clamp(lo, hi)) as f32
-            })
-            .collect();
-        GaugeColumn {
-            theta,
-            z0: span.0,
-            dz,
-            h,
-        }
-    }
-
-    fn profile(side: Side) -> Profile {
-        let c = class(side);
-        Profile {
-            pitch: P,
-            cot: 1.0 / 30f64.to_radians().tan(),
-            clear: match side {
-                Side::External => 0.5 * (c.basic_pitch_diameter - c.basic_minor),
-                Side::Internal => 0.5 * (c.basic_major - c.basic_pitch_diameter),
-            },
-            external: side == Side::External,
-        }
-    }
-
-    /// A perfect thread's functional size is its pitch diameter; a cumulative lead error
-    /// adds |dP_sum| cot(a/2) on diameter (external) or takes it off (internal): the
-    /// diameter-equivalent formula of `thread-gauging.md`, as a test of the envelope.
-    #[test]
-    fn functional_size_is_the_pitch_diameter_plus_the_lead_equivalent() {
-        for side in [Side::External, Side::Internal] {
-            let t = m30(side);
-            let p = profile(side);
-            for (r2, dp, teeth) in [
-                (14.29, 0.0, 6),
-                (14.25, 0.004, 6),
-                (14.31, -0.003, 9),
-                (14.35, 0.01, 3),
-            ] {
-                // Grooves at 0, -(P+dp), ...; the span from the first groove's centre to
-                // the last's: whole teeth only.
-                let centres: Vec<f64> = (0..=teeth).map(|k| -(k as f64) * (P + dp)).collect();
-                let span = (centres[teeth], 0.0);
-                let cols: Vec<GaugeColumn> = [0.0]
-                    .iter()
-                    .map(|&th| column(&t, th, r2, &centres, 0.0, 0.0002, span))
-                    .collect();
-                let pts = points(&t, &cols, P, span);
-                let (r, _) = functional_radius(&p, &pts, None);
-                // Tooth k lies between grooves k and k+1. Against a ring of perfect pitch
-                // its +z flank (the wall of groove k) is shifted by -k dp and its -z flank
-                // (the wall of groove k+1) by -(k+1) dp. A flank shifted by s against the
-                // ring's phase phi needs (s - phi) cot(a/2) more radius (+z flanks) or
-                // (phi - s) cot(a/2) (-z flanks): the best ring takes phi halfway, and the
-                // diameter grows by (max s+ - min s-) cot(a/2): the cumulative pitch
-                // deviation between the outermost engaged flanks (teeth dp for dp > 0; for
-                // dp < 0 the narrower teeth give back two pitches of it).
-                let s_plus = (0..teeth)
-                    .map(|k| -(k as f64) * dp)
-                    .fold(f64::MIN, f64::max);
-                let s_minus = (0..teeth)
-                    .map(|k| -(k as f64 + 1.0) * dp)
-                    .fold(f64::MAX, f64::min);
-                let drift = s_plus - s_minus;
-                let sign = if side == Side::External { 1.0 } else { -1.0 };
-                let want = 2.0 * r2 + sign * drift * p.cot;
-                assert!(
-                    (2.0 * r - want).abs() < 2.0 * 0.0002 * p.cot + 1e-6,
-                    "{side:?} r2 {r2} dp {dp}: {} vs {want}",
-                    2.0 * r
-                );
-            }
-        }
-    }
-
-    /// The search against a dense scan of the phase (an independent minimisation) on
-    /// random threads: random tooth shifts, flank tilts and pitch radii.
-    #[test]
-    fn the_phase_search_finds_the_scans_optimum() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-        for case in 0..24 {
-            let side = if case % 2 == 0 {
-                Side::External
-            } else {
-                Side::Internal
-            };
-            let t = m30(side);
-            let p = profile(side);
-            let r2 = rng.range(14.2, 14.35);
-            let teeth = 3 + (rng.next() * 5.0) as usize;
-            let centres: Vec<f64> = (0..=teeth)
-                .map(|k| -(k as f64) * P + rng.range(-0.02, 0.02) + 0.3)
-                .collect();
-            let tilt = rng.range(-0.01, 0.01);
-            let span = (centres[teeth] - 0.5, centres[0] + 0.5);
-            let cols = vec![
-                column(&t, 0.0, r2, &centres, tilt, 0.001, span),
-                column(&t, 1.0, r2 + 0.01, &centres, 0.0, 0.001, span),
-            ];
-            let pts = points(&t, &cols, P, span);
-            let (r, _) = functional_radius(&p, &pts, None);
-            let scan = (0..2000)
-                .map(|k| size_at(&p, &pts, k as f64 * P / 2000.0))
-                .fold(
-                    if p.external {
-                        f64::INFINITY
-                    } else {
-                        f64::NEG_INFINITY
-                    },
-                    |a, b| if p.external { a.min(b) } else { a.max(b) },
-                );
-            // The scan's step is P/2000 in phase: at most that times cot(a/2) in radius
-            // above (ring) or below (plug) the true optimum.
-            let slack = P / 2000.0 * p.cot;
-            if p.external {
-                assert!(
-                    r <= scan + 1e-9 && r >= scan - slack,
-                    "{case}: {r} vs {scan}"
-                );
-            } else {
-                assert!(
-                    r >= scan - 1e-9 && r <= scan + slack,
-                    "{case}: {r} vs {scan}"
-                );
-            }
-        }
-    }
-
-    /// The calls: a value within the resolution of a limit is undecided, beyond it a
-    /// fail, inside a pass; nothing measured is said.
-    #[test]
-    fn calls_respect_the_resolution() {
-        let res = 0.002;
-        assert_eq!(call(Some(28.6), 28.663, true, res), Call::Pass);
-        assert_eq!(call(Some(28.662), 28.663, true, res), Call::Undecided);
-        assert_eq!(call(Some(28.6645), 28.663, true, res), Call::Undecided);
-        assert_eq!(call(Some(28.67), 28.663, true, res), Call::Fail);
-        assert_eq!(call(Some(28.49), 28.493, false, res), Call::Fail);
-        assert_eq!(call(Some(28.6), 28.493, false, res), Call::Pass);
-        assert_eq!(call(None, 28.493, false, res), Call::NotMeasured);
-        assert_eq!(Call::Pass.worse(Call::Undecided), Call::Undecided);
-        assert_eq!(Call::Fail.worse(Call::Undecided), Call::Fail);
-    }
-
-    /// Over-wire values of `thread-gauging.md`: M20x2.5-6g over best wires (1.4434 mm) is
-    /// 20.329 .. 20.499 mm for d2 18.164 .. 18.334.
-    #[test]
-    fn over_wires_match_the_published_example() {
-        let half = 30f64.to_radians();
-        let p = 2.5;
-        let w = p / (2.0 * half.cos());
-        let m = |d2: f64| d2 + w * (1.0 + 1.0 / half.sin()) - 0.5 * p / half.tan();
-        assert!((w - 1.4434).abs() < 5e-5);
-        assert!((m(18.164) - 20.329).abs() < 5e-4, "{}", m(18.164));
-        assert!((m(18.334) - 20.499).abs() < 5e-4, "{}", m(18.334));
-        let _ = class(Side::External);
-    }
-}
+mod tests;

@@ -323,15 +323,24 @@ fn measure_generator(
         surface,
     };
     cut(q, column);
+    // Heights above the local root: a taper thread's cones taken off, cut and ideal alike
+    // (widths at a level are the same along z before and after).
+    let z_of = |j: usize| z_lo + j as f64 * spacing;
     cut_h.clear();
     cut_h.extend(
         q.iter()
-            .map(|&v| thread.height(sense * (v as f64 + blank_q)) as f32),
+            .enumerate()
+            .map(|(j, &v)| thread.local_height(z_of(j), sense * (v as f64 + blank_q)) as f32),
     );
     let ideal = thread.column(theta, z_lo, z_hi);
     ideal_h.clear();
     ideal_h.resize(n, 0.0);
     ideal.fill_heights(z_lo, spacing, 0, ideal_h);
+    if thread.taper.is_some() {
+        for (j, h) in ideal_h.iter_mut().enumerate() {
+            *h = (*h as f64 - thread.cone_height(z_of(j))) as f32;
+        }
+    }
     let (cut_h, ideal_h) = (&cut_h[..], &ideal_h[..]);
     let tooth = matches!(thread.width, WidthRule::Tooth(_));
     let level = thread.pitch_height();
@@ -438,7 +447,7 @@ fn measure_generator(
             simple
                 .then(|| pitch_level(h, z_lo, spacing, f.z, half_pitch, thread.depth()))
                 .flatten()
-                .map(|l| 2.0 * thread.radius(l))
+                .map(|l| 2.0 * thread.local_radius(f.z, l))
         };
         out.push(TurnMeasure {
             pitch_diameter: d2(cut_h),

@@ -79,7 +79,11 @@ fn features_on(
     let sense = surface.sense();
     let h: Vec<f32> = q
         .iter()
-        .map(|&v| thread.height(sense * (v as f64 + q_blank)) as f32)
+        .enumerate()
+        .map(|(j, &v)| {
+            let z = window.0 + j as f64 * dz;
+            thread.local_height(z, sense * (v as f64 + q_blank)) as f32
+        })
         .collect();
     let tooth = matches!(thread.width, WidthRule::Tooth(_));
     let wanted = match thread.width {

@@ -640,6 +640,7 @@ pub fn line_check(passes: &[Pass], thread: &ThreadSpec, tool: &Tool) -> Check {
     // The thread's own grooves: the passes cut the thread, the part's chamfers are turned.
     let thread = &ThreadSpec {
         outline: None,
+        taper: None,
         ..thread.clone()
     };
     let depth = thread.depth();

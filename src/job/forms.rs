@@ -226,7 +226,12 @@ pub(super) fn resolve_thread(
         (Some(m), _) => cx.positive("thread.minor_diameter", m)?,
         // A class allows the internal thread's crest anywhere in its D1 limits: a tap-drill
         // bore above the basic minor diameter is the crest.
-        (None, Some(m)) if side == Side::Internal && class.is_some() && blank.bore > m => {
+        (None, Some(m))
+            if side == Side::Internal
+                && class.is_some()
+                && named.taper.is_none()
+                && blank.bore > m =>
+        {
             blank.bore
         }
         (None, Some(m)) => m,
@@ -261,7 +266,28 @@ pub(super) fn resolve_thread(
         Side::Internal => c.minor_diameter,
     });
     let mut major = major;
+    // A taper thread's crest is a cone: the blank (a cylinder) bounds it only on the
+    // thread's face, where its radii are given.
     match (side, crest_limits) {
+        (_, Some(_)) if named.taper.is_some() => {
+            if side == Side::External && major > blank.diameter + 1e-9 {
+                return Err(cx.err(
+                    "blank.diameter",
+                    format!(
+                        "the blank ({} mm) is smaller than the major diameter of {} at its small end ({} mm)",
+                        fmt_mm(blank.diameter),
+                        class.as_ref().map_or("", |c| c.designation.as_str()),
+                        fmt_mm(major)
+                    ),
+                ));
+            }
+            if side == Side::Internal && (blank.bore == 0.0 || major >= blank.diameter) {
+                return Err(cx.err(
+                    "blank.bore",
+                    "an internal taper thread needs a bore and a blank larger than its major diameter at the face",
+                ));
+            }
+        }
         (Side::External, Some(l)) if major > blank.diameter + 1e-9 => {
             if blank.diameter < l.min - 1e-9 {
                 return Err(cx.err(
@@ -365,6 +391,11 @@ pub(super) fn resolve_thread(
         helix,
         turns,
         outline: None,
+        // The cones' reference: the thread's face (its given start, else the blank's front).
+        taper: named.taper.map(|slope| crate::model::thread::Taper {
+            slope,
+            z_ref: t.z_start.unwrap_or(blank.z_front),
+        }),
     };
     debug_assert_eq!(
         spec.hand(),

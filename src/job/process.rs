@@ -149,6 +149,14 @@ pub(super) fn job_passes(
         check_pass(&pass, &key, cx)?;
         passes.push(pass);
     }
+    if raw.process.is_some() && thread.taper.is_some() {
+        // The generators and the planner lay parallel passes; a taper thread's passes
+        // follow its cone (G76/G92 with R, `[[pass]] x_end`).
+        return Err(cx.err(
+            "process",
+            "the pass generators and the planner cut parallel threads: a taper thread (NPT, R, Rc) needs tapered passes, from a [program] (G76 or G92 with R, G33 with X) or [[pass]] with x_end",
+        ));
+    }
     let mut plan = None;
     if let Some(pr) = raw
         .process

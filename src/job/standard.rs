@@ -33,6 +33,9 @@ pub(super) struct Named {
     pub(super) profile: Option<(f64, f64, f64)>,
     /// The tolerance class's limits.
     pub(super) class: Option<ThreadClass>,
+    /// A taper thread's slope (radius per mm of z, signed; its radii above are at the
+    /// thread's face).
+    pub(super) taper: Option<f64>,
 }
 
 fn side_of(s: SideName) -> Side {
@@ -154,6 +157,7 @@ fn explicit(t: &RawThread, cx: &Ctx) -> Result<Named, JobError> {
         side,
         profile: None,
         class,
+        taper: None,
     })
 }
 
@@ -161,15 +165,6 @@ fn explicit(t: &RawThread, cx: &Ctx) -> Result<Named, JobError> {
 fn designated(t: &RawThread, text: &str, cx: &Ctx) -> Result<Named, JobError> {
     let key = "thread.designation";
     let d = standards::parse(text).map_err(|e| cx.err(key, e.message))?;
-    if d.taper() > 0.0 {
-        return Err(cx.err(
-            key,
-            format!(
-                "`{}` is a taper thread (1:16 on the diameter): taper threads are not simulated yet; a parallel thread's designation (G1/2 A, Rp1/2, M30x2-6g) is",
-                d.text
-            ),
-        ));
-    }
     if t.class.is_some() {
         return Err(cx.err(
             "thread.class",
@@ -302,17 +297,32 @@ fn designated(t: &RawThread, text: &str, cx: &Ctx) -> Result<Named, JobError> {
             ));
         }
     }
-    let profile = (d.form() == Form::Whitworth)
+    let mut profile = (d.form() == Form::Whitworth)
         .then(|| (angle, d.whitworth_minor(), d.basic_pitch_diameter()));
+    let mut major = d.major;
+    // A taper thread: its basic diameters at the thread's face (the cones' reference),
+    // from the gauge plane's (1:16 on the diameter: an external thread's small end is its
+    // face, an internal one's large end).
+    let taper = match class.as_ref().and_then(|c| c.taper_gauge.map(|g| (c, g))) {
+        Some((c, g)) => {
+            let sign = if side == Side::Internal { 1.0 } else { -1.0 };
+            let shift = sign * c.taper * g.gauge_plane;
+            major = c.basic_major + shift;
+            profile = Some((angle, c.basic_minor + shift, c.basic_pitch_diameter + shift));
+            Some(sign * 0.5 * c.taper)
+        }
+        None => None,
+    };
     Ok(Named {
         form,
-        major: d.major,
+        major,
         pitch: RawPitch::Constant(d.pitch),
         starts: d.starts,
         hand,
         side,
         profile,
         class,
+        taper,
     })
 }
 
@@ -322,11 +332,8 @@ fn class_of(
     side: Option<Side>,
     cx: &Ctx,
 ) -> Result<Option<ThreadClass>, JobError> {
-    if matches!(
-        d.standard,
-        Standard::PipeParallelInternal | Standard::PipeTaper { .. }
-    ) {
-        // ISO 7-1: no limits vpcut can give (see `model::standards::pipe`).
+    if d.standard == Standard::PipeParallelInternal {
+        // ISO 7-1's Rp: no limits vpcut can give (see `model::standards::pipe`).
         return Ok(None);
     }
     d.class(side)

@@ -109,6 +109,23 @@ pub struct ThreadSpec {
     /// `bore_profile` inside), as drawn: where it lies below the thread (a lead-in
     /// chamfer, a run-out relief) the ideal follows it (see [`ThreadSpec::column`]).
     pub outline: Option<std::sync::Arc<PartProfile>>,
+    /// A taper thread (NPT, ISO 7-1's R and Rc): its root, pitch and crest are cones of one
+    /// slope, the radii above being theirs at `Taper::z_ref`. `None` for a parallel thread.
+    pub taper: Option<Taper>,
+}
+
+/// The cones of a taper thread: every radius of the thread changes by `slope` per mm of
+/// z (1:16 on the diameter: a slope of 1/32, negative where the diameter grows towards
+/// -z, as an external pipe thread's from its small end at the part's face). The flanks
+/// keep their angles to the radial (the bisector of the thread's angle perpendicular to
+/// the axis, ASME B1.20.1 and ISO 7-1): the ideal profile is exact, a parallel profile with
+/// the walls' tangents adjusted for the slope and sheared onto the cones.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Taper {
+    /// Radius change per mm of z (signed).
+    pub slope: f64,
+    /// The z where the thread's radii are the ones `ThreadSpec` states (mm).
+    pub z_ref: f64,
 }
 
 /// A groove of the ideal profile on one generator, by its four corners' z.
@@ -179,6 +196,10 @@ pub struct ColumnIdeal {
     /// does not define.
     pub span: Option<(f64, f64)>,
     depth: f64,
+    /// A taper thread's cones: their slope in height per mm of z and the z where they
+    /// pass through heights 0 (the root) and `depth` (the crest); `(0, 0)` for a parallel
+    /// thread.
+    cone: (f64, f64),
 }
 
 impl ThreadSpec {
@@ -208,6 +229,40 @@ impl ThreadSpec {
     /// Height of the pitch line above the root.
     pub fn pitch_height(&self) -> f64 {
         self.height(self.pitch_radius)
+    }
+
+    /// The taper's cone in height at `z`: how far the root (and every cone of the thread)
+    /// lies above its height at the reference plane (0 for a parallel thread).
+    pub fn cone_height(&self, z: f64) -> f64 {
+        self.taper
+            .map_or(0.0, |t| self.sense() * t.slope * (z - t.z_ref))
+    }
+
+    /// Height of a radius above the thread's local root at `z` (its root cone's there):
+    /// the profile as a parallel thread's, whatever the taper.
+    pub fn local_height(&self, z: f64, r: f64) -> f64 {
+        self.height(r) - self.cone_height(z)
+    }
+
+    /// The radius at `z` of a height above the local root ([`ThreadSpec::local_height`]'s
+    /// inverse).
+    pub fn local_radius(&self, z: f64, h: f64) -> f64 {
+        self.radius(h + self.cone_height(z))
+    }
+
+    /// The walls' tangents (left, right: axial run per unit of height) of the parallel
+    /// profile that, sheared onto a taper's cones, has the flank angles: a right wall's
+    /// `T/(1 - s T)`, a left wall's `T/(1 + s T)` (`s` the cones' slope in height, `T` the
+    /// flank's tangent); the flanks' own for a parallel thread.
+    pub(crate) fn wall_tangents(&self) -> (f64, f64) {
+        let (tl, tr) = (self.left_angle.tan(), self.right_angle.tan());
+        match self.taper {
+            None => (tl, tr),
+            Some(t) => {
+                let s = self.sense() * t.slope;
+                (tl / (1.0 + s * tl), tr / (1.0 - s * tr))
+            }
+        }
     }
 
     /// Hand of the thread.
@@ -323,7 +378,7 @@ impl ThreadSpec {
     fn groove(&self, centre: f64, w_pitch: f64) -> Groove {
         let hp = self.pitch_height();
         let depth = self.depth();
-        let (tl, tr) = (self.left_angle.tan(), self.right_angle.tan());
+        let (tl, tr) = self.wall_tangents();
         Groove {
             left_top: centre - w_pitch / 2.0 - (depth - hp) * tl,
             left_root: centre - w_pitch / 2.0 + hp * tl,
@@ -348,7 +403,15 @@ impl ThreadSpec {
                 .collect(),
         };
         let depth = self.depth();
-        let mut verts = envelope(&grooves, depth, self.widening(), z_lo - 1.0, z_hi + 1.0);
+        let (tl, tr) = self.wall_tangents();
+        let mut verts = envelope(&grooves, depth, tl + tr, z_lo - 1.0, z_hi + 1.0);
+        // A taper: the parallel profile sheared onto the cones (exact: a shear keeps
+        // segments straight; the walls' tangents were adjusted for it).
+        if self.taper.is_some() {
+            for v in &mut verts {
+                v.h += self.cone_height(v.z);
+            }
+        }
         let (thread, mut span) = self.thread_grooves(&features);
         if let Some(part) = &self.outline {
             let mut contour: Vec<Vertex> = part
@@ -378,6 +441,9 @@ impl ThreadSpec {
             grooves: thread,
             span,
             depth,
+            cone: self
+                .taper
+                .map_or((0.0, 0.0), |t| (self.sense() * t.slope, t.z_ref)),
         }
     }
 
@@ -393,7 +459,7 @@ impl ThreadSpec {
         let inside = |g: f64| g >= g_lo - 1e-9 && g <= g_hi + 1e-9;
         let hp = self.pitch_height();
         let over = self.depth() - hp;
-        let (tl, tr) = (self.left_angle.tan(), self.right_angle.tan());
+        let (tl, tr) = self.wall_tangents();
         let make = |start: u32, g: f64, centre: f64, w: f64| ThreadGroove {
             start,
             turn: self.turn_of(g),
@@ -728,18 +794,29 @@ impl ColumnIdeal {
     }
 
     fn segment_kind(&self, a: Vertex, b: Vertex) -> Flank {
-        let eps = 1e-12 * (1.0 + self.depth);
-        if (a.h - b.h).abs() <= eps {
-            if a.h <= eps {
+        // Heights above the cone of a taper's root (the heights themselves for a parallel
+        // thread): a root or crest runs along the cone.
+        let (slope, z_ref) = self.cone;
+        let local = |v: Vertex| v.h - slope * (v.z - z_ref);
+        let (ha, hb) = (local(a), local(b));
+        let eps = 1e-12 * (1.0 + self.depth + slope.abs() * (a.z - z_ref).abs());
+        if (ha - hb).abs() <= eps {
+            if ha <= eps {
                 Flank::Root
             } else {
                 Flank::Crest
             }
-        } else if b.h < a.h {
+        } else if hb < ha {
             Flank::Left
         } else {
             Flank::Right
         }
+    }
+
+    /// A taper's cone in height at `z` (0 for a parallel thread): the ideal's height less
+    /// this is its height above the local root.
+    pub fn cone_height(&self, z: f64) -> f64 {
+        self.cone.0 * (z - self.cone.1)
     }
 
     /// The thread groove a point at `z` belongs to, moving forward from `hint` (for callers
@@ -801,6 +878,7 @@ pub(crate) fn seed002_screw(side: Side, angles: f64) -> ThreadSpec {
         },
         turns: 7.0,
         outline: None,
+        taper: None,
     }
 }
 
@@ -860,6 +938,7 @@ mod tests {
             },
             turns: 5.0,
             outline: None,
+            taper: None,
         };
         let col = th.column(0.0, -10.0, 1.0);
         // The crest between grooves at 0 and -2 is at -1, lowered by 0.1/tan30 ... in h.
@@ -868,5 +947,110 @@ mod tests {
         assert!((crest - expect).abs() < 1e-9, "{crest} vs {expect}");
         // Heights never exceed the depth and the polyline is monotone in z.
         assert!(col.verts.windows(2).all(|w| w[0].z <= w[1].z));
+    }
+}
+
+#[cfg(test)]
+mod taper_tests {
+    use super::*;
+    use crate::model::helix::LeadLaw;
+
+    /// An NPT-like 60 deg thread of pitch 1.814 on a 1:16 taper, external (diameter growing
+    /// towards -z, slope -1/32) or internal (shrinking, +1/32), its radii at z = 0.
+    fn tapered(side: Side) -> ThreadSpec {
+        let p = 1.814;
+        let depth = 0.8 * p;
+        let (root, crest, slope) = match side {
+            Side::External => (10.0, 10.0 + depth, -1.0 / 32.0),
+            Side::Internal => (10.0 + depth, 10.0, 1.0 / 32.0),
+        };
+        ThreadSpec {
+            side,
+            root_radius: root,
+            crest_radius: crest,
+            pitch_radius: 10.0 + 0.5 * depth,
+            left_angle: 30f64.to_radians(),
+            right_angle: 30f64.to_radians(),
+            width: WidthRule::Groove(p / 2.0),
+            starts: 1,
+            helix: Helix {
+                z0: -0.3,
+                dir: -1.0,
+                law: LeadLaw::constant(p),
+                theta0: 0.0,
+                spin: 1.0,
+            },
+            turns: 8.0,
+            outline: None,
+            taper: Some(Taper { slope, z_ref: 0.0 }),
+        }
+    }
+
+    /// The tapered ideal against its closed form: roots and crests on the cones (their
+    /// radius `r_ref + slope (z - z_ref)`), every wall at its flank angle from the radial in
+    /// the axial plane, each groove `w` wide along the pitch cone and centred on its
+    /// feature, the parts named as a parallel thread's.
+    #[test]
+    fn the_tapered_ideal_has_its_cones_and_flank_angles() {
+        for side in [Side::External, Side::Internal] {
+            let t = tapered(side);
+            let slope = t.taper.unwrap().slope;
+            let col = t.column(0.7, -16.0, 1.0);
+            let r_of = |v: &Vertex| t.radius(v.h);
+            let cone = |r_ref: f64, z: f64| r_ref + slope * z;
+            let mut walls = 0;
+            for w in col.verts.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                if a.z < -15.0 || b.z > 0.5 || (a.z == b.z && a.h == b.h) {
+                    continue;
+                }
+                let (ra, rb) = (r_of(&a), r_of(&b));
+                match col.segment_kind(a, b) {
+                    Flank::Root => {
+                        assert!(
+                            (ra - cone(t.root_radius, a.z)).abs() < 1e-12,
+                            "{side:?} root"
+                        );
+                        assert!(
+                            (rb - cone(t.root_radius, b.z)).abs() < 1e-12,
+                            "{side:?} root"
+                        );
+                    }
+                    Flank::Crest => {
+                        assert!(
+                            (ra - cone(t.crest_radius, a.z)).abs() < 1e-12,
+                            "{side:?} crest"
+                        );
+                        assert!(
+                            (rb - cone(t.crest_radius, b.z)).abs() < 1e-12,
+                            "{side:?} crest"
+                        );
+                    }
+                    _ => {
+                        let angle = ((b.z - a.z) / (rb - ra)).abs().atan();
+                        assert!(
+                            (angle - 30f64.to_radians()).abs() < 1e-12,
+                            "{side:?}: wall at {} deg",
+                            angle.to_degrees()
+                        );
+                        walls += 1;
+                    }
+                }
+            }
+            assert!(walls >= 14, "{side:?}: {walls} walls");
+            // The pitch cone crosses each groove's walls w/2 either side of its feature.
+            let hp = t.pitch_height();
+            for f in col.features.iter().filter(|f| f.z > -14.0 && f.z < -1.0) {
+                for z in [f.z - 1.814 / 4.0, f.z + 1.814 / 4.0] {
+                    let local = col.height_at(z) - t.cone_height(z);
+                    assert!(
+                        (local - hp).abs() < 1e-12,
+                        "{side:?} z {z}: {local} vs {hp}"
+                    );
+                }
+                // The groove's centre is below the pitch cone (external: the root side).
+                assert!(col.height_at(f.z) - t.cone_height(f.z) < hp);
+            }
+        }
     }
 }

@@ -89,9 +89,28 @@ pub struct ThreadClass {
     /// External threads with a rounded root (ISO 965-1): the root radius's least value and
     /// the root truncation's limits from the fundamental triangle's apex (mm).
     pub root: Option<RootZone>,
+    /// A taper thread's gauge: where its gauge plane lies and how far the gauge may stand
+    /// off it. `None` for a parallel thread.
+    pub taper_gauge: Option<TaperGauge>,
     /// The sources the limits came from ("ISO 965-2 table", "ISO 965-1 formulas",
     /// "ASME B1.1 formulas"), for the report.
     pub source: String,
+}
+
+/// How a taper thread is gauged (ASME B1.20.1's L1 gauges, ISO 7-2's limit gauges): a
+/// taper ring (external) or plug (internal) of the basic profile screwed on hand-tight
+/// stops where its flanks meet the part's; its gauge plane must then lie within
+/// `tolerance_turns` turns of the part's nominal one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TaperGauge {
+    /// The gauge plane's distance from the thread's face into the part (mm): an external
+    /// thread's gauge length (L1) from its small end, 0 for NPT internal (the L1 plug's
+    /// notch flush with the face), half a pitch for ISO 7-1's Rc.
+    pub gauge_plane: f64,
+    /// The gauge's length of thread that engages from the face (mm).
+    pub length: f64,
+    /// The stand-off allowed either way (turns): 1 for NPT, ISO 7-1's T1/2 or T2/2.
+    pub tolerance_turns: f64,
 }
 
 /// The root contour an external thread's class allows: rounded, of radius at least

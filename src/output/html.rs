@@ -272,6 +272,29 @@ fn summary(r: &Report) -> String {
                 ),
             );
         }
+        if let Some(t) = g.taper {
+            fact(
+                "taper gauge",
+                format!(
+                    "the {} stands {:+.3} turns off the gauge plane (allowed \u{b1}{}, resolution {} turns): the cut's pitch cone {} mm there, basic {} mm",
+                    t.gauge,
+                    t.stand_off_turns,
+                    t.tolerance_turns,
+                    t.resolution_turns,
+                    t.pitch_diameter_at_gauge_plane_mm,
+                    t.basic_pitch_diameter_mm
+                ),
+            );
+        }
+        if let (Some(v), Some(t)) = (g.not_go_simple_diameter_mm, g.not_go_simple_turn) {
+            fact(
+                "NOT GO as single elements mm",
+                format!(
+                    "simple pitch diameter {v} (turns from {t}); the gauge's truncated profile touches within {} mm of its pitch line",
+                    g.not_go_band_mm
+                ),
+            );
+        }
         if let Some(w) = g.over_wires {
             fact(
                 "over three wires mm",

@@ -99,10 +99,14 @@ pub(crate) fn build_report(
                     max_err = Some(max_err.map_or((x - i).abs(), |e: f64| e.max((x - i).abs())));
                 }
             }
-            let diam = m.and_then(|m| m.cut_heights).map(|(a, b)| {
-                let (ra, rb) = (thread.radius(a), thread.radius(b));
-                (2.0 * ra.min(rb), 2.0 * ra.max(rb))
-            });
+            let diam = m
+                .and_then(|m| m.cut_heights.map(|c| (c, m.t)))
+                .map(|((a, b), t)| {
+                    // Heights above the local root: at the turn's middle for a taper thread.
+                    let z = thread.helix.z(t + 0.5);
+                    let (ra, rb) = (thread.local_radius(z, a), thread.local_radius(z, b));
+                    (2.0 * ra.min(rb), 2.0 * ra.max(rb))
+                });
             let lead_mid = thread.helix.law.lead(n as f64 - 0.5);
             let psi = (lead_mid / (std::f64::consts::PI * 2.0 * thread.pitch_radius)).atan();
             let row = TurnRow {

@@ -68,6 +68,10 @@ pub struct GaugeElementInfo {
     pub resolution_mm: f64,
     /// `pass`, `fail`, `undecided` or `not_measured`.
     pub verdict: &'static str,
+    /// A recommendation, not a limit (ISO 965-1's least root radius): a failure is a
+    /// warning and does not decide the gauges' verdict.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub advisory: bool,
 }
 
 /// The three-wire measurement a shop can check the part with.
@@ -101,12 +105,23 @@ pub struct GaugeInfo {
     pub engagement_length_mm: f64,
     /// Simple pitch diameter of the complete turns on every generator (mm).
     pub pitch_diameter_mm: Option<Range>,
-    /// The NOT GO gauge's stopping value in its worst window (mm).
+    /// The NOT GO gauge's size in its worst window of `not_go_turns` turns: the virtual
+    /// truncated-profile gauge (flank contact within `not_go_band_mm` of its pitch line)
+    /// that just assembles with them (mm).
     pub not_go_diameter_mm: Option<f64>,
     /// The first turn of that window.
     pub not_go_turn: Option<i64>,
     /// Turns the NOT GO gauge engages at once.
     pub not_go_turns: f64,
+    /// The truncated NOT GO profile's contact band: half its height either side of the
+    /// pitch line (mm, radial).
+    pub not_go_band_mm: f64,
+    /// The NOT GO as single elements: the largest (external) or smallest (internal)
+    /// simple pitch diameter of the turns of its worst window (mm), and that window's
+    /// first turn.
+    pub not_go_simple_diameter_mm: Option<f64>,
+    /// See `not_go_simple_diameter_mm`.
+    pub not_go_simple_turn: Option<i64>,
     /// Crest diameter of the complete turns: major (external) or minor (internal) (mm).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub major_diameter_mm: Option<Range>,
@@ -115,10 +130,21 @@ pub struct GaugeInfo {
     pub minor_diameter_mm: Option<Range>,
     /// Root diameter of the complete turns (mm).
     pub root_diameter_mm: Option<Range>,
+    /// External threads whose class has a root zone (ISO 965-1): the least effective root
+    /// radius of the complete turns (the largest disk that fills the root), measured up
+    /// to twice the recommended least (mm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub root_radius_mm: Option<f64>,
+    /// The turn of that root.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub root_radius_turn: Option<i64>,
     /// The class's limits (mm).
     pub limits: GaugeLimits,
     /// Every element checked.
     pub elements: Vec<GaugeElementInfo>,
+    /// A taper thread (NPT, R, Rc): its gauge's stand-off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub taper: Option<TaperInfo>,
     /// Three wires of best size (external threads).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub over_wires: Option<OverWires>,
@@ -127,6 +153,33 @@ pub struct GaugeInfo {
     pub inch: Option<InchView>,
     /// Where the limits come from.
     pub source: String,
+}
+
+/// A taper thread's gauge (ASME B1.20.1's L1 ring or plug, ISO 7-2's taper gauges): a
+/// perfect taper gauge of the basic profile fitted to the cut over its length.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TaperInfo {
+    /// `ring` (external) or `plug` (internal).
+    pub gauge: &'static str,
+    /// How far the gauge's plane stops from the part's nominal gauge plane (turns, signed:
+    /// positive where it stops short of it: more material, an external thread large or an
+    /// internal one small).
+    pub stand_off_turns: f64,
+    /// The same along z (mm).
+    pub stand_off_mm: f64,
+    /// The stand-off allowed either way (turns).
+    pub tolerance_turns: f64,
+    /// z of the gauge's plane where it stopped, and of the part's nominal gauge plane (mm).
+    pub gauge_plane_z_mm: f64,
+    /// See `gauge_plane_z_mm`.
+    pub nominal_gauge_plane_z_mm: f64,
+    /// The cut's pitch cone at the nominal gauge plane as the gauge sees it (mm), and the
+    /// basic pitch diameter there (E1).
+    pub pitch_diameter_at_gauge_plane_mm: f64,
+    /// See `pitch_diameter_at_gauge_plane_mm`.
+    pub basic_pitch_diameter_mm: f64,
+    /// The resolution of the stand-off (turns).
+    pub resolution_turns: f64,
 }
 
 /// The class's limits.
@@ -214,10 +267,12 @@ fn small(v: f64) -> String {
 fn element_words(name: &str) -> &'static str {
     match name {
         "go_functional_pitch_diameter" => "GO gauge: functional pitch diameter",
-        "not_go_pitch_diameter" => "NOT GO gauge: simple pitch diameter",
+        "not_go_pitch_diameter" => "NOT GO gauge (truncated profile): pitch diameter",
         "major_diameter" => "major diameter",
         "minor_diameter" => "minor diameter",
         "root_diameter" => "root diameter",
+        "root_radius" => "root radius",
+        "gauge_plane_stand_off" => "taper gauge: its plane's stand-off",
         _ => "gauge element",
     }
 }
@@ -233,6 +288,9 @@ pub(crate) fn add_gauge(
     report.findings.retain(|f| !NOMINAL.contains(&f.kind));
     for e in &g.elements {
         let severity = match e.call {
+            // A recommendation is said only where the cut is clearly short of it.
+            Call::Undecided | Call::NotMeasured if e.advisory => continue,
+            Call::Fail if e.advisory => Severity::Warning,
             Call::Fail => Severity::Error,
             Call::Undecided | Call::NotMeasured => Severity::Warning,
             Call::Pass => continue,
@@ -263,6 +321,47 @@ pub(crate) fn add_gauge(
                 dia(e.limit, class),
                 (v - e.limit).abs()
             ),
+        };
+        let message = match (e.name, e.value) {
+            ("gauge_plane_stand_off", Some(v)) => {
+                let gauge = if class.internal { "plug" } else { "ring" };
+                let turns = v / class.pitch;
+                let allowed = e.limit.abs() / class.pitch;
+                let how = if v > 0.0 {
+                    format!(
+                        "stops {:.2} turns short of the gauge plane (the thread is {})",
+                        turns,
+                        if class.internal { "small" } else { "large" }
+                    )
+                } else {
+                    format!(
+                        "goes {:.2} turns past the gauge plane (the thread is {})",
+                        -turns,
+                        if class.internal { "large" } else { "small" }
+                    )
+                };
+                match e.call {
+                    Call::Undecided => format!(
+                        "the {} taper {gauge} gauge {how}, within the simulation's resolution ({:.3} turns) of the ±{allowed} turns allowed: undecided",
+                        class.designation,
+                        e.resolution / class.pitch
+                    ),
+                    _ => format!(
+                        "the {} taper {gauge} gauge {how}: over the ±{allowed} turns allowed by {:.2} turns ({:.4} mm along the axis)",
+                        class.designation,
+                        turns.abs() - allowed,
+                        (v.abs() - e.limit.abs()).abs()
+                    ),
+                }
+            }
+            _ => message,
+        };
+        let message = if e.advisory {
+            format!(
+                "{message} (ISO 965-1 recommends a root radius of at least 0.125P for external threads; a recommendation, not part of the gauges' verdict)"
+            )
+        } else {
+            message
         };
         let mut f = Finding::new(FindingKind::Gauge, severity, message);
         f.value = e.value.map(r6);
@@ -317,9 +416,14 @@ pub(crate) fn add_gauge(
         not_go_diameter_mm: g.not_go.map(|n| r6(n.0)),
         not_go_turn: g.not_go.map(|n| n.1),
         not_go_turns: class.not_go_turns,
+        not_go_band_mm: r6(crate::analysis::gauge::not_go_band(class)),
+        not_go_simple_diameter_mm: g.not_go_simple.map(|n| r6(n.0)),
+        not_go_simple_turn: g.not_go_simple.map(|n| n.1),
         major_diameter_mm: if external { crest } else { None },
         minor_diameter_mm: if external { None } else { crest },
         root_diameter_mm: g.root.map(Range::of),
+        root_radius_mm: g.root_radius.map(|r| r6(r.0)),
+        root_radius_turn: g.root_radius.map(|r| r.1),
         limits: GaugeLimits {
             pitch_diameter_mm: LimitPair::of(class.pitch_diameter),
             major_diameter_mm: LimitPair::of(class.major_diameter),
@@ -335,8 +439,20 @@ pub(crate) fn add_gauge(
                 value_mm: e.value.map(r6),
                 resolution_mm: r6(e.resolution),
                 verdict: e.call.name(),
+                advisory: e.advisory,
             })
             .collect(),
+        taper: g.stand_off.map(|so| TaperInfo {
+            gauge: if class.internal { "plug" } else { "ring" },
+            stand_off_turns: r6(so.turns),
+            stand_off_mm: r6(so.mm),
+            tolerance_turns: so.tolerance_turns,
+            gauge_plane_z_mm: r6(so.plane_z),
+            nominal_gauge_plane_z_mm: r6(so.nominal_z),
+            pitch_diameter_at_gauge_plane_mm: r6(so.diameter),
+            basic_pitch_diameter_mm: r6(class.basic_pitch_diameter),
+            resolution_turns: r6(so.resolution / class.pitch),
+        }),
         over_wires: g.over_wires.map(|(w, lo, hi)| OverWires {
             wire_mm: r6(w),
             measurement_mm: Range::of((lo, hi)),
@@ -366,7 +482,29 @@ pub(crate) fn summary(g: &GaugeInfo) -> String {
             o(e.value_mm),
             e.limit,
             e.limit_mm,
-            e.verdict
+            if e.advisory {
+                format!("{} (recommended)", e.verdict)
+            } else {
+                e.verdict.to_string()
+            }
+        );
+    }
+    if let Some(t) = g.taper {
+        let _ = writeln!(
+            s,
+            "    taper {} gauge stands {:+.3} turns off the gauge plane (allowed ±{}; resolution {} turns): the cut's pitch cone {:.4} mm there, basic {:.4} mm",
+            t.gauge,
+            t.stand_off_turns,
+            t.tolerance_turns,
+            small(t.resolution_turns),
+            t.pitch_diameter_at_gauge_plane_mm,
+            t.basic_pitch_diameter_mm
+        );
+    }
+    if let (Some(v), Some(t)) = (g.not_go_simple_diameter_mm, g.not_go_simple_turn) {
+        let _ = writeln!(
+            s,
+            "    NOT GO as single elements: simple pitch diameter {v:.4} mm (turns from {t})"
         );
     }
     if let Some(w) = g.over_wires {

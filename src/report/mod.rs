@@ -18,6 +18,7 @@ pub(crate) use build::{add_part, build_report};
 pub(crate) use gauge::add_gauge;
 pub use gauge::{
     GaugeElementInfo, GaugeInfo, GaugeLimits, InchView, LimitPair, OverWires, PlacementInfo, Range,
+    TaperInfo,
 };
 pub(crate) use group::group;
 

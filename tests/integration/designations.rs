@@ -376,15 +376,13 @@ fn contradictions_name_both_keys() {
             &["`thread.designation`", "expected"],
         ),
         (
+            // The 20 mm bar is under the small end's major diameter (E0 + 0.8P = 20.71).
             des("\"1/2-14 NPT\"", &[]),
-            &[
-                "`thread.designation`",
-                "taper threads are not simulated yet",
-            ],
+            &["`blank.diameter`", "1/2-14 NPT", "small end", "20.7"],
         ),
         (
-            des("\"R1/2\"", &[]),
-            &["taper threads are not simulated yet"],
+            des("\"R1/2\"", &[("side", "\"internal\"")]),
+            &["`thread.side`", "an external thread"],
         ),
         (
             des("\"Tr20x4-8c\"", &[]),

@@ -63,6 +63,8 @@ mod sources;
 /// `--gltf` alone: the model meshed as the columns stream, the full grid's bytes.
 mod streamed_mesh;
 mod streaming;
+/// Issue 26: taper threads' gauge stand-off against a closed form.
+mod taper;
 /// Taps: tapping strokes cut the internal thread and its chamfer cone; the feed's finding.
 mod taps;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.

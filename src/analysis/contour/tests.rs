@@ -29,6 +29,7 @@ fn m30() -> ThreadSpec {
         },
         turns: 18.0,
         outline: None,
+        taper: None,
     }
 }
 

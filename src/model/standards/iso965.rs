@@ -287,6 +287,19 @@ pub(super) const TD_FACTOR: [f64; 3] = [0.63, 1.0, 1.6];
 /// Grade factors of TD1 (grades 4 to 8).
 pub(super) const TD1_FACTOR: [f64; 5] = [0.63, 0.8, 1.0, 1.25, 1.6];
 
+/// A value of ISO 965-1's per-pitch tables, for the Tr tests: `e` the |es| of position e
+/// (Table 1), `d` the major diameter's Td(4) (Table 4), µm; `None` where the table does
+/// not list the pitch.
+#[cfg(test)]
+pub(super) fn table_value(what: char, p: f64) -> Option<f64> {
+    let i = pitch_index(p)?;
+    let v = match what {
+        'e' => DEV_E[i],
+        _ => TD[0][i],
+    };
+    (v > 0).then_some(v as f64)
+}
+
 /// Every tabulated value with its formula's, for the consistency test: (what, table µm,
 /// formula µm).
 #[cfg(test)]
@@ -630,6 +643,7 @@ pub(super) fn limits(
         engagement_length: engagement_length(d, p, engagement),
         not_go_turns: 2.0,
         root,
+        taper_gauge: None,
         source: if from_table {
             "ISO 965-1 tables".to_string()
         } else {

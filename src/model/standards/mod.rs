@@ -192,7 +192,10 @@ impl Designation {
     /// designation are classes without letters: they count).
     pub fn has_class(&self) -> bool {
         !matches!(self.class, ClassSpec::None)
-            || matches!(self.standard, Standard::PipeParallel | Standard::Npt)
+            || matches!(
+                self.standard,
+                Standard::PipeParallel | Standard::Npt | Standard::PipeTaper { .. }
+            )
     }
 
     /// Whether the class is a fit (`6H/6g`): it names both threads.
@@ -257,6 +260,9 @@ impl Designation {
             (ClassSpec::None, Standard::PipeParallel) => pipe::g_limits(t, &self.size, None)?,
             (ClassSpec::None, Standard::Npt) => {
                 pipe::npt_limits(t, &self.size, side.is_some_and(internal))?
+            }
+            (ClassSpec::None, Standard::PipeTaper { internal }) => {
+                pipe::r_limits(t, &self.size, internal)?
             }
             (ClassSpec::None, _) => return Ok(None),
             (ClassSpec::Metric(c), _) => {

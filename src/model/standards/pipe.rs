@@ -18,12 +18,13 @@
 //!   (0.282/0.445/0.541/0.640/0.640 mm, not found in a second public source).
 //! - R, Rc, Rp: the basic diameters at the gauge plane are ISO 228-1's (Mechanical
 //!   Engineer's Pocket Book 4.1.38, ISO pipe threads tapered: 1/8 9.728/9.147/8.566 mm).
-//!   ISO 7-1's gauge lengths and their tolerances were found for one size only (3/4: 9.5
-//!   mm, DK-Lok catalogue): an R, Rc or Rp designation names no class vpcut can give
-//!   (`Designation::class` is `None`) rather than a guessed one.
+//!   ISO 7-1's gauge lengths and the tolerances of the gauge plane's position (in turns)
+//!   from two public copies ([`R_GAUGE`]): an R or Rc designation names a class gauged by
+//!   its stand-off. Rp (parallel internal) names none: its diametral tolerance was found in
+//!   one copy only.
 
 use super::StandardError;
-use crate::model::tolerance::{SizeLimits, ThreadClass, UnitSystem};
+use crate::model::tolerance::{SizeLimits, TaperGauge, ThreadClass, UnitSystem};
 
 /// ASME B1.20.1 Table 2: (size as written, outside diameter D in, threads per inch n, L1 in).
 const NPT: [(&str, f64, f64, f64); 16] = [
@@ -88,6 +89,33 @@ const G_TOLERANCES: [(f64, f64); 5] = [
 const R_SIZES: [&str; 15] = [
     "1/16", "1/8", "1/4", "3/8", "1/2", "3/4", "1", "1 1/4", "1 1/2", "2", "2 1/2", "3", "4", "5",
     "6",
+];
+
+/// ISO 7-1 Table 1 per size of [`R_SIZES`]: the gauge length (mm, from the small end of the
+/// external thread to its gauge plane), and the tolerances of the gauge plane's position in
+/// turns: external ±T1/2, internal ±T2/2. From a public copy of EN 10226-1:2004 Table 1
+/// (a thread calculator's `families/bspt/data.js`: gauge length; T1/2 0.9/1.3/1.8/2.3/3.5
+/// mm; T2/2 1.1/1.7/2.3/2.9/3.5 mm), in turns as BS 21:1985 Table 2 gives them
+/// (indazoo/MCAD `fasteners/threads.scad` `BSP_data`: gauge length 4 3/8 .. 12 3/8 turns,
+/// ±1 turn up to size 2 and ±1 1/2 turns from 2 1/2, T2/2 1 1/4 and 1 1/2 turns); each
+/// mm value is the turns times the pitch to 0.1 mm (the test
+/// `iso7_gauge_lengths_and_tolerances_agree`).
+pub(super) const R_GAUGE: [(f64, f64, f64); 15] = [
+    (4.0, 1.0, 1.25),
+    (4.0, 1.0, 1.25),
+    (6.0, 1.0, 1.25),
+    (6.4, 1.0, 1.25),
+    (8.2, 1.0, 1.25),
+    (9.5, 1.0, 1.25),
+    (10.4, 1.0, 1.25),
+    (12.7, 1.0, 1.25),
+    (12.7, 1.0, 1.25),
+    (15.9, 1.0, 1.25),
+    (17.5, 1.5, 1.5),
+    (20.6, 1.5, 1.5),
+    (25.4, 1.5, 1.5),
+    (28.6, 1.5, 1.5),
+    (28.6, 1.5, 1.5),
 ];
 
 /// The Whitworth form's thread height h = 2H/3 = 0.640327P (H = 0.960491P), to 0.001 mm
@@ -166,7 +194,64 @@ pub(super) fn npt_limits(
         // A taper thread's gauge checks its stand-off (±1 turn), there is no NOT GO.
         not_go_turns: 0.0,
         root: None,
+        // The L1 ring's gauge plane lies L1 from the pipe's end; the L1 plug's notch is
+        // flush with the fitting's face.
+        taper_gauge: Some(TaperGauge {
+            gauge_plane: if internal { 0.0 } else { mm(l1) },
+            length: mm(l1),
+            tolerance_turns: 1.0,
+        }),
         source: "ASME B1.20.1 (E1 from its formulas, L1 from its Table 2)".to_string(),
+    })
+}
+
+/// The ISO 7-1 class of `size`: R (external) or Rc (internal, `internal`). The basic
+/// diameters at the gauge plane are ISO 228-1's (the major diameter of `G` and the
+/// Whitworth form); the gauge plane lies the gauge length from an external thread's small
+/// end, and half a pitch behind an internal thread's face (ISO 7-1 §3.3 note 4); the gauge
+/// may stand ±T1/2 (external) or ±T2/2 (internal) turns off it. ISO 7-1 limits no diameter
+/// separately.
+pub(super) fn r_limits(
+    designation: &str,
+    size: &str,
+    internal: bool,
+) -> Result<ThreadClass, StandardError> {
+    let i = R_SIZES
+        .iter()
+        .position(|s| *s == size)
+        .ok_or_else(|| StandardError::new(format!("R{size} is not an ISO 7-1 size")))?;
+    let (n, d, _) =
+        g_size(size).ok_or_else(|| StandardError::new(format!("{size} has no ISO 228-1 size")))?;
+    let p = 25.4 / n;
+    let h = whitworth_depth(p);
+    let (gauge_length, t1, t2) = R_GAUGE[i];
+    let turns = if internal { t2 } else { t1 };
+    let e = d - h;
+    let dev = turns * p / 16.0;
+    Ok(ThreadClass {
+        designation: designation.to_string(),
+        class: String::new(),
+        units: UnitSystem::Metric,
+        internal,
+        basic_major: d,
+        basic_pitch_diameter: e,
+        basic_minor: d - 2.0 * h,
+        pitch: p,
+        starts: 1,
+        flank_angle: 55f64.to_radians(),
+        taper: 1.0 / 16.0,
+        pitch_diameter: SizeLimits::new(e - dev, e + dev),
+        major_diameter: SizeLimits::new(f64::NEG_INFINITY, f64::INFINITY),
+        minor_diameter: SizeLimits::new(f64::NEG_INFINITY, f64::INFINITY),
+        engagement_length: gauge_length,
+        not_go_turns: 0.0,
+        root: None,
+        taper_gauge: Some(TaperGauge {
+            gauge_plane: if internal { 0.5 * p } else { gauge_length },
+            length: gauge_length,
+            tolerance_turns: turns,
+        }),
+        source: "ISO 7-1 Table 1 (gauge lengths and their tolerances in turns, as EN 10226-1 and BS 21 print them); ISO 228-1's diameters at the gauge plane".to_string(),
     })
 }
 
@@ -223,6 +308,7 @@ pub(super) fn g_limits(
         engagement_length: f64::INFINITY,
         not_go_turns: 2.0,
         root: None,
+        taper_gauge: None,
         source: "ISO 228-1 Table 1".to_string(),
     })
 }

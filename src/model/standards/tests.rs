@@ -448,9 +448,14 @@ fn trapezoidal_limits_are_the_published_ones() {
             0.0011,
         );
     }
-    // No public source: refused, saying so.
+    // Tr44x12-7e (the exam solution of thread-gauging.md §1.2): es = −160 µm, Td2(7) =
+    // 425 µm on d2 = 38: 37.415 .. 37.840.
+    let c = class("Tr44x12-7e", None);
+    limits("Tr44x12-7e d2", c.pitch_diameter, 37.415, 37.840, 1e-9);
+    // No second public source: refused, saying so.
     for (d, side) in [
-        ("Tr40x7-7e", None),
+        ("Tr48x8-7e", None),
+        ("Tr40x7-8c", None),
         ("Tr40x14(P7)-8e", None),
         ("Tr40x7-7H", None),
         ("Tr10x2-7H/7e", Some(Side::Internal)),
@@ -460,6 +465,67 @@ fn trapezoidal_limits_are_the_published_ones() {
             e.contains("not in vpcut") && e.contains("public"),
             "{d}: {e}"
         );
+    }
+}
+
+/// Each shipped Tr value against a source other than the table copy it was typed from:
+/// the deviations against the published limits' (engineersedge.com, transdev.co.uk, the
+/// Tr44x12 exam, icad.pl) or ISO 965-1's e (its table at P 6, its formula in R40 at P 7);
+/// Td2 by its rule against every published Td2; Td(4) against ISO 965-1's Td(4) (its
+/// table where it lists the pitch, its formula in R40 beyond).
+#[test]
+fn trapezoidal_values_agree_with_a_second_source() {
+    // (position, pitch, |es| µm) published: d2 max = d − P/2 − es of the rows above.
+    let published = [
+        ('e', 1.5, 67.0),
+        ('e', 2.0, 71.0),
+        ('e', 3.0, 85.0),
+        ('e', 4.0, 95.0),
+        ('e', 5.0, 106.0),
+        ('e', 12.0, 160.0),
+        ('c', 2.0, 150.0),
+        // ISO 965-1 Table 1's e at P 6; its formula 50 + 11P = 127 at P 7, in R40.
+        ('e', 6.0, iso965::table_value('e', 6.0).unwrap()),
+        (
+            'e',
+            7.0,
+            trapezoidal::r40(iso965::deviation_formula('e', 7.0)),
+        ),
+    ];
+    assert_eq!(published.len(), trapezoidal::DEVIATIONS.len());
+    for (pos, p, es) in published {
+        let shipped = trapezoidal::DEVIATIONS
+            .iter()
+            .find(|t| t.0 == pos && t.1 == p)
+            .unwrap_or_else(|| panic!("{pos} {p} not shipped"));
+        assert_eq!(shipped.2 as f64, es, "es({pos}) at P {p}");
+    }
+    for (range, p, grade, published) in trapezoidal::PITCH_TOLERANCES_PUBLISHED {
+        assert_eq!(
+            trapezoidal::td2(range, p, grade),
+            published as f64,
+            "Td2({grade}) range {range} P {p}"
+        );
+    }
+    for (i, &p) in trapezoidal::PITCHES.iter().enumerate() {
+        let iso = iso965::table_value('d', p)
+            .unwrap_or_else(|| trapezoidal::r40(0.63 * iso965::td6_formula(p)));
+        assert_eq!(
+            trapezoidal::MAJOR_TOLERANCES[i] as f64,
+            iso,
+            "Td(4) at P {p}"
+        );
+    }
+    // The R40 rounding: nearest, halfway up, any decade.
+    for (v, r) in [
+        (165.0, 170.0),
+        (130.18, 132.0),
+        (343.6, 335.0),
+        (97.0, 95.0),
+        (1309.0, 1320.0),
+        (2060.0, 2120.0),
+    ] {
+        assert_eq!(trapezoidal::r40(v), r, "{v}");
     }
 }
 
@@ -630,4 +696,57 @@ fn class_for_gives_the_tables_on_table_and_the_formulas_off_it() {
         .unwrap_err()
         .message;
     assert!(e.contains("1A, 2A, 3A"), "{e}");
+}
+
+/// ISO 7-1 (R, Rc): the gauge lengths and the gauge plane's tolerances shipped in
+/// `pipe::R_GAUGE` (lengths typed from the EN 10226-1 Table 1 copy, turns from BS 21's)
+/// against the other copy: BS 21:1985 Table 2's gauge lengths in turns (indazoo/MCAD
+/// `BSP_data`; size 3 prints 8 5/16 turns there, 19.2 mm, where its own inch column gives
+/// 13/16 in = 20.6 mm: the inch value is taken), and EN 10226-1's tolerances in mm
+/// (T1/2, T2/2) against the turns times the pitch, to the 0.1 mm printed. The basic
+/// diameters at the gauge plane against the EN 10226-1 copy's d, d2, d1.
+#[test]
+fn iso7_gauge_lengths_and_tolerances_agree() {
+    // (size, gauge length in turns (BS 21), T1/2 mm, T2/2 mm (EN 10226-1), d, d2, d1)
+    let rows: [(&str, f64, f64, f64, f64, f64, f64); 15] = [
+        ("1/16", 4.375, 0.9, 1.1, 7.723, 7.142, 6.561),
+        ("1/8", 4.375, 0.9, 1.1, 9.728, 9.147, 8.566),
+        ("1/4", 4.5, 1.3, 1.7, 13.157, 12.301, 11.445),
+        ("3/8", 4.75, 1.3, 1.7, 16.662, 15.806, 14.950),
+        ("1/2", 4.5, 1.8, 2.3, 20.955, 19.793, 18.631),
+        ("3/4", 5.25, 1.8, 2.3, 26.441, 25.279, 24.117),
+        ("1", 4.5, 2.3, 2.9, 33.249, 31.770, 30.291),
+        ("1 1/4", 5.5, 2.3, 2.9, 41.910, 40.431, 38.952),
+        ("1 1/2", 5.5, 2.3, 2.9, 47.803, 46.324, 44.845),
+        ("2", 6.875, 2.3, 2.9, 59.614, 58.135, 56.656),
+        ("2 1/2", 7.5625, 3.5, 3.5, 75.184, 73.705, 72.226),
+        ("3", 20.6375 / 2.309, 3.5, 3.5, 87.884, 86.405, 84.926),
+        ("4", 11.0, 3.5, 3.5, 113.030, 111.551, 110.072),
+        ("5", 12.375, 3.5, 3.5, 138.430, 136.951, 135.472),
+        ("6", 12.375, 3.5, 3.5, 163.830, 162.351, 160.872),
+    ];
+    for (i, (size, turns, t1, t2, d, d2, d1)) in rows.into_iter().enumerate() {
+        let ext = class(&format!("R{size}"), None);
+        let int = class(&format!("Rc{size}"), None);
+        let p = ext.pitch;
+        let (length, s1, s2) = pipe::R_GAUGE[i];
+        // Printed to 0.1 mm (3/8: 4 3/4 turns are 6.350 mm, printed 6.4).
+        close(&format!("R{size} gauge length"), length, turns * p, 0.051);
+        close(&format!("R{size} T1/2"), s1 * p, t1, 0.051);
+        close(&format!("Rc{size} T2/2"), s2 * p, t2, 0.051);
+        let g = ext.taper_gauge.unwrap();
+        assert_eq!(
+            (g.gauge_plane, g.length, g.tolerance_turns),
+            (length, length, s1)
+        );
+        let gi = int.taper_gauge.unwrap();
+        assert_eq!((gi.gauge_plane, gi.tolerance_turns), (0.5 * p, s2));
+        assert!(int.internal && !ext.internal);
+        close(&format!("R{size} d"), ext.basic_major, d, 0.0006);
+        close(&format!("R{size} d2"), ext.basic_pitch_diameter, d2, 0.0011);
+        close(&format!("R{size} d1"), ext.basic_minor, d1, 0.0011);
+        assert_eq!(ext.taper, 1.0 / 16.0);
+    }
+    // Rp names no class (its diametral tolerance was found in one copy only).
+    assert!(parse("Rp1/2").unwrap().class(None).unwrap().is_none());
 }

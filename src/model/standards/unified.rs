@@ -364,6 +364,7 @@ pub(super) fn limits(
         engagement_length: mm(l.engagement),
         not_go_turns: 3.0,
         root: None,
+        taper_gauge: None,
         source: "ASME B1.1 formulas".to_string(),
     })
 }
