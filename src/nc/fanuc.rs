@@ -191,7 +191,12 @@ impl Interp<'_> {
             return Ok(step);
         }
         if let Some(&g) = w.g.iter().find(|g| (70..=75).contains(*g)) {
-            return self.repetitive_cycle(g, &w, prog, pc);
+            // G70 runs its shape's blocks under the modal compensation; the others make
+            // their moves from a compensated shape (`nose_shape`) with the vector held.
+            if g == 70 {
+                return self.repetitive_cycle(g, &w, prog, pc);
+            }
+            return self.nose_held(|m| m.repetitive_cycle(g, &w, prog, pc));
         }
         for k in ["A", "D"] {
             if let Some(&(_, col)) = w.vals.get(k) {
