@@ -308,17 +308,18 @@ fn nose_offsets(m: &RawMachine, cx: &Ctx) -> Result<BTreeMap<u32, NoseOffset>, J
                 format!("expected at most 25 mm either way, got {wear}"),
             ));
         }
-        let tip =
-            match o.t {
-                Some(t) if t <= 9 => Some(t as u8),
-                Some(t) => return Err(cx.err(
+        let tip = match o.t {
+            Some(t) if t <= 9 => Some(t as u8),
+            Some(t) => {
+                return Err(cx.err(
                     &key("t"),
                     format!(
                         "expected an imaginary tip direction 0 to 9 (the offset page's T), got {t}"
                     ),
-                )),
-                None => None,
-            };
+                ))
+            }
+            None => None,
+        };
         out.insert(n, NoseOffset { radius, wear, tip });
     }
     Ok(out)

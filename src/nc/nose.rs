@@ -28,7 +28,7 @@
 //! - **LinuxCNC** (rs274 2.9 `convert_straight_comp1/2`, `convert_arc_comp2`,
 //!   `move_endpoint_and_flush`, checked move for move against rs274's canon): the entry move
 //!   (a straight move longer than `r_n`) ends `r_n` perpendicular to itself at its end,
-//!   then joins the next move as any corner; corners turning less than 0.01 rad keep the
+//!   then joins the next move as any corner; corners turning by at most 0.05 rad (`TOLERANCE_CONCAVE_CORNER`) keep the
 //!   previous end's perpendicular; inner corners meet at the intersection; outer corners go
 //!   round on an arc of radius `r_n` about the programmed corner (a straight traverse when
 //!   the move after the corner is a G0); G40 is no special move: the next move runs from
@@ -179,7 +179,12 @@ impl El {
         let circle = match (m.kind, m.arc) {
             (MoveKind::Arc, Some(g)) => {
                 let c = V2::new(g.z_centre, g.x_centre_dia / 2.0);
-                Some((c, (a - c).length(), !g.clockwise))
+                // rs274 offsets an arc by its radius at the end (`convert_arc_comp2`); the
+                // others by the radius the arc starts on (they differ within the arc
+                // tolerance).
+                let lcnc = m.nose.is_some_and(|n| n.rule == NoseRule::Linuxcnc);
+                let radius = if lcnc { b - c } else { a - c }.length();
+                Some((c, radius, !g.clockwise))
             }
             _ => None,
         };
@@ -255,9 +260,10 @@ enum Extra {
 struct Joint {
     end: V2,
     extra: Vec<Extra>,
-    /// The end was moved back to an inner corner's intersection (where rs274 checks that
-    /// the move still runs its way).
-    moved: bool,
+    /// rs274 checks that the move before the corner still runs its way
+    /// (`move_endpoint_and_flush`: at inner corners, whose intersection moves its end,
+    /// and at outer corners before a straight move).
+    checked: bool,
 }
 
 impl Joint {
@@ -265,7 +271,7 @@ impl Joint {
         Joint {
             end,
             extra: Vec::new(),
-            moved: false,
+            checked: false,
         }
     }
 }
@@ -290,7 +296,7 @@ fn joint(ei: &El, ej: &El, ni: &Nose, nj: &Nose, j_rapid: bool) -> Result<Joint,
         return Ok(
             match nearest(intersections(ei.offset(si, ri), ej.offset(sj, rj)), mid) {
                 Some(q) => Joint {
-                    moved: true,
+                    checked: true,
                     ..Joint::at(q)
                 },
                 None => Joint {
@@ -301,24 +307,29 @@ fn joint(ei: &El, ej: &El, ni: &Nose, nj: &Nose, j_rapid: bool) -> Result<Joint,
         );
     }
     let small = match ni.rule {
-        NoseRule::Linuxcnc => 0.01,
+        NoseRule::Linuxcnc => 0.05,
         _ => 1e-6,
     };
     if turn.abs() <= small {
-        // Tangent (rs274: within 0.01 rad): the next move starts where this one ends.
+        // Tangent (rs274: within 0.05 rad): the next move starts where this one ends.
         return Ok(Joint::at(end_i));
     }
     let inner = si * turn > 0.0;
     if inner {
-        let q = nearest(intersections(ei.offset(si, ri), ej.offset(sj, rj)), mid)
-            .ok_or_else(|| alarm(ni.rule, Alarm::Corner))?;
+        let q =
+            nearest(intersections(ei.offset(si, ri), ej.offset(sj, rj)), mid).ok_or_else(|| {
+                alarm(
+                    ni.rule,
+                    Alarm::Corner(ei.circle.is_some(), ej.circle.is_some()),
+                )
+            })?;
         return Ok(Joint {
-            moved: true,
+            checked: true,
             ..Joint::at(q)
         });
     }
     let round = Joint {
-        moved: false,
+        checked: ej.circle.is_none(),
         end: end_i,
         extra: vec![if j_rapid && ni.rule == NoseRule::Linuxcnc {
             Extra::Line(start_j)
@@ -376,8 +387,8 @@ enum Alarm {
     ShortEntry,
     /// The nose does not fit inside an arc.
     ArcRadius,
-    /// Inner corner offset paths that do not meet.
-    Corner,
+    /// Inner corner offset paths that do not meet: (from an arc, into an arc).
+    Corner(bool, bool),
     /// A compensated line would run backwards.
     Reversed(bool),
     /// A compensated arc would run backwards.
@@ -397,8 +408,10 @@ fn alarm(rule: NoseRule, a: Alarm) -> String {
         Alarm::ShortEntry => "Length of cutter compensation entry move is not greater than the tool radius (rs274)".into(),
         Alarm::ArcRadius if lcnc => "Tool radius not less than arc radius with comp (rs274)".into(),
         Alarm::ArcRadius => "the nose radius does not fit inside this arc (R - r <= 0: the control's interference alarm)".into(),
-        Alarm::Corner if lcnc => "Arc move in concave corner cannot be reached by the tool without gouging (rs274)".into(),
-        Alarm::Corner => "the nose's offset paths of this corner do not meet (the control's interference alarm)".into(),
+        Alarm::Corner(true, false) if lcnc => "Arc to straight motion makes a corner the compensated tool can't fit in without gouging (rs274)".into(),
+        Alarm::Corner(true, true) if lcnc => "Arc to arc motion makes a corner the compensated tool can't fit in without gouging (rs274)".into(),
+        Alarm::Corner(..) if lcnc => "Arc move in concave corner cannot be reached by the tool without gouging (rs274)".into(),
+        Alarm::Corner(..) => "the nose's offset paths of this corner do not meet (the control's interference alarm)".into(),
         Alarm::Reversed(rapid) if lcnc => format!(
             "Straight {} in concave corner cannot be reached by the tool without gouging (rs274)",
             if rapid { "traverse" } else { "feed" }
@@ -575,6 +588,12 @@ pub(super) fn compensate(moves: &[Move]) -> Result<Vec<Move>, (usize, String)> {
             Next::Held => Joint::at(e.b - q * r),
             Next::Cancel | Next::End => Joint::at(el.normal_point(e.b, s, r)),
         };
+        // The block an alarm of this move's end names: rs274 finds it converting the
+        // block after the corner; FANUC's interference check, this block.
+        let at_fault = match next {
+            Next::Comp(j) if nz.rule == NoseRule::Linuxcnc => j,
+            _ => i,
+        };
         // This move.
         let mut mv = m.clone();
         mv.nose = Some(nz);
@@ -598,17 +617,17 @@ pub(super) fn compensate(moves: &[Move]) -> Result<Vec<Move>, (usize, String)> {
                 let old = sweep(c, e.a, e.b, ccw);
                 let new = sweep(c, sc, arc_end, ccw);
                 // Run backwards: the sweep the programmed way wraps round. rs274 checks an
-                // arc whose end an inner corner moved (beyond 0.0254 of its sweep); the
+                // arc before a corner as a line (beyond 0.0254 of its sweep); the
                 // others may grow by outer corners' intersections (up to 90 deg an end), so
                 // only a wrap past half a turn more is a reversal.
                 let lcnc = nz.rule == NoseRule::Linuxcnc;
                 let (check, tol) = if lcnc {
-                    (joint.moved, 0.0254)
+                    (joint.checked, 0.0254)
                 } else {
                     (true, std::f64::consts::PI)
                 };
                 if check && new.abs() > old.abs() + tol && old.abs() > 0.0 {
-                    return Err((i, alarm(nz.rule, Alarm::ArcReversed)));
+                    return Err((at_fault, alarm(nz.rule, Alarm::ArcReversed)));
                 }
                 set_end(&mut mv, tip_of(arc_end), Some((tip_of(c), !ccw)));
                 out.push(mv);
@@ -618,12 +637,16 @@ pub(super) fn compensate(moves: &[Move]) -> Result<Vec<Move>, (usize, String)> {
             }
             _ => {
                 // A line: check it does not run backwards.
-                // rs274 checks a line whose end an inner corner moved, against its
-                // programmed direction (an entry move against its side's normal); FANUC's
-                // interference check every line in offset mode.
+                // rs274 checks a line before an inner corner, or an outer one into a
+                // straight move, against its programmed direction (an entry move against
+                // its side's normal); FANUC's interference check every line in offset mode.
                 let from = start_c.unwrap_or(start_tip);
                 let lcnc = nz.rule == NoseRule::Linuxcnc;
-                let check = if lcnc { joint.moved } else { start_c.is_some() };
+                let check = if lcnc {
+                    joint.checked
+                } else {
+                    start_c.is_some()
+                };
                 if check {
                     let dir = if start_c.is_some() {
                         e.tangent(e.a)
@@ -632,7 +655,7 @@ pub(super) fn compensate(moves: &[Move]) -> Result<Vec<Move>, (usize, String)> {
                     };
                     if (joint.end - from).dot(dir) < 0.0 {
                         return Err((
-                            i,
+                            at_fault,
                             alarm(nz.rule, Alarm::Reversed(m.kind == MoveKind::Rapid)),
                         ));
                     }

@@ -16,15 +16,11 @@ import math
 import random
 
 SEED = 2701
-COUNT = 48
+COUNT = 96
 # (tool, radius mm, orientation): every orientation, radii from 0.2 to 1.6 mm.
 TOOLS = [(1, 0.4, 3), (2, 0.8, 2), (3, 0.2, 1), (4, 1.2, 4), (5, 0.4, 5), (6, 0.8, 6),
          (7, 0.4, 7), (8, 1.6, 8), (9, 0.4, 9), (10, 0.8, 0), (11, 0.4, 2), (12, 0.8, 3)]
 S = 1000.0
-
-
-def fmt(v):
-    return "%.4f" % v
 
 
 def tool_table():
@@ -34,9 +30,21 @@ def tool_table():
     return "\n".join(lines) + "\n"
 
 
+# Rational rotations (p, q): cos = (p^2 - q^2)/(p^2 + q^2), sin = 2pq/(p^2 + q^2); an arc
+# whose start and end are integer vectors from its centre rotated by one has both ends on
+# the 1e-4 grid rs274's programs are written in and exactly on its circle (rs274 offsets an
+# arc by its radius at the end, the start lying on another within the arc tolerance).
+ROTATIONS = [(2, 1), (3, 1), (3, 2), (4, 1), (5, 2), (1, 1), (4, 3), (1, 2), (2, 3)]
+
+
+def tick(v):
+    """Ticks of 1e-4 (of the scaled unit) as a program number."""
+    return "%.4f" % (v / 10000.0)
+
+
 def program(rng, n):
     diameter = rng.random() < 0.5
-    xs = 2.0 if diameter else 1.0
+    xs = 2 if diameter else 1
     tool, r, _ = rng.choice(TOOLS)
     side = rng.choice(["G41", "G42"])
     d_word = ""
@@ -48,16 +56,18 @@ def program(rng, n):
     lines = ["(nose-%02d: gen.py, seed %d)" % (n, SEED),
              "G18 G21 %s G90 G94" % ("G7" if diameter else "G8"),
              "T%d M6" % tool]
-    # Points in (z, radius), mm. Start well away, enter, then a contour.
-    z, x = 10.0, rng.uniform(25.0, 40.0)
-    lines.append("G0 X%s Z%s" % (fmt(xs * x * S), fmt(z * S)))
+    mm = S * 10000.0  # ticks per mm
+    # Points in (z, radius), ticks. Start well away, enter, then a contour.
+    z, x = int(10 * mm), int(rng.uniform(25.0, 40.0) * mm)
+    pt = lambda: "X%s Z%s" % (tick(xs * x), tick(z))
+    lines.append("G0 " + pt())
     # The entry: longer than the radius (or, now and then, not: rs274 refuses it).
     short = rng.random() < 0.04
-    entry = rng.uniform(0.3, 0.9) * comp_r if short else rng.uniform(3.0, 8.0)
+    entry = (rng.uniform(0.3, 0.9) * comp_r if short else rng.uniform(3.0, 8.0)) * mm
     ang = rng.uniform(0, 2 * math.pi)
-    z, x = z + entry * math.cos(ang), x + entry * math.sin(ang)
+    z, x = z + round(entry * math.cos(ang)), x + round(entry * math.sin(ang))
     g = rng.choice(["G0", "G1"])
-    lines.append("%s%s %s X%s Z%s F1000" % (side, d_word, g, fmt(xs * x * S), fmt(z * S)))
+    lines.append("%s%s %s %s F1000" % (side, d_word, g, pt()))
     # Direction of travel (rad), turning by up to +-150 deg at a corner.
     heading = rng.uniform(0, 2 * math.pi)
     for k in range(rng.randint(3, 8)):
@@ -65,40 +75,38 @@ def program(rng, n):
         if rng.random() < 0.15:
             turn = 0.0  # tangent (line after line)
         heading += turn
-        length = rng.uniform(2.0, 9.0) * max(comp_r, 0.5)
-        kind = rng.random()
-        if kind < 0.35:
-            # An arc: the chord along `heading`, bulging either way (sagitta a share of it).
-            h = rng.uniform(0.1, 0.45) * length * rng.choice([-1, 1])
-            cz, cx = math.cos(heading), math.sin(heading)
-            ez, ex = z + length * cz, x + length * cx
-            mz, mx = (z + ez) / 2, (x + ex) / 2
-            nz, nx = -cx, cz  # left normal of the chord
-            half = length / 2
-            rad = (half * half + h * h) / (2 * abs(h))
-            # The centre on the normal through the middle, opposite the bulge.
-            pz = mz + nz * h
-            px = mx + nx * h
-            sgn = 1 if h > 0 else -1
-            oz, ox = pz - nz * rad * sgn, px - nx * rad * sgn
-            # Counter-clockwise (G3) when the bulge is to the right of the chord.
-            ccw = h < 0
-            lines.append("%s X%s Z%s I%s K%s" % ("G3" if ccw else "G2", fmt(xs * ex * S),
-                                               fmt(ez * S), fmt((ox - x) * S),
-                                               fmt((oz - z) * S)))
-            # The direction at the end: tangent of the arc there.
-            rz, rx = ez - oz, ex - ox
-            heading = math.atan2(rz, -rx) if ccw else math.atan2(-rz, rx)
+        size = rng.uniform(2.0, 9.0) * max(comp_r, 0.5) * mm
+        if rng.random() < 0.35:
+            # An arc starting along `heading`: the centre to its left (G3) or right (G2),
+            # the end the start rotated about it by a rational rotation.
+            ccw = rng.random() < 0.5
+            p, q = rng.choice(ROTATIONS)
+            m = p * p + q * q
+            c, s_ = p * p - q * q, 2 * p * q
+            side_n = 1 if ccw else -1
+            a = round(size / m * -math.sin(heading) * side_n)
+            b = round(size / m * math.cos(heading) * side_n)
+            wz, wx = a * m, b * m  # centre - start
+            uz, ux = -wz, -wx  # start - centre
+            if not ccw:
+                s_ = -s_
+            vz, vx = c * uz - s_ * ux, s_ * uz + c * ux  # (end - centre) m
+            cz, cx = z + wz, x + wx
+            ez, ex = cz + vz // m, cx + vx // m
+            assert vz % m == 0 and vx % m == 0
+            lines.append("%s X%s Z%s I%s K%s" % ("G3" if ccw else "G2", tick(xs * ex), tick(ez),
+                                               tick(wx), tick(wz)))
+            heading += math.atan2(s_, c)
             z, x = ez, ex
         else:
-            z, x = z + length * math.cos(heading), x + length * math.sin(heading)
+            z, x = z + round(size * math.cos(heading)), x + round(size * math.sin(heading))
             g = "G0" if rng.random() < 0.15 else "G1"
-            lines.append("%s X%s Z%s" % (g, fmt(xs * x * S), fmt(z * S)))
+            lines.append("%s %s" % (g, pt()))
     # The exit: G40 with a straight move away.
-    away = rng.uniform(3.0, 8.0)
+    away = rng.uniform(3.0, 8.0) * mm
     ang = rng.uniform(0, 2 * math.pi)
-    z, x = z + away * math.cos(ang), x + away * math.sin(ang)
-    lines.append("G40 %s X%s Z%s" % (rng.choice(["G0", "G1"]), fmt(xs * x * S), fmt(z * S)))
+    z, x = z + round(away * math.cos(ang)), x + round(away * math.sin(ang))
+    lines.append("G40 %s %s" % (rng.choice(["G0", "G1"]), pt()))
     lines.append("M2")
     return "\n".join(lines) + "\n"
 
