@@ -183,3 +183,130 @@ fn random_contours_match_linuxcnc_move_for_move() {
         "{n_errors} {n_moves} {n_arcs}"
     );
 }
+
+/// The finished part (issue 26) turned with a nose radius: an M30x2 (basic size) on a 34 mm
+/// bar whose drawing has a lead-in chamfer of angle `phi` to the axis (radial height `a`,
+/// axial length `c`, `tan phi = a / c`) and the 30 mm major diameter to the bar's end. The
+/// program faces, turns the chamfer and the diameter with a turning tool of nose radius
+/// `rn` (tip direction 3, the default), then cuts the thread with a G76. With G42 on the
+/// contour (type A start-up on the chamfer's extension, G40 off the bar's end) the nose
+/// runs tangent to the drawn chamfer: the part is the drawing, no finding. Without, the
+/// imaginary tip runs on the chamfer and the nose centre `rn (1, 1)` from it lies
+/// `rn (sin phi + cos phi)` from the chamfer's line: a band of stock `s = rn (sin phi +
+/// cos phi - 1)` thick on the chamfer (`rn (2 - sqrt 2)` in radius at 45 deg), which the
+/// thread's flanks cut through; its worst point is at a tooth's corner where the band meets
+/// a flank at `beta = 120 deg - phi`: `s / sin(beta)` when `beta < 90 deg`, else `s`
+/// (`tests/integration/part_outline.rs` derives the same for a band made by moving the
+/// chamfer).
+fn part_job(a: f64, c: f64, rn: f64, comp: bool) -> vpcut::Job {
+    let (g42, g40) = if comp { ("G42 ", "G40 ") } else { ("", "") };
+    // The start-up ends on the chamfer's line 0.5 mm in front of the face.
+    let e = 0.5;
+    let rs = 15.0 - a - e * a / c;
+    let prog = format!(
+        "%\nO2701\nN10 G21 G18 G40 G99\nN20 T0101\nN30 G97 S800 M03\n\
+         N40 G00 X36.0 Z0.0\nN50 G01 X-1.0 F0.1\nN60 G00 X{xs:.6} Z2.0\n\
+         N70 {g42}G01 X{x0:.6} Z{e:.6} F0.1\nN80 X30.0 Z{z1:.6}\nN90 Z-60.0\n\
+         N100 {g40}G00 X40.0\nN110 G00 X100.0 Z100.0\nN120 T0303\nN130 G97 S600 M03\n\
+         N140 G00 X32.0 Z5.0\nN150 G76 P010060 Q100 R0.05\n\
+         N160 G76 X27.546 Z-36.0 P1227 Q400 F2.0\nN170 G00 X100.0 Z100.0\nN180 M30\n%\n",
+        xs = 2.0 * rs - 4.0,
+        x0 = 2.0 * rs,
+        z1 = -c,
+    );
+    let text = format!(
+        r#"
+name = "nose"
+[blank]
+diameter = 34.0
+length = 60.0
+z_front = 1.0
+[thread]
+form = "iso-metric"
+major_diameter = 30.0
+pitch = 2.0
+length = 32.0
+[[tool]]
+id = 1
+kind = "turning"
+nose_radius = {rn}
+[[tool]]
+id = 3
+kind = "threading"
+angle = 60.0
+tip_flat = 0.3333333333
+reference = "tip"
+[program]
+file = "O2701.NC"
+dialect = "fanuc"
+[machine]
+spindle_rpm = 600
+max_feed = 5000
+[simulation]
+axial_spacing = 0.02
+angular_cells = 180
+measure_generators = 4
+tolerance = 0.01
+[part]
+profile = [[0.0, {d0:.6}], [{zc:.6}, 30.0], [-59.0, 30.0]]
+"#,
+        d0 = 30.0 - 2.0 * a,
+        zc = -c,
+    );
+    vpcut::Job::from_toml_with(&text, "nose.toml", &move |f: &str| {
+        (f == "O2701.NC").then(|| prog.clone())
+    })
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn a_compensated_chamfer_is_the_drawing_and_an_uncompensated_one_leaves_the_closed_form() {
+    let mut rng = crate::support::Rng(2726);
+    for case in 0..5 {
+        let phi = rng.range(20.0, 70.0).to_radians();
+        let rn = rng.range(0.2, 1.2);
+        let c = rng.range(1.0, 2.0).min(2.5 / phi.tan());
+        let a = c * phi.tan();
+        let run = |comp| {
+            vpcut::simulate_report(&part_job(a, c, rn, comp), &vpcut::SimOptions::default())
+                .unwrap()
+        };
+        let exact = run(true);
+        let d = &exact.deviation;
+        assert!(
+            d.max_leftover_mm < 1e-3 && d.max_gouge_mm < 1e-3,
+            "case {case} (phi {:.1} deg, rn {rn:.3}): compensated, leftover {} gouge {}: {:#?}",
+            phi.to_degrees(),
+            d.max_leftover_mm,
+            d.max_gouge_mm,
+            exact.findings
+        );
+        assert_eq!(exact.verdict, vpcut::Verdict::Pass, "{:#?}", exact.findings);
+        let plain = run(false);
+        let s = rn * (phi.sin() + phi.cos() - 1.0);
+        let beta = 120f64.to_radians() - phi;
+        let want = if beta < 90f64.to_radians() {
+            s / beta.sin()
+        } else {
+            s
+        };
+        let d = &plain.deviation;
+        assert!(
+            (d.max_leftover_mm - want).abs() < 1e-3 && d.max_gouge_mm < 1e-3,
+            "case {case} (phi {:.1} deg, rn {rn:.3}): leftover {} vs {want}, gouge {}",
+            phi.to_degrees(),
+            d.max_leftover_mm,
+            d.max_gouge_mm
+        );
+        let z = d.max_leftover_at.as_ref().unwrap().z_mm;
+        assert!((-c - 0.05..=0.05).contains(&z), "case {case}: at z {z}");
+        assert_eq!(plain.verdict, vpcut::Verdict::Fail);
+        eprintln!(
+            "phi {:.1} rn {rn:.3}: compensated leftover {:.2e} gouge {:.2e}; plain {:.5} vs {want:.5}",
+            phi.to_degrees(),
+            exact.deviation.max_leftover_mm,
+            exact.deviation.max_gouge_mm,
+            d.max_leftover_mm
+        );
+    }
+}
