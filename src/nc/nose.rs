@@ -869,4 +869,48 @@ impl Interp<'_> {
                 )
             })
     }
+
+    /// LinuxCNC `G10 L1 P R Q`: tool P's radius R (program units) and orientation Q in the
+    /// tool table, as rs274's `convert_setup_tool` sets them (words left out keep their
+    /// values; the front and back angles I/J only draw the tool). The tool's X/Z offsets
+    /// are not simulated (vpcut's tools have none), so nonzero ones are refused.
+    pub(super) fn lc_g10_tool(
+        &mut self,
+        w: &super::Words,
+        scale: f64,
+    ) -> Result<(), super::expr::Fail> {
+        let get = |k: &str| w.vals.get(k).copied();
+        let (p, pcol) = get("P").ok_or((1, "G10 L1 needs P (the tool number)".to_string()))?;
+        if p.fract() != 0.0 || p < 0.0 {
+            return Err((pcol, format!("G10 L1 P{p}: expected a tool number")));
+        }
+        for k in ["X", "Z"] {
+            if let Some((v, col)) = get(k).filter(|v| v.0 != 0.0) {
+                return Err((col, format!("G10 L1 {k}{v}: a tool length offset, not simulated by vpcut (its tools have none): set it in the tool table at 0")));
+            }
+        }
+        if !["R", "Q", "X", "Z", "I", "J"]
+            .iter()
+            .any(|k| w.vals.contains_key(*k))
+        {
+            return Err((1, "G10 L1 without offsets has no effect (rs274)".into()));
+        }
+        let entry = self.cfg.noses.tool.entry(p as u32).or_insert((0.0, 0));
+        if let Some((r, col)) = get("R") {
+            if r < 0.0 {
+                return Err((col, format!("G10 L1 R{r}: a nose radius is not negative")));
+            }
+            entry.0 = r * scale;
+        }
+        if let Some((q, col)) = get("Q") {
+            if q.fract() != 0.0 || !(0.0..=9.0).contains(&q) {
+                return Err((
+                    col,
+                    format!("Invalid tool orientation Q{q} (rs274: a whole number 0 to 9)"),
+                ));
+            }
+            entry.1 = crate::model::tool::linuxcnc_orientation(q as u8);
+        }
+        Ok(())
+    }
 }
