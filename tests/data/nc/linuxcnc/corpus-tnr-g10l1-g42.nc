@@ -4,6 +4,10 @@ G18 G21 G7 G90 G95
 G10 L1 P6 R0.4 Q2 ( T6: VNMG R0.4, orientation 2: the tip -Z -X of the nose )
 T6 M6
 G96 S150 D2500 M3
+G0 X26 Z3
+G41 G1 Z0 F0.1 ( face under G41: the nose to the +Z side of the face )
+X-0.8
+G40 G0 Z2
 G0 X26 Z2
 G42 G0 X17 Z1
 G1 X21.8 Z-1.4 F0.1
