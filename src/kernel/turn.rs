@@ -4,7 +4,8 @@
 //! swept along the move's (z, x) path at every angle of the part. The shape is a round nose
 //! (radius `r_n`) with two straight edges tangent to it ([`TurningTool`]); the program
 //! drives its *imaginary tip* (the corner of the nose's tangents along z and x, tool tip
-//! orientation 3 of the controls, as programs without nose radius compensation do), so the
+//! direction 3 of the controls by default, [`TurningTool::with_tip`] for the others; the
+//! moves come here already compensated where the program used G41/G42, `nc::nose`), so the
 //! nose centre runs `r_n` above and `r_n` to the +z side of the programmed point. The same
 //! shape with a flat bottom between two noses is a grooving or threading insert's edge
 //! ([`TurningTool::insert`]: a trapezoid, a V, a round-nose V), driven by its reference

@@ -612,3 +612,63 @@ fn offsets_page_radius_and_tip_override_the_tool() {
     let (_, b) = ends(&m[2]);
     assert!((b - V2::new(-5.0, 10.0)).length() < 1e-12, "{b:?}");
 }
+
+#[test]
+fn siemens_kont_goes_round_the_start_point_behind_the_contour() {
+    // G42 KONT from (z 2, r 8), behind the contour that starts at (0, 10) going -z (the
+    // start lies below, on the material side): NORM would put the nose straight at the
+    // perpendicular (0, 10.5) through the material; KONT goes round (0, 10) on a circle of
+    // the radius (G450): the approach ends 0.5 right of itself, then an arc about (0, 10)
+    // to (0, 10.5).
+    let r = 0.5;
+    let text = |kont: &str| {
+        format!("T1 D1\nG0 X16 Z2\nG0 G42 {kont} X20 Z0\nG1 Z-8 F0.1\nG0 G40 X40\nM30\n")
+    };
+    let run = |t: &str| {
+        run_in(t, Dialect::Siemens802d, noses(r, 0))
+            .unwrap_or_else(|e| panic!("{e}"))
+            .moves
+    };
+    let norm = run(&text("NORM"));
+    assert!((ends(&norm[1]).1 - V2::new(0.0, 10.5)).length() < 1e-12);
+    let kont = run(&text("KONT"));
+    // The approach (2, 8) -> (0, 10): direction (-1, 1)/sqrt 2, its right normal (1, 1)/sqrt 2.
+    let s2 = 2f64.sqrt();
+    let end = V2::new(0.0, 10.0) + V2::new(1.0, 1.0) * (r / s2);
+    assert!(
+        (ends(&kont[1]).1 - end).length() < 1e-12,
+        "{:?}",
+        ends(&kont[1])
+    );
+    let arc = &kont[2];
+    assert_eq!(arc.kind, MoveKind::Arc);
+    let g = arc.arc.unwrap();
+    assert!((g.z_centre).abs() < 1e-12 && (g.x_centre_dia - 20.0).abs() < 1e-12);
+    assert!((ends(arc).1 - V2::new(0.0, 10.5)).length() < 1e-12);
+    // In front of the contour (from above) KONT is NORM.
+    let front = |kont: &str| {
+        format!("T1 D1\nG0 X30 Z2\nG0 G42 {kont} X20 Z0\nG1 Z-8 F0.1\nG0 G40 X40\nM30\n")
+    };
+    let path = |m: Vec<Move>| -> Vec<(V2, V2)> { m.iter().map(ends).collect() };
+    assert_eq!(path(run(&front("KONT"))), path(run(&front("NORM"))));
+}
+
+#[test]
+fn okuma_compensates_with_the_nose_number_of_its_t_code() {
+    // T010102: offset 01, tool 01, nose R compensation number 02, whose page says R 1.2.
+    let mut n = noses(0.4, 3);
+    n.offset.insert(
+        2,
+        NoseOffset {
+            radius: Some(1.2),
+            ..NoseOffset::default()
+        },
+    );
+    let text = "$A.MIN%\nO1\nN1 T010102\nN2 G00 X30 Z2\nN3 G42 G00 X20 Z1\nN4 G01 Z-5 F0.1\nN5 G40 G00 X30\nN6 M02\n%\n";
+    let m = run_in(text, Dialect::Okuma, n).unwrap().moves;
+    let nz = m[2].nose.unwrap();
+    assert_eq!((nz.radius, nz.tip, nz.rule), (1.2, 3, NoseRule::Fanuc));
+    // The diameter's end before G40: centre r 10 + 1.2, the tip 1.2 (-1, -1) from it.
+    let (_, b) = ends(&m[2]);
+    assert!((b - V2::new(-6.2, 10.0)).length() < 1e-12, "{b:?}");
+}

@@ -310,3 +310,56 @@ fn a_compensated_chamfer_is_the_drawing_and_an_uncompensated_one_leaves_the_clos
         );
     }
 }
+
+/// The job's keys: `tip_direction` moves the point the program drives (the kernel's anchor:
+/// a tip 8 tool's driven point is the nose's lowest point, so an uncompensated program
+/// turns the same diameter, shifted by `r_n` along z at a face); out-of-range values are
+/// errors at their key.
+#[test]
+fn tip_direction_and_offset_keys() {
+    let job = |tool: &str, machine: &str| {
+        let text = format!(
+            r#"
+[blank]
+diameter = 34.0
+length = 60.0
+z_front = 1.0
+[thread]
+form = "iso-metric"
+major_diameter = 30.0
+pitch = 2.0
+length = 20.0
+[[tool]]
+id = 1
+kind = "turning"
+{tool}
+[[tool]]
+id = 3
+kind = "threading"
+angle = 60.0
+[program]
+file = "P.NC"
+dialect = "fanuc"
+[machine]
+spindle_rpm = 600
+{machine}
+"#
+        );
+        vpcut::Job::from_toml_with(&text, "j.toml", &|_| {
+            Some("O1\nT0101\nG00 X36.0 Z2.0\nG01 X30.0 F0.1\nZ-30.0\nT0303\nG00 X32.0 Z5.0\nG76 P010060 Q100 R0.05\nG76 X27.546 Z-25.0 P1227 Q400 F2.0\nM30\n".into())
+        })
+    };
+    let e = job("tip_direction = 10", "").unwrap_err().to_string();
+    assert!(
+        e.contains("tool[0].tip_direction") && e.contains("0 to 9"),
+        "{e}"
+    );
+    let e = job("", "offsets.1 = { t = 12 }").unwrap_err().to_string();
+    assert!(e.contains("machine.offsets.1.t"), "{e}");
+    let e = job("", "offsets.1 = { r = -0.4 }").unwrap_err().to_string();
+    assert!(e.contains("machine.offsets.1.r"), "{e}");
+    let e = job("tip_direction = 3", "").err();
+    assert!(e.is_none(), "{e:?}");
+    let e = job("", "offsets.1 = { r = 0.8, wear_r = -0.01, t = 3 }").err();
+    assert!(e.is_none(), "{e:?}");
+}
