@@ -535,41 +535,35 @@ pub(super) fn compensate(moves: &[Move]) -> Result<Vec<Move>, (usize, String)> {
         }
         let next = next_of(moves, &els, i);
         let start_tip = at.unwrap_or(e.a);
-        // The element as compensated, the direction a line may not reverse, and the
-        // centre where it starts (None for a start-up: it starts at the driven point).
-        let (el, guard, start_c) = match centre {
-            Some(c) => (e, e.tangent(e.a), Some(c)),
+        // The element as compensated, the direction a line may not run against, the centre
+        // where it starts (`None` for a start-up: it starts at the driven point), and
+        // whether a start-up joins the next move as a corner (LinuxCNC; SINUMERIK KONT
+        // behind the contour) rather than ending perpendicular to its start (type A).
+        let (el, guard, start_c, corner_entry) = match centre {
+            Some(c) => (e, e.tangent(e.a), Some(c), false),
             None => {
                 if e.circle.is_some() {
                     return Err((i, alarm(nz.rule, Alarm::StartArc)));
                 }
                 let entry = El::line(start_tip, e.b);
-                let typed = match nz.rule {
-                    NoseRule::Linuxcnc => true,
-                    NoseRule::Siemens { kont: true, .. } => match next {
-                        // KONT: the start point behind the contour (on its material side).
-                        Next::Comp(j) => {
-                            let n = els[j].tangent(e.b).perp() * s;
-                            (start_tip - e.b).dot(n) < 0.0
-                        }
-                        _ => false,
-                    },
+                let corner_entry = match (nz.rule, next) {
+                    (NoseRule::Linuxcnc, _) => true,
+                    // KONT: the start point behind the contour (on its material side).
+                    (NoseRule::Siemens { kont: true, .. }, Next::Comp(j)) => {
+                        let n = els[j].tangent(e.b).perp() * s;
+                        (start_tip - e.b).dot(n) < 0.0
+                    }
                     _ => false,
                 };
-                if typed {
-                    if nz.rule == NoseRule::Linuxcnc && (e.b - start_tip).length() <= r {
-                        return Err((i, alarm(nz.rule, Alarm::ShortEntry)));
-                    }
-                    // rs274 checks the entry against the side's normal, not its direction.
-                    (entry, entry.tangent(e.b).perp() * s, None)
-                } else {
-                    (entry, V2::ZERO, None)
+                if nz.rule == NoseRule::Linuxcnc && (e.b - start_tip).length() <= r {
+                    return Err((i, alarm(nz.rule, Alarm::ShortEntry)));
                 }
+                // rs274 checks the entry against the side's normal, not its direction.
+                (entry, entry.tangent(e.b).perp() * s, None, corner_entry)
             }
         };
-        let linuxcnc_like = start_c.is_some() || guard != V2::ZERO;
         let joint = match next {
-            Next::Comp(j) if start_c.is_none() && !linuxcnc_like => {
+            Next::Comp(j) if start_c.is_none() && !corner_entry => {
                 // Type A start-up (FANUC, SINUMERIK NORM): perpendicular to the next
                 // block's start.
                 Joint::at(els[j].normal_point(e.b, s, r))
@@ -692,16 +686,10 @@ pub(super) fn compensate(moves: &[Move]) -> Result<Vec<Move>, (usize, String)> {
                 }
             }
         }
+        // Before a held move the vector is gone (the driven point on the programmed one);
+        // a cancel block starts from where the compensated path left the tool.
         at = Some(tip_of(c_at));
-        centre = match next {
-            Next::Comp(_) => Some(c_at),
-            Next::Held => None,
-            // The cancel block starts from the tip.
-            Next::Cancel | Next::End => Some(c_at),
-        };
-        if matches!(next, Next::Held) {
-            at = Some(e.b);
-        }
+        centre = (!matches!(next, Next::Held)).then_some(c_at);
     }
     Ok(out)
 }
