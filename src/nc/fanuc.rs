@@ -750,6 +750,11 @@ impl Interp<'_> {
             (x, z_end)
         };
         let r = self.length(w, "R").unwrap_or(taper);
+        if r != 0.0 {
+            // Its moves run with the nose vector held (`nose`): a taper is where FANUC's
+            // compensation would move them.
+            self.nose_note(&format!("G{g} with a taper (R)"));
+        }
         self.thread.cycle90 = Some((g, if face { x_end } else { z_end }, r));
         use MoveKind::{Feed, Rapid};
         let path: [(MoveKind, (f64, f64)); 4] = if face {

@@ -363,3 +363,47 @@ spindle_rpm = 600
     let e = job("", "offsets.1 = { r = 0.8, wear_r = -0.01, t = 3 }").err();
     assert!(e.is_none(), "{e:?}");
 }
+
+/// `vpcut toolpath --nose T:R:TIP` compensates as a job's turning tool does (the bore of the
+/// FANUC corpus, its header's hand-checked start-up end X31.634315 Z0.882843); without it
+/// G41 compensates nothing; a malformed value is a usage error.
+#[test]
+fn the_toolpath_command_takes_the_nose() {
+    let prog = root().join("tests/data/nc/fanuc/corpus-0i-tnr-g41-bore-m30.nc");
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .arg("toolpath")
+            .arg(&prog)
+            .args(["--dialect", "fanuc"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let line9 = |out: &std::process::Output| -> Vec<f64> {
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        let row = text
+            .lines()
+            .find(|l| l.contains(",9,feed,"))
+            .unwrap()
+            .to_string();
+        row.split(',')
+            .skip(3)
+            .take(3)
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let comp = run(&["--nose", "2:0.4:2"]);
+    assert!(comp.status.success());
+    let v = line9(&comp);
+    assert!(
+        (v[0] - 31.634315).abs() < 1e-6 && (v[2] - 0.882843).abs() < 1e-6,
+        "{v:?}"
+    );
+    let plain = run(&[]);
+    let v = line9(&plain);
+    assert!(
+        (v[0] - 31.4).abs() < 1e-12 && (v[2] - 1.0).abs() < 1e-12,
+        "{v:?}"
+    );
+    assert_eq!(run(&["--nose", "2:0.4"]).status.code(), Some(2));
+}
