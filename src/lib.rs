@@ -81,13 +81,14 @@ pub use model::standards::{
 pub use model::stock::{Grid, Stock, Surface};
 pub use model::thread::{ColumnIdeal, Flank, Side, Taper, ThreadSpec, WidthRule};
 pub use model::tolerance::{RootZone, SizeLimits, TaperGauge, ThreadClass, UnitSystem};
+pub use model::tool::{linuxcnc_orientation, tip_direction};
 pub use model::tool::{Body, DepthLimits, Edge, Reference, Tap, Tool};
 pub use nc::{
     decode_program, interpret, interpret_with, path_lead, to_csv, ArcGeometry, CompSide,
     DecimalPoint, Diagnostic, Dialect, Dwell, DwellTime, Feed, G76Params, GcodeSystem,
     InputIncrement, Limits, MillArc, MillKind, MillMove, MillSettings, Move, MoveKind, NcError,
-    Options as NcOptions, Plane, PowerOn, Settings, Severity, Source, SpindleSpeed, ToolOffsets,
-    Toolpath,
+    Nose, NoseData, NoseOffset, NoseRule, Options as NcOptions, Plane, PowerOn, Settings, Severity,
+    Source, SpindleSpeed, ToolOffsets, Toolpath,
 };
 pub use output::glb::{from_glb, to_glb, GlbError};
 pub use output::html::{finding_point, to_html, FindingPlace, HtmlPage, HtmlPicture};

@@ -251,6 +251,7 @@ mod tests {
             speed: Default::default(),
             feed: None,
             cycle: false,
+            nose: None,
         };
         let mut moves: Vec<vpcut::Move> = (0..30_000)
             .map(|k| mv(["O1", "O2", "MAIN.NC", "O9"][k % 4]))

@@ -63,6 +63,29 @@ pub(crate) struct ToolpathArgs {
     /// option for several, searched in order; relative to the program's folder).
     #[arg(long, value_name = "DIR")]
     pub(crate) subroutine_path: Vec<String>,
+    /// A turning tool's nose for tool nose radius compensation (G41/G42): `T:R:TIP`, the
+    /// tool number, its nose radius (mm) and imaginary tip direction (FANUC numbering 0..9,
+    /// 3 an external tool turning towards the chuck), e.g. `--nose 1:0.8:3` (a job's
+    /// `kind = "turning"` tool's `nose_radius` and `tip_direction`; repeat for several).
+    /// Without it G41/G42 compensate with radius 0: the programmed path.
+    #[arg(long, value_name = "T:R:TIP", value_parser = parse_nose)]
+    pub(crate) nose: Vec<(u32, (f64, u8))>,
+}
+
+/// `T:R:TIP` of `--nose`.
+fn parse_nose(s: &str) -> Result<(u32, (f64, u8)), String> {
+    let bad = || format!("expected TOOL:RADIUS:TIP (e.g. 1:0.8:3; the tip 0 to 9), got `{s}`");
+    let f: Vec<&str> = s.split(':').collect();
+    let [t, r, tip] = f[..] else {
+        return Err(bad());
+    };
+    let t: u32 = t.trim().parse().map_err(|_| bad())?;
+    let r: f64 = r.trim().parse().map_err(|_| bad())?;
+    let tip: u8 = tip.trim().parse().map_err(|_| bad())?;
+    if !(0.0..=25.0).contains(&r) || tip > 9 {
+        return Err(bad());
+    }
+    Ok((t, (r, tip)))
 }
 
 /// `standard` or `calculator` of `--decimal-point`.
@@ -138,6 +161,7 @@ pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     opts.settings.input_increment = args.input_increment.unwrap_or_default();
     opts.settings.power_on.inch = args.units.as_deref() == Some("inch");
     opts.settings.main = args.main.clone();
+    opts.settings.noses.tool = args.nose.iter().copied().collect();
     opts.settings.subroutine_path = args.subroutine_path.clone();
     let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts).map_err(|mut e| {
         name_files(&mut e, &inputs);

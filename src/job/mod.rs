@@ -273,7 +273,13 @@ impl Job {
     ) -> Result<Job, JobError> {
         let fail = |e: ProgramError| program_error(e, cx, load);
         match pending {
-            Pending::Lathe(program) => {
+            Pending::Lathe(mut program) => {
+                // Tool nose radius compensation's radius and tip: the turning tools'.
+                program.options.settings.noses.tool = self
+                    .turning_tools
+                    .iter()
+                    .map(|t| (t.id, (t.nose_radius, t.tip())))
+                    .collect();
                 let path = toolpath::interpret(&program, load).map_err(fail)?;
                 let lathe = toolpath::lathe_passes(
                     &path.moves,

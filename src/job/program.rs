@@ -8,7 +8,8 @@ use super::ctx::Ctx;
 use super::schema::{RawMachine, RawProgram};
 use super::JobError;
 use crate::nc::{
-    DecimalPoint, Dialect, G76Params, GcodeSystem, InputIncrement, Settings, ToolOffsets,
+    DecimalPoint, Dialect, G76Params, GcodeSystem, InputIncrement, NoseOffset, Settings,
+    ToolOffsets,
 };
 use crate::toolpath::Program;
 use std::collections::BTreeMap;
@@ -28,6 +29,7 @@ pub(super) fn lathe_program(
     };
     if let Some(m) = machine {
         settings.tool_offsets = tool_offsets(m, cx)?;
+        settings.noses.offset = nose_offsets(m, cx)?;
         settings.g76 = g76_params(m, cx)?;
     }
     if settings.thread_chamfer > 9.9 {
@@ -278,6 +280,49 @@ fn tool_offsets(m: &RawMachine, cx: &Ctx) -> Result<Option<ToolOffsets>, JobErro
         );
     }
     Ok(Some(out))
+}
+
+/// `[machine] offsets`: each number's nose radius R (`r` + `wear_r`) and tip direction T
+/// (`t`), as the offset page holds them for tool nose radius compensation.
+fn nose_offsets(m: &RawMachine, cx: &Ctx) -> Result<BTreeMap<u32, NoseOffset>, JobError> {
+    let mut out = BTreeMap::new();
+    for (name, o) in m.offsets.iter().flatten() {
+        let Ok(n) = name.parse::<u32>() else {
+            continue; // `tool_offsets` says what is wrong with the number
+        };
+        let key = |k: &str| format!("machine.offsets.{name}.{k}");
+        let radius = match o.r {
+            Some(r) => {
+                let r = cx.non_negative(&key("r"), r)?;
+                if r > 25.0 {
+                    return Err(cx.err(&key("r"), format!("expected at most 25 mm, got {r}")));
+                }
+                Some(r)
+            }
+            None => None,
+        };
+        let wear = cx.finite(&key("wear_r"), o.wear_r)?;
+        if wear.abs() > 25.0 {
+            return Err(cx.err(
+                &key("wear_r"),
+                format!("expected at most 25 mm either way, got {wear}"),
+            ));
+        }
+        let tip = match o.t {
+            Some(t) if t <= 9 => Some(t as u8),
+            Some(t) => {
+                return Err(cx.err(
+                    &key("t"),
+                    format!(
+                        "expected an imaginary tip direction 0 to 9 (the offset page's T), got {t}"
+                    ),
+                ))
+            }
+            None => None,
+        };
+        out.insert(n, NoseOffset { radius, wear, tip });
+    }
+    Ok(out)
 }
 
 /// G54..G59 as an index.

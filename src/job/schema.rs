@@ -240,6 +240,7 @@ pub(super) struct RawTool {
     pub(super) nose_radius: Option<f64>,
     #[serde(default, deserialize_with = "keys::fixed")]
     pub(super) edge_angles: Option<[f64; 2]>,
+    pub(super) tip_direction: Option<u32>,
     pub(super) side: Option<SideName>,
     pub(super) tip_width: Option<f64>,
     pub(super) flank_angle: Option<f64>,
@@ -391,6 +392,12 @@ pub(super) struct RawToolOffset {
     pub(super) wear_x: f64,
     #[serde(default)]
     pub(super) wear_z: f64,
+    /// The nose radius R (tool nose radius compensation); left out: the tool's.
+    pub(super) r: Option<f64>,
+    #[serde(default)]
+    pub(super) wear_r: f64,
+    /// The imaginary tip direction T (0 to 9); left out: the tool's.
+    pub(super) t: Option<u32>,
 }
 
 fn default_rpm() -> f64 {

@@ -174,12 +174,17 @@ pub(super) fn resolve_turning(t: &RawTool, i: usize, cx: &Ctx) -> Result<Turning
             ),
         ));
     }
-    Ok(TurningTool::turning(
-        t.id,
-        nose_radius,
-        (lead, trail),
-        t.side.unwrap_or_default() == SideName::Internal,
-    ))
+    let internal = t.side.unwrap_or_default() == SideName::Internal;
+    // The imaginary tip the program drives (FANUC numbering): 3 outside, 2 in a bore.
+    let tip = t.tip_direction.unwrap_or(if internal { 2 } else { 3 });
+    TurningTool::turning(t.id, nose_radius, (lead, trail), internal)
+        .with_tip(u8::try_from(tip).unwrap_or(u8::MAX))
+        .ok_or_else(|| {
+            cx.err(
+                &key("tip_direction"),
+                format!("expected an imaginary tip direction 0 to 9 (FANUC numbering: 3 an external tool turning towards the chuck, 2 a boring bar), got {tip}"),
+            )
+        })
 }
 
 /// A `kind = "tap"` tool: `diameter` (the major diameter), `pitch`, the chamfer by
@@ -245,7 +250,7 @@ pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), Job
     const MILL: &[ToolKind] = &[ThreadMill];
     const LIMITED: &[ToolKind] = &[Grooving, Threading, Trapezoidal, Mesh];
     const LATHE: &[ToolKind] = &[Grooving, Threading, Trapezoidal, Mesh, Turning];
-    let keys: [(&str, bool, &[ToolKind]); 41] = [
+    let keys: [(&str, bool, &[ToolKind]); 42] = [
         ("holder", t.holder.is_some(), LATHE),
         (
             "max_depth_per_pass",
@@ -266,6 +271,7 @@ pub(super) fn check_tool_keys(t: &RawTool, i: usize, cx: &Ctx) -> Result<(), Job
             &[Threading, Turning],
         ),
         ("edge_angles", t.edge_angles.is_some(), &[Turning]),
+        ("tip_direction", t.tip_direction.is_some(), &[Turning]),
         ("side", t.side.is_some(), &[Turning]),
         ("tip_width", t.tip_width.is_some(), &[Trapezoidal]),
         ("flank_angle", t.flank_angle.is_some(), &[Trapezoidal]),

@@ -4,7 +4,8 @@
 //! swept along the move's (z, x) path at every angle of the part. The shape is a round nose
 //! (radius `r_n`) with two straight edges tangent to it ([`TurningTool`]); the program
 //! drives its *imaginary tip* (the corner of the nose's tangents along z and x, tool tip
-//! orientation 3 of the controls, as programs without nose radius compensation do), so the
+//! direction 3 of the controls by default, [`TurningTool::with_tip`] for the others; the
+//! moves come here already compensated where the program used G41/G42, `nc::nose`), so the
 //! nose centre runs `r_n` above and `r_n` to the +z side of the programmed point. The same
 //! shape with a flat bottom between two noses is a grooving or threading insert's edge
 //! ([`TurningTool::insert`]: a trapezoid, a V, a round-nose V), driven by its reference
@@ -80,6 +81,39 @@ impl TurningTool {
             internal,
             anchor: (nose_radius, nose_radius),
         }
+    }
+
+    /// This insert driven by the imaginary tip of direction `tip` (FANUC numbering,
+    /// [`crate::model::tool::tip_direction`]): the nose centre lies `-r_n` times the tip's
+    /// direction from the driven point (3 outside and 2 in a bore: `(r_n, r_n)` in `(z,
+    /// h)`, as [`TurningTool::turning`]; 0 and 9 drive the centre). `None` past 9.
+    pub(crate) fn with_tip(self, tip: u8) -> Option<TurningTool> {
+        let (dz, dx) = crate::model::tool::tip_direction(tip)?;
+        let sense = if self.internal { -1.0 } else { 1.0 };
+        let r = self.nose_radius;
+        Some(TurningTool {
+            anchor: (-r * dz, -r * dx * sense),
+            ..self
+        })
+    }
+
+    /// The tip direction (FANUC numbering) of a turning insert whose nose centre sits at
+    /// `anchor` from the driven point: the inverse of [`TurningTool::with_tip`]; the
+    /// default (3 outside, 2 in a bore) for a sharp corner, where it does not matter.
+    pub(crate) fn tip(&self) -> u8 {
+        let r = self.nose_radius;
+        let default = if self.internal { 2 } else { 3 };
+        if r <= 0.0 {
+            return default;
+        }
+        let sense = if self.internal { -1.0 } else { 1.0 };
+        let q = (-self.anchor.0 / r, -self.anchor.1 * sense / r);
+        (0..=8)
+            .find(|&t| {
+                crate::model::tool::tip_direction(t)
+                    .is_some_and(|d| (d.0 - q.0).abs() < 1e-9 && (d.1 - q.1).abs() < 1e-9)
+            })
+            .unwrap_or(default)
     }
 
     /// The edge of a grooving or threading insert as the shape its feed moves and rapids

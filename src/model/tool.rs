@@ -313,6 +313,45 @@ impl Tool {
 }
 
 /// Cotangent, infinite at zero (a vertical flank).
+/// The imaginary tip of a turning insert seen from its nose centre, by tip direction:
+/// `(dz, dx)` in units of the nose radius, `dx` along +X (away from the spindle axis).
+/// The numbering is FANUC's "imaginary tool nose direction" (0i-TF "Tool nose radius
+/// compensation"; Haas and Okuma write the same, Siemens its cutting-edge position SL):
+/// 1 (+Z, +X), 2 (-Z, +X), 3 (-Z, -X), 4 (+Z, -X), 5 (+Z), 6 (+X), 7 (-Z), 8 (-X), 0 and 9
+/// the nose centre itself. An external right-hand tool turning towards the chuck is 3, a
+/// boring bar 2. LinuxCNC numbers its tool table's orientation otherwise
+/// ([`linuxcnc_orientation`]). `None` past 9.
+pub fn tip_direction(tip: u8) -> Option<(f64, f64)> {
+    Some(match tip {
+        0 | 9 => (0.0, 0.0),
+        1 => (1.0, 1.0),
+        2 => (-1.0, 1.0),
+        3 => (-1.0, -1.0),
+        4 => (1.0, -1.0),
+        5 => (1.0, 0.0),
+        6 => (0.0, 1.0),
+        7 => (-1.0, 0.0),
+        8 => (0.0, -1.0),
+        _ => return None,
+    })
+}
+
+/// LinuxCNC's tool-table orientation (`Q`) for the tip direction `tip` ([`tip_direction`]):
+/// the same vector, numbered as rs274 places the controlled point (measured with rs274
+/// 2.9: orientation 1 is (+Z, -X), 2 (-Z, -X), 3 (-Z, +X), 4 (+Z, +X), 5 +Z, 6 -X, 7 -Z,
+/// 8 +X): 1 <-> 4, 2 <-> 3, 6 <-> 8 swap, the rest agree.
+pub fn linuxcnc_orientation(tip: u8) -> u8 {
+    match tip {
+        1 => 4,
+        4 => 1,
+        2 => 3,
+        3 => 2,
+        6 => 8,
+        8 => 6,
+        t => t,
+    }
+}
+
 pub(crate) fn cot(a: f64) -> f64 {
     if a <= 0.0 {
         f64::INFINITY

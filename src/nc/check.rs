@@ -709,6 +709,9 @@ fn siemens_block(
                     }
                 }
             }
+            // Tool radius compensation's approach and retraction (`nose`; KONTC/KONTT are
+            // refused by the run).
+            "NORM" | "KONT" | "KONTC" | "KONTT" => {}
             // G96's spindle speed limit (rev/min), read by the run.
             "LIMS" => {
                 l.ws();

@@ -286,6 +286,8 @@ impl Interp<'_> {
         (p, q): (usize, usize),
     ) -> Result<(Vec<Move>, usize), Fail> {
         let saved = (self.x, self.z, self.modal.clone(), self.thread.chain_end);
+        // The shape's moves carry the compensation they are programmed under.
+        let hold = std::mem::replace(&mut self.out.nose_hold, false);
         let before = self.out.moves.len();
         let pending = self.out.pending.len();
         self.thread.cycles.in_shape = true;
@@ -325,6 +327,7 @@ impl Interp<'_> {
             m.0 = 1;
         }
         (self.x, self.z, self.modal, self.thread.chain_end) = saved;
+        self.out.nose_hold = hold;
         result?;
         if let Some(m) = moves.iter().find(|m| m.kind == MoveKind::Thread) {
             return Err((
@@ -413,6 +416,7 @@ impl Interp<'_> {
         let range = self.shape_range(w, prog, g)?;
         let start = (self.x, self.z);
         let (moves, first) = self.read_shape(g, prog, range)?;
+        let moves = self.nose_shape(g, moves)?;
         let (axis, other) = if f.facing { ("Z", "X") } else { ("X", "Z") };
         if first > 1 {
             return Err((
@@ -581,6 +585,7 @@ impl Interp<'_> {
         let range = self.shape_range(w, prog, 73)?;
         let start = (self.x, self.z);
         let (moves, _) = self.read_shape(73, prog, range)?;
+        let moves = self.nose_shape(73, moves)?;
         let f = Frame { facing: false };
         let s = sign(start.0 - moves[0].x_dia);
         for k in 1..=d {

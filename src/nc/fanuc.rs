@@ -191,7 +191,12 @@ impl Interp<'_> {
             return Ok(step);
         }
         if let Some(&g) = w.g.iter().find(|g| (70..=75).contains(*g)) {
-            return self.repetitive_cycle(g, &w, prog, pc);
+            // G70 runs its shape's blocks under the modal compensation; the others make
+            // their moves from a compensated shape (`nose_shape`) with the vector held.
+            if g == 70 {
+                return self.repetitive_cycle(g, &w, prog, pc);
+            }
+            return self.nose_held(|m| m.repetitive_cycle(g, &w, prog, pc));
         }
         for k in ["A", "D"] {
             if let Some(&(_, col)) = w.vals.get(k) {
@@ -745,6 +750,11 @@ impl Interp<'_> {
             (x, z_end)
         };
         let r = self.length(w, "R").unwrap_or(taper);
+        if r != 0.0 {
+            // Its moves run with the nose vector held (`nose`): a taper is where FANUC's
+            // compensation would move them.
+            self.nose_note(&format!("G{g} with a taper (R)"));
+        }
         self.thread.cycle90 = Some((g, if face { x_end } else { z_end }, r));
         use MoveKind::{Feed, Rapid};
         let path: [(MoveKind, (f64, f64)); 4] = if face {

@@ -560,10 +560,14 @@ impl Interp<'_> {
     pub(super) fn lc_g10(&mut self, w: &Words, xs: f64, scale: f64) -> Result<(), Fail> {
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let l = val("L").ok_or((1, "G10 needs L (L2 or L20 set work offsets)".to_string()))?;
+        if l == 1.0 {
+            // The tool table's entry: its nose radius and orientation (`nose`).
+            return self.lc_g10_tool(w, scale);
+        }
         if l != 2.0 && l != 20.0 {
             return Err((
                 w.vals.get("L").map_or(1, |v| v.1),
-                format!("G10 L{l} (tool table or other data) is not simulated: vpcut runs G10 L2 and L20 (work offsets)"),
+                format!("G10 L{l} (tool table or other data) is not simulated: vpcut runs G10 L1 (a tool's radius and orientation), L2 and L20 (work offsets)"),
             ));
         }
         let p = val("P").ok_or((1, format!("G10 L{l} needs P (0 active, 1..9 G54..G59.3)")))?;

@@ -51,6 +51,9 @@ mod mill;
 mod motion;
 #[cfg(test)]
 mod mrc_tests;
+mod nose;
+#[cfg(test)]
+mod nose_tests;
 mod okuma;
 mod okuma_cycles;
 mod okuma_expr;
@@ -77,6 +80,7 @@ mod units;
 mod units_tests;
 
 pub use mill::{CompSide, MillArc, MillKind, MillMove, MillSettings, Plane};
+pub use nose::{Nose, NoseData, NoseOffset, NoseRule};
 
 use expr::Fail;
 pub use program::decode_program;
@@ -238,6 +242,8 @@ pub struct Move {
     /// A thread move of a threading cycle's pass (FANUC/GSK G76 and G92, Siemens
     /// CYCLE97/CYCLE99, LinuxCNC G76): its infeed is the cycle's.
     pub cycle: bool,
+    /// The tool nose radius compensation (G41/G42) the move's path was made with (`nose`).
+    pub nose: Option<Nose>,
 }
 
 /// The spindle speed as a program sets it: G97 `S` (rev/min), or G96 `S` (constant
@@ -366,6 +372,9 @@ pub struct Settings {
     /// it: the first folder that has the file wins). Names as the loader reads them
     /// (relative to the job's folder).
     pub subroutine_path: Vec<String>,
+    /// Tool nose radius compensation's radius and tip direction: by tool number (`tool`,
+    /// the job's turning tools), and by offset number where the offset page says (`offset`).
+    pub noses: NoseData,
 }
 
 /// Tool offsets by number: the shift (X as a diameter, Z) of the tool's point.
@@ -417,6 +426,7 @@ impl Default for Settings {
             tool_offsets: None,
             g76: G76Params::default(),
             subroutine_path: Vec::new(),
+            noses: NoseData::default(),
         }
     }
 }
@@ -713,6 +723,7 @@ pub fn interpret_with(
         e.others = warnings.clone();
         e
     })?;
+    let moves = nose::apply(&m, moves, &warnings)?;
     let mill = match m.mill.take() {
         Some(st) => mill::compensate(&st.path).map_err(|(k, message)| {
             let site = &st.path[k].site;

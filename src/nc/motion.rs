@@ -172,6 +172,9 @@ impl Interp<'_> {
                     second = true;
                 }
                 54..=59 => self.frames.work = (g - 54) as usize,
+                // Tool nose radius compensation (`nose`); SINUMERIK's corner modes.
+                40..=42 => self.nose_word(g, w)?,
+                450 | 451 if self.cfg.dialect == Dialect::Siemens802d => self.nose_word(g, w)?,
                 96 => self.modal.css = true,
                 97 => {
                     // G97 without S keeps the speed the spindle turns at (FANUC: the speed
@@ -391,7 +394,7 @@ impl Interp<'_> {
         }
         if moved && self.cfg.dialect == Dialect::Fanuc && matches!(self.modal.motion, 90 | 94) {
             self.need_feed(w)?;
-            return self.cutting_cycle(w, prog, pc, x, z);
+            return self.nose_held(|m| m.cutting_cycle(w, prog, pc, x, z));
         }
         if moved && matches!(self.modal.motion, 1..=3) {
             self.need_feed(w)?;
@@ -497,7 +500,10 @@ impl Interp<'_> {
                 self.modal.spindle = self.modal.spindle.reversed();
             }
             let done = match sync {
-                Some(sync) => self.thread_block(w, prog, pc, (x, z), sync),
+                Some(sync) => {
+                    self.nose_note("a thread block");
+                    self.thread_block(w, prog, pc, (x, z), sync)
+                }
                 None => {
                     self.emit(prog, pc, kind, (self.x, self.z), (x, z), sync);
                     self.x = x;
@@ -795,6 +801,7 @@ impl Interp<'_> {
             speed,
             feed,
             cycle: self.out.cycle && kind == MoveKind::Thread,
+            nose: self.nose_now(kind),
         });
         // Only a thread block (`Interp::thread_block`) leaves a chain open.
         self.thread.chain_end = None;
@@ -899,6 +906,7 @@ impl Interp<'_> {
     /// Run a threading cycle's block: its thread moves are marked as a cycle's
     /// ([`Move::cycle`]).
     pub(super) fn in_cycle<T>(&mut self, f: impl FnOnce(&mut Self) -> T) -> T {
+        self.nose_note("a threading cycle");
         self.out.cycle = true;
         let r = f(self);
         self.out.cycle = false;

@@ -130,6 +130,10 @@ struct State {
     chamfer: bool,
     /// The start point of the active fixed thread cycle (G31/G33/G34), and its last words.
     cycle: Option<ThreadModal>,
+    /// Tool nose radius compensation: G41/G42 (`None`: G40), and the nose radius
+    /// compensation number (the T code's third pair).
+    nose: Option<super::CompSide>,
+    nose_no: Option<u32>,
 }
 
 #[derive(Clone, Copy)]
@@ -202,6 +206,8 @@ pub(super) fn interpret(
             pattern: Pattern::One,
             chamfer: false,
             cycle: None,
+            nose: None,
+            nose_no: None,
         },
         common: HashMap::new(),
         moves: Vec::new(),
@@ -209,8 +215,30 @@ pub(super) fn interpret(
     };
     let prog = run.progs[&first].clone();
     run.run(prog)?;
+    // Tool nose radius compensation, as FANUC's (the OSP-P200L manual, "Tool nose radius
+    // compensation": the intersections of the offset paths).
+    let moves = super::nose::compensate(&run.moves).map_err(|(k, message)| {
+        let mv = &run.moves[k];
+        let snippet = run
+            .progs
+            .values()
+            .filter(|p| p.file == mv.file)
+            .flat_map(|p| p.blocks.iter())
+            .find(|b| b.line == mv.line)
+            .map_or_else(String::new, |b| b.orig.clone());
+        NcError {
+            file: mv.file.clone(),
+            line: mv.line,
+            col: 0,
+            message,
+            snippet,
+            stack: Vec::new(),
+            hint: None,
+            others: run.warnings.clone(),
+        }
+    })?;
     Ok(Toolpath {
-        moves: run.moves,
+        moves,
         mill: Vec::new(),
         warnings: run.warnings,
         dwells: Vec::new(),
@@ -499,6 +527,9 @@ impl Run<'_> {
                             thread_g = Some(g);
                         }
                         4 => {}
+                        40 => self.st.nose = None,
+                        41 => self.st.nose = Some(super::CompSide::Left),
+                        42 => self.st.nose = Some(super::CompSide::Right),
                         20 => self.st.inch = true,
                         21 => self.st.inch = false,
                         71 => g71 = true,
@@ -610,6 +641,7 @@ impl Run<'_> {
         } else {
             (n / 100, n % 100)
         };
+        self.st.nose_no = (n >= 10_000 && n % 100 > 0).then_some((n % 100) as u32);
         if offset > 0 && self.opts.settings.tool_offsets.is_some() {
             return Err((col, "the job's tool offsets are not applied to Okuma programs yet: leave [machine] offsets out and program the tool's point".into()));
         }
@@ -670,6 +702,16 @@ impl Run<'_> {
                 per_rev: self.st.per_rev,
             }),
             cycle,
+            nose: self.st.nose.map(|side| {
+                let (radius, tip) = self.opts.settings.noses.of(self.st.tool, self.st.nose_no);
+                super::Nose {
+                    side,
+                    radius,
+                    tip,
+                    rule: super::NoseRule::Fanuc,
+                    held: cycle || kind == MoveKind::Thread,
+                }
+            }),
         });
     }
 

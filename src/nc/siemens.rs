@@ -94,6 +94,14 @@ impl Interp<'_> {
                     self.vars.s840.diam90 = name == "DIAM90";
                 }
                 "SUPA" if s840 => machine = true,
+                // The approach and retraction of tool radius compensation (`nose`).
+                "NORM" | "KONT" => self.modal.nose_kont = name == "KONT",
+                "KONTC" | "KONTT" => {
+                    return Err((
+                        at + 1,
+                        format!("`{name}` (approach with constant curvature or tangent, a polynomial) is not simulated by vpcut: write NORM or KONT"),
+                    ))
+                }
                 "TRANS" | "ATRANS" if s840 => {
                     self.trans(&mut c, name == "ATRANS", at + 1)?;
                     break;

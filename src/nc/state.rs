@@ -60,6 +60,8 @@ pub(super) struct Config {
     pub(super) offsets: Option<super::ToolOffsets>,
     /// LinuxCNC's subroutine folders (`Settings::subroutine_path`).
     pub(super) subroutine_path: Vec<String>,
+    /// The noses' radii and tip directions (`Settings::noses`).
+    pub(super) noses: super::NoseData,
 }
 
 /// The programs of a run.
@@ -105,6 +107,12 @@ pub(super) struct Modal {
     pub(super) tool: Option<u32>,
     /// Spindle direction.
     pub(super) spindle: Spindle,
+    /// Tool nose radius compensation (`nose`): G41/G42 and LinuxCNC's `D`; `None` (G40).
+    pub(super) nose: Option<(super::CompSide, Option<u32>)>,
+    /// SINUMERIK G450 (transition circles at outer corners; G451: intersections).
+    pub(super) nose_arc: bool,
+    /// SINUMERIK KONT (else NORM): the approach and retraction of compensation.
+    pub(super) nose_kont: bool,
 }
 
 /// Coordinate frames: work offsets, G92 offsets, reference points.
@@ -203,6 +211,8 @@ pub(super) struct Output {
     pub(super) applied: (f64, f64),
     /// A threading cycle's block is running (its thread moves are marked).
     pub(super) cycle: bool,
+    /// A cycle whose moves run with the nose radius compensation's vector held is running.
+    pub(super) nose_hold: bool,
 }
 
 /// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
@@ -240,6 +250,7 @@ impl<'l> Interp<'l> {
                 increment: opts.settings.input_increment,
                 offsets: opts.settings.tool_offsets.clone(),
                 subroutine_path: opts.settings.subroutine_path.clone(),
+                noses: opts.settings.noses.clone(),
             },
             progs: Programs {
                 loader,
@@ -266,6 +277,9 @@ impl<'l> Interp<'l> {
                 offset: None,
                 tool: None,
                 spindle: Spindle::Cw,
+                nose: None,
+                nose_arc: true,
+                nose_kont: false,
             },
             frames: Frames {
                 offsets: {
@@ -313,6 +327,7 @@ impl<'l> Interp<'l> {
                 dwells: Vec::new(),
                 applied: (0.0, 0.0),
                 cycle: false,
+                nose_hold: false,
             },
             lc: Default::default(),
             mill: opts.settings.mill.clone().map(mill::MillState::new),

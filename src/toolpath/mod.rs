@@ -558,10 +558,11 @@ pub(crate) fn lathe_turning(
 }
 
 /// The z of a tool's lowest point less the driven point's: a turning insert's nose
-/// bottom (`r_n` after its imaginary tip), an insert's tip centre.
+/// bottom (its centre's z: `r_n` after an imaginary tip of direction 3 or 2), an insert's
+/// tip centre.
 fn tool_tip_dz(tool: &TurningTool, role: Role) -> f64 {
     match role {
-        Role::Turning => tool.nose_radius,
+        Role::Turning => tool.anchor.0,
         _ => tool.anchor.0 + tool.flat / 2.0,
     }
 }

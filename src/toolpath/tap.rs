@@ -105,6 +105,7 @@ mod tests {
             speed: Default::default(),
             feed: None,
             cycle: false,
+            nose: None,
         }
     }
 

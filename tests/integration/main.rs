@@ -36,6 +36,8 @@ mod linuxcnc;
 mod milling;
 /// NC programs as data: `tests/data/nc/<dialect>/*.nc` against their reviewed `*.moves`.
 mod nc_data;
+/// Lathe tool nose radius compensation (G41/G42) against rs274, move for move.
+mod nose;
 /// Okuma OSP-P programs through jobs: a whole part program cut and gauged.
 mod okuma;
 /// Geometry against independent oracles: closed forms, finer grids, hand-computed passes.

@@ -46,7 +46,8 @@ fn mill_settings() -> MillSettings {
 
 /// The machine settings a program is written for, from its `.moves` header's
 /// `# settings: key = value, ...` line (the `[program]` keys of a job: `decimal_point`,
-/// `input_increment`, `units`, `feed_mode`, `x_mode`, `main`), over `base`.
+/// `input_increment`, `units`, `feed_mode`, `x_mode`, `main`; and `nose`, the turning
+/// tools' nose radii and tip directions), over `base`.
 fn header_settings(header: &str, mut base: Settings) -> Settings {
     for line in header.lines() {
         let Some(rest) = line
@@ -68,6 +69,16 @@ fn header_settings(header: &str, mut base: Settings) -> Settings {
                 "feed_mode" => base.power_on.per_minute = v == "per-minute",
                 "x_mode" => base.power_on.diameter = Some(v == "diameter"),
                 "main" => base.main = Some(v.to_string()),
+                // Tool nose radius compensation's tools: `nose = "1:0.8:3 2:0.4:2"` (tool,
+                // nose radius, tip direction), as a job's turning tools give them.
+                "nose" => {
+                    for t in v.split_whitespace() {
+                        let f: Vec<&str> = t.split(':').collect();
+                        let tool = f[0].parse().expect(t);
+                        let nose = (f[1].parse().expect(t), f[2].parse().expect(t));
+                        base.noses.tool.insert(tool, nose);
+                    }
+                }
                 _ => panic!("unknown setting `{k}` in a .moves header"),
             }
         }
@@ -128,6 +139,13 @@ fn lathe_move(out: &mut String, m: &Move) {
     }
     if m.spindle == Spindle::Ccw {
         out.push_str(" ccw");
+    }
+    if let Some(n) = m.nose {
+        let side = match n.side {
+            vpcut::CompSide::Left => "G41",
+            vpcut::CompSide::Right => "G42",
+        };
+        let _ = write!(out, " nose={side}:{}:{}", num(n.radius), n.tip);
     }
     out.push('\n');
 }

@@ -177,14 +177,16 @@ impl Elem {
     }
 }
 
+/// An offset path: a line (a point and its unit direction) or a circle (centre, radius).
 #[derive(Clone, Copy, Debug)]
-enum Offset {
+pub(in crate::nc) enum Offset {
     Line(V2, V2),
     Circle(V2, f64),
 }
 
-/// The intersections of two offset paths.
-fn intersections(p: Offset, q: Offset) -> Vec<V2> {
+/// The intersections of two offset paths (also the lathe's nose radius compensation's,
+/// `nc::nose`).
+pub(in crate::nc) fn intersections(p: Offset, q: Offset) -> Vec<V2> {
     match (p, q) {
         (Offset::Line(a, d), Offset::Line(b, e)) => {
             let den = d.perp_dot(e);

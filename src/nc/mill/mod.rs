@@ -20,7 +20,7 @@ mod comp;
 mod tests;
 
 pub(super) use blocks::MillState;
-pub(super) use comp::compensate;
+pub(super) use comp::{compensate, intersections, Offset};
 
 use crate::model::helix::Spindle;
 

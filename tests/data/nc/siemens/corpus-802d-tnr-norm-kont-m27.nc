@@ -1,0 +1,28 @@
+; 802D M27x2 with tool nose radius compensation: the finish contour
+; G42 NORM with transition circles (G450, the default), the collar
+; G42 KONT G451 (intersections), then CYCLE97
+N10 G18 G90 G95 G54
+N20 T1 D1                   ; DNMG 150608, R0.8, cutting edge position 3
+N30 G96 S200 M3 M8
+N40 LIMS=3000
+N50 G0 X40 Z2
+N60 G42 NORM G0 X21 Z1
+N70 G1 X26.8 Z-1.9 F0.12
+N80 Z-32
+N90 X34
+N100 X36 Z-33
+N110 Z-40
+N120 G40 G0 X44
+N130 G0 Z-38
+N140 G451 G42 KONT G1 X36 Z-45 F0.1
+N150 X38
+N160 Z-55
+N170 G40 G0 X46
+N180 G450 NORM
+N190 G0 X80 Z80
+N200 T2 D1                  ; external thread 60 deg
+N210 G97 S500 M3
+N220 G0 X30 Z6
+N230 CYCLE97(2,,0,-28,27,27,4,2,1.227,0.05,30,0,6,0,3,1)
+N240 G0 X80 Z80
+N250 M30
