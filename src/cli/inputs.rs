@@ -274,6 +274,7 @@ mod tests {
             sync_angle_deg: None,
             chained: false,
             tool: None,
+            tool_word: None,
             spindle: vpcut::Spindle::Cw,
             arc: None,
             speed: Default::default(),

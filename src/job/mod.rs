@@ -179,6 +179,9 @@ pub struct Job {
     pub pass_rpm: Vec<f64>,
     /// Whether each pass is a threading cycle's (G76, G92, CYCLE97/99, LinuxCNC G76).
     pub(crate) pass_cycle: Vec<bool>,
+    /// Each program pass's tool as the program wrote it (`T0202`); `None` for the job's
+    /// own passes ([`Job::pass_tool_name`]).
+    pub(crate) pass_tool_words: Vec<Option<String>>,
     /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
     /// `passes` are empty.
     pub mill: Option<MillJob>,
@@ -219,6 +222,19 @@ pub struct Job {
 }
 
 impl Job {
+    /// The tool of pass `i` (0-based) for a message: as the program wrote it (`T0202`,
+    /// `T="GEW_AUSSEN_3.0"`), else the job's `[[tool]]` id as `T<id>`.
+    pub fn pass_tool_name(&self, i: usize) -> String {
+        match self.pass_tool_words.get(i) {
+            Some(Some(w)) => w.clone(),
+            _ => self
+                .passes
+                .get(i)
+                .and_then(|p| self.tools.get(p.tool))
+                .map_or_else(|| "no tool".into(), |t| format!("T{}", t.id)),
+        }
+    }
+
     /// Parse and validate a job. `file` is only used in messages. A job with a `[program]`
     /// needs [`Job::from_toml_with`].
     pub fn from_toml(src: &str, file: &str) -> Result<Job, JobError> {
@@ -297,6 +313,8 @@ impl Job {
                 );
                 self.pass_cycle.resize(offset, false);
                 self.pass_cycle.extend(lathe.cycle);
+                self.pass_tool_words.resize(offset, None);
+                self.pass_tool_words.extend(lathe.tool_words);
                 let rpm = self.machine.spindle_rpm;
                 self.pass_rpm
                     .extend(lathe.rpm.into_iter().map(|r| r.unwrap_or(rpm)));
@@ -414,6 +432,7 @@ impl Job {
             explicit_passes: 0,
             pass_rpm: Vec::new(),
             pass_cycle: Vec::new(),
+            pass_tool_words: Vec::new(),
             program_warnings: Vec::new(),
             plan: None,
             ..self.clone()

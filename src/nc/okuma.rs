@@ -125,6 +125,8 @@ struct State {
     speed_max: Option<f64>,
     spindle: Spindle,
     tool: Option<u32>,
+    /// The T code as written (`T030303`), `Move::tool_word`.
+    tool_word: Option<std::sync::Arc<str>>,
     infeed: Infeed,
     pattern: Pattern,
     chamfer: bool,
@@ -198,6 +200,7 @@ pub(super) fn interpret(
             speed_max: None,
             spindle: Spindle::Cw,
             tool: None,
+            tool_word: None,
             infeed: Infeed::Single,
             pattern: Pattern::One,
             chamfer: false,
@@ -614,6 +617,7 @@ impl Run<'_> {
             return Err((col, "the job's tool offsets are not applied to Okuma programs yet: leave [machine] offsets out and program the tool's point".into()));
         }
         self.st.tool = Some(tool as u32);
+        self.st.tool_word = Some(std::sync::Arc::from(super::tool_word(super::Dialect::Okuma, v)));
         Ok(())
     }
 
@@ -662,6 +666,7 @@ impl Run<'_> {
             sync_angle_deg: sync.map(|s| s.angle),
             chained: false,
             tool: self.st.tool,
+            tool_word: self.st.tool_word.clone(),
             spindle: self.st.spindle,
             arc: None,
             speed,

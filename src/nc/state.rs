@@ -103,6 +103,10 @@ pub(super) struct Modal {
     pub(super) offset: Option<u32>,
     /// Active tool number.
     pub(super) tool: Option<u32>,
+    /// The tool's T word as written (`Move::tool_word`), without the D.
+    pub(super) tool_t: Option<String>,
+    /// The tool as `Move::tool_word` gives it (the T word, with Siemens' D in force).
+    pub(super) tool_word: Option<std::sync::Arc<str>>,
     /// Spindle direction.
     pub(super) spindle: Spindle,
 }
@@ -265,6 +269,8 @@ impl<'l> Interp<'l> {
                 speed_max: None,
                 offset: None,
                 tool: None,
+                tool_t: None,
+                tool_word: None,
                 spindle: Spindle::Cw,
             },
             frames: Frames {

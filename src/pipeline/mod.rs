@@ -245,7 +245,8 @@ fn insert_limits(
             turned,
         };
         let found = chips::pass_chips(passes, tools, surface);
-        out.extend(chips::depth_issues(passes, tools, &found));
+        let names = |i: usize| job.pass_tool_name(i);
+        out.extend(chips::depth_issues(passes, tools, &found, &names));
     }
     let rubs = chips::infeed_rubs(passes, tools, &job.pass_blocks, &job.pass_cycle, sense);
     out.extend(chips::rub_issues(passes, &rubs));

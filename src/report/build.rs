@@ -556,19 +556,19 @@ fn rapid_message(h: &RapidHit) -> String {
     match h.kind {
         HitKind::Holder => {
             return format!(
-                "{}:{}: the {} of the {tool} T{} meets the {place} {:.4} mm deep at z {:.3} (the stock as the move leaves it{more})",
+                "{}:{}: the {} of the {tool} {} meets the {place} {:.4} mm deep at z {:.3} (the stock as the move leaves it{more})",
                 h.file,
                 h.line,
                 if h.internal { "boring bar" } else { "holder" },
-                h.tool,
+                h.tool_name,
                 h.depth,
                 h.z
             )
         }
         HitKind::Chuck => {
             return format!(
-                "{}:{}: the {tool} T{} (its tip or its holder) runs {:.4} mm into the chuck or its jaws at z {:.3} ([machine] chuck{more})",
-                h.file, h.line, h.tool, h.depth, h.z
+                "{}:{}: the {tool} {} (its tip or its holder) runs {:.4} mm into the chuck or its jaws at z {:.3} ([machine] chuck{more})",
+                h.file, h.line, h.tool_name, h.depth, h.z
             )
         }
         _ => {}
@@ -583,10 +583,10 @@ fn rapid_message(h: &RapidHit) -> String {
         _ => ": a threading insert cuts only along the thread",
     };
     format!(
-        "{}:{}: {what} of the {tool} T{} runs {:.4} mm into the {place} at z {:.3} (the stock the moves before it left{more}){why}",
+        "{}:{}: {what} of the {tool} {} runs {:.4} mm into the {place} at z {:.3} (the stock the moves before it left{more}){why}",
         h.file,
         h.line,
-        h.tool,
+        h.tool_name,
         h.depth,
         h.z
     )

@@ -526,7 +526,11 @@ impl Report {
                 .tools
                 .iter()
                 .map(|t| {
-                    let name = t.tool.map_or("no tool".to_string(), |n| format!("T{n}"));
+                    let name = match (&t.name, t.tool) {
+                        (Some(w), _) => w.clone(),
+                        (None, Some(n)) => format!("T{n}"),
+                        (None, None) => "no tool".to_string(),
+                    };
                     format!("{name} {}", duration(t.seconds))
                 })
                 .collect();
@@ -747,6 +751,9 @@ pub struct CycleTimeInfo {
 pub struct ToolTime {
     /// Its T number (`null` for the moves before any T word).
     pub tool: Option<u32>,
+    /// The tool as the program first wrote it (`T0606`, `T="GEW_AUSSEN_3.0"`), `null` for
+    /// the moves before any T word.
+    pub name: Option<String>,
     /// Seconds.
     pub seconds: f64,
 }
@@ -765,8 +772,10 @@ impl CycleTimeInfo {
             tools: c
                 .by_tool
                 .iter()
-                .map(|&(tool, s)| ToolTime {
+                .zip(&c.tool_words)
+                .map(|(&(tool, s), name)| ToolTime {
                     tool,
+                    name: name.clone(),
                     seconds: r4(s),
                 })
                 .collect(),
