@@ -179,6 +179,8 @@ pub struct Job {
     pub pass_rpm: Vec<f64>,
     /// Whether each pass is a threading cycle's (G76, G92, CYCLE97/99, LinuxCNC G76).
     pub(crate) pass_cycle: Vec<bool>,
+    /// The program cut its thread in inches (`nc::Toolpath::inch`).
+    pub(crate) program_inch: bool,
     /// Each program pass's tool as the program wrote it (`T0202`); `None` for the job's
     /// own passes ([`Job::pass_tool_name`]).
     pub(crate) pass_tool_words: Vec<Option<String>>,
@@ -222,6 +224,19 @@ pub struct Job {
 }
 
 impl Job {
+    /// Whether the job is an inch job, reported in inches (and threads per inch) beside
+    /// mm: its tolerance class or designation is in inches (`1/2-13 UNC-2A`), its form is
+    /// an inch standard's (`unified`, `acme`), or its program cuts the thread in inches
+    /// (G20/G70, or inch at power-on).
+    pub fn inch(&self) -> bool {
+        use crate::model::tolerance::UnitSystem;
+        self.thread_class
+            .as_ref()
+            .is_some_and(|c| c.units == UnitSystem::Inch)
+            || matches!(self.form, FormName::Unified | FormName::Acme)
+            || self.program_inch
+    }
+
     /// The tool of pass `i` (0-based) for a message: as the program wrote it (`T0202`,
     /// `T="GEW_AUSSEN_3.0"`), else the job's `[[tool]]` id as `T<id>`.
     pub fn pass_tool_name(&self, i: usize) -> String {
@@ -291,6 +306,7 @@ impl Job {
         match pending {
             Pending::Lathe(program) => {
                 let path = toolpath::interpret(&program, load).map_err(fail)?;
+                self.program_inch = path.inch;
                 let lathe = toolpath::lathe_passes(
                     &path.moves,
                     &self.tools,
@@ -433,6 +449,7 @@ impl Job {
             pass_rpm: Vec::new(),
             pass_cycle: Vec::new(),
             pass_tool_words: Vec::new(),
+            program_inch: false,
             program_warnings: Vec::new(),
             plan: None,
             ..self.clone()

@@ -576,6 +576,9 @@ pub struct Toolpath {
     pub warnings: Vec<Diagnostic>,
     /// The dwells, in execution order.
     pub dwells: Vec<Dwell>,
+    /// A thread move was made in inch units (G20/G70, or inch at power-on): the program
+    /// is an inch program, and its thread is reported in inches beside mm.
+    pub inch: bool,
 }
 
 /// Degrees (as the programs write angles) to radians.
@@ -738,6 +741,7 @@ pub fn interpret_with(
         mill,
         warnings,
         dwells: std::mem::take(&mut m.out.dwells),
+        inch: m.out.inch_threads,
     })
 }
 

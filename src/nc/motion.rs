@@ -799,6 +799,7 @@ impl Interp<'_> {
             value: f * if self.modal.inch { 25.4 } else { 1.0 },
             per_rev: self.modal.per_rev,
         });
+        self.out.inch_threads |= kind == MoveKind::Thread && self.modal.inch;
         self.out.moves.push(Move {
             file: prog.name.clone(),
             line: prog.blocks[pc].0,

@@ -162,6 +162,8 @@ struct Run<'a> {
     common: HashMap<u32, f64>,
     moves: Vec<Move>,
     warnings: Vec<Diagnostic>,
+    /// A thread move was made in inch units (`Toolpath::inch`).
+    inch_threads: bool,
 }
 
 /// Interpret an Okuma OSP-P program: the static check of every block of every program the
@@ -209,6 +211,7 @@ pub(super) fn interpret(
         common: HashMap::new(),
         moves: Vec::new(),
         warnings: diags,
+        inch_threads: false,
     };
     let prog = run.progs[&first].clone();
     run.run(prog)?;
@@ -217,6 +220,7 @@ pub(super) fn interpret(
         mill: Vec::new(),
         warnings: run.warnings,
         dwells: Vec::new(),
+        inch: run.inch_threads,
     })
 }
 
@@ -653,6 +657,7 @@ impl Run<'_> {
             max: self.st.speed_max,
         };
         let unit = if self.st.inch { 25.4 } else { 1.0 };
+        self.inch_threads |= kind == MoveKind::Thread && self.st.inch;
         self.moves.push(Move {
             file: file.to_string(),
             line,

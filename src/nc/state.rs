@@ -207,6 +207,8 @@ pub(super) struct Output {
     pub(super) applied: (f64, f64),
     /// A threading cycle's block is running (its thread moves are marked).
     pub(super) cycle: bool,
+    /// A thread move was made in inch units (`Toolpath::inch`).
+    pub(super) inch_threads: bool,
 }
 
 /// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
@@ -316,6 +318,7 @@ impl<'l> Interp<'l> {
                 notes: Vec::new(),
                 units_noted: false,
                 inch_noted: false,
+                inch_threads: false,
                 dwells: Vec::new(),
                 applied: (0.0, 0.0),
                 cycle: false,

@@ -555,7 +555,8 @@ fn run<S: Sink>(
         }
     }
     report::locate(job, &merged.dev, &mut report.findings);
-    report.findings = report::group(std::mem::take(&mut report.findings));
+    let units = report.units();
+    report.findings = report::group(std::mem::take(&mut report.findings), units);
     report.verdict = rank(&mut report.findings);
     report.finding_counts = FindingCounts::of(&report.findings);
     report.timing_s = report::Timing {
