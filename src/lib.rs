@@ -106,6 +106,6 @@ pub use output::stream::{simulate_meshed, Meshed};
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
     CycleTimeInfo, Extent, Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo,
-    GaugeLimits, InchThread, InchView, InputFile, LimitPair, OverWires, Painter, PlacementInfo, Range, Report,
-    SummaryStyle, Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
+    GaugeLimits, InchThread, InchView, InputFile, LimitPair, OverWires, Painter, PlacementInfo,
+    Range, Report, SummaryStyle, Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
 };

@@ -147,7 +147,8 @@ impl Interp<'_> {
                 continue;
             }
             let written = &text[st..c.i];
-            if letter == b'T' && !written.is_empty() && written.bytes().all(|b| b.is_ascii_digit()) {
+            if letter == b'T' && !written.is_empty() && written.bytes().all(|b| b.is_ascii_digit())
+            {
                 w.t_text = Some(format!("T{written}"));
             }
             if written.contains('.') {

@@ -621,7 +621,10 @@ impl Run<'_> {
             return Err((col, "the job's tool offsets are not applied to Okuma programs yet: leave [machine] offsets out and program the tool's point".into()));
         }
         self.st.tool = Some(tool as u32);
-        self.st.tool_word = Some(std::sync::Arc::from(super::tool_word(super::Dialect::Okuma, v)));
+        self.st.tool_word = Some(std::sync::Arc::from(super::tool_word(
+            super::Dialect::Okuma,
+            v,
+        )));
         Ok(())
     }
 

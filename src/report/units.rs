@@ -74,7 +74,11 @@ impl InchThread {
     pub(crate) fn of(major: f64, pitch_dia: f64, minor: f64, pitch: f64, lead: f64) -> InchThread {
         let i = |v: f64| crate::report::r6(v / MM_PER_INCH);
         InchThread {
-            tpi: crate::report::r6(if pitch > 0.0 { MM_PER_INCH / pitch } else { 0.0 }),
+            tpi: crate::report::r6(if pitch > 0.0 {
+                MM_PER_INCH / pitch
+            } else {
+                0.0
+            }),
             major_diameter_in: i(major),
             pitch_diameter_in: i(pitch_dia),
             minor_diameter_in: i(minor),
@@ -107,6 +111,9 @@ mod tests {
         );
         assert_eq!(inch.pitch(4.2333, 4, false), "4.2333 mm (0.16667 in)");
         let t = InchThread::of(50.8, 49.425, 48.203, 25.4 / 12.0, 25.4 / 12.0);
-        assert_eq!((t.tpi, t.major_diameter_in, t.lead_in), (12.0, 2.0, 0.083333));
+        assert_eq!(
+            (t.tpi, t.major_diameter_in, t.lead_in),
+            (12.0, 2.0, 0.083333)
+        );
     }
 }

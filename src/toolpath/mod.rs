@@ -192,7 +192,8 @@ pub(crate) fn lathe_passes(
                 out.blocks.push((m.file.clone(), m.line));
                 out.rpm.push(m.speed.at(pass.x_end.abs()));
                 out.cycle.push(m.cycle);
-                out.tool_words.push(m.tool_word.as_deref().map(str::to_string));
+                out.tool_words
+                    .push(m.tool_word.as_deref().map(str::to_string));
                 out.passes.push(pass);
             }
             continue;
@@ -251,7 +252,8 @@ pub(crate) fn lathe_passes(
         out.rpm
             .push(m.speed.at(pass.x_start.abs().min(pass.x_end.abs())));
         out.cycle.push(m.cycle);
-        out.tool_words.push(m.tool_word.as_deref().map(str::to_string));
+        out.tool_words
+            .push(m.tool_word.as_deref().map(str::to_string));
         out.passes.push(pass);
     }
     Ok(out)

@@ -292,19 +292,29 @@ fn every_tool_is_named_as_the_program_writes_it() {
                 texts.push(std::fs::read_to_string(&p).unwrap_or_default());
             }
         }
-        let lathe = tp.moves.iter().map(|m| (m.line, m.tool, m.tool_word.clone()));
-        let mill = tp.mill.iter().map(|m| (m.line, m.tool, m.tool_word.clone()));
+        let lathe = tp
+            .moves
+            .iter()
+            .map(|m| (m.line, m.tool, m.tool_word.clone()));
+        let mill = tp
+            .mill
+            .iter()
+            .map(|m| (m.line, m.tool, m.tool_word.clone()));
         let mut any = false;
         for (line, tool, word) in lathe.chain(mill) {
             let Some(tool) = tool else {
                 if word.is_some() {
-                    failures.push(format!("{folder}/{name}:{line}: a word {word:?} without a tool"));
+                    failures.push(format!(
+                        "{folder}/{name}:{line}: a word {word:?} without a tool"
+                    ));
                 }
                 continue;
             };
             any = true;
             let Some(word) = word else {
-                failures.push(format!("{folder}/{name}:{line}: tool {tool} without its word"));
+                failures.push(format!(
+                    "{folder}/{name}:{line}: tool {tool} without its word"
+                ));
                 continue;
             };
             named += 1;
@@ -328,13 +338,18 @@ fn every_tool_is_named_as_the_program_writes_it() {
                 }
             };
             if !number {
-                failures.push(format!("{folder}/{name}:{line}: `{word}` is not tool {tool}"));
+                failures.push(format!(
+                    "{folder}/{name}:{line}: `{word}` is not tool {tool}"
+                ));
             }
         }
         programs_with_tools += usize::from(any);
     });
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    assert!(programs_with_tools >= 60, "{programs_with_tools} programs with tools");
+    assert!(
+        programs_with_tools >= 60,
+        "{programs_with_tools} programs with tools"
+    );
     eprintln!("{named} moves of {programs_with_tools} programs name their tool as written");
 }
 

@@ -154,11 +154,10 @@ impl Interp<'_> {
         let val = |k: &str| w.vals.get(k).copied();
         if let Some((t, _)) = val("T") {
             st.tool = Some(t.round().max(0.0) as u32);
-            st.tool_word = Some(std::sync::Arc::from(
-                w.t_text
-                    .clone()
-                    .unwrap_or_else(|| crate::nc::tool_word(crate::nc::Dialect::Linuxcnc, t)),
-            ));
+            st.tool_word =
+                Some(std::sync::Arc::from(w.t_text.clone().unwrap_or_else(
+                    || crate::nc::tool_word(crate::nc::Dialect::Linuxcnc, t),
+                )));
         }
         if let Some((s, _)) = val("S") {
             st.rpm = Some(s);
