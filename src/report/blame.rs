@@ -222,7 +222,8 @@ fn extreme_of(dev: &Deviation, f: &Finding) -> Option<Extreme> {
         | FindingKind::GrooveWidth
         | FindingKind::ToothWidth
         | FindingKind::MissingFeature
-        | FindingKind::SplitFeature => worst(td),
+        | FindingKind::SplitFeature
+        | FindingKind::PitchDiameter => worst(td),
         _ => None,
     }
 }

@@ -21,6 +21,7 @@ fn groupable(f: &Finding) -> bool {
             | K::ToothWidth
             | K::MissingFeature
             | K::SplitFeature
+            | K::PitchDiameter
             | K::FlankInterference
     ) && f.turn.is_some();
     let has_source = (f.file.is_some() && f.line.is_some()) || f.key.is_some();
