@@ -6,7 +6,10 @@
 //! made, the job file's key (`pass[2]`, `thread.z_start`).
 //!
 //! The report's per-turn measurement findings (lead, widths, missing and split features)
-//! are blamed at their turn's worst deviation: the place the turn is most off.
+//! are blamed at their turn's worst deviation: the place the turn is most off; where the
+//! turn's own surface is within the tolerance, its width is off because a neighbour's
+//! groove is (another start's, one turn on either side), and it goes to that worst
+//! deviation.
 
 use crate::analysis::compare::{Deviation, Extreme, TurnDeviation};
 use crate::analysis::findings::{Finding, FindingKind};
@@ -16,6 +19,7 @@ use crate::kernel::sweep::{sweep_column, Column};
 use crate::kernel::turn::envelope;
 use crate::model::stock::Surface;
 use crate::model::thread::{Flank, Side};
+use std::fmt::Write as _;
 
 /// What cut a dexel last to its final depth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -206,9 +210,29 @@ fn worst(td: &TurnDeviation) -> Option<Extreme> {
 }
 
 /// The exact extreme a deviation finding reports (its turn and flank's), or the turn's
-/// worst for the turn's measurement findings.
-fn extreme_of(dev: &Deviation, f: &Finding) -> Option<Extreme> {
-    let td = dev.turns.get(&(f.start?, f.turn?))?;
+/// worst for the turn's measurement findings: where that is within `tol`, the worst of
+/// the turns of every start within one turn of it beyond `tol` (the first among equals).
+fn extreme_of(dev: &Deviation, f: &Finding, tol: f64) -> Option<Extreme> {
+    let (start, turn) = (f.start?, f.turn?);
+    let td = dev.turns.get(&(start, turn))?;
+    let near = || {
+        let own = worst(td);
+        if own.is_some_and(|e| e.value > tol) {
+            return own;
+        }
+        let mut best: Option<Extreme> = None;
+        for e in dev
+            .turns
+            .iter()
+            .filter(|((_, n), _)| n.abs_diff(turn) <= 1)
+            .filter_map(|(_, t)| worst(t))
+        {
+            if e.value > tol && best.is_none_or(|b| e.value > b.value) {
+                best = Some(e);
+            }
+        }
+        best.or(own)
+    };
     match f.kind {
         FindingKind::Gouge | FindingKind::Leftover => {
             let k = Flank::ALL.iter().position(|&x| Some(x) == f.flank)?;
@@ -223,7 +247,7 @@ fn extreme_of(dev: &Deviation, f: &Finding) -> Option<Extreme> {
         | FindingKind::ToothWidth
         | FindingKind::MissingFeature
         | FindingKind::SplitFeature
-        | FindingKind::PitchDiameter => worst(td),
+        | FindingKind::PitchDiameter => near(),
         _ => None,
     }
 }
@@ -261,12 +285,13 @@ pub(crate) fn locate(job: &Job, dev: &Deviation, findings: &mut [Finding]) {
             continue;
         }
         // What made it: the pass a check is about, else the dexel's cutter.
-        let maker = match f.pass {
-            Some(p) if p >= 1 && !matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover) => {
-                Some(Maker::Pass(p - 1))
-            }
-            _ => {
-                let at = extreme_of(dev, f)
+        let check = f.pass.filter(|&p| {
+            p >= 1 && !matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover)
+        });
+        let maker = match check {
+            Some(p) => Some(Maker::Pass(p - 1)),
+            None => {
+                let at = extreme_of(dev, f, job.sim.tolerance)
                     .map(|e| (e.theta, e.z))
                     .or_else(|| match f.kind {
                         FindingKind::FlankInterference => {
@@ -280,6 +305,10 @@ pub(crate) fn locate(job: &Job, dev: &Deviation, findings: &mut [Finding]) {
         if let Some(m) = maker {
             if let Maker::Pass(k) = m {
                 f.pass.get_or_insert(k + 1);
+                // The pass that cut (or left) the dexel, and its tool as written.
+                if check.is_none() {
+                    let _ = write!(f.message, ", pass {} with {}", k + 1, job.pass_tool_name(k));
+                }
             }
             let (block, key) = source_of(job, m);
             if let Some((file, line)) = block {

@@ -511,7 +511,7 @@ impl Report {
         );
         let loc = |l: &Option<Location>| match l {
             Some(l) => format!(
-                "turn {} {}{}, {} deg, z {}",
+                "turn {} {}{}, {} deg, {}",
                 l.turn,
                 l.flank,
                 if matches!(l.flank, "left" | "right") {
