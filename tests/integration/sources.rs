@@ -4,7 +4,7 @@
 //! the job read) or the job's key (a table the job file has); the places the hand
 //! derivations give are checked; every SARIF result has a physical location.
 
-use crate::support::{root, scene_text, scenes};
+use crate::support::{debug_shape, root, scene_text, scenes};
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -356,25 +356,44 @@ fn each_single_mistake_gives_one_error_at_its_block() {
     assert!(g76.len() + two.len() >= 12);
 }
 
-/// Rust's debug formatting in a text a person reads: `Some(..)`, `None`, `Ok(..)`,
-/// `Err(..)`, a struct's `{ field: .. }`, a list `[1, 2]` of a `Vec`.
-fn debug_shape(s: &str) -> Option<&'static str> {
-    let words = ["Some(", "Ok(", "Err(", "None", " { ", "\\\""];
-    words.into_iter().find(|w| {
-        s.match_indices(w).any(|(i, _)| {
-            // `None` as a word, not inside another one.
-            *w != "None"
-                || !s[i + 4..]
-                    .chars()
-                    .next()
-                    .is_some_and(|c| c.is_alphanumeric())
-        })
-    })
+/// Every job the suites' sources tests run: the scenes, the crash jobs (both programs),
+/// the M30x2 gauge jobs, the two-start G92 job: (name, folder, job text).
+fn all_jobs() -> Vec<(String, std::path::PathBuf, String)> {
+    let mut v: Vec<_> = scenes()
+        .into_iter()
+        .map(|s| (s.clone(), root().join("scenes").join(&s), scene_text(&s)))
+        .collect();
+    for case in [
+        "first-cut-too-deep",
+        "g76-first-block-missing",
+        "rapid-below-crest",
+        "thread-into-shoulder",
+    ] {
+        let dir = root().join("tests/data/crash").join(case);
+        let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+        for program in ["crash.nc", "fixed.nc"] {
+            let t = text.replace("crash.nc", program);
+            v.push((format!("{case}/{program}"), dir.clone(), t));
+        }
+    }
+    let dir = root().join("tests/data/gauge");
+    let text = std::fs::read_to_string(dir.join("m30x2.toml")).unwrap();
+    for program in ["O1001.NC", "O1002.NC"] {
+        let t = text.replace("O1001.NC", program);
+        v.push((format!("gauge {program}"), dir.clone(), t));
+    }
+    let dir = root().join("tests/data/sources/two-start-g92");
+    let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+    v.push(("two-start-g92".into(), dir, text));
+    v
 }
 
-/// No message of any scene's report (findings, summary) and no diagnostic of the NC corpus
-/// (`tests/data/nc`: the reviewed `*.moves` hold every warning and error the interpreter
-/// gives, equal to its output by `nc_data`) has Rust's debug formatting.
+/// No message of any job's report (findings, summary: the scenes, the crash, gauge and
+/// two-start jobs) and no diagnostic of the NC corpus (`tests/data/nc`: the reviewed
+/// `*.moves` hold every warning and error the interpreter gives, equal to its output by
+/// `nc_data`) has Rust's debug formatting (the job errors of the hostile and robust tests
+/// are checked there, `support::no_debug_text`). A tool a message names (`T0303`,
+/// `T="NAME"`) stands in the program as written.
 #[test]
 fn no_message_has_debug_formatting() {
     for (w, shape) in [
@@ -382,14 +401,39 @@ fn no_message_has_debug_formatting() {
         ("tool T0202", false),
         ("None", true),
         ("Nonexistent", false),
+        ("not `{ x = 0 }`", false),
+        ("Inner { x: 1 }", true),
     ] {
         assert_eq!(debug_shape(w).is_some(), shape, "{w}");
     }
-    for scene in scenes() {
-        let dir = root().join("scenes").join(&scene);
-        let (_, r, _) = run_in(&dir, &scene_text(&scene), &|t| t.to_string());
+    let mut tools_named = 0;
+    for (scene, dir, text) in all_jobs() {
+        let (_, r, read) = run_in(&dir, &text, &|t| t.to_string());
         for f in &r.findings {
             assert_eq!(debug_shape(&f.message), None, "{scene}: {}", f.message);
+            // Every tool word of the message (`T0303`, `T="A B"`) is written in a program.
+            for (i, _) in f.message.match_indices(" T") {
+                let rest = &f.message[i + 1..];
+                let word: String = if rest.starts_with("T=\"") {
+                    let end = rest[3..].find('"').map_or(rest.len(), |k| k + 4);
+                    rest[..end].to_string()
+                } else {
+                    rest.chars()
+                        .take_while(|c| c.is_ascii_alphanumeric())
+                        .collect()
+                };
+                let number = word.len() > 1 && word[1..].chars().all(|c| c.is_ascii_digit());
+                // A job without a program names its `[[tool]]` id (`T1`).
+                if !text.contains("[program]") || !(number || word.starts_with("T=")) {
+                    continue;
+                }
+                tools_named += 1;
+                assert!(
+                    read.values().any(|t| t.to_uppercase().contains(&word.to_uppercase())),
+                    "{scene}: {word} is not written in its program: {}",
+                    f.message
+                );
+            }
         }
         let summary = r.summary_with(&Default::default());
         assert_eq!(debug_shape(&summary), None, "{scene}: {summary}");
@@ -430,6 +474,7 @@ fn no_message_has_debug_formatting() {
         }
     }
     assert!(n > 10, "{n} corpus programs");
+    assert!(tools_named >= 5, "{tools_named} tools named in messages");
 }
 
 /// Quiet success: `simulate -q --png` on every scene, without a desktop session

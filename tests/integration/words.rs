@@ -169,3 +169,66 @@ fn an_undefined_tool_is_named_as_the_program_writes_it() {
         r.summary()
     );
 }
+
+/// Copy a folder's files (and its folders') into `to`.
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let p = e.unwrap().path();
+        let dest = to.join(p.file_name().unwrap());
+        if p.is_dir() {
+            copy_dir(&p, &dest);
+        } else {
+            std::fs::copy(&p, &dest).unwrap();
+        }
+    }
+}
+
+/// Quiet success with every output: `simulate -q` writing the report, the plots, the page,
+/// the model, JUnit and SARIF for every scene (made small), then `check -q` over them all
+/// with the records and `--changed-since` them, without a desktop session
+/// (`XDG_RUNTIME_DIR` unset): nothing on standard error. `simulate` without `--check`
+/// exits 0 whatever the verdict; `check` 0 or 1 (a fail verdict is a result, not an error).
+#[test]
+fn quiet_runs_with_every_output_print_nothing_on_standard_error() {
+    let base = std::env::temp_dir().join(format!("vpcut-words-quiet-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    let mut jobs = Vec::new();
+    for scene in crate::support::scenes() {
+        let dir = base.join(&scene);
+        copy_dir(&root().join("scenes").join(&scene), &dir);
+        std::fs::write(dir.join("job.toml"), crate::support::small(&scene)).unwrap();
+        jobs.push(format!("{scene}/job.toml"));
+    }
+    let vpcut = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .current_dir(&base)
+            .args(args)
+            .env_remove("XDG_RUNTIME_DIR")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap()
+    };
+    for job in &jobs {
+        let out = vpcut(&[
+            "simulate", "-q", job, "--report", "r.json", "--plots", "plots", "--html", "p.html",
+            "--gltf", "m.glb", "--junit", "j.xml", "--sarif", "s.sarif",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{job}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(out.stderr.is_empty(), "{job}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(out.stdout.is_empty(), "{job}: -q prints nothing");
+    }
+    let mut args = vec!["check", "-q", "--junit", "j.xml", "--sarif", "s.sarif", "--report-dir", "rec"];
+    args.extend(jobs.iter().map(String::as_str));
+    for round in 0..2 {
+        let out = vpcut(&args);
+        assert!(matches!(out.status.code(), Some(0 | 1)), "round {round}: {:?}", out.status);
+        assert!(out.stderr.is_empty(), "round {round}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(out.stdout.is_empty());
+        // The second round carries every job from the first's records.
+        args.splice(1..1, ["--changed-since", "rec"]);
+    }
+    let junit = std::fs::read_to_string(base.join("j.xml")).unwrap();
+    assert_eq!(junit.matches("unchanged_since").count(), jobs.len());
+    let _ = std::fs::remove_dir_all(&base);
+}
