@@ -91,11 +91,16 @@ pub(crate) fn maker_at(job: &Job, theta: f64, z: f64, dz: f64, reach: f64) -> Op
             cuts.push((Maker::Pass(k), v));
         }
     }
+    deepest(&cuts).or_else(|| nearest_pass(job, c, reach))
+}
+
+/// Of the cuts `(maker, signed depth)`, in order, the first within [`SAME_CUT_MM`] of the
+/// deepest.
+fn deepest(cuts: &[(Maker, f64)]) -> Option<Maker> {
     let deepest = cuts.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
     cuts.iter()
         .find(|c| c.1 <= deepest + SAME_CUT_MM)
         .map(|c| c.0)
-        .or_else(|| nearest_pass(job, c, reach))
 }
 
 /// A milling job's move that made the dexel of column `c` (one cell): the deepest of each
@@ -107,18 +112,17 @@ fn mill_maker(job: &Job, c: Column, reach: f64) -> Option<Maker> {
     let cut = |q: &mut [f32], col: Column, m: usize| {
         mill_column_by(q, col, &mj.path, m, &mj.cutters)
     };
-    let mut best: Option<(usize, f64)> = None;
+    let mut cuts: Vec<(Maker, f64)> = Vec::new();
     let mut col = [0f32; 1];
     for m in 0..n_moves {
         col[0] = 0.0;
         cut(&mut col, c, m);
         let v = f64::from(col[0]);
-        if v < 0.0 && best.is_none_or(|b| v < b.1 - SAME_CUT_MM) {
-            best = Some((m, v));
+        if v < 0.0 {
+            cuts.push((Maker::Mill(m), v));
         }
     }
-    best.map(|b| Maker::Mill(b.0))
-        .or_else(|| nearest(c, reach, n_moves, &cut).map(Maker::Mill))
+    deepest(&cuts).or_else(|| nearest(c, reach, n_moves, &cut).map(Maker::Mill))
 }
 
 /// The pass whose cut comes nearest along the axis to a dexel no pass cut (within `reach`
