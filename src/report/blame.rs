@@ -109,9 +109,8 @@ fn deepest(cuts: &[(Maker, f64)]) -> Option<Maker> {
 fn mill_maker(job: &Job, c: Column, reach: f64) -> Option<Maker> {
     let mj = job.mill.as_ref()?;
     let n_moves = mj.path.moves.len();
-    let cut = |q: &mut [f32], col: Column, m: usize| {
-        mill_column_by(q, col, &mj.path, m, &mj.cutters)
-    };
+    let cut =
+        |q: &mut [f32], col: Column, m: usize| mill_column_by(q, col, &mj.path, m, &mj.cutters);
     let mut cuts: Vec<(Maker, f64)> = Vec::new();
     let mut col = [0f32; 1];
     for m in 0..n_moves {
@@ -289,9 +288,9 @@ pub(crate) fn locate(job: &Job, dev: &Deviation, findings: &mut [Finding]) {
             continue;
         }
         // What made it: the pass a check is about, else the dexel's cutter.
-        let check = f.pass.filter(|&p| {
-            p >= 1 && !matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover)
-        });
+        let check = f
+            .pass
+            .filter(|&p| p >= 1 && !matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover));
         let maker = match check {
             Some(p) => Some(Maker::Pass(p - 1)),
             None => {

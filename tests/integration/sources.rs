@@ -312,16 +312,72 @@ fn each_single_mistake_gives_one_error_at_its_block() {
     assert!(fixed.lines().nth(8).unwrap().starts_with("N50 G76 X27.546"));
     use FindingKind::{Gouge, Hand, Leftover, RapidCut};
     let g76: &[Mistake] = &[
-        ("final depth short", "X27.546", "X27.8", Some(Leftover), 9, Some(0.127), None),
-        ("final depth too deep", "X27.546", "X27.3", Some(Gouge), 9, Some(0.123), None),
-        ("finishing pass too deep", "X27.546", "X27.4", Some(Gouge), 9, Some(0.073), None),
+        (
+            "final depth short",
+            "X27.546",
+            "X27.8",
+            Some(Leftover),
+            9,
+            Some(0.127),
+            None,
+        ),
+        (
+            "final depth too deep",
+            "X27.546",
+            "X27.3",
+            Some(Gouge),
+            9,
+            Some(0.123),
+            None,
+        ),
+        (
+            "finishing pass too deep",
+            "X27.546",
+            "X27.4",
+            Some(Gouge),
+            9,
+            Some(0.073),
+            None,
+        ),
         ("lead too long", "F2.0", "F2.1", None, 9, None, None),
         ("lead too short", "F2.0", "F1.5", None, 9, None, None),
-        ("start point (phase) off", "X32.0 Z5.0", "X32.0 Z5.5", None, 9, None, None),
-        ("start point under the bar", "X32.0 Z5.0", "X29.0 Z5.0", Some(RapidCut), 9, Some(0.5), None),
+        (
+            "start point (phase) off",
+            "X32.0 Z5.0",
+            "X32.0 Z5.5",
+            None,
+            9,
+            None,
+            None,
+        ),
+        (
+            "start point under the bar",
+            "X32.0 Z5.0",
+            "X29.0 Z5.0",
+            Some(RapidCut),
+            9,
+            Some(0.5),
+            None,
+        ),
         ("spindle reversed", "M03", "M04", Some(Hand), 9, None, None),
-        ("thread too short", "Z-39.5", "Z-20.0", Some(Leftover), 9, None, None),
-        ("a taper by mistake", "Z-39.5 P1227", "Z-39.5 R-0.5 P1227", Some(Gouge), 9, None, None),
+        (
+            "thread too short",
+            "Z-39.5",
+            "Z-20.0",
+            Some(Leftover),
+            9,
+            None,
+            None,
+        ),
+        (
+            "a taper by mistake",
+            "Z-39.5 P1227",
+            "Z-39.5 R-0.5 P1227",
+            Some(Gouge),
+            9,
+            None,
+            None,
+        ),
         (
             "rapid through the bar",
             "N60 G00 X100.0 Z100.0",
@@ -331,15 +387,35 @@ fn each_single_mistake_gives_one_error_at_its_block() {
             Some(1.0),
             None,
         ),
-        ("wrong insert", "N20 T0303", "N20 T0505", None, 9, None, Some("T0505")),
-        ("wrong offset", "N20 T0303", "N20 T0304", Some(Leftover), 9, Some(0.1), Some("T0304")),
+        (
+            "wrong insert",
+            "N20 T0303",
+            "N20 T0505",
+            None,
+            9,
+            None,
+            Some("T0505"),
+        ),
+        (
+            "wrong offset",
+            "N20 T0303",
+            "N20 T0304",
+            Some(Leftover),
+            9,
+            Some(0.1),
+            Some("T0304"),
+        ),
     ];
     one_error_each(&dir, &text, &fixed, "crash.nc", g76);
 
     let dir = root().join("tests/data/sources/two-start-g92");
     let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
     let program = std::fs::read_to_string(dir.join("two-start.nc")).unwrap();
-    assert!(program.lines().nth(18).unwrap().starts_with("N140 X27.546 Q180000"));
+    assert!(program
+        .lines()
+        .nth(18)
+        .unwrap()
+        .starts_with("N140 X27.546 Q180000"));
     let two: &[Mistake] = &[
         (
             "start 2's finishing block missing",
@@ -350,7 +426,15 @@ fn each_single_mistake_gives_one_error_at_its_block() {
             Some(0.1269),
             None,
         ),
-        ("start 2's start angle Q off", "Q180000", "Q171000", Some(Gouge), 19, Some(0.0866), None),
+        (
+            "start 2's start angle Q off",
+            "Q180000",
+            "Q171000",
+            Some(Gouge),
+            19,
+            Some(0.0866),
+            None,
+        ),
     ];
     one_error_each(&dir, &text, &program, "two-start.nc", two);
     assert!(g76.len() + two.len() >= 12);
@@ -414,8 +498,8 @@ fn no_message_has_debug_formatting() {
             // Every tool word of the message (`T0303`, `T="A B"`) is written in a program.
             for (i, _) in f.message.match_indices(" T") {
                 let rest = &f.message[i + 1..];
-                let word: String = if rest.starts_with("T=\"") {
-                    let end = rest[3..].find('"').map_or(rest.len(), |k| k + 4);
+                let word: String = if let Some(name) = rest.strip_prefix("T=\"") {
+                    let end = name.find('"').map_or(rest.len(), |k| k + 4);
                     rest[..end].to_string()
                 } else {
                     rest.chars()
@@ -429,7 +513,8 @@ fn no_message_has_debug_formatting() {
                 }
                 tools_named += 1;
                 assert!(
-                    read.values().any(|t| t.to_uppercase().contains(&word.to_uppercase())),
+                    read.values()
+                        .any(|t| t.to_uppercase().contains(&word.to_uppercase())),
                     "{scene}: {word} is not written in its program: {}",
                     f.message
                 );

@@ -138,8 +138,8 @@ fn an_undefined_tool_is_named_as_the_program_writes_it() {
             .map(|t| t.replace("T0606", "T0505"))
     };
     let e = Job::from_toml_with(&scene_text("seed003-g76-2in-12tpi"), "job.toml", &load)
-        .err()
-        .expect("tool 5 is not in the job")
+        .map(|_| ())
+        .expect_err("tool 5 is not in the job")
         .to_string();
     assert!(e.contains("threading with T0505 (id 5 in [[tool]])"), "{e}");
 
@@ -151,8 +151,8 @@ fn an_undefined_tool_is_named_as_the_program_writes_it() {
             .map(|t| t.replace("G90 T1", "G90 T=\"GEW_AUSSEN_3.0\" D1"))
     };
     let e = Job::from_toml_with(&text, "job.toml", &load)
-        .err()
-        .expect("no tool 1000 in the job")
+        .map(|_| ())
+        .expect_err("no tool 1000 in the job")
         .to_string();
     assert!(
         e.contains("threading with T=\"GEW_AUSSEN_3.0\" D1 (id 1000 in [[tool]]"),
@@ -214,16 +214,42 @@ fn quiet_runs_with_every_output_print_nothing_on_standard_error() {
             "simulate", "-q", job, "--report", "r.json", "--plots", "plots", "--html", "p.html",
             "--gltf", "m.glb", "--junit", "j.xml", "--sarif", "s.sarif",
         ]);
-        assert_eq!(out.status.code(), Some(0), "{job}: {}", String::from_utf8_lossy(&out.stderr));
-        assert!(out.stderr.is_empty(), "{job}: {}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{job}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            out.stderr.is_empty(),
+            "{job}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         assert!(out.stdout.is_empty(), "{job}: -q prints nothing");
     }
-    let mut args = vec!["check", "-q", "--junit", "j.xml", "--sarif", "s.sarif", "--report-dir", "rec"];
+    let mut args = vec![
+        "check",
+        "-q",
+        "--junit",
+        "j.xml",
+        "--sarif",
+        "s.sarif",
+        "--report-dir",
+        "rec",
+    ];
     args.extend(jobs.iter().map(String::as_str));
     for round in 0..2 {
         let out = vpcut(&args);
-        assert!(matches!(out.status.code(), Some(0 | 1)), "round {round}: {:?}", out.status);
-        assert!(out.stderr.is_empty(), "round {round}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            matches!(out.status.code(), Some(0 | 1)),
+            "round {round}: {:?}",
+            out.status
+        );
+        assert!(
+            out.stderr.is_empty(),
+            "round {round}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         assert!(out.stdout.is_empty());
         // The second round carries every job from the first's records.
         args.splice(1..1, ["--changed-since", "rec"]);
