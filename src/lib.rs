@@ -107,6 +107,6 @@ pub use output::tool::tool_mesh;
 pub use pipeline::{plan_grid, simulate, simulate_report, Outcome, SimError, SimOptions};
 pub use report::{
     CycleTimeInfo, Extent, Finding, FindingCounts, FindingKind, GaugeElementInfo, GaugeInfo,
-    GaugeLimits, InchView, InputFile, LimitPair, OverWires, Painter, PlacementInfo, Range, Report,
-    SummaryStyle, TaperInfo, Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
+    GaugeLimits, InchThread, InchView, InputFile, LimitPair, OverWires, Painter, PlacementInfo,
+    Range, Report, SummaryStyle, TaperInfo, Tone, ToolTime, TurnRow, Verdict, SCHEMA, VERSION,
 };

@@ -15,7 +15,7 @@ mod cli;
 
 use anyhow::Context as _;
 use clap::{Parser, Subcommand};
-use cli::ci::{self, Case, Checked, Failed, Place};
+use cli::ci::{self, Case, Checked, Place};
 use cli::count::parse_dexels;
 use cli::html::Html;
 use cli::inputs::{self, Inputs};
@@ -41,7 +41,7 @@ enum Command {
     Simulate(Box<SimulateArgs>),
     /// Verify many jobs in one call (in parallel): one line per job with its verdict, worst
     /// gouge and leftover and time; exit 1 if any fails, 2 if any cannot be read.
-    Check(CheckArgs),
+    Check(cli::check::CheckArgs),
     /// Render a model written by `simulate --gltf` (headless, wgpu) to PNG pictures.
     Render(RenderArgs),
     /// Interpret an NC program and print its moves (CSV by default), as the control would
@@ -393,7 +393,7 @@ impl CiArgs {
     /// Write them.
     fn write(
         slots: (Option<Slot>, Option<Slot>),
-        cases: &[Case],
+        cases: &[&Case],
         outs: &mut Outputs,
     ) -> anyhow::Result<()> {
         if let Some(slot) = slots.0 {
@@ -404,32 +404,6 @@ impl CiArgs {
         }
         Ok(())
     }
-}
-
-#[derive(clap::Args)]
-struct CheckArgs {
-    /// The job files (TOML).
-    #[arg(required = true, value_name = "JOB")]
-    jobs: Vec<PathBuf>,
-    /// Memory budget per job, in dexels of 4 bytes (see `simulate --max-dexels`).
-    #[arg(long, value_name = "N", value_parser = parse_dexels)]
-    max_dexels: Option<u64>,
-    /// Number of worker threads (default: all cores; at most 4 x the cores).
-    #[arg(long, short = 'j', value_name = "N", value_parser = parse_threads)]
-    threads: Option<usize>,
-    /// Unknown words and codes in the jobs' NC programs are errors, not warnings.
-    #[arg(long)]
-    strict: bool,
-    /// Print nothing but errors.
-    #[arg(long, short = 'q')]
-    quiet: bool,
-    /// Check only shard I of N (`2/4`), for a CI matrix: the jobs sorted by path and dealt
-    /// round robin, so the N shards together check every job once whatever order the
-    /// shell lists them in (see docs/ci-formats.md).
-    #[arg(long, value_name = "I/N", value_parser = cli::shard::parse_shard)]
-    shard: Option<cli::shard::Shard>,
-    #[command(flatten)]
-    ci: CiArgs,
 }
 
 fn main() -> ExitCode {
@@ -508,7 +482,7 @@ fn error_place(e: &anyhow::Error, job: &Path) -> Place {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Simulate(args) => simulate(*args),
-        Command::Check(args) => check(args),
+        Command::Check(args) => cli::check::check(args),
         Command::Render(args) => render(args),
         Command::Toolpath(args) => toolpath(args),
         Command::Plan(args) => plan(args),
@@ -885,11 +859,14 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
             job: args.job.clone(),
             seconds: clock.elapsed().as_secs_f64(),
             result: Ok(Checked {
-                places: places(&report, &args.job, &job_text, &job, &inputs),
-                report: report.clone(),
+                outcome: cli::record::Outcome::of(
+                    &report,
+                    places(&report, &args.job, &job_text, &job, &inputs),
+                ),
+                unchanged_since: None,
             }),
         };
-        CiArgs::write(ci_slots, std::slice::from_ref(&case), &mut outs)?;
+        CiArgs::write(ci_slots, &[&case], &mut outs)?;
     }
     let written = progress.stage("writing", || outs.commit())?;
     if !args.quiet {
@@ -904,171 +881,6 @@ fn simulate(args: SimulateArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::SUCCESS
     })
-}
-
-fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    use rayon::prelude::*;
-    let clock = Instant::now();
-    let mut jobs: Vec<&Path> = args.jobs.iter().map(PathBuf::as_path).collect();
-    if let Some(shard) = args.shard {
-        jobs = cli::shard::select(&jobs, shard);
-    }
-    let mut outs = Outputs::new(&jobs);
-    let slots = args.ci.slots(&mut outs)?;
-    set_threads(args.threads)?;
-    let say = if outs.uses_stdout() {
-        Stream::Stderr
-    } else {
-        Stream::Stdout
-    };
-    let progress = Progress::new(args.quiet);
-    let opts = vpcut::SimOptions {
-        max_dexels: args.max_dexels,
-    };
-    let (cases, read): (Vec<Case>, Vec<Vec<PathBuf>>) =
-        progress.stage(&format!("checking {} jobs", jobs.len()), || {
-            jobs.par_iter()
-                .map(|p| check_one(p, args.strict, &opts))
-                .unzip()
-        });
-    outs.protect(&read.concat())?;
-    CiArgs::write(slots, &cases, &mut outs)?;
-    let written = progress.stage("writing", || outs.commit())?;
-    if !args.quiet {
-        say.write(&check_table(&cases, say, clock.elapsed().as_secs_f64()));
-        for p in written {
-            say.write(&format!("  wrote {}\n", p.display()));
-        }
-    }
-    // The jobs that could not be checked, whatever -q says.
-    for c in &cases {
-        if let Err(e) = &c.result {
-            term::err(&term::diagnostics(&format!("{}\n", e.message)));
-        }
-    }
-    let bad = cases.iter().any(|c| c.result.is_err());
-    let failed = cases
-        .iter()
-        .any(|c| matches!(&c.result, Ok(k) if k.report.verdict == vpcut::Verdict::Fail));
-    Ok(if bad {
-        ExitCode::from(2)
-    } else if failed {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
-    })
-}
-
-/// Read and simulate one job of `vpcut check`; whatever goes wrong is its outcome. Also
-/// the files it read.
-fn check_one(path: &Path, strict: bool, opts: &vpcut::SimOptions) -> (Case, Vec<PathBuf>) {
-    let start = Instant::now();
-    let inputs = Inputs::default();
-    let run = || -> anyhow::Result<Checked> {
-        let (job, text) = load_job(path, strict, &inputs)?;
-        let mut report = vpcut::simulate_report(&job, opts)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        complete_report(&mut report, &inputs);
-        Ok(Checked {
-            places: places(&report, path, &text, &job, &inputs),
-            report,
-        })
-    };
-    let result = run().map_err(|e| Failed {
-        message: error_text(&e),
-        place: error_place(&e, path),
-    });
-    let case = Case {
-        job: path.to_path_buf(),
-        seconds: start.elapsed().as_secs_f64(),
-        result,
-    };
-    (case, inputs.paths())
-}
-
-/// The table of `vpcut check`: one line per job, then the totals.
-fn check_table(cases: &[Case], stream: Stream, wall_s: f64) -> String {
-    use std::fmt::Write as _;
-    let on = stream.colour();
-    let width = cases
-        .iter()
-        .map(|c| c.job.display().to_string().chars().count())
-        .max()
-        .unwrap_or(3)
-        .max(3);
-    let mut s = format!(
-        "{:<width$}  verdict  worst gouge mm  worst leftover mm  errors  warnings  time s\n",
-        "job"
-    );
-    let (mut pass, mut fail, mut bad) = (0, 0, 0);
-    for c in cases {
-        let job = c.job.display().to_string();
-        let pad = " ".repeat(width - job.chars().count());
-        match &c.result {
-            Ok(k) => {
-                let r = &k.report;
-                let tol = r.tolerance_mm;
-                let (word, style) = match r.verdict {
-                    vpcut::Verdict::Pass => {
-                        pass += 1;
-                        ("PASS", term::GREEN)
-                    }
-                    vpcut::Verdict::Fail => {
-                        fail += 1;
-                        ("FAIL", term::RED)
-                    }
-                };
-                let cell = |x: f64, w: usize| {
-                    let text = format!("{:>w$}", readable_mm(x));
-                    if x > tol {
-                        term::paint(on, term::RED, &text)
-                    } else {
-                        text
-                    }
-                };
-                let _ = writeln!(
-                    s,
-                    "{job}{pad}  {}     {}  {}  {:>6}  {:>8}  {:>6.2}",
-                    term::paint(on, style, word),
-                    cell(r.deviation.max_gouge_mm, 14),
-                    cell(r.deviation.max_leftover_mm, 17),
-                    r.finding_counts.errors,
-                    r.finding_counts.warnings,
-                    c.seconds
-                );
-            }
-            Err(_) => {
-                bad += 1;
-                let _ = writeln!(
-                    s,
-                    "{job}{pad}  {}    {:>14}  {:>17}  {:>6}  {:>8}  {:>6.2}",
-                    term::paint(on, term::RED, "ERROR"),
-                    "-",
-                    "-",
-                    "-",
-                    "-",
-                    c.seconds
-                );
-            }
-        }
-    }
-    let _ = writeln!(
-        s,
-        "{} job{}: {pass} pass, {fail} fail, {bad} cannot be checked; {:.2} s in all",
-        cases.len(),
-        if cases.len() == 1 { "" } else { "s" },
-        wall_s
-    );
-    s
-}
-
-/// A length in mm with 4 decimals, or scientific when huge.
-fn readable_mm(x: f64) -> String {
-    if x.abs() >= 1e7 {
-        format!("{x:.3e}")
-    } else {
-        format!("{x:.4}")
-    }
 }
 
 /// About how many bytes a `--gltf-full` model takes per dexel: a vertex (12 bytes of

@@ -264,7 +264,13 @@ pub(crate) fn infeed_rubs(
 
 /// The passes whose chip is over the insert's `max` (an error: the insert breaks) or, where
 /// the pass cut something, under its `min` (a warning: it rubs rather than cuts).
-pub(crate) fn depth_issues(passes: &[Pass], tools: &[Tool], chips: &[Chip]) -> Vec<MachineIssue> {
+/// `names` gives each pass's tool as the program wrote it (`T0202`).
+pub(crate) fn depth_issues(
+    passes: &[Pass],
+    tools: &[Tool],
+    chips: &[Chip],
+    names: &dyn Fn(usize) -> String,
+) -> Vec<MachineIssue> {
     let mut out = Vec::new();
     for (i, (p, c)) in passes.iter().zip(chips).enumerate() {
         let tool = &tools[p.tool];
@@ -278,17 +284,17 @@ pub(crate) fn depth_issues(passes: &[Pass], tools: &[Tool], chips: &[Chip]) -> V
             limit,
             message: if error {
                 format!(
-                    "pass {}: a radial chip of {:.4} mm, over the {limit} mm that tool T{}'s insert stands ([[tool]] max_depth_per_pass)",
+                    "pass {}: a radial chip of {:.4} mm, over the {limit} mm that the insert of {} stands ([[tool]] max_depth_per_pass)",
                     i + 1,
                     c.depth,
-                    tool.id
+                    names(i)
                 )
             } else {
                 format!(
-                    "pass {}: a radial chip of {:.4} mm, under the {limit} mm tool T{}'s insert needs to cut rather than rub ([[tool]] min_depth_per_pass)",
+                    "pass {}: a radial chip of {:.4} mm, under the {limit} mm the insert of {} needs to cut rather than rub ([[tool]] min_depth_per_pass)",
                     i + 1,
                     c.depth,
-                    tool.id
+                    names(i)
                 )
             },
         };

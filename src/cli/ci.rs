@@ -3,13 +3,15 @@
 //! and SARIF 2.1.0 (a `result` for every finding, located in the NC program's line where
 //! the finding comes from one, else in the job file at the table it concerns).
 
+use crate::cli::record::{Outcome, Row};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// A place in a file: 1-based line and column.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Place {
     /// The file, as the user would write its path.
+    #[serde(serialize_with = "path_text")]
     pub(crate) file: PathBuf,
     /// 1-based line.
     pub(crate) line: usize,
@@ -17,14 +19,19 @@ pub(crate) struct Place {
     pub(crate) column: usize,
 }
 
-/// A job that ran.
+/// A path as text (bytes that are not UTF-8 replaced), for a record.
+fn path_text<S: serde::Serializer>(p: &Path, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&p.to_string_lossy())
+}
+
+/// A job that ran, or whose earlier outcome stands (`--changed-since`).
 #[derive(Debug)]
 pub(crate) struct Checked {
-    /// Its report.
-    pub(crate) report: vpcut::Report,
-    /// Where each finding is, in the report's order, and where in the job file it belongs
-    /// when that is elsewhere (SARIF's related location).
-    pub(crate) places: Vec<(Place, Option<Place>)>,
+    /// Its outcome: the verdict and the findings with their places.
+    pub(crate) outcome: Outcome,
+    /// The earlier run's record it was carried from, when the job did not run because
+    /// nothing it reads changed since.
+    pub(crate) unchanged_since: Option<PathBuf>,
 }
 
 /// A job that could not be read or simulated.
@@ -51,7 +58,7 @@ impl Case {
     /// The name a person knows the job by: its name, else its file.
     fn name(&self) -> String {
         match &self.result {
-            Ok(c) if !c.report.job.is_empty() => c.report.job.clone(),
+            Ok(c) if !c.outcome.name.is_empty() => c.outcome.name.clone(),
             _ => self.job.display().to_string(),
         }
     }
@@ -80,34 +87,34 @@ fn xml(s: &str) -> String {
 /// A `testcase` of a suite: a name, its error findings and its warnings.
 struct TestCase<'a> {
     name: String,
-    failures: Vec<&'a vpcut::Finding>,
-    warnings: Vec<&'a vpcut::Finding>,
+    failures: Vec<&'a Row>,
+    warnings: Vec<&'a Row>,
 }
 
 /// The test cases of a report: one per turn (the turn's deviation and measurement
 /// findings), then one per kind of finding that belongs to no turn (machine, program and
 /// milling checks).
-fn test_cases(report: &vpcut::Report) -> Vec<TestCase<'_>> {
-    let multi = report.thread.starts > 1;
-    let mut cases: Vec<TestCase<'_>> = report
+fn test_cases(outcome: &Outcome) -> Vec<TestCase<'_>> {
+    let multi = outcome.starts > 1;
+    let mut cases: Vec<TestCase<'_>> = outcome
         .turns
         .iter()
-        .map(|t| TestCase {
+        .map(|&(turn, start)| TestCase {
             name: if multi {
-                format!("start {} turn {}", t.start, t.turn)
+                format!("start {start} turn {turn}")
             } else {
-                format!("turn {}", t.turn)
+                format!("turn {turn}")
             },
             failures: Vec::new(),
             warnings: Vec::new(),
         })
         .collect();
-    for f in &report.findings {
+    for f in &outcome.findings {
         let turn = f.turn.and_then(|n| {
-            report
+            outcome
                 .turns
                 .iter()
-                .position(|t| t.turn == n && Some(t.start) == f.start.or(Some(t.start)))
+                .position(|&(turn, start)| turn == n && f.start.unwrap_or(start) == start)
         });
         let i = match turn {
             Some(i) => i,
@@ -126,7 +133,7 @@ fn test_cases(report: &vpcut::Report) -> Vec<TestCase<'_>> {
                 }
             }
         };
-        if f.is_error() {
+        if f.error {
             cases[i].failures.push(f);
         } else {
             cases[i].warnings.push(f);
@@ -136,7 +143,7 @@ fn test_cases(report: &vpcut::Report) -> Vec<TestCase<'_>> {
 }
 
 /// JUnit XML for the jobs of a run.
-pub(crate) fn junit(cases: &[Case]) -> String {
+pub(crate) fn junit(cases: &[&Case]) -> String {
     let mut suites = String::new();
     let (mut tests, mut failures, mut errors, mut time) = (0, 0, 0, 0.0);
     for case in cases {
@@ -145,7 +152,7 @@ pub(crate) fn junit(cases: &[Case]) -> String {
         time += case.seconds;
         match &case.result {
             Ok(c) => {
-                let tcs = test_cases(&c.report);
+                let tcs = test_cases(&c.outcome);
                 let failed = tcs.iter().filter(|t| !t.failures.is_empty()).count();
                 tests += tcs.len();
                 failures += failed;
@@ -155,16 +162,21 @@ pub(crate) fn junit(cases: &[Case]) -> String {
                     tcs.len(),
                     case.seconds
                 );
-                let _ = writeln!(
+                let _ = write!(
                     suites,
-                    "    <properties>\n      <property name=\"verdict\" value=\"{}\"/>\n      <property name=\"tolerance_mm\" value=\"{}\"/>\n      <property name=\"vpcut_version\" value=\"{}\"/>\n    </properties>",
-                    match c.report.verdict {
-                        vpcut::Verdict::Pass => "pass",
-                        vpcut::Verdict::Fail => "fail",
-                    },
-                    c.report.tolerance_mm,
-                    xml(c.report.vpcut_version)
+                    "    <properties>\n      <property name=\"verdict\" value=\"{}\"/>\n      <property name=\"tolerance_mm\" value=\"{}\"/>\n      <property name=\"vpcut_version\" value=\"{}\"/>\n",
+                    if c.outcome.fail { "fail" } else { "pass" },
+                    c.outcome.tolerance_mm,
+                    xml(vpcut::VERSION)
                 );
+                if let Some(since) = &c.unchanged_since {
+                    let _ = writeln!(
+                        suites,
+                        "      <property name=\"unchanged_since\" value=\"{}\"/>",
+                        xml(&since.display().to_string())
+                    );
+                }
+                suites.push_str("    </properties>\n");
                 for t in &tcs {
                     let _ = write!(
                         suites,
@@ -177,18 +189,15 @@ pub(crate) fn junit(cases: &[Case]) -> String {
                     }
                     suites.push_str(">\n");
                     // Where a finding is: its place, as SARIF gives it.
-                    let at = |f: &vpcut::Finding| {
-                        let i = c.report.findings.iter().position(|g| std::ptr::eq(g, f));
-                        i.and_then(|i| c.places.get(i))
-                            .map_or(String::new(), |(p, _)| {
-                                format!("{}:{}:{}: ", p.file.display(), p.line, p.column)
-                            })
+                    let at = |f: &Row| {
+                        let p = &f.place;
+                        format!("{}:{}:{}: ", p.file.display(), p.line, p.column)
                     };
                     for f in &t.failures {
                         let _ = writeln!(
                             suites,
                             "      <failure type=\"{}\" message=\"{}\">{}{}</failure>",
-                            xml(f.kind.name()),
+                            xml(&f.kind),
                             xml(&f.message),
                             xml(&at(f)),
                             xml(&f.message)
@@ -271,7 +280,7 @@ pub(crate) fn uri(path: &Path) -> String {
 
 /// SARIF 2.1.0 for the jobs of a run: one run, a result per finding (and per job that
 /// could not be read).
-pub(crate) fn sarif(cases: &[Case]) -> String {
+pub(crate) fn sarif(cases: &[&Case]) -> String {
     use serde_json::json;
     let rules = rules();
     let rule_index = |kind: &str| {
@@ -294,14 +303,14 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
         let job = case.job.display().to_string();
         match &case.result {
             Ok(c) => {
-                for (f, (p, job_place)) in c.report.findings.iter().zip(&c.places) {
-                    let i = rule_index(f.kind.name());
+                for f in &c.outcome.findings {
+                    let i = rule_index(&f.kind);
                     let mut props = serde_json::Map::new();
                     props.insert("job".into(), json!(job));
                     for (k, v) in [
                         ("turn", json!(f.turn)),
                         ("start", json!(f.start)),
-                        ("flank", json!(f.flank.map(|f| f.name()))),
+                        ("flank", json!(f.flank)),
                         ("pass", json!(f.pass)),
                         ("angle_deg", json!(f.angle_deg)),
                         ("z_mm", json!(f.z_mm)),
@@ -315,15 +324,18 @@ pub(crate) fn sarif(cases: &[Case]) -> String {
                     if let Some(k) = &f.key {
                         props.insert("job_key".into(), json!(k));
                     }
+                    if let Some(since) = &c.unchanged_since {
+                        props.insert("unchanged_since".into(), json!(since.display().to_string()));
+                    }
                     let mut result = json!({
                         "ruleId": rules[i].0,
                         "ruleIndex": i,
-                        "level": if f.is_error() { "error" } else { "warning" },
+                        "level": if f.error { "error" } else { "warning" },
                         "message": { "text": format!("{}: {}", case.name(), f.message) },
-                        "locations": location(p),
+                        "locations": location(&f.place),
                         "properties": props,
                     });
-                    if let Some(j) = job_place {
+                    if let Some(j) = &f.job_place {
                         let mut related = physical(j);
                         related["id"] = json!(0);
                         related["message"] = json!({ "text": "the job" });

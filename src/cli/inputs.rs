@@ -74,6 +74,9 @@ pub(crate) struct Read {
 #[derive(Debug, Default)]
 pub(crate) struct Inputs {
     files: RefCell<Vec<Read>>,
+    /// The files the loader looked for and did not find (a subprogram searched for in
+    /// several folders): a file there later may change the job's outcome.
+    absent: RefCell<Vec<PathBuf>>,
     /// Program lookups made (`holder` calls): the tests count them.
     scans: std::cell::Cell<usize>,
 }
@@ -97,10 +100,17 @@ impl Inputs {
     pub(crate) fn loader<'a>(&'a self, dir: &'a Path) -> impl Fn(&str) -> Option<String> + 'a {
         move |name: &str| {
             let path = dir.join(name);
-            if !std::fs::metadata(&path).is_ok_and(|m| m.is_file()) {
+            let bytes = std::fs::metadata(&path)
+                .is_ok_and(|m| m.is_file())
+                .then(|| std::fs::read(&path).ok())
+                .flatten();
+            let Some(bytes) = bytes else {
+                let mut absent = self.absent.borrow_mut();
+                if !absent.contains(&path) {
+                    absent.push(path);
+                }
                 return None;
-            }
-            let bytes = std::fs::read(&path).ok()?;
+            };
             let text = decode_program(&bytes);
             let role = if name.to_ascii_lowercase().ends_with(".obj") {
                 "tool"
@@ -163,6 +173,24 @@ impl Inputs {
     /// The paths of the files read.
     pub(crate) fn paths(&self) -> Vec<PathBuf> {
         self.files.borrow().iter().map(|r| r.path.clone()).collect()
+    }
+
+    /// The files read, for a record of `check --report-dir`: role, path as read, hash.
+    pub(crate) fn hashed(&self) -> Vec<crate::cli::record::Hashed> {
+        self.files
+            .borrow()
+            .iter()
+            .map(|r| crate::cli::record::Hashed {
+                role: r.role.to_string(),
+                path: r.path.to_string_lossy().into_owned(),
+                sha256: crate::cli::record::sha256(&r.bytes),
+            })
+            .collect()
+    }
+
+    /// The files looked for and not found, in order.
+    pub(crate) fn absent(&self) -> Vec<PathBuf> {
+        self.absent.borrow().clone()
     }
 
     /// The files for the report, with their hashes.
@@ -246,6 +274,7 @@ mod tests {
             sync_angle_deg: None,
             chained: false,
             tool: None,
+            tool_word: None,
             spindle: vpcut::Spindle::Cw,
             arc: None,
             speed: Default::default(),

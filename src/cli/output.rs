@@ -222,9 +222,13 @@ impl Outputs {
         match &mut e.dest {
             Dest::Stdout(b) | Dest::Direct { bytes: b, .. } => b.extend_from_slice(bytes),
             Dest::Replace { file, .. } => {
-                let f = file.as_mut().expect("an open temporary");
+                // Written whole, synced and closed: a run of many outputs (`check
+                // --report-dir`, a record a job) holds no more open files than it writes
+                // at once.
+                let mut f = file.take().expect("an open temporary: one put a slot");
                 f.write_all(bytes)
                     .and_then(|()| f.flush())
+                    .and_then(|()| f.sync_all())
                     .with_context(|| format!("cannot write {shown}"))?;
             }
         }
@@ -262,9 +266,8 @@ impl Outputs {
                     file,
                     permissions,
                 } => {
-                    let f = file.take().expect("an open temporary");
-                    f.sync_all().map_err(cannot)?;
-                    drop(f);
+                    // `put` synced and closed it.
+                    debug_assert!(file.is_none());
                     if let Some(p) = permissions.take() {
                         // Keep the mode of the file it replaces; failing that is no error.
                         let _ = std::fs::set_permissions(&*tmp, p);

@@ -315,7 +315,7 @@ fn expected(e: &str, value: bool) -> String {
         "a string" | "a borrowed string" => "a string in quotes".into(),
         "a sequence" => "an array [ .. ] (or [[ .. ]] tables)".into(),
         "a map" => "a table".into(),
-        s if s.starts_with("struct ") => "a table { .. }".into(),
+        s if s.starts_with("struct ") => "a table `{ .. }`".into(),
         s if s.starts_with("enum ") => "a name in quotes".into(),
         s => s.to_string(),
     }

@@ -179,6 +179,11 @@ pub struct Job {
     pub pass_rpm: Vec<f64>,
     /// Whether each pass is a threading cycle's (G76, G92, CYCLE97/99, LinuxCNC G76).
     pub(crate) pass_cycle: Vec<bool>,
+    /// The program cut its thread in inches (`nc::Toolpath::inch`).
+    pub(crate) program_inch: bool,
+    /// Each program pass's tool as the program wrote it (`T0202`); `None` for the job's
+    /// own passes ([`Job::pass_tool_name`]).
+    pub(crate) pass_tool_words: Vec<Option<String>>,
     /// A milling job (`[machine] kind = "mill"`): its cutters and path. Its `tools` and
     /// `passes` are empty.
     pub mill: Option<MillJob>,
@@ -219,6 +224,32 @@ pub struct Job {
 }
 
 impl Job {
+    /// Whether the job is an inch job, reported in inches (and threads per inch) beside
+    /// mm: its tolerance class or designation is in inches (`1/2-13 UNC-2A`), its form is
+    /// an inch standard's (`unified`, `acme`), or its program cuts the thread in inches
+    /// (G20/G70, or inch at power-on).
+    pub fn inch(&self) -> bool {
+        use crate::model::tolerance::UnitSystem;
+        self.thread_class
+            .as_ref()
+            .is_some_and(|c| c.units == UnitSystem::Inch)
+            || matches!(self.form, FormName::Unified | FormName::Acme)
+            || self.program_inch
+    }
+
+    /// The tool of pass `i` (0-based) for a message: as the program wrote it (`T0202`,
+    /// `T="GEW_AUSSEN_3.0"`), else the job's `[[tool]]` id as `T<id>`.
+    pub fn pass_tool_name(&self, i: usize) -> String {
+        match self.pass_tool_words.get(i) {
+            Some(Some(w)) => w.clone(),
+            _ => self
+                .passes
+                .get(i)
+                .and_then(|p| self.tools.get(p.tool))
+                .map_or_else(|| "no tool".into(), |t| format!("T{}", t.id)),
+        }
+    }
+
     /// Parse and validate a job. `file` is only used in messages. A job with a `[program]`
     /// needs [`Job::from_toml_with`].
     pub fn from_toml(src: &str, file: &str) -> Result<Job, JobError> {
@@ -281,6 +312,7 @@ impl Job {
                     .map(|t| (t.id, (t.nose_radius, t.tip())))
                     .collect();
                 let path = toolpath::interpret(&program, load).map_err(fail)?;
+                self.program_inch = path.inch;
                 let lathe = toolpath::lathe_passes(
                     &path.moves,
                     &self.tools,
@@ -303,6 +335,8 @@ impl Job {
                 );
                 self.pass_cycle.resize(offset, false);
                 self.pass_cycle.extend(lathe.cycle);
+                self.pass_tool_words.resize(offset, None);
+                self.pass_tool_words.extend(lathe.tool_words);
                 let rpm = self.machine.spindle_rpm;
                 self.pass_rpm
                     .extend(lathe.rpm.into_iter().map(|r| r.unwrap_or(rpm)));
@@ -420,6 +454,8 @@ impl Job {
             explicit_passes: 0,
             pass_rpm: Vec::new(),
             pass_cycle: Vec::new(),
+            pass_tool_words: Vec::new(),
+            program_inch: false,
             program_warnings: Vec::new(),
             plan: None,
             ..self.clone()

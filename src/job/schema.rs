@@ -137,7 +137,7 @@ impl<'de> Deserialize<'de> for RawPitch {
         impl<'de> serde::de::Visitor<'de> for Pitch {
             type Value = RawPitch;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a pitch in mm or a table { first = .., increment = .., last = .. or turns = .. }")
+                f.write_str("a pitch in mm or a table `{ first = .., increment = .., last = .. }` (or `turns = ..` for `last`)")
             }
             fn visit_f64<E>(self, v: f64) -> Result<RawPitch, E> {
                 Ok(RawPitch::Constant(v))

@@ -635,6 +635,25 @@ pub fn mill_column(
     }
 }
 
+/// Cut one free-standing column by move `m` of `path` alone (which move made a dexel:
+/// `report::blame`). `q` holds `q - q_blank` and is cut in place.
+pub(crate) fn mill_column_by(
+    q: &mut [f32],
+    c: crate::kernel::sweep::Column,
+    path: &MillPath,
+    m: usize,
+    cutters: &[Cutter],
+) {
+    let Some(cutter) = path.moves.get(m).and_then(|mv| cutters.get(mv.cutter)) else {
+        return;
+    };
+    let segs = cutter.segments();
+    let ray = MillRay::new(c.theta, c.z0, c.dz, q.len(), c.q_blank, c.surface);
+    let mut hits = Vec::new();
+    ray.hits(path, m, &segs, &mut hits);
+    ray.apply(q, &hits, &segs);
+}
+
 /// A column's ray: its direction, cells and surface.
 struct MillRay {
     sin: f64,

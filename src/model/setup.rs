@@ -50,6 +50,9 @@ pub struct CycleTime {
     pub wait: f64,
     /// Per tool (its T number; `None` before any), in the order of first use (s).
     pub by_tool: Vec<(Option<u32>, f64)>,
+    /// Each of `by_tool`'s tools as the program first wrote it (`T0606`), `None` before
+    /// any T word.
+    pub tool_words: Vec<Option<String>>,
     /// The rapid rate used (mm/min).
     pub rapid_rate: f64,
     /// Whether it is the job's (else [`DEFAULT_RAPID_RATE`]).

@@ -147,6 +147,10 @@ impl Interp<'_> {
                 continue;
             }
             let written = &text[st..c.i];
+            if letter == b'T' && !written.is_empty() && written.bytes().all(|b| b.is_ascii_digit())
+            {
+                w.t_text = Some(format!("T{written}"));
+            }
             if written.contains('.') {
                 w.points.push((letter as char).to_string());
             } else if !written.contains(['#', '[']) {

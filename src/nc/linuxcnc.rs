@@ -439,9 +439,15 @@ impl Interp<'_> {
                 return Err((at, format!("expected a word, found {}", c.here())));
             }
             c.i += 1;
+            let st = c.i;
             let v = self.lc_value(&mut c)?;
             if !v.is_finite() {
                 return Err((at, format!("the {} word's value is {v}", letter as char)));
+            }
+            // The tool as written (`T0505` is tool 505 to rs274, written with its zeros).
+            let written = &c.s[st..c.i];
+            if letter == b'T' && !written.is_empty() && written.iter().all(u8::is_ascii_digit) {
+                w.t_text = Some(format!("T{}", String::from_utf8_lossy(written)));
             }
             let code = |v: f64| -> Result<u32, Fail> {
                 let tenth = (v * 10.0).round();

@@ -231,6 +231,10 @@ pub struct Move {
     pub chained: bool,
     /// Active tool number (T0101 and T1 are tool 1).
     pub tool: Option<u32>,
+    /// The active tool as the program wrote it, for messages: the T word that selected it
+    /// (`T0202`, GSK `T0101`, Okuma `T030303`, LinuxCNC `T3`, Siemens `T="GEW_AUSSEN_3.0"`
+    /// or `T3`, with the D word in force: `T3 D1`); `None` before any T word.
+    pub tool_word: Option<std::sync::Arc<str>>,
     /// Spindle direction.
     pub spindle: Spindle,
     /// Centre and sense of an arc move (`MoveKind::Arc`).
@@ -582,6 +586,9 @@ pub struct Toolpath {
     pub warnings: Vec<Diagnostic>,
     /// The dwells, in execution order.
     pub dwells: Vec<Dwell>,
+    /// A thread move was made in inch units (G20/G70, or inch at power-on): the program
+    /// is an inch program, and its thread is reported in inches beside mm.
+    pub inch: bool,
 }
 
 /// Degrees (as the programs write angles) to radians.
@@ -745,6 +752,7 @@ pub fn interpret_with(
         mill,
         warnings,
         dwells: std::mem::take(&mut m.out.dwells),
+        inch: m.out.inch_threads,
     })
 }
 
@@ -1123,6 +1131,35 @@ struct Words {
     /// an expression; FANUC syntax only): what standard decimal-point input reads in the
     /// least input increment (`units`).
     plain: Vec<String>,
+    /// The T word as written, where it is a plain number or a Siemens tool name (`T0202`,
+    /// `T="NAME"`); else the tool is spelled from its value ([`tool_word`]).
+    t_text: Option<String>,
+}
+
+/// A tool word spelled from its value, as the dialect writes it: FANUC and GSK codes with
+/// an offset in four digits (`T0202`), Okuma's in four or six (`T0101`, `T030303`), a
+/// number alone otherwise (`T3`).
+pub(super) fn tool_word(dialect: Dialect, t: f64) -> String {
+    let n = t.round().max(0.0) as u64;
+    match dialect {
+        Dialect::Fanuc if n >= 100 => format!("T{n:04}"),
+        Dialect::Okuma if n >= 10_000 => format!("T{n:06}"),
+        Dialect::Okuma => format!("T{n:04}"),
+        _ => format!("T{n}"),
+    }
+}
+
+/// A move's tool for a message: as the program wrote it, else `T<n>`, else "no tool".
+impl Move {
+    /// The tool as the program wrote it (`T0202`, `T="GEW_AUSSEN_3.0"`), else its number
+    /// as `T<n>`; "no tool" before any T word.
+    pub fn tool_name(&self) -> String {
+        match (&self.tool_word, self.tool) {
+            (Some(w), _) => w.to_string(),
+            (None, Some(t)) => format!("T{t}"),
+            (None, None) => "no tool".into(),
+        }
+    }
 }
 
 /// What synchronises a thread move to the spindle.

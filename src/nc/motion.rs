@@ -216,15 +216,37 @@ impl Interp<'_> {
             // FANUC/GSK T0305: tool 3 with offset 5 (T0300 cancels the offset).
             let split = self.cfg.dialect == Dialect::Fanuc && t >= 100;
             self.modal.tool = Some(if split { t / 100 } else { t });
+            self.modal.tool_t = Some(
+                w.t_text
+                    .clone()
+                    .unwrap_or_else(|| super::tool_word(self.cfg.dialect, t as f64)),
+            );
             if split {
                 self.call_offset(t % 100, col);
             }
         }
+        let mut d_word = None;
         if self.cfg.dialect == Dialect::Siemens802d {
             // Siemens D5: offset 5 of the active tool (D0 cancels).
             if let Some(&(d, col)) = w.vals.get("D") {
-                self.call_offset(d.round().max(0.0) as u32, col);
+                let d = d.round().max(0.0) as u32;
+                self.call_offset(d, col);
+                d_word = Some(d);
             }
+        }
+        if w.vals.contains_key("T") || d_word.is_some() {
+            // The tool as written: the T word, and on Siemens the D in force (D0: none).
+            let d = match self.modal.offset {
+                Some(d) if self.cfg.dialect == Dialect::Siemens802d && d > 0 => {
+                    format!(" D{d}")
+                }
+                _ => String::new(),
+            };
+            self.modal.tool_word = self
+                .modal
+                .tool_t
+                .as_ref()
+                .map(|t| std::sync::Arc::from(format!("{t}{d}")));
         }
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let scale = if self.modal.inch { 25.4 } else { scale };
@@ -783,6 +805,7 @@ impl Interp<'_> {
             value: f * if self.modal.inch { 25.4 } else { 1.0 },
             per_rev: self.modal.per_rev,
         });
+        self.out.inch_threads |= kind == MoveKind::Thread && self.modal.inch;
         self.out.moves.push(Move {
             file: prog.name.clone(),
             line: prog.blocks[pc].0,
@@ -796,6 +819,7 @@ impl Interp<'_> {
             sync_angle_deg: sync.map(|s| s.angle),
             chained: false,
             tool: self.modal.tool,
+            tool_word: self.modal.tool_word.clone(),
             spindle: self.modal.spindle,
             arc: None,
             speed,

@@ -125,6 +125,8 @@ struct State {
     speed_max: Option<f64>,
     spindle: Spindle,
     tool: Option<u32>,
+    /// The T code as written (`T030303`), `Move::tool_word`.
+    tool_word: Option<std::sync::Arc<str>>,
     infeed: Infeed,
     pattern: Pattern,
     chamfer: bool,
@@ -164,6 +166,8 @@ struct Run<'a> {
     common: HashMap<u32, f64>,
     moves: Vec<Move>,
     warnings: Vec<Diagnostic>,
+    /// A thread move was made in inch units (`Toolpath::inch`).
+    inch_threads: bool,
 }
 
 /// Interpret an Okuma OSP-P program: the static check of every block of every program the
@@ -202,6 +206,7 @@ pub(super) fn interpret(
             speed_max: None,
             spindle: Spindle::Cw,
             tool: None,
+            tool_word: None,
             infeed: Infeed::Single,
             pattern: Pattern::One,
             chamfer: false,
@@ -212,6 +217,7 @@ pub(super) fn interpret(
         common: HashMap::new(),
         moves: Vec::new(),
         warnings: diags,
+        inch_threads: false,
     };
     let prog = run.progs[&first].clone();
     run.run(prog)?;
@@ -242,6 +248,7 @@ pub(super) fn interpret(
         mill: Vec::new(),
         warnings: run.warnings,
         dwells: Vec::new(),
+        inch: run.inch_threads,
     })
 }
 
@@ -646,6 +653,10 @@ impl Run<'_> {
             return Err((col, "the job's tool offsets are not applied to Okuma programs yet: leave [machine] offsets out and program the tool's point".into()));
         }
         self.st.tool = Some(tool as u32);
+        self.st.tool_word = Some(std::sync::Arc::from(super::tool_word(
+            super::Dialect::Okuma,
+            v,
+        )));
         Ok(())
     }
 
@@ -681,6 +692,7 @@ impl Run<'_> {
             max: self.st.speed_max,
         };
         let unit = if self.st.inch { 25.4 } else { 1.0 };
+        self.inch_threads |= kind == MoveKind::Thread && self.st.inch;
         self.moves.push(Move {
             file: file.to_string(),
             line,
@@ -694,6 +706,7 @@ impl Run<'_> {
             sync_angle_deg: sync.map(|s| s.angle),
             chained: false,
             tool: self.st.tool,
+            tool_word: self.st.tool_word.clone(),
             spindle: self.st.spindle,
             arc: None,
             speed,

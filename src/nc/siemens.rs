@@ -142,6 +142,8 @@ impl Interp<'_> {
                 "" => return Err((at + 1, format!("unexpected {}", c.here()))),
                 "T" if s840 && c.eat("=") && c.peek() == Some(b'"') => {
                     let t = self.tool_name(&mut c)?;
+                    let k = (t - 1000.0) as usize;
+                    w.t_text = Some(format!("T=\"{}\"", self.vars.s840.tool_names[k]));
                     w.vals.insert("T".into(), (t, at + 1));
                 }
                 addr if codes::siemens_address(addr) => {

@@ -105,6 +105,10 @@ pub(super) struct Modal {
     pub(super) offset: Option<u32>,
     /// Active tool number.
     pub(super) tool: Option<u32>,
+    /// The tool's T word as written (`Move::tool_word`), without the D.
+    pub(super) tool_t: Option<String>,
+    /// The tool as `Move::tool_word` gives it (the T word, with Siemens' D in force).
+    pub(super) tool_word: Option<std::sync::Arc<str>>,
     /// Spindle direction.
     pub(super) spindle: Spindle,
     /// Tool nose radius compensation (`nose`): G41/G42 and LinuxCNC's `D`; `None` (G40).
@@ -213,6 +217,8 @@ pub(super) struct Output {
     pub(super) cycle: bool,
     /// A cycle whose moves run with the nose radius compensation's vector held is running.
     pub(super) nose_hold: bool,
+    /// A thread move was made in inch units (`Toolpath::inch`).
+    pub(super) inch_threads: bool,
 }
 
 /// FANUC G76 first-block data (modal): finishing count, chamfer, tool angle (deg),
@@ -276,6 +282,8 @@ impl<'l> Interp<'l> {
                 speed_max: None,
                 offset: None,
                 tool: None,
+                tool_t: None,
+                tool_word: None,
                 spindle: Spindle::Cw,
                 nose: None,
                 nose_arc: true,
@@ -324,6 +332,7 @@ impl<'l> Interp<'l> {
                 notes: Vec::new(),
                 units_noted: false,
                 inch_noted: false,
+                inch_threads: false,
                 dwells: Vec::new(),
                 applied: (0.0, 0.0),
                 cycle: false,

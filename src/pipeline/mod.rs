@@ -245,7 +245,8 @@ fn insert_limits(
             turned,
         };
         let found = chips::pass_chips(passes, tools, surface);
-        out.extend(chips::depth_issues(passes, tools, &found));
+        let names = |i: usize| job.pass_tool_name(i);
+        out.extend(chips::depth_issues(passes, tools, &found, &names));
     }
     let rubs = chips::infeed_rubs(passes, tools, &job.pass_blocks, &job.pass_cycle, sense);
     out.extend(chips::rub_issues(passes, &rubs));
@@ -554,7 +555,8 @@ fn run<S: Sink>(
         }
     }
     report::locate(job, &merged.dev, &mut report.findings);
-    report.findings = report::group(std::mem::take(&mut report.findings));
+    let units = report.units();
+    report.findings = report::group(std::mem::take(&mut report.findings), units);
     report.verdict = rank(&mut report.findings);
     report.finding_counts = FindingCounts::of(&report.findings);
     report.timing_s = report::Timing {

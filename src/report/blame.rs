@@ -1,19 +1,25 @@
 //! Every finding at its source: the NC block whose pass or turning move made a deviation
 //! (the dexel of the extreme re-cut by each pass alone and by each turning move alone: the
 //! deepest cut is the one that left the surface there, turning moves first among equals as
-//! a lathe program turns before it threads), the thread block of a machine check's pass,
-//! and for what no block made, the job file's key (`pass[2]`, `thread.z_start`).
+//! a lathe program turns before it threads; a thread-milling job's dexel re-cut by each
+//! mill move alone), the thread block of a machine check's pass, and for what no block
+//! made, the job file's key (`pass[2]`, `thread.z_start`).
 //!
 //! The report's per-turn measurement findings (lead, widths, missing and split features)
-//! are blamed at their turn's worst deviation: the place the turn is most off.
+//! are blamed at their turn's worst deviation: the place the turn is most off; where the
+//! turn's own surface is within the tolerance, its width is off because a neighbour's
+//! groove is (another start's, one turn on either side), and it goes to that worst
+//! deviation.
 
 use crate::analysis::compare::{Deviation, Extreme, TurnDeviation};
 use crate::analysis::findings::{Finding, FindingKind};
 use crate::job::Job;
+use crate::kernel::mill::mill_column_by;
 use crate::kernel::sweep::{sweep_column, Column};
 use crate::kernel::turn::envelope;
 use crate::model::stock::Surface;
 use crate::model::thread::{Flank, Side};
+use std::fmt::Write as _;
 
 /// What cut a dexel last to its final depth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,6 +28,8 @@ pub(crate) enum Maker {
     Pass(usize),
     /// A turning (feed or arc) move of the program, 0-based in its surface's moves.
     Move(usize),
+    /// A milling move (0-based in `MillJob::moves`, the path's moves).
+    Mill(usize),
 }
 
 /// How close a cut must come to the deepest to count as reaching it (mm): the stock holds
@@ -38,14 +46,24 @@ fn surface(job: &Job) -> (Surface, f64, f64) {
 }
 
 /// What made the dexel at `theta`, `z` of the thread's surface: the deepest of every pass's
-/// and every turning move's own cut (turning first, then passes in order, among equals);
-/// where nothing cut it, the pass whose cut comes nearest within `reach` mm along the
-/// axis; `None` where there is none or the job is a milling job.
+/// and every turning move's own cut (turning first, then passes in order, among equals), or
+/// of a milling job's every move's; where nothing cut it, the pass (move) whose cut comes
+/// nearest within `reach` mm along the axis; `None` where there is none.
 pub(crate) fn maker_at(job: &Job, theta: f64, z: f64, dz: f64, reach: f64) -> Option<Maker> {
-    if job.mill.is_some() || !theta.is_finite() || !z.is_finite() {
+    if !theta.is_finite() || !z.is_finite() {
         return None;
     }
     let (s, q_blank, q_floor) = surface(job);
+    let c = Column {
+        theta,
+        z0: z,
+        dz: dz.max(1e-9),
+        q_blank,
+        surface: s,
+    };
+    if job.mill.is_some() {
+        return mill_maker(job, c, reach);
+    }
     let mut cuts: Vec<(Maker, f64)> = Vec::new();
     let turned = match s {
         Surface::Outer => &job.turning.outer,
@@ -64,13 +82,6 @@ pub(crate) fn maker_at(job: &Job, theta: f64, z: f64, dz: f64, reach: f64) -> Op
             cuts.push((Maker::Move(i), v));
         }
     }
-    let c = Column {
-        theta,
-        z0: z,
-        dz: dz.max(1e-9),
-        q_blank,
-        surface: s,
-    };
     let mut col = [0f32; 1];
     for (k, p) in job.passes.iter().enumerate() {
         col[0] = 0.0;
@@ -80,17 +91,58 @@ pub(crate) fn maker_at(job: &Job, theta: f64, z: f64, dz: f64, reach: f64) -> Op
             cuts.push((Maker::Pass(k), v));
         }
     }
+    deepest(&cuts).or_else(|| nearest_pass(job, c, reach))
+}
+
+/// Of the cuts `(maker, signed depth)`, in order, the first within [`SAME_CUT_MM`] of the
+/// deepest.
+fn deepest(cuts: &[(Maker, f64)]) -> Option<Maker> {
     let deepest = cuts.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
     cuts.iter()
         .find(|c| c.1 <= deepest + SAME_CUT_MM)
         .map(|c| c.0)
-        .or_else(|| nearest_pass(job, c, reach))
+}
+
+/// A milling job's move that made the dexel of column `c` (one cell): the deepest of each
+/// move's own cut, the first among equals; where none cut it, the move whose cut comes
+/// nearest within `reach` mm along the axis.
+fn mill_maker(job: &Job, c: Column, reach: f64) -> Option<Maker> {
+    let mj = job.mill.as_ref()?;
+    let n_moves = mj.path.moves.len();
+    let cut =
+        |q: &mut [f32], col: Column, m: usize| mill_column_by(q, col, &mj.path, m, &mj.cutters);
+    let mut cuts: Vec<(Maker, f64)> = Vec::new();
+    let mut col = [0f32; 1];
+    for m in 0..n_moves {
+        col[0] = 0.0;
+        cut(&mut col, c, m);
+        let v = f64::from(col[0]);
+        if v < 0.0 {
+            cuts.push((Maker::Mill(m), v));
+        }
+    }
+    deepest(&cuts).or_else(|| nearest(c, reach, n_moves, &cut).map(Maker::Mill))
 }
 
 /// The pass whose cut comes nearest along the axis to a dexel no pass cut (within `reach`
 /// mm either side: the thread's length): the one that left it standing. The first pass
 /// among equals.
 fn nearest_pass(job: &Job, c: Column, reach: f64) -> Option<Maker> {
+    let cut = |q: &mut [f32], col: Column, k: usize| {
+        sweep_column(q, col, std::slice::from_ref(&job.passes[k]), &job.tools);
+    };
+    nearest(c, reach, job.passes.len(), &cut).map(Maker::Pass)
+}
+
+/// Of `count` cutters (`cut(q, column, k)` cuts with the k-th alone), the one whose cut
+/// comes nearest along the axis to the cell of `c`, within `reach` mm either side; the
+/// first among equals.
+fn nearest(
+    c: Column,
+    reach: f64,
+    count: usize,
+    cut: &dyn Fn(&mut [f32], Column, usize),
+) -> Option<usize> {
     let n = ((reach / c.dz).ceil() as usize).clamp(1, 100_000);
     let col = Column {
         z0: c.z0 - n as f64 * c.dz,
@@ -98,9 +150,9 @@ fn nearest_pass(job: &Job, c: Column, reach: f64) -> Option<Maker> {
     };
     let mut q = vec![0f32; 2 * n + 1];
     let mut best: Option<(usize, usize)> = None;
-    for (k, p) in job.passes.iter().enumerate() {
+    for k in 0..count {
         q.fill(0.0);
-        sweep_column(&mut q, col, std::slice::from_ref(p), &job.tools);
+        cut(&mut q, col, k);
         let near = q
             .iter()
             .enumerate()
@@ -113,7 +165,7 @@ fn nearest_pass(job: &Job, c: Column, reach: f64) -> Option<Maker> {
             }
         }
     }
-    best.map(|b| Maker::Pass(b.0))
+    best.map(|b| b.0)
 }
 
 /// The program block (file, 1-based line) of what made a dexel; or the job key of a pass
@@ -132,6 +184,13 @@ fn source_of(job: &Job, m: Maker) -> (Option<(String, usize)>, Option<String>) {
             };
             (blocks.get(i).cloned(), None)
         }
+        Maker::Mill(i) => (
+            job.mill
+                .as_ref()
+                .and_then(|mj| mj.moves.get(i))
+                .map(|m| (m.file.clone(), m.line)),
+            None,
+        ),
     }
 }
 
@@ -154,9 +213,29 @@ fn worst(td: &TurnDeviation) -> Option<Extreme> {
 }
 
 /// The exact extreme a deviation finding reports (its turn and flank's), or the turn's
-/// worst for the turn's measurement findings.
-fn extreme_of(dev: &Deviation, f: &Finding) -> Option<Extreme> {
-    let td = dev.turns.get(&(f.start?, f.turn?))?;
+/// worst for the turn's measurement findings: where that is within `tol`, the worst of
+/// the turns of every start within one turn of it beyond `tol` (the first among equals).
+fn extreme_of(dev: &Deviation, f: &Finding, tol: f64) -> Option<Extreme> {
+    let (start, turn) = (f.start?, f.turn?);
+    let td = dev.turns.get(&(start, turn))?;
+    let near = || {
+        let own = worst(td);
+        if own.is_some_and(|e| e.value > tol) {
+            return own;
+        }
+        let mut best: Option<Extreme> = None;
+        for e in dev
+            .turns
+            .iter()
+            .filter(|((_, n), _)| n.abs_diff(turn) <= 1)
+            .filter_map(|(_, t)| worst(t))
+        {
+            if e.value > tol && best.is_none_or(|b| e.value > b.value) {
+                best = Some(e);
+            }
+        }
+        best.or(own)
+    };
     match f.kind {
         FindingKind::Gouge | FindingKind::Leftover => {
             let k = Flank::ALL.iter().position(|&x| Some(x) == f.flank)?;
@@ -170,7 +249,8 @@ fn extreme_of(dev: &Deviation, f: &Finding) -> Option<Extreme> {
         | FindingKind::GrooveWidth
         | FindingKind::ToothWidth
         | FindingKind::MissingFeature
-        | FindingKind::SplitFeature => worst(td),
+        | FindingKind::SplitFeature
+        | FindingKind::PitchDiameter => near(),
         _ => None,
     }
 }
@@ -208,12 +288,13 @@ pub(crate) fn locate(job: &Job, dev: &Deviation, findings: &mut [Finding]) {
             continue;
         }
         // What made it: the pass a check is about, else the dexel's cutter.
-        let maker = match f.pass {
-            Some(p) if p >= 1 && !matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover) => {
-                Some(Maker::Pass(p - 1))
-            }
-            _ => {
-                let at = extreme_of(dev, f)
+        let check = f
+            .pass
+            .filter(|&p| p >= 1 && !matches!(f.kind, FindingKind::Gouge | FindingKind::Leftover));
+        let maker = match check {
+            Some(p) => Some(Maker::Pass(p - 1)),
+            None => {
+                let at = extreme_of(dev, f, job.sim.tolerance)
                     .map(|e| (e.theta, e.z))
                     .or_else(|| match f.kind {
                         FindingKind::FlankInterference => {
@@ -227,6 +308,10 @@ pub(crate) fn locate(job: &Job, dev: &Deviation, findings: &mut [Finding]) {
         if let Some(m) = maker {
             if let Maker::Pass(k) = m {
                 f.pass.get_or_insert(k + 1);
+                // The pass that cut (or left) the dexel, and its tool as written.
+                if check.is_none() {
+                    let _ = write!(f.message, ", pass {} with {}", k + 1, job.pass_tool_name(k));
+                }
             }
             let (block, key) = source_of(job, m);
             if let Some((file, line)) = block {

@@ -14,7 +14,7 @@ use crate::kernel::sweep::SweepStats;
 use crate::model::helix::{Hand, Spindle};
 use crate::model::stock::Grid;
 use crate::model::thread::{Flank, Side, WidthRule};
-use crate::report::{self, r4, r6, Report, TurnRow, SCHEMA};
+use crate::report::{self, r4, r6, InchThread, Report, TurnRow, Units, SCHEMA};
 use crate::toolpath::{HitKind, RapidHit, Role};
 use std::collections::BTreeMap;
 
@@ -42,6 +42,7 @@ pub(crate) fn build_report(
 ) -> Report {
     let thread = &job.thread;
     let tol = job.sim.tolerance;
+    let units = Units { inch: job.inch() };
     let (major, minor) = match thread.side {
         Side::External => (2.0 * thread.crest_radius, 2.0 * thread.root_radius),
         Side::Internal => (2.0 * thread.root_radius, 2.0 * thread.crest_radius),
@@ -163,13 +164,14 @@ pub(crate) fn build_report(
                     )
                 });
             }
+            let starts = thread.starts;
             turn_findings(
                 &row,
                 &td,
                 &places,
                 all,
                 thread.helix.theta0,
-                tol,
+                (tol, units, starts),
                 &mut findings,
             );
             turns.push(row);
@@ -217,8 +219,10 @@ pub(crate) fn build_report(
                     Severity::Warning
                 };
                 let message = format!(
-                    "turn {turn} {flank} flank: the tool body cut {:.4} mm past its edge's surface at {angle:.1} deg, z {:.3} ({:.3} mm3): the side clearance is smaller than the helix angle there",
-                    h.depth, h.z, h.volume
+                    "turn {turn} {flank} flank: the tool body cut {} past its edge's surface at {angle:.1} deg, {} ({:.3} mm3): the side clearance is smaller than the helix angle there",
+                    units.len(h.depth, 4),
+                    units.z(h.z),
+                    h.volume
                 );
                 findings.push(Finding {
                     turn: Some(turn),
@@ -314,7 +318,7 @@ pub(crate) fn build_report(
                     _ => FindingKind::RapidCut,
                 },
                 Severity::Error,
-                rapid_message(h),
+                rapid_message(h, units),
             )
         });
     }
@@ -332,8 +336,8 @@ pub(crate) fn build_report(
                 FindingKind::Placement,
                 Severity::Warning,
                 format!(
-                    "the cut thread lies {:.4} mm {} of thread.z_start = {} (the nearest equivalent position): the comparison keeps the given position; leave z_start out to place the thread on the cut",
-                    off.abs(),
+                    "the cut thread lies {} {} of thread.z_start = {} (the nearest equivalent position): the comparison keeps the given position; leave z_start out to place the thread on the cut",
+                    units.len(off.abs(), 4),
                     if off > 0.0 { "in front (+z)" } else { "behind (-z)" },
                     r6(thread.helix.z0)
                 ),
@@ -382,6 +386,16 @@ pub(crate) fn build_report(
                 .placement
                 .as_ref()
                 .map(|p| report::PlacementInfo::of(p, job.fit_thread)),
+            inch: units.inch.then(|| {
+                let lead = thread.helix.law.f;
+                InchThread::of(
+                    major,
+                    2.0 * thread.pitch_radius,
+                    minor,
+                    lead / f64::from(thread.starts.max(1)),
+                    lead,
+                )
+            }),
         },
         stock: report::StockInfo {
             angular_cells: grid.n_theta,
@@ -451,15 +465,16 @@ pub(crate) fn build_report(
 /// The findings of one turn: its deviations beyond the tolerance that `places` gives (one
 /// per place of the part, [`Deviation::places`]), missing features, its lead, its widths
 /// (`all`: the turn's measurement on every generator, with the generator's angle; the
-/// reference generator's angle `reference`), split features.
-#[allow(clippy::too_many_arguments)]
+/// reference generator's angle `reference`), split features; `(tol, units, starts)`: the
+/// tolerance, how lengths read, the thread's starts (a single start's lead is also given in
+/// threads per inch).
 fn turn_findings(
     row: &TurnRow,
     td: &TurnDeviation,
     places: &BTreeMap<(u32, i64, bool, usize), Option<i64>>,
     all: &[(f64, &TurnMeasure)],
     reference: f64,
-    tol: f64,
+    (tol, units, starts): (f64, Units, u32),
     out: &mut Vec<Finding>,
 ) {
     let base = |kind, severity, value: f64, message: String| Finding {
@@ -496,12 +511,12 @@ fn turn_findings(
                     Severity::Error,
                     e.value,
                     format!(
-                        "turn {} {}: {kind} {:.4} mm at {:.1} deg, z {:.3}{also}",
+                        "turn {} {}: {kind} {} at {:.1} deg, {}{also}",
                         row.turn,
                         f.label(),
-                        e.value,
+                        units.len(e.value, 4),
                         l.angle_deg,
-                        l.z_mm
+                        units.z(l.z_mm)
                     ),
                 )
             });
@@ -528,11 +543,11 @@ fn turn_findings(
                 Severity::Error,
                 err,
                 format!(
-                    "turn {}: lead off by up to {:.4} mm (at the reference angle: measured {} vs ideal {})",
+                    "turn {}: lead off by up to {} (at the reference angle: measured {} vs ideal {})",
                     row.turn,
-                    err,
-                    fmt_opt(row.measured_lead_mm),
-                    fmt_opt(row.ideal_lead_mm)
+                    units.len(err, 4),
+                    fmt_lead(row.measured_lead_mm, units, starts),
+                    fmt_lead(row.ideal_lead_mm, units, starts)
                 ),
             ));
         }
@@ -567,7 +582,8 @@ fn turn_findings(
                     .and_then(|(_, m)| pick(m))
                 {
                     Some((ri, _)) if angle != reference => format!(
-                        " ({ri:.4} mm at the reference angle {:.1} deg, as the turn row gives it)",
+                        " ({} at the reference angle {:.1} deg, as the turn row gives it)",
+                        units.len(ri, 4),
                         reference.to_degrees().rem_euclid(360.0)
                     ),
                     _ => String::new(),
@@ -579,8 +595,10 @@ fn turn_findings(
                         Severity::Error,
                         g - i,
                         format!(
-                            "turn {}: {what} width {g:.4} mm at {angle_deg:.1} deg, where the drawing's is {i:.4} mm{at_reference}",
-                            row.turn
+                            "turn {}: {what} width {} at {angle_deg:.1} deg, where the drawing's is {}{at_reference}",
+                            row.turn,
+                            units.len(g, 4),
+                            units.len(i, 4)
                         ),
                     )
                 });
@@ -601,7 +619,7 @@ fn turn_findings(
 }
 
 /// A move into material, in the user's words: what moved, which tool, how deep, where.
-fn rapid_message(h: &RapidHit) -> String {
+fn rapid_message(h: &RapidHit, units: Units) -> String {
     let tool = match h.role {
         Role::Turning if h.internal => "boring bar",
         Role::Turning => "turning tool",
@@ -616,19 +634,23 @@ fn rapid_message(h: &RapidHit) -> String {
     match h.kind {
         HitKind::Holder => {
             return format!(
-                "{}:{}: the {} of the {tool} T{} meets the {place} {:.4} mm deep at z {:.3} (the stock as the move leaves it{more})",
+                "{}:{}: the {} of the {tool} {} meets the {place} {} deep at {} (the stock as the move leaves it{more})",
                 h.file,
                 h.line,
                 if h.internal { "boring bar" } else { "holder" },
-                h.tool,
-                h.depth,
-                h.z
+                h.tool_name,
+                units.len(h.depth, 4),
+                units.z(h.z)
             )
         }
         HitKind::Chuck => {
             return format!(
-                "{}:{}: the {tool} T{} (its tip or its holder) runs {:.4} mm into the chuck or its jaws at z {:.3} ([machine] chuck{more})",
-                h.file, h.line, h.tool, h.depth, h.z
+                "{}:{}: the {tool} {} (its tip or its holder) runs {} into the chuck or its jaws at {} ([machine] chuck{more})",
+                h.file,
+                h.line,
+                h.tool_name,
+                units.len(h.depth, 4),
+                units.z(h.z)
             )
         }
         _ => {}
@@ -643,17 +665,19 @@ fn rapid_message(h: &RapidHit) -> String {
         _ => ": a threading insert cuts only along the thread",
     };
     format!(
-        "{}:{}: {what} of the {tool} T{} runs {:.4} mm into the {place} at z {:.3} (the stock the moves before it left{more}){why}",
+        "{}:{}: {what} of the {tool} {} runs {} into the {place} at {} (the stock the moves before it left{more}){why}",
         h.file,
         h.line,
-        h.tool,
-        h.depth,
-        h.z
+        h.tool_name,
+        units.len(h.depth, 4),
+        units.z(h.z)
     )
 }
 
-fn fmt_opt(v: Option<f64>) -> String {
-    v.map_or("-".to_string(), |x| format!("{x:.4}"))
+/// A measured or ideal lead for a message: mm, with inches and (one start) threads per
+/// inch for an inch job; `-` where there is none.
+fn fmt_lead(v: Option<f64>, units: Units, starts: u32) -> String {
+    v.map_or("-".to_string(), |x| units.pitch(x, 4, starts == 1))
 }
 
 /// One surface's contour check as the report's findings: each NC block whose moves or
@@ -672,6 +696,7 @@ pub(crate) fn add_part(
         &job.turning.outer_blocks
     };
     let surface = if bore { "bore's contour" } else { "contour" };
+    let units = report.units();
     let part_key = if bore {
         "part.bore_profile"
     } else {
@@ -746,11 +771,11 @@ pub(crate) fn add_part(
                 FindingKind::Gouge,
                 Severity::Error,
                 format!(
-                    "{at}the part: {} cuts {:.4} mm under its {surface} (d {:.3}) at z {:.3}{more}",
+                    "{at}the part: {} cuts {} under its {surface} (d {}) at {}{more}",
                     b.who,
-                    g.depth,
-                    2.0 * g.floor,
-                    g.z
+                    units.len(g.depth, 4),
+                    units.len(2.0 * g.floor, 3),
+                    units.z(g.z)
                 ),
             )
         });
@@ -765,8 +790,11 @@ pub(crate) fn add_part(
                 FindingKind::Leftover,
                 Severity::Error,
                 format!(
-                    "the part: the turned stock stands {:.4} mm over its {surface} from z {:.3} to {:.3}, the most at z {:.3}",
-                    l.height, l.span.0, l.span.1, l.z
+                    "the part: the turned stock stands {} over its {surface} from {} to {}, the most at {}",
+                    units.len(l.height, 4),
+                    units.z(l.span.0),
+                    units.z(l.span.1),
+                    units.z(l.z)
                 ),
             )
         });

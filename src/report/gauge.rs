@@ -315,11 +315,11 @@ pub(crate) fn add_gauge(
                 dia(e.limit, class)
             ),
             (_, Some(v)) => format!(
-                "{what} {} is {side} the {} {end} {} by {:.4} mm",
+                "{what} {} is {side} the {} {end} {} by {}",
                 dia(v, class),
                 class.designation,
                 dia(e.limit, class),
-                (v - e.limit).abs()
+                dia((v - e.limit).abs(), class)
             ),
         };
         let message = match (e.name, e.value) {

@@ -1,11 +1,13 @@
 //! One cause, one finding: the per-turn findings of the thread (deviations, leads, widths,
 //! missing and split features, body rubs) and the per-pass findings (a pass of the other
 //! hand) that one NC block or one job key made are one finding: the worst of them, with the
-//! extent of all (turns, flanks, z range, how many of each kind). The per-turn detail stays
-//! in the report's turn rows. Findings of different blocks, or of none, stay apart.
+//! extent of all (turns, flanks, z range, how many of each kind, and each kind's largest
+//! size: two mistakes in one block, a G76 too shallow and of the wrong lead, are one
+//! finding whose message names both with their sizes). The per-turn detail stays in the
+//! report's turn rows. Findings of different blocks, or of none, stay apart.
 
 use crate::analysis::findings::{Extent, Finding, FindingKind};
-use crate::report::r6;
+use crate::report::{r6, Units};
 
 /// Whether a finding is one of a block's many per-turn or per-pass findings.
 fn groupable(f: &Finding) -> bool {
@@ -19,6 +21,7 @@ fn groupable(f: &Finding) -> bool {
             | K::ToothWidth
             | K::MissingFeature
             | K::SplitFeature
+            | K::PitchDiameter
             | K::FlankInterference
     ) && f.turn.is_some();
     let has_source = (f.file.is_some() && f.line.is_some()) || f.key.is_some();
@@ -37,7 +40,8 @@ fn weight(f: &Finding) -> (u8, f64) {
 }
 
 /// Group `findings` by severity and source; groups of one finding stay as they were.
-pub(crate) fn group(findings: Vec<Finding>) -> Vec<Finding> {
+/// `units`: how the sizes in a group's message read.
+pub(crate) fn group(findings: Vec<Finding>, units: Units) -> Vec<Finding> {
     let mut out: Vec<Finding> = Vec::new();
     let mut groups: Vec<Vec<Finding>> = Vec::new();
     for f in findings {
@@ -55,13 +59,13 @@ pub(crate) fn group(findings: Vec<Finding>) -> Vec<Finding> {
         }
     }
     for g in groups {
-        out.push(merge(g));
+        out.push(merge(g, units));
     }
     out
 }
 
 /// One finding for a group: its worst member, its extent and a message that says both.
-fn merge(mut g: Vec<Finding>) -> Finding {
+fn merge(mut g: Vec<Finding>, units: Units) -> Finding {
     if g.len() == 1 {
         return g.pop().expect("one finding");
     }
@@ -123,9 +127,24 @@ fn merge(mut g: Vec<Finding>) -> Finding {
     if let Some([lo, hi]) = extent.z_mm {
         what.push(format!("z {lo:.3} to {hi:.3}"));
     }
+    // Each kind with its largest size (the lead's error, the width's difference from the
+    // drawing, the deviation), where it has one.
     let counts: Vec<String> = kinds
         .iter()
-        .map(|(k, n)| format!("{n} {}", k.name()))
+        .map(|(k, n)| {
+            let largest = g
+                .iter()
+                .chain(std::iter::once(&f))
+                .filter(|x| x.kind == *k && x.unit == Some("mm"))
+                .filter_map(|x| x.value)
+                .map(f64::abs)
+                .fold(0.0, f64::max);
+            if largest > 0.0 {
+                format!("{n} {} up to {}", k.name(), units.len(largest, 4))
+            } else {
+                format!("{n} {}", k.name())
+            }
+        })
         .collect();
     f.message = format!(
         "{} (the worst of {} findings with this source: {}; over {})",

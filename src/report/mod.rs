@@ -13,6 +13,7 @@ mod blame;
 mod build;
 mod gauge;
 mod group;
+mod units;
 pub(crate) use blame::locate;
 pub(crate) use build::{add_part, build_report};
 pub(crate) use gauge::add_gauge;
@@ -21,6 +22,8 @@ pub use gauge::{
     TaperInfo,
 };
 pub(crate) use group::group;
+pub use units::InchThread;
+pub(crate) use units::Units;
 
 /// The schema tag.
 pub const SCHEMA: &str = "vpcut.report/1";
@@ -157,6 +160,10 @@ pub struct ThreadInfo {
     /// Where the thread was placed on the cut, or the cut's offset from the given place.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub placement: Option<PlacementInfo>,
+    /// An inch job ([`crate::Job::inch`]): the thread's figures in inches and threads per
+    /// inch; the messages and the summary give inches beside mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub inch: Option<InchThread>,
 }
 
 /// The stock grid.
@@ -423,6 +430,13 @@ impl Report {
         .to_string()
     }
 
+    /// How lengths read for a person: inches beside mm for an inch job.
+    pub(crate) fn units(&self) -> Units {
+        Units {
+            inch: self.thread.inch.is_some(),
+        }
+    }
+
     /// A short summary for a terminal, plain.
     pub fn summary(&self) -> String {
         self.summary_with(&SummaryStyle::default())
@@ -468,6 +482,24 @@ impl Report {
             num(t.minor_diameter_mm, 4),
             num((t.major_diameter_mm - t.minor_diameter_mm) / 2.0, 4)
         );
+        if let Some(i) = &t.inch {
+            let lead = if t.starts > 1 {
+                format!("lead {} in", num(i.lead_in, 5))
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                s,
+                "          major diameter {} in, pitch diameter {} in, minor diameter {} in, depth {} in, {} TPI{}{lead}",
+                num(i.major_diameter_in, 5),
+                num(i.pitch_diameter_in, 5),
+                num(i.minor_diameter_in, 5),
+                num(i.depth_in, 5),
+                num(i.tpi, 3),
+                if lead.is_empty() { "" } else { ", " }
+            );
+        }
+        let units = self.units();
         let _ = writeln!(
             s,
             "  simulated every {} deg and {} mm along z ({} x {} points), {} passes, {} s {what}",
@@ -480,7 +512,7 @@ impl Report {
         );
         let loc = |l: &Option<Location>| match l {
             Some(l) => format!(
-                "turn {} {}{}, {} deg, z {}",
+                "turn {} {}{}, {} deg, {}",
                 l.turn,
                 l.flank,
                 if matches!(l.flank, "left" | "right") {
@@ -489,7 +521,7 @@ impl Report {
                     ""
                 },
                 num(l.angle_deg, 1),
-                num(l.z_mm, 3)
+                units.z(l.z_mm)
             ),
             None => "-".to_string(),
         };
@@ -502,16 +534,25 @@ impl Report {
                 cell
             }
         };
+        let inches = |x: f64| {
+            if units.inch {
+                format!(" ({} in)", num(x / units::MM_PER_INCH, 5))
+            } else {
+                String::new()
+            }
+        };
         let _ = writeln!(
             s,
-            "  worst gouge    {} mm  {}",
+            "  worst gouge    {} mm{}  {}",
             worst(d.max_gouge_mm),
+            inches(d.max_gouge_mm),
             loc(&d.max_gouge_at)
         );
         let _ = writeln!(
             s,
-            "  worst leftover {} mm  {}",
+            "  worst leftover {} mm{}  {}",
             worst(d.max_leftover_mm),
+            inches(d.max_leftover_mm),
             loc(&d.max_leftover_at)
         );
         let _ = writeln!(
@@ -527,7 +568,11 @@ impl Report {
                 .tools
                 .iter()
                 .map(|t| {
-                    let name = t.tool.map_or("no tool".to_string(), |n| format!("T{n}"));
+                    let name = match (&t.name, t.tool) {
+                        (Some(w), _) => w.clone(),
+                        (None, Some(n)) => format!("T{n}"),
+                        (None, None) => "no tool".to_string(),
+                    };
                     format!("{name} {}", duration(t.seconds))
                 })
                 .collect();
@@ -552,9 +597,18 @@ impl Report {
             Some([lo, hi]) => {
                 let _ = writeln!(
                     s,
-                    "  compared z {} to {} (the drawing's thread); outside it (run-in, run-out) {} mm3 removed, not compared",
+                    "  compared z {} to {}{} (the drawing's thread); outside it (run-in, run-out) {} mm3 removed, not compared",
                     num(lo, 3),
                     num(hi, 3),
+                    if units.inch {
+                        format!(
+                            " ({} to {} in)",
+                            num(lo / units::MM_PER_INCH, 4),
+                            num(hi / units::MM_PER_INCH, 4)
+                        )
+                    } else {
+                        String::new()
+                    },
                     num(d.uncompared_removed_volume_mm3, 2)
                 );
             }
@@ -592,9 +646,22 @@ impl Report {
                 cell
             }
         };
+        // An inch job's leads also as threads per inch (of the pitch: starts / lead).
+        let starts = f64::from(self.thread.starts.max(1));
+        let tpi = |lead: Option<f64>| {
+            lead.filter(|&l| l > 0.0)
+                .map_or("      -".to_string(), |l| {
+                    format!("{:>7}", num(starts * units::MM_PER_INCH / l, 3))
+                })
+        };
         let _ = writeln!(
             s,
-            "\n  turn  lead: ideal measured  groove: ideal measured  tooth: ideal measured   gouge leftover"
+            "\n  turn  lead: ideal measured  groove: ideal measured  tooth: ideal measured   gouge leftover{}",
+            if units.inch {
+                "    TPI: ideal measured (lengths in mm)"
+            } else {
+                ""
+            }
         );
         for t in &self.turns {
             let start = if self.thread.starts > 1 {
@@ -602,9 +669,18 @@ impl Report {
             } else {
                 t.turn.to_string()
             };
+            let tpis = if units.inch {
+                format!(
+                    "         {} {}",
+                    tpi(t.ideal_lead_mm),
+                    tpi(t.measured_lead_mm)
+                )
+            } else {
+                String::new()
+            };
             let _ = writeln!(
                 s,
-                "  {start:>4}      {} {}         {} {}        {} {}  {} {}",
+                "  {start:>4}      {} {}         {} {}        {} {}  {} {}{tpis}",
                 o(t.ideal_lead_mm),
                 m(t.ideal_lead_mm, t.measured_lead_mm),
                 o(t.ideal_groove_width_mm),
@@ -748,6 +824,9 @@ pub struct CycleTimeInfo {
 pub struct ToolTime {
     /// Its T number (`null` for the moves before any T word).
     pub tool: Option<u32>,
+    /// The tool as the program first wrote it (`T0606`, `T="GEW_AUSSEN_3.0"`), `null` for
+    /// the moves before any T word.
+    pub name: Option<String>,
     /// Seconds.
     pub seconds: f64,
 }
@@ -766,8 +845,10 @@ impl CycleTimeInfo {
             tools: c
                 .by_tool
                 .iter()
-                .map(|&(tool, s)| ToolTime {
+                .zip(&c.tool_words)
+                .map(|(&(tool, s), name)| ToolTime {
                     tool,
+                    name: name.clone(),
                     seconds: r4(s),
                 })
                 .collect(),

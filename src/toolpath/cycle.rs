@@ -68,13 +68,16 @@ pub(crate) fn cycle_time(moves: &[nc::Move], dwells: &[nc::Dwell], machine: &Mac
         rapid_rate_given: machine.rapid_rate.is_some(),
         ..CycleTime::default()
     };
-    let add = |out: &mut CycleTime, tool: Option<u32>, s: f64| match out
-        .by_tool
-        .iter_mut()
-        .find(|t| t.0 == tool)
-    {
-        Some(t) => t.1 += s,
-        None => out.by_tool.push((tool, s)),
+    let add = |out: &mut CycleTime, m: Option<&nc::Move>, s: f64| {
+        let tool = m.and_then(|m| m.tool);
+        match out.by_tool.iter_mut().find(|t| t.0 == tool) {
+            Some(t) => t.1 += s,
+            None => {
+                out.by_tool.push((tool, s));
+                out.tool_words
+                    .push(m.and_then(|m| m.tool_word.as_deref()).map(str::to_string));
+            }
+        }
     };
     for m in moves.iter().skip(1) {
         let (dr, dz) = ((m.x_dia - m.x_start) / 2.0, m.z - m.z_start);
@@ -119,7 +122,7 @@ pub(crate) fn cycle_time(moves: &[nc::Move], dwells: &[nc::Dwell], machine: &Mac
             }
         };
         let t = minutes(&mut out);
-        add(&mut out, m.tool, 60.0 * t);
+        add(&mut out, Some(m), 60.0 * t);
     }
     for d in dwells {
         let s = match d.time {
@@ -127,12 +130,8 @@ pub(crate) fn cycle_time(moves: &[nc::Move], dwells: &[nc::Dwell], machine: &Mac
             DwellTime::Revolutions(r) => 60.0 * r * min_per_rev(&d.speed, d.x, rpm),
         };
         out.wait += s;
-        let tool = d
-            .after
-            .checked_sub(1)
-            .and_then(|i| moves.get(i))
-            .and_then(|m| m.tool);
-        add(&mut out, tool, s);
+        let m = d.after.checked_sub(1).and_then(|i| moves.get(i));
+        add(&mut out, m, s);
     }
     out
 }

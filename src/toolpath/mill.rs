@@ -42,9 +42,16 @@ pub(crate) fn mill_path(
             fail(
                 m,
                 match m.tool {
-                    Some(t) => format!(
-                        "milling with tool {t}, which the job's [[tool]] list does not define"
-                    ),
+                    Some(t) => {
+                        let word = m
+                            .tool_word
+                            .as_deref()
+                            .map_or_else(|| format!("T{t}"), str::to_string);
+                        format!(
+                            "milling with {}, which the job's [[tool]] list does not define",
+                            super::tool_and_id(word, t)
+                        )
+                    }
                     None => "a milling move without a T word in a job with several cutters: select the cutter with a T word".to_string(),
                 },
             )

@@ -98,6 +98,8 @@ pub(crate) struct LathePasses {
     pub(crate) rpm: Vec<Option<f64>>,
     /// Each pass is a threading cycle's (`nc::Move::cycle`).
     pub(crate) cycle: Vec<bool>,
+    /// Each pass's tool as the program wrote it (`nc::Move::tool_word`).
+    pub(crate) tool_words: Vec<Option<String>>,
     /// Warnings about blocks as a whole (a tap's blocks without a tap tool), in program
     /// order.
     pub(crate) warnings: Vec<StageWarning>,
@@ -190,6 +192,8 @@ pub(crate) fn lathe_passes(
                 out.blocks.push((m.file.clone(), m.line));
                 out.rpm.push(m.speed.at(pass.x_end.abs()));
                 out.cycle.push(m.cycle);
+                out.tool_words
+                    .push(m.tool_word.as_deref().map(str::to_string));
                 out.passes.push(pass);
             }
             continue;
@@ -210,7 +214,7 @@ pub(crate) fn lathe_passes(
                 } else {
                     "which the job's [[tool]] list does not define"
                 };
-                fail(m, format!("threading with tool {t}, {why}"))
+                fail(m, format!("threading with {}, {why}", tool_and_id(m.tool_name(), t)))
             }
         })?;
         let angle = m.sync_angle_deg.unwrap_or(0.0).to_radians();
@@ -248,9 +252,24 @@ pub(crate) fn lathe_passes(
         out.rpm
             .push(m.speed.at(pass.x_start.abs().min(pass.x_end.abs())));
         out.cycle.push(m.cycle);
+        out.tool_words
+            .push(m.tool_word.as_deref().map(str::to_string));
         out.passes.push(pass);
     }
     Ok(out)
+}
+
+/// A tool as the program wrote it and, where that is not plainly the job's `[[tool]]` id,
+/// the id the job must give it: `T0505 (id 5)`, `T="GEW" (id 1000: a tool named in the
+/// program is numbered 1000, 1001, .. in the order first named)`, `T5`.
+pub(crate) fn tool_and_id(word: String, id: u32) -> String {
+    if word.starts_with("T=\"") {
+        format!("{word} (id {id} in [[tool]]: tools named in the program are numbered 1000, 1001, .. in the order first named)")
+    } else if word == format!("T{id}") {
+        word
+    } else {
+        format!("{word} (id {id} in [[tool]])")
+    }
 }
 
 /// How many times the blank's size a program's coordinates must exceed (or fall short
@@ -391,6 +410,8 @@ pub(crate) struct RapidHit {
     pub(crate) internal: bool,
     /// The tool's id.
     pub(crate) tool: u32,
+    /// The tool as the program wrote it (`Move::tool_name`).
+    pub(crate) tool_name: String,
     /// The tool's role.
     pub(crate) role: Role,
     /// What the move was.
@@ -600,6 +621,7 @@ fn record(
             z,
             internal: tool.internal,
             tool: tool.id,
+            tool_name: m.tool_name(),
             role,
             kind,
             moves: 1,

@@ -100,6 +100,7 @@ mod tests {
             sync_angle_deg: Some(sync),
             chained: false,
             tool: Some(5),
+            tool_word: None,
             spindle: Spindle::Cw,
             arc: None,
             speed: Default::default(),

@@ -320,3 +320,181 @@ fn messages_print_numbers_readably() {
         assert!(longest <= 10, "{key} = {value}: {err}");
     }
 }
+
+/// `vpcut check --report-dir R` then `--changed-since R`: a job whose files (the job, its
+/// program, the subprogram found on its `subroutine_path`) all keep their SHA-256 is not
+/// run and its outcome stands in the JUnit and SARIF (the same testcases, failures and
+/// results, marked `unchanged_since`; a failing job still exits 1); a changed subprogram,
+/// a subprogram that appears where the interpreter looks first, another vpcut version or
+/// other options run the job again; the same bytes rewritten do not. A missing folder or
+/// a record that is not one is an error (exit 2) naming it.
+#[test]
+fn check_changed_since_runs_only_changed_jobs() {
+    let d = tmp_dir();
+    let lcnc = "[blank]\ndiameter = 24.0\nlength = 40.0\nz_front = 0.0\n\n[thread]\nside = \"external\"\nform = \"iso-metric\"\nmajor_diameter = 24.0\npitch = 1.5\nturns = 10\nz_start = 0.0\n\n[[tool]]\nid = 1\nkind = \"threading\"\nangle = 60.0\ntip_flat = 0.1875\nreference = \"tip\"\n\n[program]\nfile = \"main.ngc\"\ndialect = \"linuxcnc\"\nsubroutine_path = [\"macros\"]\n\n[simulation]\nangular_cells = 72\naxial_spacing = 0.05\nmeasure_generators = 2\n";
+    let main = "G18 G21 G7 G95\nG0 X26 Z5 S300 M3\no<pass> call [22.2]\nM2\n";
+    let pass = "o<pass> sub\nG0 X#1 Z5\nG33 Z-15 K1.5\nG0 X26\nG0 Z5\no<pass> endsub\n";
+    std::fs::create_dir_all(d.join("a/macros")).unwrap();
+    std::fs::create_dir_all(d.join("b")).unwrap();
+    std::fs::write(d.join("a/job.toml"), lcnc).unwrap();
+    std::fs::write(d.join("a/main.ngc"), main).unwrap();
+    std::fs::write(d.join("a/macros/pass.ngc"), pass).unwrap();
+    std::fs::write(d.join("b/job.toml"), small("seed002-equal-groove")).unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["check", "-q", "--junit", "-", "--sarif", "out.sarif"];
+        args.extend_from_slice(extra);
+        args.extend(["a/job.toml", "b/job.toml"]);
+        let out = Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .current_dir(&d)
+            .args(&args)
+            .output()
+            .unwrap();
+        let sarif = std::fs::read_to_string(d.join("out.sarif")).unwrap_or_default();
+        (out, sarif)
+    };
+    // Which jobs were carried: the suites' files with an `unchanged_since` property.
+    let carried = |junit: &str| -> Vec<String> {
+        junit
+            .split("<testsuite ")
+            .skip(1)
+            .filter(|s| {
+                s.split("</testsuite>")
+                    .next()
+                    .unwrap()
+                    .contains("unchanged_since")
+            })
+            .map(|s| {
+                s.split("file=\"")
+                    .nth(1)
+                    .unwrap()
+                    .split('"')
+                    .next()
+                    .unwrap()
+                    .to_string()
+            })
+            .collect()
+    };
+    // The JUnit and SARIF without times and the carried marks.
+    let plain = |text: &str| -> String {
+        text.lines()
+            .filter(|l| !l.contains("unchanged_since"))
+            .map(|l| match l.find(" time=\"") {
+                Some(i) => l[..i].to_string(),
+                None => l.to_string(),
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let (first, sarif1) = run(&["--report-dir", "rec"]);
+    assert_eq!(
+        first.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let junit1 = String::from_utf8(first.stdout).unwrap();
+    assert!(carried(&junit1).is_empty());
+    let records: Vec<String> = std::fs::read_dir(d.join("rec"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(records.len(), 2, "{records:?}");
+    let rec_a = d.join("rec/a%2Fjob.toml.json");
+    let text_a = std::fs::read_to_string(&rec_a).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text_a).unwrap();
+    assert_eq!(v["schema"], "vpcut.check/1");
+    let paths: Vec<&str> = v["inputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| i["path"].as_str().unwrap())
+        .collect();
+    assert_eq!(paths, ["a/job.toml", "a/main.ngc", "a/macros/pass.ngc"]);
+    assert_eq!(v["absent"], serde_json::json!(["a/pass.ngc"]));
+    assert_eq!(v["report"]["schema"], "vpcut.report/1");
+
+    // Nothing changed (the subprogram rewritten with the same bytes): nothing runs, the
+    // same outcome; the records written again are the same bytes.
+    std::fs::write(d.join("a/macros/pass.ngc"), pass).unwrap();
+    let (second, sarif2) = run(&["--changed-since", "rec", "--report-dir", "rec2"]);
+    assert_eq!(
+        second.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&second.stderr)
+    );
+    let junit2 = String::from_utf8(second.stdout).unwrap();
+    assert_eq!(carried(&junit2), ["a/job.toml", "b/job.toml"]);
+    assert_eq!(plain(&junit1), plain(&junit2));
+    assert_eq!(plain(&sarif1), plain(&sarif2));
+    assert!(junit2.contains("<failure"), "the failing job still fails");
+    assert_eq!(
+        std::fs::read_to_string(d.join("rec2/a%2Fjob.toml.json")).unwrap(),
+        text_a
+    );
+
+    // The subprogram changed: a runs again, b stays.
+    std::fs::write(
+        d.join("a/macros/pass.ngc"),
+        pass.replace("X#1", "X[#1 - 0.2]"),
+    )
+    .unwrap();
+    let (out, _) = run(&["--changed-since", "rec"]);
+    assert_eq!(
+        carried(&String::from_utf8_lossy(&out.stdout)),
+        ["b/job.toml"]
+    );
+    std::fs::write(d.join("a/macros/pass.ngc"), pass).unwrap();
+    // A subprogram appears beside the program, where LinuxCNC looks first.
+    std::fs::write(d.join("a/pass.ngc"), pass).unwrap();
+    let (out, _) = run(&["--changed-since", "rec"]);
+    assert_eq!(
+        carried(&String::from_utf8_lossy(&out.stdout)),
+        ["b/job.toml"]
+    );
+    std::fs::remove_file(d.join("a/pass.ngc")).unwrap();
+    // Other options run everything.
+    let (out, _) = run(&["--changed-since", "rec", "--strict"]);
+    assert!(carried(&String::from_utf8_lossy(&out.stdout)).is_empty());
+    let (out, _) = run(&["--changed-since", "rec", "--max-dexels", "1e8"]);
+    assert!(carried(&String::from_utf8_lossy(&out.stdout)).is_empty());
+    // Another version's record: run again, no error.
+    std::fs::write(
+        &rec_a,
+        text_a.replacen(
+            &format!("\"vpcut_version\": \"{}\"", vpcut::VERSION),
+            "\"vpcut_version\": \"0.0.0-other\"",
+            1,
+        ),
+    )
+    .unwrap();
+    let (out, _) = run(&["--changed-since", "rec"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        carried(&String::from_utf8_lossy(&out.stdout)),
+        ["b/job.toml"]
+    );
+    // A record that is not one: exit 2, naming it.
+    std::fs::write(
+        &rec_a,
+        "{\"schema\": \"vpcut.check/1\", \"vpcut_version\": 3}",
+    )
+    .unwrap();
+    let (out, _) = run(&["--changed-since", "rec"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("a%2Fjob.toml.json:1:") && err.contains("not a record"),
+        "{err}"
+    );
+    for (dir, says) in [
+        ("nowhere", "no such folder"),
+        ("a/job.toml", "not a folder"),
+    ] {
+        let (out, _) = run(&["--changed-since", dir]);
+        assert_eq!(out.status.code(), Some(2), "{dir}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{dir}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -79,6 +79,7 @@ fn fails(dialects: &[Dialect], text: &str, line: usize, col: Option<usize>, want
             e.message.contains(want),
             "{d:?} {short:?}: wanted {want:?} in {shown}"
         );
+        crate::support::no_debug_text(&format!("{d:?} {short:?}"), &shown);
         assert!(shown.contains(&format!("P.NC:{line}:")), "{d:?}: {shown}");
         // A long line is shown cut around the column.
         assert!(shown.len() < 2000, "{d:?}: {} characters", shown.len());
@@ -499,7 +500,11 @@ fn job_error(text: &str, what: &str) -> String {
     assert!(t.elapsed() < BOUND, "{what}: took {:?}", t.elapsed());
     match r {
         Ok(Ok(_)) => panic!("{what}: the job was accepted"),
-        Ok(Err(e)) => e.to_string(),
+        Ok(Err(e)) => {
+            let shown = e.to_string();
+            crate::support::no_debug_text(what, &shown);
+            shown
+        }
         Err(_) => panic!("{what}: panicked"),
     }
 }
@@ -646,6 +651,7 @@ fn vpcut_limited(dir: &std::path::Path, args: &str) -> (Option<i32>, String) {
         !err.contains("panicked") && !err.contains("memory allocation"),
         "{args}: {err}"
     );
+    crate::support::no_debug_text(args, &err);
     (out.status.code(), err)
 }
 

@@ -76,3 +76,6 @@ mod trust;
 /// The whole lathe program cuts the stock: turned profiles against hand derivations, rapids
 /// into material.
 mod turning;
+/// Issue 29: messages in the user's words: inch jobs in inches and TPI, tools as the
+/// program writes them.
+mod words;

@@ -236,6 +236,141 @@ fn programs(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// Run every program of the data with the settings of its `.moves` header: (folder,
+/// file name, folder path, the program's text, the result).
+fn run_all(mut each: impl FnMut(&str, &str, &Path, &str, &Result<Toolpath, Box<vpcut::NcError>>)) {
+    let base = root().join("tests/data/nc");
+    for (folder, dialect, mill) in DIALECTS {
+        let dir = base.join(folder);
+        for path in programs(&dir) {
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let main = Source {
+                name: name.clone(),
+                text: text.clone(),
+            };
+            let loader = |n: &str| {
+                std::fs::read_to_string(dir.join(n))
+                    .ok()
+                    .map(|text| Source {
+                        name: n.to_string(),
+                        text,
+                    })
+            };
+            let old = std::fs::read_to_string(path.with_extension("moves")).unwrap_or_default();
+            let header: String = old
+                .lines()
+                .take_while(|l| l.starts_with('#'))
+                .map(|l| format!("{l}\n"))
+                .collect();
+            let opts = NcOptions {
+                settings: header_settings(
+                    &header,
+                    Settings {
+                        mill: mill.then(mill_settings),
+                        ..Settings::default()
+                    },
+                ),
+                ..NcOptions::default()
+            };
+            let result = interpret_with(&main, dialect, &loader, &opts).map_err(Box::new);
+            each(folder, &name, &dir, &text, &result);
+        }
+    }
+}
+
+/// Issue 29: tools as the program writes them. Every move of every program of the data
+/// that has a tool carries its T word as written (`T0202`, `T="THREAD_55" D1`, Okuma's
+/// `T030303`): each word of it (`T..`, `D..`) stands in the program or a file beside it as
+/// a word of its own, and its number is the move's tool (FANUC and GSK: the code over 100;
+/// Okuma: the middle pair of six digits or the last pair of four; a Siemens name: 1000 and
+/// up). That is what every message naming a tool prints (`Move::tool_name`).
+#[test]
+fn every_tool_is_named_as_the_program_writes_it() {
+    // The word `w` stands alone in `text` (upper case, not inside a longer word).
+    let stands = |text: &str, w: &str| {
+        let t = text.to_uppercase();
+        let w = w.to_uppercase();
+        t.match_indices(&w).any(|(i, _)| {
+            let before = t[..i].chars().next_back();
+            let after = t[i + w.len()..].chars().next();
+            !before.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
+                && !after.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.')
+        })
+    };
+    let (mut named, mut programs_with_tools) = (0, 0);
+    let mut failures = Vec::new();
+    run_all(|folder, name, dir, text, result| {
+        let Ok(tp) = result else { return };
+        // The program and the files beside it that a call may read.
+        let mut texts = vec![text.to_string()];
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x != "moves" && x != "md") {
+                texts.push(std::fs::read_to_string(&p).unwrap_or_default());
+            }
+        }
+        let lathe = tp
+            .moves
+            .iter()
+            .map(|m| (m.line, m.tool, m.tool_word.clone()));
+        let mill = tp
+            .mill
+            .iter()
+            .map(|m| (m.line, m.tool, m.tool_word.clone()));
+        let mut any = false;
+        for (line, tool, word) in lathe.chain(mill) {
+            let Some(tool) = tool else {
+                if word.is_some() {
+                    failures.push(format!(
+                        "{folder}/{name}:{line}: a word {word:?} without a tool"
+                    ));
+                }
+                continue;
+            };
+            any = true;
+            let Some(word) = word else {
+                failures.push(format!(
+                    "{folder}/{name}:{line}: tool {tool} without its word"
+                ));
+                continue;
+            };
+            named += 1;
+            for part in word.split(' ') {
+                if !texts.iter().any(|t| stands(t, part)) {
+                    failures.push(format!("{folder}/{name}:{line}: `{part}` of `{word}` is not written in the program"));
+                }
+            }
+            let t = word.split(' ').next().unwrap();
+            let number = match t.strip_prefix("T=") {
+                Some(_) => tool >= 1000,
+                None => {
+                    let n: u32 = t[1..].parse().unwrap_or(u32::MAX);
+                    let digits = t.len() - 1;
+                    match folder {
+                        "fanuc" | "gsk" if n >= 100 => n / 100 == tool,
+                        "okuma" if digits == 6 => (n / 100) % 100 == tool,
+                        "okuma" => n % 100 == tool,
+                        _ => n == tool,
+                    }
+                }
+            };
+            if !number {
+                failures.push(format!(
+                    "{folder}/{name}:{line}: `{word}` is not tool {tool}"
+                ));
+            }
+        }
+        programs_with_tools += usize::from(any);
+    });
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(
+        programs_with_tools >= 60,
+        "{programs_with_tools} programs with tools"
+    );
+    eprintln!("{named} moves of {programs_with_tools} programs name their tool as written");
+}
+
 #[test]
 fn nc_programs_give_their_reviewed_moves() {
     let base = root().join("tests/data/nc");

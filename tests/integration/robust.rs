@@ -45,16 +45,26 @@ fn hostile_numbers_never_panic() {
                         job.sim.angular_cells = 8;
                         job.sim.measure_generators = 1;
                         job.sim.measure_spacing = job.sim.measure_spacing.max(0.01);
-                        let _ = simulate(
+                        let run = simulate(
                             &job,
                             &SimOptions {
                                 max_dexels: Some(4_000_000),
                             },
                         );
+                        match run {
+                            Ok(out) => {
+                                for f in &out.report.findings {
+                                    let e = crate::support::debug_shape(&f.message);
+                                    assert_eq!(e, None, "{scene}: {}", f.message);
+                                }
+                            }
+                            Err(e) => crate::support::no_debug_text(&scene, &format!("error: {e}")),
+                        }
                     }
                     Err(e) => {
                         let msg = e.to_string();
                         assert!(crate::support::place(&msg).starts_with("job.toml"), "{msg}");
+                        crate::support::no_debug_text(&scene, &msg);
                     }
                 });
                 assert!(result.is_ok(), "{scene}: line {} = {v} panicked", i + 1);
@@ -179,7 +189,9 @@ fn corrupt_and_run(
             })
         };
         let r = std::panic::catch_unwind(|| {
-            let _ = interpret(&src, dialect, &load, limits);
+            if let Err(e) = interpret(&src, dialect, &load, limits) {
+                crate::support::no_debug_text(file, &e.to_string());
+            }
         });
         assert!(
             r.is_ok(),

@@ -4,7 +4,7 @@
 //! the job read) or the job's key (a table the job file has); the places the hand
 //! derivations give are checked; every SARIF result has a physical location.
 
-use crate::support::{root, scene_text, scenes};
+use crate::support::{debug_shape, root, scene_text, scenes};
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -235,99 +235,34 @@ fn every_sarif_result_has_a_physical_location() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// One cause, one finding: single mistakes in the M30x2 G76 program of
-/// `tests/data/crash/g76-first-block-missing/fixed.nc` (which passes), each giving exactly
-/// one error at the block that holds the mistake. Sizes by hand where the mistake has a
-/// closed form: a final X of 27.8 instead of d3 = 27.546 leaves the root
-/// (27.8 - 27.546) / 2 = 0.127 mm high; X27.3 cuts it (27.546 - 27.3) / 2 = 0.123 mm deep;
-/// a rapid to X28 through the 30 mm bar runs (30 - 28) / 2 = 1 mm into it. The program's
-/// G76 is its line 9 (N50), after `%`, O, a comment and N10..N45.
-#[test]
-fn each_single_mistake_gives_one_error_at_its_block() {
-    let dir = root().join("tests/data/crash/g76-first-block-missing");
-    let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
-    let fixed = std::fs::read_to_string(dir.join("fixed.nc")).unwrap();
-    assert!(fixed.lines().nth(8).unwrap().starts_with("N50 G76 X27.546"));
-    type Case = (
-        &'static str,
-        &'static str,
-        &'static str,
-        Option<FindingKind>,
-        usize,
-        Option<f64>,
-    );
-    let cases: [Case; 9] = [
-        (
-            "final depth short",
-            "X27.546",
-            "X27.8",
-            Some(FindingKind::Leftover),
-            9,
-            Some(0.127),
-        ),
-        (
-            "final depth too deep",
-            "X27.546",
-            "X27.3",
-            Some(FindingKind::Gouge),
-            9,
-            Some(0.123),
-        ),
-        ("lead too long", "F2.0", "F2.1", None, 9, None),
-        ("lead too short", "F2.0", "F1.5", None, 9, None),
-        (
-            "start point (phase) off",
-            "X32.0 Z5.0",
-            "X32.0 Z5.5",
-            None,
-            9,
-            None,
-        ),
-        (
-            "spindle reversed",
-            "M03",
-            "M04",
-            Some(FindingKind::Hand),
-            9,
-            None,
-        ),
-        (
-            "thread too short",
-            "Z-39.5",
-            "Z-20.0",
-            Some(FindingKind::Leftover),
-            9,
-            None,
-        ),
-        (
-            "rapid through the bar",
-            "N60 G00 X100.0 Z100.0",
-            "N60 G00 X100.0 Z100.0\nN65 G00 X28.0 Z-10.0",
-            Some(FindingKind::RapidCut),
-            11,
-            Some(1.0),
-        ),
-        (
-            "finishing pass too deep",
-            "X27.546",
-            "X27.4",
-            Some(FindingKind::Gouge),
-            9,
-            Some(0.073),
-        ),
-    ];
-    let (_, ok, _) = run_in(&dir, &text, &|_| fixed.clone());
+/// One mistake in a program: what, the text replaced and its replacement, the error's kind
+/// (where it is fixed), its line, its size by hand (where it has a closed form) and a word
+/// its message must hold.
+type Mistake = (
+    &'static str,
+    &'static str,
+    &'static str,
+    Option<FindingKind>,
+    usize,
+    Option<f64>,
+    Option<&'static str>,
+);
+
+/// Run each of `cases` on `program` (which passes) in `dir`'s job `text`: exactly one error
+/// each, at its line of `file`, of its kind, size and words.
+fn one_error_each(dir: &Path, text: &str, program: &str, file: &str, cases: &[Mistake]) {
+    let (_, ok, _) = run_in(dir, text, &|_| program.to_string());
     assert_eq!(ok.finding_counts.errors, 0, "{:#?}", ok.findings);
-    for (what, from, to, kind, line, size) in cases {
-        let program = fixed.replace(from, to);
-        assert_ne!(program, fixed, "{what}");
-        let (_, r, _) = run_in(&dir, &text, &|_| program.clone());
+    for &(what, from, to, kind, line, size, words) in cases {
+        let changed = program.replace(from, to);
+        assert_ne!(changed, program, "{what}");
+        let (_, r, _) = run_in(dir, text, &|_| changed.clone());
         let errors: Vec<_> = r.findings.iter().filter(|f| f.is_error()).collect();
         assert_eq!(errors.len(), 1, "{what}: {:#?}", errors);
         let e = errors[0];
         assert_eq!(
             (e.file.as_deref(), e.line),
-            (Some("crash.nc"), Some(line)),
+            (Some(file), Some(line)),
             "{what}: {e:?}"
         );
         if let Some(k) = kind {
@@ -336,28 +271,213 @@ fn each_single_mistake_gives_one_error_at_its_block() {
         if let Some(v) = size {
             assert!((e.value.unwrap() - v).abs() < 2e-3, "{what}: {e:?}");
         }
+        if let Some(w) = words {
+            assert!(e.message.contains(w), "{what}: {}", e.message);
+        }
     }
 }
 
-/// Rust's debug formatting in a text a person reads: `Some(..)`, `None`, `Ok(..)`,
-/// `Err(..)`, a struct's `{ field: .. }`, a list `[1, 2]` of a `Vec`.
-fn debug_shape(s: &str) -> Option<&'static str> {
-    let words = ["Some(", "Ok(", "Err(", "None", " { ", "\\\""];
-    words.into_iter().find(|w| {
-        s.match_indices(w).any(|(i, _)| {
-            // `None` as a word, not inside another one.
-            *w != "None"
-                || !s[i + 4..]
-                    .chars()
-                    .next()
-                    .is_some_and(|c| c.is_alphanumeric())
-        })
-    })
+/// One cause, one finding: single mistakes in two programs that pass, each giving exactly
+/// one error at the block that made it, of its size where it has a closed form.
+///
+/// The M30x2 G76 program of `tests/data/crash/g76-first-block-missing/fixed.nc` (its G76 is
+/// line 9, N50, after `%`, O, a comment and N10..N45; the job given a second insert, T0505
+/// a 55 deg one, and offsets 3 and 4, 4 being 0.2 mm larger on the diameter): a final X of
+/// 27.8 instead of d3 = 27.546 leaves the root (27.8 - 27.546) / 2 = 0.127 mm high; X27.3
+/// cuts it (27.546 - 27.3) / 2 = 0.123 mm deep, X27.4 0.073 mm; offset 4 leaves every pass
+/// 0.2 / 2 = 0.1 mm high (less the 0.000131 mm d3 = 27.546262 is under X27.546); a rapid to
+/// X28 through the 30 mm bar runs (30 - 28) / 2 = 1 mm into it; a start point X29 under the
+/// bar's 30 makes every return rapid of the cycle (its block) run (30 - 29) / 2 = 0.5 mm in.
+/// The wrong insert's finding names it as written (T0505).
+///
+/// The two-start M30x4 (P2) of `tests/data/sources/two-start-g92` (README.md): start 2's
+/// finishing pass N140 (line 19) left out leaves its root (27.8 - 27.546262) / 2 = 0.1269
+/// mm high, at N130 (line 18), the pass that cut there last; start 2 at Q171000 instead of
+/// Q180000 puts its grooves 4 x 9 / 360 = 0.1 mm along the axis, a 60 deg flank
+/// 0.1 cos 30 = 0.0866 mm off, at its finishing block N140.
+#[test]
+fn each_single_mistake_gives_one_error_at_its_block() {
+    let dir = root().join("tests/data/crash/g76-first-block-missing");
+    let text = std::fs::read_to_string(dir.join("job.toml"))
+        .unwrap()
+        .replace(
+            "[program]",
+            "[[tool]]\nid = 5\nkind = \"threading\"\nangle = 55.0\ntip_flat = 0.2\nreference = \"tip\"\n\n[program]",
+        )
+        .replace(
+            "acceleration = 2000",
+            "acceleration = 2000\noffsets.3 = { x = 0.0 }\noffsets.4 = { x = 0.2 }\noffsets.5 = { x = 0.0 }",
+        );
+    let fixed = std::fs::read_to_string(dir.join("fixed.nc")).unwrap();
+    assert!(fixed.lines().nth(8).unwrap().starts_with("N50 G76 X27.546"));
+    use FindingKind::{Gouge, Hand, Leftover, RapidCut};
+    let g76: &[Mistake] = &[
+        (
+            "final depth short",
+            "X27.546",
+            "X27.8",
+            Some(Leftover),
+            9,
+            Some(0.127),
+            None,
+        ),
+        (
+            "final depth too deep",
+            "X27.546",
+            "X27.3",
+            Some(Gouge),
+            9,
+            Some(0.123),
+            None,
+        ),
+        (
+            "finishing pass too deep",
+            "X27.546",
+            "X27.4",
+            Some(Gouge),
+            9,
+            Some(0.073),
+            None,
+        ),
+        ("lead too long", "F2.0", "F2.1", None, 9, None, None),
+        ("lead too short", "F2.0", "F1.5", None, 9, None, None),
+        (
+            "start point (phase) off",
+            "X32.0 Z5.0",
+            "X32.0 Z5.5",
+            None,
+            9,
+            None,
+            None,
+        ),
+        (
+            "start point under the bar",
+            "X32.0 Z5.0",
+            "X29.0 Z5.0",
+            Some(RapidCut),
+            9,
+            Some(0.5),
+            None,
+        ),
+        ("spindle reversed", "M03", "M04", Some(Hand), 9, None, None),
+        (
+            "thread too short",
+            "Z-39.5",
+            "Z-20.0",
+            Some(Leftover),
+            9,
+            None,
+            None,
+        ),
+        (
+            "a taper by mistake",
+            "Z-39.5 P1227",
+            "Z-39.5 R-0.5 P1227",
+            Some(Gouge),
+            9,
+            None,
+            None,
+        ),
+        (
+            "rapid through the bar",
+            "N60 G00 X100.0 Z100.0",
+            "N60 G00 X100.0 Z100.0\nN65 G00 X28.0 Z-10.0",
+            Some(RapidCut),
+            11,
+            Some(1.0),
+            None,
+        ),
+        (
+            "wrong insert",
+            "N20 T0303",
+            "N20 T0505",
+            None,
+            9,
+            None,
+            Some("T0505"),
+        ),
+        (
+            "wrong offset",
+            "N20 T0303",
+            "N20 T0304",
+            Some(Leftover),
+            9,
+            Some(0.1),
+            Some("T0304"),
+        ),
+    ];
+    one_error_each(&dir, &text, &fixed, "crash.nc", g76);
+
+    let dir = root().join("tests/data/sources/two-start-g92");
+    let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+    let program = std::fs::read_to_string(dir.join("two-start.nc")).unwrap();
+    assert!(program
+        .lines()
+        .nth(18)
+        .unwrap()
+        .starts_with("N140 X27.546 Q180000"));
+    let two: &[Mistake] = &[
+        (
+            "start 2's finishing block missing",
+            "N140 X27.546 Q180000\n",
+            "",
+            Some(Leftover),
+            18,
+            Some(0.1269),
+            None,
+        ),
+        (
+            "start 2's start angle Q off",
+            "Q180000",
+            "Q171000",
+            Some(Gouge),
+            19,
+            Some(0.0866),
+            None,
+        ),
+    ];
+    one_error_each(&dir, &text, &program, "two-start.nc", two);
+    assert!(g76.len() + two.len() >= 12);
 }
 
-/// No message of any scene's report (findings, summary) and no diagnostic of the NC corpus
-/// (`tests/data/nc`: the reviewed `*.moves` hold every warning and error the interpreter
-/// gives, equal to its output by `nc_data`) has Rust's debug formatting.
+/// Every job the suites' sources tests run: the scenes, the crash jobs (both programs),
+/// the M30x2 gauge jobs, the two-start G92 job: (name, folder, job text).
+fn all_jobs() -> Vec<(String, std::path::PathBuf, String)> {
+    let mut v: Vec<_> = scenes()
+        .into_iter()
+        .map(|s| (s.clone(), root().join("scenes").join(&s), scene_text(&s)))
+        .collect();
+    for case in [
+        "first-cut-too-deep",
+        "g76-first-block-missing",
+        "rapid-below-crest",
+        "thread-into-shoulder",
+    ] {
+        let dir = root().join("tests/data/crash").join(case);
+        let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+        for program in ["crash.nc", "fixed.nc"] {
+            let t = text.replace("crash.nc", program);
+            v.push((format!("{case}/{program}"), dir.clone(), t));
+        }
+    }
+    let dir = root().join("tests/data/gauge");
+    let text = std::fs::read_to_string(dir.join("m30x2.toml")).unwrap();
+    for program in ["O1001.NC", "O1002.NC"] {
+        let t = text.replace("O1001.NC", program);
+        v.push((format!("gauge {program}"), dir.clone(), t));
+    }
+    let dir = root().join("tests/data/sources/two-start-g92");
+    let text = std::fs::read_to_string(dir.join("job.toml")).unwrap();
+    v.push(("two-start-g92".into(), dir, text));
+    v
+}
+
+/// No message of any job's report (findings, summary: the scenes, the crash, gauge and
+/// two-start jobs) and no diagnostic of the NC corpus (`tests/data/nc`: the reviewed
+/// `*.moves` hold every warning and error the interpreter gives, equal to its output by
+/// `nc_data`) has Rust's debug formatting (the job errors of the hostile and robust tests
+/// are checked there, `support::no_debug_text`). A tool a message names (`T0303`,
+/// `T="NAME"`) stands in the program as written.
 #[test]
 fn no_message_has_debug_formatting() {
     for (w, shape) in [
@@ -365,14 +485,40 @@ fn no_message_has_debug_formatting() {
         ("tool T0202", false),
         ("None", true),
         ("Nonexistent", false),
+        ("not `{ x = 0 }`", false),
+        ("Inner { x: 1 }", true),
     ] {
         assert_eq!(debug_shape(w).is_some(), shape, "{w}");
     }
-    for scene in scenes() {
-        let dir = root().join("scenes").join(&scene);
-        let (_, r, _) = run_in(&dir, &scene_text(&scene), &|t| t.to_string());
+    let mut tools_named = 0;
+    for (scene, dir, text) in all_jobs() {
+        let (_, r, read) = run_in(&dir, &text, &|t| t.to_string());
         for f in &r.findings {
             assert_eq!(debug_shape(&f.message), None, "{scene}: {}", f.message);
+            // Every tool word of the message (`T0303`, `T="A B"`) is written in a program.
+            for (i, _) in f.message.match_indices(" T") {
+                let rest = &f.message[i + 1..];
+                let word: String = if let Some(name) = rest.strip_prefix("T=\"") {
+                    let end = name.find('"').map_or(rest.len(), |k| k + 4);
+                    rest[..end].to_string()
+                } else {
+                    rest.chars()
+                        .take_while(|c| c.is_ascii_alphanumeric())
+                        .collect()
+                };
+                let number = word.len() > 1 && word[1..].chars().all(|c| c.is_ascii_digit());
+                // A job without a program names its `[[tool]]` id (`T1`).
+                if !text.contains("[program]") || !(number || word.starts_with("T=")) {
+                    continue;
+                }
+                tools_named += 1;
+                assert!(
+                    read.values()
+                        .any(|t| t.to_uppercase().contains(&word.to_uppercase())),
+                    "{scene}: {word} is not written in its program: {}",
+                    f.message
+                );
+            }
         }
         let summary = r.summary_with(&Default::default());
         assert_eq!(debug_shape(&summary), None, "{scene}: {summary}");
@@ -413,6 +559,7 @@ fn no_message_has_debug_formatting() {
         }
     }
     assert!(n > 10, "{n} corpus programs");
+    assert!(tools_named >= 5, "{tools_named} tools named in messages");
 }
 
 /// Quiet success: `simulate -q --png` on every scene, without a desktop session

@@ -190,3 +190,61 @@ impl Rng {
         v[(self.next() % v.len() as u64) as usize]
     }
 }
+
+/// Rust's debug formatting in a text a person reads (issue 29): `Some(..)`, `None`,
+/// `Ok(..)`, `Err(..)`, a struct's `{ field: .. }`, an escaped quote `\"`. What a message
+/// quotes of the user's own text, in backticks, is left out (a job's `{ x = 0 }` is the
+/// user's, not a debug print).
+pub(crate) fn debug_shape(s: &str) -> Option<&'static str> {
+    // The text outside backtick quotes.
+    let own: String = s
+        .split('`')
+        .enumerate()
+        .filter(|(i, _)| i % 2 == 0)
+        .map(|(_, t)| t)
+        .collect::<Vec<_>>()
+        .join(" ");
+    let words = ["Some(", "Ok(", "Err(", "None", " { ", "\\\""];
+    words.into_iter().find(|w| {
+        own.match_indices(w).any(|(i, _)| match *w {
+            // `None` as a word, not inside another one.
+            "None" => {
+                !own[i + 4..]
+                    .chars()
+                    .next()
+                    .is_some_and(|c| c.is_alphanumeric())
+                    && !own[..i]
+                        .chars()
+                        .next_back()
+                        .is_some_and(|c| c.is_alphanumeric())
+            }
+            // A struct's fields: `Name { field: ..`.
+            " { " => {
+                let rest = &own[i + 3..];
+                let name: String = rest
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                !name.is_empty() && rest[name.len()..].starts_with(':')
+            }
+            _ => true,
+        })
+    })
+}
+
+/// The lines of a rendered diagnostic (or of standard error) that are vpcut's own words:
+/// `error: ..`, `warning: ..` and the `= ..` notes and hints; not the quoted source lines
+/// (`3 | G0 X{`) or their carets.
+pub(crate) fn own_lines(text: &str) -> impl Iterator<Item = &str> {
+    text.lines().filter(|l| {
+        let t = l.trim_start();
+        t.starts_with("error") || t.starts_with("warning") || t.starts_with("= ")
+    })
+}
+
+/// Assert that no own line of `text` has debug formatting (`what` names the case).
+pub(crate) fn no_debug_text(what: &str, text: &str) {
+    for l in own_lines(text) {
+        assert_eq!(debug_shape(l), None, "{what}: {l}");
+    }
+}

@@ -44,6 +44,8 @@ pub(in crate::nc) struct MillState {
     rpm: Option<f64>,
     spindle: Option<Spindle>,
     tool: Option<u32>,
+    /// The T word as written (`MillMove::tool_word`).
+    tool_word: Option<std::sync::Arc<str>>,
     /// The programmed moves so far.
     pub(in crate::nc) path: Vec<Programmed>,
     /// The call stack of the block being run (for errors found after the run).
@@ -68,6 +70,7 @@ impl MillState {
             rpm: None,
             spindle: None,
             tool: None,
+            tool_word: None,
             path: Vec::new(),
             stack: Vec::new(),
         }
@@ -151,6 +154,10 @@ impl Interp<'_> {
         let val = |k: &str| w.vals.get(k).copied();
         if let Some((t, _)) = val("T") {
             st.tool = Some(t.round().max(0.0) as u32);
+            st.tool_word =
+                Some(std::sync::Arc::from(w.t_text.clone().unwrap_or_else(
+                    || crate::nc::tool_word(crate::nc::Dialect::Linuxcnc, t),
+                )));
         }
         if let Some((s, _)) = val("S") {
             st.rpm = Some(s);
@@ -369,6 +376,7 @@ impl Interp<'_> {
             spindle_rpm: st.rpm,
             spindle: st.spindle,
             tool: st.tool,
+            tool_word: st.tool_word.clone(),
         });
         Ok(Step::Next)
     }

@@ -68,6 +68,7 @@ pub(in crate::nc) struct Programmed {
     pub(in crate::nc) spindle_rpm: Option<f64>,
     pub(in crate::nc) spindle: Option<Spindle>,
     pub(in crate::nc) tool: Option<u32>,
+    pub(in crate::nc) tool_word: Option<std::sync::Arc<str>>,
 }
 
 impl Plane {
@@ -422,6 +423,7 @@ fn tool_move(
         spindle_rpm: p.spindle_rpm,
         spindle: p.spindle,
         tool: p.tool,
+        tool_word: p.tool_word.clone(),
         comp,
     }
 }

@@ -97,6 +97,8 @@ pub struct MillMove {
     pub spindle: Option<Spindle>,
     /// Active tool number.
     pub tool: Option<u32>,
+    /// The tool as the program wrote it (`T1`), `None` before any T word.
+    pub tool_word: Option<std::sync::Arc<str>>,
     /// Cutter radius compensation in force during the move: side and radius (mm).
     pub comp: Option<(CompSide, f64)>,
 }

@@ -390,6 +390,7 @@ fn compensate_pure_pass_tangent_and_z_only() {
         spindle_rpm: None,
         spindle: None,
         tool: None,
+        tool_word: None,
     };
     let on = Comp::On(CompSide::Right, 2.0);
     let arc = MillArc {
