@@ -150,9 +150,10 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (10 | 28 | 30 | 53 | 80 | 92, true) => Verdict::Run,
             _ if matches!(c, 281 | 301 | 591..=593 | 611 | 901 | 911 | 921..=923) => Verdict::Run,
             (52, true) => refused("local coordinate system offset"),
-            // LinuxCNC 2.9's G70 (finishing) and G71/G72 (.1, .2: roughing) cut an o-word
-            // subroutine's contour (interp_g7x): refused, never skipped.
-            (70..=72, _) => refused("lathe finishing/roughing cycle over an o-word contour"),
+            // LinuxCNC 2.9's G70 (finishing) and G71/G72 (.1, .2: roughing) over an o-word
+            // subroutine's contour (`lcnc_g7x`).
+            (70..=72, true) => Verdict::Run,
+            _ if matches!(c, 711 | 712 | 721 | 722) => Verdict::Run,
             // G33.1, rigid tapping: thread moves in and out (`motion::lc_rigid_tap`).
             _ if c == 331 => Verdict::Run,
             (38, false) => refused("probing"),

@@ -263,6 +263,10 @@ impl Interp<'_> {
     /// X25` then `#<_x>` reads 12.5; checked with `rs274`, see
     /// `tests/data/linuxcnc/corpus/`).
     fn lc_position(&self) -> (f64, f64) {
+        // While a G7x contour is read, rs274's current point is the contour's.
+        if let Some(g) = &self.lc.g7x {
+            return (g.at.im, g.at.re);
+        }
         let (ox, oz) = self.frames.offsets[self.frames.work];
         let (gx, gz) = self.frames.g92_off;
         (

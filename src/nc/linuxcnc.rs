@@ -172,6 +172,8 @@ pub(super) struct Lcnc {
     repeats: HashMap<(usize, usize), i64>,
     /// Machine state that only the predefined parameters read (`lcnc_expr::lc_predefined`).
     pub(super) st: LcState,
+    /// A G70/G71/G72 whose contour subroutine is being read (`lcnc_g7x`).
+    pub(super) g7x: Option<Box<super::lcnc_g7x::G7xRead>>,
 }
 
 /// LinuxCNC modal and machine state beside `Interp`'s shared fields: what `#<_..>` and
@@ -459,7 +461,18 @@ impl Interp<'_> {
                     let t = tenth as u32;
                     if matches!(
                         t,
-                        281 | 301 | 331 | 382..=385 | 591..=593 | 611 | 901 | 911 | 921..=923
+                        281 | 301
+                            | 331
+                            | 382..=385
+                            | 591..=593
+                            | 611
+                            | 711
+                            | 712
+                            | 721
+                            | 722
+                            | 901
+                            | 911
+                            | 921..=923
                     ) {
                         return Ok(super::motion::DECIMAL_G + t);
                     }
@@ -479,8 +492,10 @@ impl Interp<'_> {
                     w.m.push(m)
                 }
                 b'N' => {}
+                // U, W (increments), A and C (fillet, chamfer): words of a G7x contour
+                // subroutine only (refused elsewhere below).
                 b'X' | b'Z' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P' | b'L' | b'J'
-                | b'I' | b'H' | b'E' | b'D' => {
+                | b'I' | b'H' | b'E' | b'D' | b'U' | b'W' | b'A' | b'C' => {
                     let k = (letter as char).to_string();
                     if w.vals.contains_key(&k) {
                         return Err((at, format!("more than one {k} word on the line")));
@@ -503,7 +518,26 @@ impl Interp<'_> {
         for (p, v) in sets {
             self.lc_set(p, v);
         }
+        if self.lc.g7x.is_some() {
+            // A line of a G7x contour: only its motion words count (rs274 runs nothing else).
+            self.lc_g7x_block(&w)?;
+            return Ok(Step::Next);
+        }
+        for k in ["U", "W", "A", "C"] {
+            if let Some(&(_, at)) = w.vals.get(k) {
+                return Err((
+                    at,
+                    format!(
+                        "Bad character '{}' used (a LinuxCNC lathe has X and Z; U, W, A and C are words of a G70/G71/G72 contour only)",
+                        k.to_lowercase()
+                    ),
+                ));
+            }
+        }
         self.lc_modal(&w);
+        if let Some(code) = w.g.iter().find_map(|&g| super::lcnc_g7x::g7x_code(g)) {
+            return self.lc_g7x_start(&w, code, prog, pc);
+        }
         if w.g.contains(&76) {
             return self.in_cycle(|m| m.lcnc_g76(&w, prog, pc));
         }
@@ -705,6 +739,8 @@ impl Interp<'_> {
                 let g = &mut self.lc.params.globals;
                 g.insert("_VALUE".into(), value.unwrap_or(0.0));
                 g.insert("_VALUE_RETURNED".into(), f64::from(value.is_some()));
+                // The end of a G7x contour subroutine runs the cycle.
+                self.lc_g7x_end()?;
                 Step::Return
             }
             Kw::Call => {

@@ -42,7 +42,9 @@ mod cycles;
 mod detect;
 mod expr;
 mod fanuc;
+mod lcnc_contour;
 mod lcnc_expr;
+mod lcnc_g7x;
 mod lex;
 mod linuxcnc;
 #[cfg(test)]

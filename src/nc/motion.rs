@@ -761,6 +761,19 @@ impl Interp<'_> {
         b: (f64, f64),
         sync: Option<Sync>,
     ) {
+        self.emit_in(&prog.name, prog.blocks[pc].0, kind, a, b, sync);
+    }
+
+    /// [`Interp::emit`] for a block given by its file and 1-based line.
+    pub(super) fn emit_in(
+        &mut self,
+        file: &str,
+        line: usize,
+        kind: MoveKind,
+        a: (f64, f64),
+        b: (f64, f64),
+        sync: Option<Sync>,
+    ) {
         if self.out.moves.len() >= self.cfg.limits.max_moves {
             // The run stops after this block (`Interp::run`); nothing more is kept.
             self.out.too_many_moves = true;
@@ -778,8 +791,8 @@ impl Interp<'_> {
             per_rev: self.modal.per_rev,
         });
         self.out.moves.push(Move {
-            file: prog.name.clone(),
-            line: prog.blocks[pc].0,
+            file: file.to_string(),
+            line,
             kind,
             x_start: a.0,
             z_start: a.1,

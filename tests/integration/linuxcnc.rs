@@ -261,10 +261,13 @@ fn every_move_of_g33_and_g76_matches_linuxcnc() {
 /// One motion of rs274's canon output, in mm: traverse or feed, start and end (X a radius),
 /// and for a synchronised feed the distance per revolution along the path.
 #[derive(Debug)]
-struct CanonMove {
-    rapid: bool,
-    from: [f64; 2],
-    to: [f64; 2],
+pub(crate) struct CanonMove {
+    pub(crate) rapid: bool,
+    pub(crate) from: [f64; 2],
+    pub(crate) to: [f64; 2],
+    /// An arc's centre (X a radius, z) and whether it turns clockwise (G2: rs274's
+    /// rotation -1 in the XZ plane).
+    pub(crate) arc: Option<([f64; 2], bool)>,
     path_lead: Option<f64>,
     /// Revolutions of the spindle since the synchronised motion began (the phase at the
     /// move's start): 0 after a traverse; continuous over back-to-back synchronised feeds.
@@ -276,7 +279,7 @@ struct CanonMove {
 
 /// Every non-zero motion of a canon file. Lengths are divided by `scale` (the program's
 /// scaling, see `random/gen.py`) and inches are converted to mm.
-fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
+pub(crate) fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
     let mut out = Vec::new();
     let (mut x, mut z) = (0.0, 0.0);
     let mut mm = 1.0;
@@ -301,14 +304,18 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
             let v = args();
             g92 = [v[0], v[2]];
         } else if line.contains("ARC_FEED(") {
-            // In the XZ plane: first end Z, second end X.
+            // In the XZ plane: first end Z, second end X, then the centre's Z and X, and
+            // the rotation (-1 for G2).
             let v = args();
             let xb = (v[1] + g5x[0] + g92[0]) * mm / scale;
             let zb = (v[0] + g5x[1] + g92[1]) * mm / scale;
+            let xc = (v[3] + g5x[0] + g92[0]) * mm / scale;
+            let zc = (v[2] + g5x[1] + g92[1]) * mm / scale;
             out.push(CanonMove {
                 rapid: false,
                 from: [x, z],
                 to: [xb, zb],
+                arc: Some(([xc, zc], v[4] < 0.0)),
                 path_lead: None,
                 revs: 0.0,
                 cw,
@@ -335,6 +342,7 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                     rapid: false,
                     from: [x, z],
                     to: [xb, zb],
+                    arc: None,
                     path_lead: Some(p),
                     revs: 0.0,
                     cw,
@@ -343,6 +351,7 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                     rapid: false,
                     from: [xb, zb],
                     to: [x, z],
+                    arc: None,
                     path_lead: Some(p),
                     revs: path / p,
                     cw: !cw,
@@ -373,6 +382,7 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                     rapid,
                     from: [x, z],
                     to: [xb, zb],
+                    arc: None,
                     path_lead,
                     revs,
                     cw,
