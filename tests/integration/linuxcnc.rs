@@ -520,7 +520,8 @@ fn random_g76_and_g33_match_linuxcnc_move_for_move() {
 /// 5e-5 mm, 1.27e-3 mm in inch), every synchronised move a thread move with rs274's
 /// distance per revolution along the path (6 decimals) and the z lead that makes. Moves of
 /// no length are left out on both sides (rs274 prints every traverse, even after G92 made
-/// it one of no length).
+/// it one of no length), and vpcut's moves shorter than two print steps where they match
+/// none of rs274's (they print as no move).
 #[test]
 fn corpus_matches_linuxcnc_move_for_move() {
     let dir = root().join("tests/data/nc/linuxcnc");
@@ -556,16 +557,8 @@ fn corpus_matches_linuxcnc_move_for_move() {
             .iter()
             .filter(|w| (w.to[0] - w.from[0]).hypot(w.to[1] - w.from[1]) > 0.6e-4 * unit)
             .collect();
-        if moves.len() != want.len() {
-            failures.push(format!(
-                "{name}: {} moves, rs274 {}",
-                moves.len(),
-                want.len()
-            ));
-            continue;
-        }
         let tol = 0.51e-4 * unit;
-        for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
+        let same = |m: &vpcut::Move, w: &CanonMove| -> bool {
             let got = [m.x_start / 2.0, m.z_start, m.x_dia / 2.0, m.z];
             let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
             let mut bad = (0..4).any(|c| (got[c] - exp[c]).abs() > tol);
@@ -579,9 +572,23 @@ fn corpus_matches_linuxcnc_move_for_move() {
                 }
                 None => bad |= m.kind == MoveKind::Thread,
             }
-            if bad {
-                failures.push(format!("{name} move {k}: {m:?}\n   vs rs274 {w:?}"));
-                break;
+            !bad
+        };
+        // A move of vpcut's shorter than two print steps may print as none (a G7x cycle
+        // makes such moves): it is passed over where it matches nothing.
+        let tiny =
+            |m: &vpcut::Move| ((m.x_dia - m.x_start) / 2.0).hypot(m.z - m.z_start) < 2e-4 * unit;
+        let (mut i, mut j) = (0, 0);
+        while i < moves.len() || j < want.len() {
+            match (moves.get(i), want.get(j)) {
+                (Some(m), Some(w)) if same(m, w) => (i, j) = (i + 1, j + 1),
+                (Some(m), _) if tiny(m) => i += 1,
+                (m, w) => {
+                    failures.push(format!(
+                        "{name} move {i}: {m:?}\n   vs rs274's move {j}: {w:?}"
+                    ));
+                    break;
+                }
             }
         }
     }
