@@ -188,7 +188,8 @@ pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
             matches!(m, 0..=5 | 8 | 9 | 17 | 19 | 30 | 40..=45)
                 || (dialect == Dialect::Siemens840d && matches!(m, 6 | 7 | 10 | 11 | 70))
         }
-        Dialect::Linuxcnc => matches!(m, 0..=9 | 30 | 48 | 49 | 50..=53 | 60),
+        // M70..M73: modal state saved and restored (`lcnc_modes`).
+        Dialect::Linuxcnc => matches!(m, 0..=9 | 30 | 48 | 49 | 50..=53 | 60 | 70..=73),
     };
     if known {
         Verdict::Run
@@ -399,10 +400,7 @@ mod tests {
         assert_eq!(g_code(Dialect::Linuxcnc, 33.1), Verdict::Run);
         assert_eq!(g_code(Dialect::Linuxcnc, 33.0), Verdict::Run);
         for g in [70.0, 71.0, 71.1, 71.2, 72.0, 72.1, 72.2] {
-            assert!(
-                matches!(g_code(Dialect::Linuxcnc, g), Verdict::Refused(_)),
-                "G{g}"
-            );
+            assert_eq!(g_code(Dialect::Linuxcnc, g), Verdict::Run, "G{g}");
         }
         assert!(matches!(m_code(Dialect::Fanuc, 123.0), Verdict::Unknown(_)));
         assert!(matches!(

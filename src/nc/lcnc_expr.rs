@@ -162,6 +162,7 @@ impl Interp<'_> {
     /// A fresh level for a call about to start.
     pub(super) fn lc_push_level(&mut self) {
         let d = self.lc_depth() + 1;
+        self.lc_context_enter(d);
         self.lc.params.levels.resize_with(d, Level::default);
         self.lc.params.levels.truncate(d);
         self.lc.params.levels.push(Level::default());

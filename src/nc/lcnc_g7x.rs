@@ -136,15 +136,15 @@ impl Interp<'_> {
                 format!("{} can only be used in XZ plane (G18)", name(code)),
             ));
         }
-        // rs274 calls `O<Q with 6 decimals> call`: a whole number or "Non integer value".
+        // rs274 calls `O<Q with 6 decimals> call`, whose number it reads as a whole number
+        // within 1e-4.
         let text = format!("{q:.6}");
-        if !text.ends_with(".000000") {
+        let Some(number) = text.parse().ok().and_then(super::linuxcnc::integer_value) else {
             return Err((
                 col("Q"),
                 format!("Non integer value for integer: Q{q} (rs274 reads `O{text} CALL`: Q names the contour subroutine)"),
             ));
-        }
-        let number = &text[..text.len() - 7];
+        };
         let key = format!("O{number}");
         // The rest of the block (feed, speed, spindle, other modes) first, as rs274 runs it.
         let mut rest = Words {

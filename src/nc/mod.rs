@@ -45,7 +45,9 @@ mod expr;
 mod fanuc;
 mod lcnc_contour;
 mod lcnc_expr;
+mod lcnc_g76;
 mod lcnc_g7x;
+mod lcnc_modes;
 mod lex;
 mod linuxcnc;
 #[cfg(test)]

@@ -409,6 +409,12 @@ impl Interp<'_> {
                     return Ok(if end { Step::End } else { Step::Next });
                 }
                 (Dialect::Linuxcnc, 33) => {
+                    if !self.lc.st.spindle_on {
+                        return Err((
+                            1,
+                            super::linuxcnc::spindle_stopped("Spindle not turning in G33"),
+                        ));
+                    }
                     let k = val("K").ok_or((1, "G33 needs K (the pitch)".to_string()))? * scale;
                     // rs274/LinuxCNC: K is the distance per revolution along the programmed
                     // move (the trajectory planner ties path progress to the spindle), so a
@@ -544,6 +550,12 @@ impl Interp<'_> {
             return Err((
                 col,
                 format!("G33.1 with K{k}: the tap's pitch must be positive"),
+            ));
+        }
+        if !self.lc.st.spindle_on {
+            return Err((
+                1,
+                super::linuxcnc::spindle_stopped("Spindle not turning in G33.1"),
             ));
         }
         let k = k * scale;
