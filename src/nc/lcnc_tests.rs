@@ -591,3 +591,27 @@ fn indirect_o_word_calls() {
     let e = run("#1 = 5\no[#1] if [1]\nG0 X2\no[#1] endif\n").unwrap_err();
     assert!(e.message.contains("call only"), "{e}");
 }
+
+/// Tool table words (rs274 2.9.0~pre1's canon): G10 L1/L10/L11, G43.1 and G43.2 send
+/// offsets to the machine (`USE_TOOL_LENGTH_OFFSET`) and the tip follows the program (G43.1
+/// X1 Z2 makes no move; the next G0 X10 Z5 goes to X10 Z5); G42.1 D0 moves as programmed;
+/// a radius set with G10 L1 R makes rs274 offset a G42 path (X10.4 Z0.077 for X10 Z0 with
+/// R0.4), which vpcut refuses; G42.1 without D is rs274's "G42.1 with no D word".
+#[test]
+fn tool_table_words_leave_the_tip_on_the_program() {
+    let m = run("G18 G21 G8 F100\nG0 X10 Z5\nG43.1 X1 Z2\nG0 X12 Z5\nG1 Z0\nG49\n").unwrap();
+    let ends: Vec<(f64, f64)> = m.iter().map(|m| (m.x_dia / 2.0, m.z)).collect();
+    assert_eq!(ends, [(10.0, 5.0), (12.0, 5.0), (12.0, 0.0)]);
+    let m = run("G18 G21 G8 F100\nG10 L1 P3 X1 Z2 R0\nT3 M6 G43\nG10 L10 P3 Z4\nG43.2 H4\nG0 X10 Z5\nG42.1 D0 L2\nG1 X12 Z0\nG40\n").unwrap();
+    let ends: Vec<(f64, f64)> = m.iter().map(|m| (m.x_dia / 2.0, m.z)).collect();
+    assert_eq!(ends, [(10.0, 5.0), (12.0, 0.0)]);
+    let e = run("G18 G21 G8 F100\nG10 L1 P3 R0.4\nT3 M6\nG0 X10 Z5\nG42\nG1 X10 Z0\n").unwrap_err();
+    assert!(
+        e.message.contains("nonzero radius is not simulated") && e.line == 5,
+        "{e}"
+    );
+    let e = run("G18 G21 G8 F100\nG0 X10 Z5\nG42.1\n").unwrap_err();
+    assert!(e.message.contains("G42.1 with no D word"), "{e}");
+    let e = run("G18 G21 G8 F100\nG0 X10 Z5\nG41.1 D0.8 L2\n").unwrap_err();
+    assert!(e.message.contains("not simulated"), "{e}");
+}

@@ -205,6 +205,8 @@ pub(super) struct LcState {
     pub(super) selected_tool: i64,
     /// G96 D: the maximum spindle speed under constant surface speed.
     pub(super) max_rpm: Option<f64>,
+    /// Tool radii a program set with G10 L1/L10/L11 R (by tool number, program units).
+    pub(super) tool_radius: HashMap<i64, f64>,
     /// G28 and G30 positions (#5161.. and #5181..).
     pub(super) home28: (f64, f64),
     pub(super) home30: (f64, f64),
@@ -233,6 +235,7 @@ impl Default for LcState {
             feed_hold: false,
             selected_tool: -1,
             max_rpm: None,
+            tool_radius: HashMap::new(),
             home28: (0.0, 0.0),
             home30: (0.0, 0.0),
             g92_params: (0.0, 0.0),
@@ -523,6 +526,10 @@ impl Interp<'_> {
                         281 | 301
                             | 331
                             | 382..=385
+                            | 411
+                            | 421
+                            | 431
+                            | 432
                             | 591..=593
                             | 611
                             | 711
@@ -594,6 +601,14 @@ impl Interp<'_> {
             }
         }
         self.lc_modal(&w);
+        self.lc_compensation(&w)?;
+        let dyn_offset = [431, 432].map(|c| super::motion::DECIMAL_G + c);
+        if w.g.iter().any(|g| dyn_offset.contains(g)) {
+            // G43.1 X Z / G43.2: the words are tool length offsets, no move; the tool's
+            // tip follows the program whatever the offsets (rs274's canon points are the
+            // tip's), so nothing else changes.
+            w.vals.retain(|k, _| !matches!(k.as_str(), "X" | "Z" | "H"));
+        }
         if let Some(&m) = w.m.iter().find(|&&m| (70..=73).contains(&m)) {
             // rs274 sets F and S before it saves or restores the state, and runs the
             // block's G codes after.
@@ -612,6 +627,43 @@ impl Interp<'_> {
             return self.in_cycle(|m| m.lcnc_g76(&w, prog, pc));
         }
         self.apply(&w, prog, pc)
+    }
+
+    /// Cutter radius compensation: vpcut's tools have zero nose radius, so G41/G42 make the
+    /// moves as programmed, as rs274 does with a tool of zero radius; a radius the program
+    /// gave the tool (G10 L1/L10/L11 R) or G41.1/G42.1 with a nonzero D would make rs274
+    /// offset the path: refused. G41.1/G42.1 need D (rs274: "G42.1 with no D word").
+    fn lc_compensation(&self, w: &Words) -> Result<(), Fail> {
+        use super::motion::DECIMAL_G;
+        for &g in &w.g {
+            let dynamic = g == DECIMAL_G + 411 || g == DECIMAL_G + 421;
+            if dynamic {
+                let name = if g == DECIMAL_G + 411 {
+                    "G41.1"
+                } else {
+                    "G42.1"
+                };
+                let Some(&(d, col)) = w.vals.get("D") else {
+                    return Err((1, format!("{name} with no D word")));
+                };
+                if d != 0.0 {
+                    return Err((
+                        col,
+                        format!("{name} D{d}: cutter radius compensation with a tool of nonzero diameter is not simulated (vpcut's tools have zero nose radius; D0 runs)"),
+                    ));
+                }
+            }
+            if g == 41 || g == 42 {
+                let tool = i64::from(self.modal.tool.unwrap_or(0));
+                if let Some(&r) = self.lc.st.tool_radius.get(&tool).filter(|r| **r != 0.0) {
+                    return Err((
+                        1,
+                        format!("G{g} with tool {tool}, whose radius the program set to {r} (G10 L1 R): cutter radius compensation with a nonzero radius is not simulated (vpcut's tools have zero nose radius)"),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// `o[expression] call`: the subroutine whose number the expression gives (rs274: a
@@ -650,6 +702,8 @@ impl Interp<'_> {
             match g {
                 17..=19 => st.plane = g * 10,
                 40..=42 => st.ccomp = g * 10,
+                g if g == super::motion::DECIMAL_G + 411 => st.ccomp = 411,
+                g if g == super::motion::DECIMAL_G + 421 => st.ccomp = 421,
                 43 => st.tool_offset = true,
                 49 => st.tool_offset = false,
                 93..=95 => st.feed_mode = g,
@@ -694,14 +748,25 @@ impl Interp<'_> {
 
     /// G10 L2 (set a work offset to X/Z) and G10 L20 (set it so that the current point reads
     /// X/Z), `P0` the active system, `P1..P9` G54..G59.3; axes not named keep their offset.
-    /// `xs` turns an X word into a diameter, `scale` program units into mm.
+    /// `xs` turns an X word into a diameter, `scale` program units into mm. G10 L1/L10/L11
+    /// (tool table entries) are kept as the tool's radius only: the tool's tip follows the
+    /// program whatever its length offsets (rs274 sends them to the machine with
+    /// `USE_TOOL_LENGTH_OFFSET`; its canon's points are the tip's), and the radius decides
+    /// whether G41/G42 may run (`lc_compensation`).
     pub(super) fn lc_g10(&mut self, w: &Words, xs: f64, scale: f64) -> Result<(), Fail> {
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let l = val("L").ok_or((1, "G10 needs L (L2 or L20 set work offsets)".to_string()))?;
+        if l == 1.0 || l == 10.0 || l == 11.0 {
+            let p = val("P").ok_or((1, format!("G10 L{l} needs P (the tool number)")))?;
+            if let Some(r) = val("R") {
+                self.lc.st.tool_radius.insert(p.round() as i64, r);
+            }
+            return Ok(());
+        }
         if l != 2.0 && l != 20.0 {
             return Err((
                 w.vals.get("L").map_or(1, |v| v.1),
-                format!("G10 L{l} (tool table or other data) is not simulated: vpcut runs G10 L2 and L20 (work offsets)"),
+                format!("G10 L{l} (other data) is not simulated: vpcut runs G10 L1, L10, L11 (tool table) and L2, L20 (work offsets)"),
             ));
         }
         let p = val("P").ok_or((1, format!("G10 L{l} needs P (0 active, 1..9 G54..G59.3)")))?;
