@@ -747,7 +747,8 @@ impl Contour {
                 }
             }
         }
-        self.segs.retain(|s| s.size() >= 1e-3);
+        // (rs274 erases what is shorter: a NaN size stays.)
+        self.segs.retain(|s| s.size() >= 1e-3 || s.size().is_nan());
         Ok(())
     }
 
@@ -1003,8 +1004,8 @@ impl Contour {
                     p += 1;
                     continue;
                 }
-                for ip in p..segs.len() {
-                    let is = segs[ip].at_depth(at.im);
+                for (ip, seg) in segs.iter().enumerate().skip(p) {
+                    let is = seg.at_depth(at.im);
                     let (Some(&first), Some(&last)) = (is.first(), is.last()) else {
                         continue;
                     };
@@ -1016,7 +1017,7 @@ impl Contour {
                     if dist < TOL {
                         if p == ip {
                             continue;
-                        } else if (at - segs[ip].s).abs() < TOL {
+                        } else if (at - seg.s).abs() < TOL {
                             p = ip;
                             break;
                         } else {

@@ -46,7 +46,7 @@ pub(super) struct G7xRead {
 pub(super) fn g7x_code(g: u32) -> Option<u32> {
     use super::motion::DECIMAL_G;
     match g {
-        70 | 71 | 72 => Some(g * 10),
+        70..=72 => Some(g * 10),
         g if g == DECIMAL_G + 711 || g == DECIMAL_G + 712 => Some(g - DECIMAL_G),
         g if g == DECIMAL_G + 721 || g == DECIMAL_G + 722 => Some(g - DECIMAL_G),
         _ => None,
@@ -283,7 +283,7 @@ impl Interp<'_> {
                     let chord = end - start;
                     let n = chord.norm();
                     let h = (r * r - n / 4.0) / n;
-                    if !(h >= 0.0) {
+                    if h.is_nan() || h < 0.0 {
                         return Err((
                             col("R"),
                             format!("G{} R{r}: the end point is farther from the start than the diameter (rs274 2.9.0~pre1 makes no arc of it)", g.motion),
