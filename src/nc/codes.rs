@@ -157,7 +157,7 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             // G33.1, rigid tapping: thread moves in and out (`motion::lc_rigid_tap`).
             _ if c == 331 => Verdict::Run,
             // G41.1/G42.1 with D0 (as compensation of zero radius), G43.1/G43.2 (tool length
-            // offsets: the tool's tip follows the program, `linuxcnc::lc_tool_words`).
+            // offsets: the tool's tip follows the program; `linuxcnc::lc_compensation`).
             _ if matches!(c, 411 | 421 | 431 | 432) => Verdict::Run,
             (38, false) => refused("probing"),
             (73 | 74 | 81..=89, true) => refused("canned cycle"),
