@@ -317,7 +317,7 @@ mod tests {
         assert!(!t[1].chained);
         // LinuxCNC's planner keeps the sync of consecutive G33 moves too (K is the pitch).
         let t = threads(
-            "G7\nG0 X20 Z0\nG33 Z-7 K2\nG33 X24 Z-9 K2\n",
+            "G7 M3\nG0 X20 Z0\nG33 Z-7 K2\nG33 X24 Z-9 K2\n",
             Dialect::Linuxcnc,
         );
         assert_eq!((t[1].chained, t[1].sync_angle_deg), (true, Some(180.0)));

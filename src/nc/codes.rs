@@ -150,11 +150,15 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (10 | 28 | 30 | 53 | 80 | 92, true) => Verdict::Run,
             _ if matches!(c, 281 | 301 | 591..=593 | 611 | 901 | 911 | 921..=923) => Verdict::Run,
             (52, true) => refused("local coordinate system offset"),
-            // LinuxCNC 2.9's G70 (finishing) and G71/G72 (.1, .2: roughing) cut an o-word
-            // subroutine's contour (interp_g7x): refused, never skipped.
-            (70..=72, _) => refused("lathe finishing/roughing cycle over an o-word contour"),
+            // LinuxCNC 2.9's G70 (finishing) and G71/G72 (.1, .2: roughing) over an o-word
+            // subroutine's contour (`lcnc_g7x`).
+            (70..=72, true) => Verdict::Run,
+            _ if matches!(c, 711 | 712 | 721 | 722) => Verdict::Run,
             // G33.1, rigid tapping: thread moves in and out (`motion::lc_rigid_tap`).
             _ if c == 331 => Verdict::Run,
+            // G41.1/G42.1 with D0 (as compensation of zero radius), G43.1/G43.2 (tool length
+            // offsets: the tool's tip follows the program; `linuxcnc::lc_compensation`).
+            _ if matches!(c, 411 | 421 | 431 | 432) => Verdict::Run,
             (38, false) => refused("probing"),
             (73 | 74 | 81..=89, true) => refused("canned cycle"),
             _ => Verdict::Unknown(format!(
@@ -187,7 +191,8 @@ pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
             matches!(m, 0..=5 | 8 | 9 | 17 | 19 | 30 | 40..=45)
                 || (dialect == Dialect::Siemens840d && matches!(m, 6 | 7 | 10 | 11 | 70))
         }
-        Dialect::Linuxcnc => matches!(m, 0..=9 | 30 | 48 | 49 | 50..=53 | 60),
+        // M70..M73: modal state saved and restored (`lcnc_modes`).
+        Dialect::Linuxcnc => matches!(m, 0..=9 | 30 | 48 | 49 | 50..=53 | 60 | 70..=73),
     };
     if known {
         Verdict::Run
@@ -398,10 +403,7 @@ mod tests {
         assert_eq!(g_code(Dialect::Linuxcnc, 33.1), Verdict::Run);
         assert_eq!(g_code(Dialect::Linuxcnc, 33.0), Verdict::Run);
         for g in [70.0, 71.0, 71.1, 71.2, 72.0, 72.1, 72.2] {
-            assert!(
-                matches!(g_code(Dialect::Linuxcnc, g), Verdict::Refused(_)),
-                "G{g}"
-            );
+            assert_eq!(g_code(Dialect::Linuxcnc, g), Verdict::Run, "G{g}");
         }
         assert!(matches!(m_code(Dialect::Fanuc, 123.0), Verdict::Unknown(_)));
         assert!(matches!(

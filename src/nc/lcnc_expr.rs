@@ -162,6 +162,7 @@ impl Interp<'_> {
     /// A fresh level for a call about to start.
     pub(super) fn lc_push_level(&mut self) {
         let d = self.lc_depth() + 1;
+        self.lc_context_enter(d);
         self.lc.params.levels.resize_with(d, Level::default);
         self.lc.params.levels.truncate(d);
         self.lc.params.levels.push(Level::default());
@@ -263,6 +264,10 @@ impl Interp<'_> {
     /// X25` then `#<_x>` reads 12.5; checked with `rs274`, see
     /// `tests/data/linuxcnc/corpus/`).
     fn lc_position(&self) -> (f64, f64) {
+        // While a G7x contour is read, rs274's current point is the contour's.
+        if let Some(g) = &self.lc.g7x {
+            return (g.at.im, g.at.re);
+        }
         let (ox, oz) = self.frames.offsets[self.frames.work];
         let (gx, gz) = self.frames.g92_off;
         (

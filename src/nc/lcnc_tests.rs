@@ -258,7 +258,7 @@ fn bad_lines_are_errors_with_columns() {
         ("M98 P100\n", 1, 1, "use o-word subroutines"),
         // rs274: "K word missing with g33/g33.1" (and a G33.1 block repeats it).
         ("G33.1 Z-10\n", 1, 1, "G33.1 needs K"),
-        ("G0 U5\n", 1, 4, "`U` is not supported"),
+        ("G0 U5\n", 1, 4, "Bad character 'u' used"),
         ("o9 call\n", 1, 1, "o9 is not defined"),
         ("G0 X1 X2\n", 1, 7, "more than one X word"),
         // rs274: "Calculation resulted in 'not a number'".
@@ -323,7 +323,7 @@ fn external_subroutines_load_beside_the_file() {
         })
     };
     let m = run_with(
-        "G7\nG0 X20 Z2\no<Cut> call [19] [1.5]\no<cut> call [18.5] [1.5]\n",
+        "G7 M3\nG0 X20 Z2\no<Cut> call [19] [1.5]\no<cut> call [18.5] [1.5]\n",
         &loader,
         Limits::default(),
     )
@@ -353,7 +353,7 @@ fn external_subroutines_load_beside_the_file() {
 fn g76_taper_words() {
     let g76 = |tail: &str| {
         run(&format!(
-            "G18 G7 G21\nG0 X20 Z5\nG76 P2 Z-20 I-1 J0.4 K1.5 R2 Q29.5 H1 {tail}\nM2\n"
+            "G18 G7 G21 M3\nG0 X20 Z5\nG76 P2 Z-20 I-1 J0.4 K1.5 R2 Q29.5 H1 {tail}\nM2\n"
         ))
     };
     let plain = g76("").unwrap();
@@ -491,4 +491,127 @@ fn a_parameter_being_set_reads_as_zero() {
         let e = run(text).unwrap_err();
         assert!(e.message.contains("is not defined"), "{text}: {e}");
     }
+}
+
+/// rs274 2.9.0~pre1 changes tools with the spindle stopped (`STOP_SPINDLE_TURNING` before
+/// `CHANGE_TOOL`) and refuses a synchronised move while the spindle stands: "Spindle not
+/// turning in G33" (and G33.1), "Chosen spindle (0) not turning in G76" after `T3 M6`, after
+/// M5, or before any M3; an M3 in the M6 block (run after the change) or after it starts it
+/// again; feeds and the G7x cycles do not need it (each checked with `rs274 -g`).
+#[test]
+fn a_tool_change_stops_the_spindle() {
+    let head = "G18 G21 G8 G95\nS500 M3 F0.2\nG0 X10 Z2\n";
+    for (stop, block, says) in [
+        ("T3 M6", "G33 Z-10 K1.5", "Spindle not turning in G33"),
+        (
+            "T3 M6",
+            "G76 P1.5 Z-10 I-1 J0.2 K1",
+            "Chosen spindle (0) not turning in G76",
+        ),
+        (
+            "T3 M6",
+            "G0 X0\nG33.1 Z-10 K1.5",
+            "Spindle not turning in G33.1",
+        ),
+        ("M5", "G33 Z-10 K1.5", "Spindle not turning in G33"),
+    ] {
+        let e = run(&format!("{head}{stop}\n{block}\nM2\n")).unwrap_err();
+        assert!(e.message.contains(says), "{stop} {block}: {e}");
+        assert!(e.message.contains("M6"), "{e}");
+    }
+    let e = run("G18 G21 G8 S500\nG0 X10 Z2\nG33 Z-10 K1.5\n").unwrap_err();
+    assert!(e.message.contains("Spindle not turning in G33"), "{e}");
+    for after in [
+        "T3 M6 M3\nG33 Z-10 K1.5",
+        "T3 M6\nM3\nG33 Z-10 K1.5",
+        "T3 M6\nG1 Z-10",
+    ] {
+        let m = run(&format!("{head}{after}\nM2\n")).unwrap_or_else(|e| panic!("{after}: {e}"));
+        assert_eq!(m.last().unwrap().z, -10.0, "{after}");
+    }
+}
+
+/// M70..M73 (rs274 2.9.0~pre1's canon for the same program): a sub's M73 brings the
+/// caller's G21, G90, G7, F0.25 (written back as `F%.1f`: 0.2), S600 and M3 back at its
+/// endsub; M70 then M72 restore G90 G7, F0.2 (from 0.12) and M3 (from M5). Moves: X10 Z2
+/// rapid, the sub's G0 X0.1 Z0.1 in G20 G91 G8 to radius 12.54 z 4.54, then G1 X22 Z0 (r 11,
+/// diameter mode again), G1 X1 in G91 G8 (r 12), G1 X24 Z-2 (r 12, G90 G7). M72 with no
+/// M70 before, or after M71, is rs274's error.
+#[test]
+fn m70_to_m73_save_and_restore_the_modes() {
+    let text = "G18 G21 G7 G95 G90\nF0.25 S600 M3\no<thread> sub\n  M73\n  G20 G91 G8 F0.01 S300 M4\n  G0 X0.1 Z0.1\no<thread> endsub\nG0 X20 Z2\no<thread> call\nG1 X22 Z0\nM70\nG91 G8 F0.12 M5\nG1 X1\nM72\nG1 X24 Z-2\nM2\n";
+    let m = run(text).unwrap_or_else(|e| panic!("{e}"));
+    let ends: Vec<(f64, f64)> = m.iter().map(|m| (m.x_dia / 2.0, m.z)).collect();
+    let want = [
+        (10.0, 2.0),
+        (12.54, 4.54),
+        (11.0, 0.0),
+        (12.0, 0.0),
+        (12.0, -2.0),
+    ];
+    assert_eq!(ends.len(), want.len(), "{ends:?}");
+    for (g, w) in ends.iter().zip(want) {
+        assert!(
+            (g.0 - w.0).abs() < 1e-9 && (g.1 - w.1).abs() < 1e-9,
+            "{ends:?}"
+        );
+    }
+    let feeds: Vec<Option<f64>> = m.iter().map(|m| m.feed.map(|f| f.value)).collect();
+    assert_eq!(feeds[2], Some(0.2), "restored as F%.1f: {feeds:?}");
+    assert_eq!(feeds[3], Some(0.12));
+    assert_eq!(feeds[4], Some(0.2));
+    assert_eq!(m[1].spindle, crate::model::helix::Spindle::Ccw);
+    assert_eq!(m[2].spindle, crate::model::helix::Spindle::Cw);
+    for bad in ["F1\nM72\n", "F1\nM70\nM71\nM72\n"] {
+        let e = run(bad).unwrap_err();
+        assert!(e.message.contains("missing M70/M73"), "{bad}: {e}");
+    }
+}
+
+/// `o[expression] call` (LinuxCNC manual, O Codes, "Indirection"; rs274 2.9.0~pre1): the
+/// number is computed when the line runs and must be whole within 1e-4 ("Non integer value
+/// for integer"); `o[101] sub` with a constant works where it is defined. A computed label
+/// of `if` or a loop, which rs274 runs too, is refused by name.
+#[test]
+fn indirect_o_word_calls() {
+    close(
+        &xs("o101 sub\nG0 X#1 Z1\no101 endsub\n#2 = 100\no[#2 + 1] call [7]\n"),
+        &[7.0],
+    );
+    close(
+        &xs("o[101] sub\nG0 X#1 Z1\no[101] endsub\no101 call [3]\n"),
+        &[3.0],
+    );
+    close(
+        &xs("o101 sub\nG0 X#1 Z1\no101 endsub\no[101.00005] call [5]\n"),
+        &[5.0],
+    );
+    let e = run("o101 sub\nG0 X#1 Z1\no101 endsub\no[101.4] call [7]\n").unwrap_err();
+    assert!(e.message.contains("Non integer value for integer"), "{e}");
+    let e = run("#1 = 5\no[#1] if [1]\nG0 X2\no[#1] endif\n").unwrap_err();
+    assert!(e.message.contains("call only"), "{e}");
+}
+
+/// Tool table words (rs274 2.9.0~pre1's canon): G10 L1/L10/L11, G43.1 and G43.2 send
+/// offsets to the machine (`USE_TOOL_LENGTH_OFFSET`) and the tip follows the program (G43.1
+/// X1 Z2 makes no move; the next G0 X10 Z5 goes to X10 Z5); G42.1 D0 moves as programmed;
+/// a radius set with G10 L1 R makes rs274 offset a G42 path (X10.4 Z0.077 for X10 Z0 with
+/// R0.4), which vpcut refuses; G42.1 without D is rs274's "G42.1 with no D word".
+#[test]
+fn tool_table_words_leave_the_tip_on_the_program() {
+    let m = run("G18 G21 G8 F100\nG0 X10 Z5\nG43.1 X1 Z2\nG0 X12 Z5\nG1 Z0\nG49\n").unwrap();
+    let ends: Vec<(f64, f64)> = m.iter().map(|m| (m.x_dia / 2.0, m.z)).collect();
+    assert_eq!(ends, [(10.0, 5.0), (12.0, 5.0), (12.0, 0.0)]);
+    let m = run("G18 G21 G8 F100\nG10 L1 P3 X1 Z2 R0\nT3 M6 G43\nG10 L10 P3 Z4\nG43.2 H4\nG0 X10 Z5\nG42.1 D0 L2\nG1 X12 Z0\nG40\n").unwrap();
+    let ends: Vec<(f64, f64)> = m.iter().map(|m| (m.x_dia / 2.0, m.z)).collect();
+    assert_eq!(ends, [(10.0, 5.0), (12.0, 0.0)]);
+    let e = run("G18 G21 G8 F100\nG10 L1 P3 R0.4\nT3 M6\nG0 X10 Z5\nG42\nG1 X10 Z0\n").unwrap_err();
+    assert!(
+        e.message.contains("nonzero radius is not simulated") && e.line == 5,
+        "{e}"
+    );
+    let e = run("G18 G21 G8 F100\nG0 X10 Z5\nG42.1\n").unwrap_err();
+    assert!(e.message.contains("G42.1 with no D word"), "{e}");
+    let e = run("G18 G21 G8 F100\nG0 X10 Z5\nG41.1 D0.8 L2\n").unwrap_err();
+    assert!(e.message.contains("not simulated"), "{e}");
 }

@@ -1,5 +1,5 @@
 //! LinuxCNC (rs274ngc): blocks, O-word subroutines and control flow, and the G76 threading
-//! cycle as `Interp::convert_threading_cycle` computes it.
+//! cycle (`lcnc_g76`) as `Interp::convert_threading_cycle` computes it.
 //!
 //! A file is split when loaded: each `oN sub` .. `oN endsub` (numbered or `o<name>`) becomes
 //! a program of its own, registered as `ON` / `O<NAME>`, and the main program keeps the
@@ -21,7 +21,7 @@
 use super::expr::Fail;
 use super::lcnc_expr::{Param, Params};
 use super::lex::Cursor;
-use super::{Interp, MoveKind, Program, Source, Step, Sync, Words};
+use super::{Interp, Program, Source, Step, Words};
 use std::collections::HashMap;
 use std::rc::Rc;
 
@@ -172,6 +172,10 @@ pub(super) struct Lcnc {
     repeats: HashMap<(usize, usize), i64>,
     /// Machine state that only the predefined parameters read (`lcnc_expr::lc_predefined`).
     pub(super) st: LcState,
+    /// A G70/G71/G72 whose contour subroutine is being read (`lcnc_g7x`).
+    pub(super) g7x: Option<Box<super::lcnc_g7x::G7xRead>>,
+    /// The state M70/M73 saved, by call level (`lcnc_modes`).
+    pub(super) contexts: HashMap<usize, super::lcnc_modes::Context>,
 }
 
 /// LinuxCNC modal and machine state beside `Interp`'s shared fields: what `#<_..>` and
@@ -296,6 +300,44 @@ fn oword(c: &mut Cursor) -> Result<Option<(String, Kw)>, Fail> {
     }
     let key = if c.eat("<") {
         format!("O<{}>", c.angle_name()?)
+    } else if c.peek() == Some(b'[') {
+        // `o[expression]`: rs274 computes the number. A plain number is read here (so a
+        // `o[101] sub` is found when the file loads); any other expression is kept as
+        // `O[..]` and computed when the line runs (`lc_indirect`).
+        let start = c.i;
+        let mut depth = 0usize;
+        while let Some(b) = c.peek() {
+            c.i += 1;
+            match b {
+                b'[' => depth += 1,
+                b']' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        if depth != 0 {
+            return Err((
+                c.col_at(start),
+                "expected `]` closing the O-word's expression".into(),
+            ));
+        }
+        let inner = String::from_utf8_lossy(&c.s[start + 1..c.i - 1]).to_string();
+        match inner.parse::<f64>() {
+            Ok(n) => match integer_value(n) {
+                Some(n) => format!("O{n}"),
+                None => {
+                    return Err((
+                        c.col_at(start),
+                        format!("Non integer value for integer: o[{inner}]"),
+                    ))
+                }
+            },
+            Err(_) => format!("O[{inner}]"),
+        }
     } else {
         let at = c.col();
         match c.number() {
@@ -314,6 +356,21 @@ fn oword(c: &mut Cursor) -> Result<Option<(String, Kw)>, Fail> {
             at,
             format!("expected sub, endsub, call, return, do, while, endwhile, if, elseif, else, endif, break, continue, repeat or endrepeat after {}, found `{}`", key.to_lowercase(), kw.to_lowercase()),
         )),
+    }
+}
+
+/// rs274's `read_integer_value`: a value within 1e-4 of a whole number is that number.
+pub(super) fn integer_value(v: f64) -> Option<i64> {
+    if !v.is_finite() || v.abs() > 2e9 {
+        return None;
+    }
+    let floor = v.floor();
+    if v - floor > 0.9999 {
+        Some(v.ceil() as i64)
+    } else if v - floor > 0.0001 {
+        None
+    } else {
+        Some(floor as i64)
     }
 }
 
@@ -400,6 +457,10 @@ impl Interp<'_> {
         }
         let mut c = Cursor::squeezed(text);
         if let Some((key, kw)) = oword(&mut c)? {
+            let key = match key.strip_prefix("O[") {
+                Some(expr) => self.lc_indirect(expr, kw)?,
+                None => key,
+            };
             return self.lcnc_oword(prog, pc, id, key, kw, &mut c, jumped);
         }
         let mut w = Words::default();
@@ -465,7 +526,22 @@ impl Interp<'_> {
                     let t = tenth as u32;
                     if matches!(
                         t,
-                        281 | 301 | 331 | 382..=385 | 591..=593 | 611 | 901 | 911 | 921..=923
+                        281 | 301
+                            | 331
+                            | 382..=385
+                            | 411
+                            | 421
+                            | 431
+                            | 432
+                            | 591..=593
+                            | 611
+                            | 711
+                            | 712
+                            | 721
+                            | 722
+                            | 901
+                            | 911
+                            | 921..=923
                     ) {
                         return Ok(super::motion::DECIMAL_G + t);
                     }
@@ -485,8 +561,10 @@ impl Interp<'_> {
                     w.m.push(m)
                 }
                 b'N' => {}
+                // U, W (increments), A and C (fillet, chamfer): words of a G7x contour
+                // subroutine only (refused elsewhere below).
                 b'X' | b'Z' | b'F' | b'K' | b'Q' | b'S' | b'T' | b'R' | b'P' | b'L' | b'J'
-                | b'I' | b'H' | b'E' | b'D' => {
+                | b'I' | b'H' | b'E' | b'D' | b'U' | b'W' | b'A' | b'C' => {
                     let k = (letter as char).to_string();
                     if w.vals.contains_key(&k) {
                         return Err((at, format!("more than one {k} word on the line")));
@@ -509,11 +587,106 @@ impl Interp<'_> {
         for (p, v) in sets {
             self.lc_set(p, v);
         }
+        if self.lc.g7x.is_some() {
+            // A line of a G7x contour: only its motion words count (rs274 runs nothing else).
+            self.lc_g7x_block(&w)?;
+            return Ok(Step::Next);
+        }
+        for k in ["U", "W", "A", "C"] {
+            if let Some(&(_, at)) = w.vals.get(k) {
+                return Err((
+                    at,
+                    format!(
+                        "Bad character '{}' used (a LinuxCNC lathe has X and Z; U, W, A and C are words of a G70/G71/G72 contour only)",
+                        k.to_lowercase()
+                    ),
+                ));
+            }
+        }
         self.lc_modal(&w);
+        self.lc_compensation(&w)?;
+        let dyn_offset = [431, 432].map(|c| super::motion::DECIMAL_G + c);
+        if w.g.iter().any(|g| dyn_offset.contains(g)) {
+            // G43.1 X Z / G43.2: the words are tool length offsets, no move; the tool's
+            // tip follows the program whatever the offsets (rs274's canon points are the
+            // tip's), so nothing else changes.
+            w.vals.retain(|k, _| !matches!(k.as_str(), "X" | "Z" | "H"));
+        }
+        if let Some(&m) = w.m.iter().find(|&&m| (70..=73).contains(&m)) {
+            // rs274 sets F and S before it saves or restores the state, and runs the
+            // block's G codes after.
+            if let Some(&(f, _)) = w.vals.get("F") {
+                self.modal.feed = Some(f);
+            }
+            if let Some(&(s, _)) = w.vals.get("S") {
+                self.modal.speed = Some(s);
+            }
+            self.lc_m7x(m)?;
+        }
+        if let Some(code) = w.g.iter().find_map(|&g| super::lcnc_g7x::g7x_code(g)) {
+            return self.lc_g7x_start(&w, code, prog, pc);
+        }
         if w.g.contains(&76) {
             return self.in_cycle(|m| m.lcnc_g76(&w, prog, pc));
         }
         self.apply(&w, prog, pc)
+    }
+
+    /// Dynamic cutter radius compensation: G41.1/G42.1 with D0 make the moves as
+    /// programmed, as rs274 does with a zero diameter; a nonzero D is refused (G41/G42 with
+    /// the tool table's radius are `nose`'s). G41.1/G42.1 need D (rs274: "G42.1 with no D
+    /// word").
+    fn lc_compensation(&self, w: &Words) -> Result<(), Fail> {
+        use super::motion::DECIMAL_G;
+        for &g in &w.g {
+            let dynamic = g == DECIMAL_G + 411 || g == DECIMAL_G + 421;
+            if dynamic {
+                let name = if g == DECIMAL_G + 411 {
+                    "G41.1"
+                } else {
+                    "G42.1"
+                };
+                let Some(&(d, col)) = w.vals.get("D") else {
+                    return Err((1, format!("{name} with no D word")));
+                };
+                if d != 0.0 {
+                    return Err((
+                        col,
+                        format!("{name} D{d}: cutter radius compensation with a tool of nonzero diameter is not simulated (vpcut's tools have zero nose radius; D0 runs)"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `o[expression] call`: the subroutine whose number the expression gives (rs274: a
+    /// whole number within 1e-4). `expr` is the text after `O[`. Other O-words with a
+    /// computed number are refused: vpcut matches `if`/loop labels and finds subroutine
+    /// definitions when the file loads.
+    fn lc_indirect(&mut self, expr: &str, kw: Kw) -> Result<String, Fail> {
+        if kw != Kw::Call {
+            return Err((
+                1,
+                format!(
+                    "o[{} {}: an O-word number computed from parameters is simulated for call only (a constant such as o[101] works everywhere)",
+                    expr.to_lowercase(),
+                    kw.name()
+                ),
+            ));
+        }
+        let text = format!("[{expr}");
+        let v = self.lc_bracket(&mut Cursor::squeezed(&text))?;
+        match integer_value(v) {
+            Some(n) => Ok(format!("O{n}")),
+            None => Err((
+                1,
+                format!(
+                    "Non integer value for integer: o[{} is {v}",
+                    expr.to_lowercase()
+                ),
+            )),
+        }
     }
 
     /// The modal state only LinuxCNC's predefined parameters read (the rest is `apply`'s).
@@ -523,6 +696,8 @@ impl Interp<'_> {
             match g {
                 17..=19 => st.plane = g * 10,
                 40..=42 => st.ccomp = g * 10,
+                g if g == super::motion::DECIMAL_G + 411 => st.ccomp = 411,
+                g if g == super::motion::DECIMAL_G + 421 => st.ccomp = 421,
                 43 => st.tool_offset = true,
                 49 => st.tool_offset = false,
                 93..=95 => st.feed_mode = g,
@@ -539,6 +714,11 @@ impl Interp<'_> {
             }
         }
         let p = w.vals.get("P").map(|v| v.0);
+        // rs274 changes the tool (M6 stops the spindle: `STOP_SPINDLE_TURNING` before
+        // `CHANGE_TOOL`) before it starts the spindle of the same block.
+        if w.m.contains(&6) {
+            st.spindle_on = false;
+        }
         for &m in &w.m {
             match m {
                 3 | 4 => st.spindle_on = true,
@@ -562,18 +742,23 @@ impl Interp<'_> {
 
     /// G10 L2 (set a work offset to X/Z) and G10 L20 (set it so that the current point reads
     /// X/Z), `P0` the active system, `P1..P9` G54..G59.3; axes not named keep their offset.
-    /// `xs` turns an X word into a diameter, `scale` program units into mm.
+    /// `xs` turns an X word into a diameter, `scale` program units into mm. G10 L1/L10/L11
+    /// (tool table entries) are kept as the tool's radius only: the tool's tip follows the
+    /// program whatever its length offsets (rs274 sends them to the machine with
+    /// `USE_TOOL_LENGTH_OFFSET`; its canon's points are the tip's), and the radius decides
+    /// whether G41/G42 may run (`lc_compensation`).
     pub(super) fn lc_g10(&mut self, w: &Words, xs: f64, scale: f64) -> Result<(), Fail> {
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let l = val("L").ok_or((1, "G10 needs L (L2 or L20 set work offsets)".to_string()))?;
-        if l == 1.0 {
-            // The tool table's entry: its nose radius and orientation (`nose`).
-            return self.lc_g10_tool(w, scale);
+        if l == 1.0 || l == 10.0 || l == 11.0 {
+            // The tool table's entry: its nose radius and orientation (`nose`); its
+            // offsets go to the machine and the tip follows the program.
+            return self.lc_g10_tool(w, l, scale);
         }
         if l != 2.0 && l != 20.0 {
             return Err((
                 w.vals.get("L").map_or(1, |v| v.1),
-                format!("G10 L{l} (tool table or other data) is not simulated: vpcut runs G10 L1 (a tool's radius and orientation), L2 and L20 (work offsets)"),
+                format!("G10 L{l} (other data) is not simulated: vpcut runs G10 L1, L10, L11 (tool table: a tool's radius and orientation) and L2, L20 (work offsets)"),
             ));
         }
         let p = val("P").ok_or((1, format!("G10 L{l} needs P (0 active, 1..9 G54..G59.3)")))?;
@@ -715,6 +900,10 @@ impl Interp<'_> {
                 let g = &mut self.lc.params.globals;
                 g.insert("_VALUE".into(), value.unwrap_or(0.0));
                 g.insert("_VALUE_RETURNED".into(), f64::from(value.is_some()));
+                // The end of a G7x contour subroutine runs the cycle; an M73 state comes
+                // back.
+                self.lc_g7x_end()?;
+                self.lc_context_leave();
                 Step::Return
             }
             Kw::Call => {
@@ -898,174 +1087,10 @@ impl Interp<'_> {
         }
         Ok(())
     }
+}
 
-    /// LinuxCNC G76 (`controllers.md` 2.5, from `Interp::convert_threading_cycle`): the
-    /// drive line is the current X; pass n is cut `|I| + J n^(1/R)` from it while that is
-    /// less than `|I| + K`, then at `|I| + K` once plus H spring passes; each pass is shifted
-    /// by `(depth - |I|) tan Q` in z and ends at `Z + K tan Q` less that shift. In G7, I, J
-    /// and K are diameters. Reproduced against rs274's output in the tests.
-    pub(super) fn lcnc_g76(&mut self, w: &Words, prog: &Program, pc: usize) -> Result<Step, Fail> {
-        let scale = if self.modal.inch { 25.4 } else { 1.0 };
-        let val = |k: &str| w.vals.get(k).map(|v| v.0);
-        let half = if self.modal.diameter_mode { 0.5 } else { 1.0 };
-        let pitch = val("P").ok_or((1, "G76 needs P (the pitch)".to_string()))? * scale;
-        // Z is in the work frame (work offset and G92), or under G91 from the current Z,
-        // as rs274 has it.
-        let frame_z = if self.modal.incremental {
-            self.z
-        } else {
-            self.frames.offsets[self.frames.work].1 + self.frames.g92_off.1
-        };
-        let end_z = val("Z").ok_or((1, "G76 needs Z".to_string()))? * scale + frame_z;
-        let i = val("I").ok_or((
-            1,
-            "G76 needs I (crest offset from the drive line)".to_string(),
-        ))? * scale
-            * half;
-        let j = val("J").unwrap_or(0.0) * scale * half;
-        let k = val("K").unwrap_or(0.0) * scale * half;
-        if i == 0.0 || j <= 0.0 || k <= j || pitch <= 0.0 {
-            return Err((1, "G76 needs I != 0, J > 0, K > J and P > 0".into()));
-        }
-        let taper_len = val("E").unwrap_or(0.0) * scale;
-        if taper_len < 0.0 {
-            return Err((1, "G76 E (the taper length) must not be negative".into()));
-        }
-        // L1 entry taper, L2 exit taper, L3 both; rs274 tapers nothing when E is 0.
-        let (entry, exit) = match val("L").unwrap_or(0.0) {
-            0.0 => (false, false),
-            1.0 => (true, false),
-            2.0 => (false, true),
-            3.0 => (true, true),
-            l => return Err((1, format!("G76 L{l}: expected L0, L1, L2 or L3"))),
-        };
-        let (entry, exit) = (entry && taper_len > 0.0, exit && taper_len > 0.0);
-        let mut degression = val("R").unwrap_or(1.0);
-        if degression < 1.0 {
-            degression = 1.0;
-        }
-        let (x0, start_z) = (self.x / 2.0, self.z); // drive line, radius
-        let mut angle = val("Q").unwrap_or(0.0).to_radians();
-        if end_z > start_z {
-            angle = -angle;
-        }
-        let springs = val("H").unwrap_or(0.0).max(0.0);
-        if springs >= self.cfg.limits.max_moves as f64 {
-            let col = w.vals.get("H").map_or(1, |v| v.1);
-            return Err((
-                col,
-                format!(
-                    "G76 H{springs}: more spring passes than the {} moves a program may make",
-                    self.cfg.limits.max_moves
-                ),
-            ));
-        }
-        let springs = springs as u32;
-        let full = i.abs();
-        let end_depth = k.abs() + full;
-        let target_z = end_z + k.abs() * angle.tan();
-        // External (I < 0): passes below the drive line; internal: above.
-        let side = if i < 0.0 { -1.0 } else { 1.0 };
-        let mut depths = Vec::new();
-        let mut depth = full + j.abs();
-        let mut n = 1.0f64;
-        while depth < end_depth {
-            depths.push(depth);
-            if depths.len() > 100_000 {
-                return Err((1, "G76 would cut more than 100000 passes".into()));
-            }
-            n += 1.0;
-            depth = full + j.abs() * n.powf(1.0 / degression);
-        }
-        for _ in 0..=springs {
-            depths.push(end_depth);
-        }
-        let dir = if end_z < start_z { -1.0 } else { 1.0 };
-        // rs274 2.9.0~pre1 does not check this; tapers longer than the pass are refused.
-        let tapers = u8::from(entry) + u8::from(exit);
-        if f64::from(tapers) * taper_len > (target_z - start_z).abs() {
-            return Err((
-                1,
-                "G76 E: the tapers are longer than the drive line (E > half of it with L3)".into(),
-            ));
-        }
-        // rs274's moves, pass by pass (checked against its canon output): a rapid straight
-        // to the pass's retract point `K + |I|` above the pass at its start Z (diagonal from
-        // the previous pass's end), then either a rapid down to the pass (no entry taper) or
-        // the synchronised radial move down to the taper start `K` above it; the thread; a
-        // rapid out to the retract X at the end Z. After the last pass a rapid to the drive
-        // line at the end Z, where the cycle leaves the tool.
-        let mut end = (self.x, self.z);
-        for d in depths {
-            let zoff = (d - full) * angle.tan();
-            let x = 2.0 * (x0 + side * d);
-            let (zs, ze) = (start_z - zoff, target_z - zoff);
-            let retract = 2.0 * (x0 + side * (d - k.abs() - full));
-            let rapid = |m: &mut Self, a: (f64, f64), b: (f64, f64)| {
-                if a != b {
-                    m.emit(prog, pc, MoveKind::Rapid, a, b, None);
-                }
-            };
-            rapid(self, end, (retract, zs));
-            let kx = 2.0 * (x0 + side * (d - k.abs()));
-            if tapers > 0 {
-                // rs274: with an entry taper, from the retract line a synchronised radial
-                // move (|I| long) to the taper start K above the pass, then the taper over E;
-                // else a rapid to the pass. Then the pass, and with an exit taper the taper
-                // back up by K over E. Feeds are per path length (P hypot(E,K)/E on the
-                // tapers), so the axial lead is P throughout; the radial move uses up
-                // |I| / (P hypot(E,K)/E) revolutions before the entry taper starts. It is
-                // listed as a feed move: it advances no Z, so it cuts no thread.
-                let p_taper = pitch * taper_len.hypot(k.abs()) / taper_len;
-                let mut revs = if entry { full / p_taper } else { 0.0 };
-                let z1 = if entry { zs + dir * taper_len } else { zs };
-                let z2 = if exit { ze - dir * taper_len } else { ze };
-                if entry {
-                    self.emit(prog, pc, MoveKind::Feed, (retract, zs), (kx, zs), None);
-                } else {
-                    rapid(self, (retract, zs), (x, zs));
-                }
-                let mut segments = Vec::with_capacity(3);
-                if entry {
-                    segments.push((kx, zs, x, z1));
-                }
-                segments.push((x, z1, x, z2));
-                if exit {
-                    segments.push((x, z2, kx, ze));
-                }
-                let mut last = (x, ze);
-                for (i, (xa, za, xb, zb)) in segments.into_iter().enumerate() {
-                    let sync = Sync {
-                        lead: pitch,
-                        change: 0.0,
-                        angle: (revs * 360.0).rem_euclid(360.0),
-                    };
-                    self.emit(prog, pc, MoveKind::Thread, (xa, za), (xb, zb), Some(sync));
-                    // The segments after the first continue one synchronised motion.
-                    if let Some(last) = self.out.moves.last_mut() {
-                        last.chained = i > 0 || entry;
-                    }
-                    revs += (zb - za).abs() / pitch;
-                    last = (xb, zb);
-                }
-                rapid(self, last, (retract, ze));
-            } else {
-                rapid(self, (retract, zs), (x, zs));
-                let sync = Sync {
-                    lead: pitch,
-                    change: 0.0,
-                    angle: 0.0,
-                };
-                self.emit(prog, pc, MoveKind::Thread, (x, zs), (x, ze), Some(sync));
-                rapid(self, (x, ze), (retract, ze));
-            }
-            end = (retract, ze);
-        }
-        let home = (2.0 * x0, end.1);
-        if end != home {
-            self.emit(prog, pc, MoveKind::Rapid, end, home, None);
-        }
-        (self.x, self.z) = home;
-        Ok(Step::Next)
-    }
+/// rs274's error for a spindle-synchronised move while the spindle stands, with why it
+/// stands.
+pub(super) fn spindle_stopped(rs274: &str) -> String {
+    format!("{rs274} (the spindle stands: never started, or stopped by M5 or by a tool change M6, which rs274 runs with the spindle stopped; start it with M3 or M4)")
 }

@@ -230,7 +230,7 @@ fn radius_or_diameter_x_at_power_on() {
         },
         ..Settings::default()
     };
-    let l = run_with("G0 X30 Z5\nG33 Z-20 K2\n", Dialect::Linuxcnc, diameter).unwrap();
+    let l = run_with("G0 X30 Z5 M3\nG33 Z-20 K2\n", Dialect::Linuxcnc, diameter).unwrap();
     assert_eq!(l.moves[0].x_dia, 30.0);
     let l = run_with("G0 X30 Z5\n", Dialect::Linuxcnc, Settings::default()).unwrap();
     assert_eq!(l.moves[0].x_dia, 60.0);

@@ -16,7 +16,9 @@
 //!   `siemens_cycles`: the thread cycles CYCLE97/CYCLE99 as their moves;
 //! - `okuma`: Okuma OSP-P lathe programs, a reader of their own (`okuma_expr` the
 //!   expressions, `okuma_cycles` the thread cycles G33/G34/G71 as moves);
-//! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow, G76;
+//! - `linuxcnc`: LinuxCNC blocks, O-word subroutines and control flow; `lcnc_g76`: G76;
+//!   `lcnc_modes`: M70..M73; `lcnc_g7x` and `lcnc_contour`: the lathe cycles G70/G71/G72
+//!   (the block and contour, the geometry);
 //! - `lcnc_expr`: LinuxCNC expressions and numbered/named parameters;
 //! - `motion`: modal state, motion words, and recording moves;
 //! - `codes`: which G/M codes and words each dialect runs, refuses or does not know, and
@@ -42,7 +44,11 @@ mod cycles;
 mod detect;
 mod expr;
 mod fanuc;
+mod lcnc_contour;
 mod lcnc_expr;
+mod lcnc_g76;
+mod lcnc_g7x;
+mod lcnc_modes;
 mod lex;
 mod linuxcnc;
 #[cfg(test)]

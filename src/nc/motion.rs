@@ -434,6 +434,12 @@ impl Interp<'_> {
                     return Ok(if end { Step::End } else { Step::Next });
                 }
                 (Dialect::Linuxcnc, 33) => {
+                    if !self.lc.st.spindle_on {
+                        return Err((
+                            1,
+                            super::linuxcnc::spindle_stopped("Spindle not turning in G33"),
+                        ));
+                    }
                     let k = val("K").ok_or((1, "G33 needs K (the pitch)".to_string()))? * scale;
                     // rs274/LinuxCNC: K is the distance per revolution along the programmed
                     // move (the trajectory planner ties path progress to the spindle), so a
@@ -572,6 +578,12 @@ impl Interp<'_> {
             return Err((
                 col,
                 format!("G33.1 with K{k}: the tap's pitch must be positive"),
+            ));
+        }
+        if !self.lc.st.spindle_on {
+            return Err((
+                1,
+                super::linuxcnc::spindle_stopped("Spindle not turning in G33.1"),
             ));
         }
         let k = k * scale;
@@ -789,6 +801,19 @@ impl Interp<'_> {
         b: (f64, f64),
         sync: Option<Sync>,
     ) {
+        self.emit_in(&prog.name, prog.blocks[pc].0, kind, a, b, sync);
+    }
+
+    /// [`Interp::emit`] for a block given by its file and 1-based line.
+    pub(super) fn emit_in(
+        &mut self,
+        file: &str,
+        line: usize,
+        kind: MoveKind,
+        a: (f64, f64),
+        b: (f64, f64),
+        sync: Option<Sync>,
+    ) {
         if self.out.moves.len() >= self.cfg.limits.max_moves {
             // The run stops after this block (`Interp::run`); nothing more is kept.
             self.out.too_many_moves = true;
@@ -807,8 +832,8 @@ impl Interp<'_> {
         });
         self.out.inch_threads |= kind == MoveKind::Thread && self.modal.inch;
         self.out.moves.push(Move {
-            file: prog.name.clone(),
-            line: prog.blocks[pc].0,
+            file: file.to_string(),
+            line,
             kind,
             x_start: a.0,
             z_start: a.1,

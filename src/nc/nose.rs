@@ -858,35 +858,33 @@ impl Interp<'_> {
             })
     }
 
-    /// LinuxCNC `G10 L1 P R Q`: tool P's radius R (program units) and orientation Q in the
-    /// tool table, as rs274's `convert_setup_tool` sets them (words left out keep their
-    /// values; the front and back angles I/J only draw the tool). The tool's X/Z offsets
-    /// are not simulated (vpcut's tools have none), so nonzero ones are refused.
+    /// LinuxCNC `G10 L1/L10/L11 P R Q`: tool P's radius R (program units) and orientation Q
+    /// in the tool table, as rs274's `convert_setup_tool` sets them (words left out keep
+    /// their values; the front and back angles I/J only draw the tool). The tool's X/Z
+    /// offsets go to the machine (rs274's `USE_TOOL_LENGTH_OFFSET`): the canon's points, and
+    /// vpcut's, are the tip's, which follows the program.
     pub(super) fn lc_g10_tool(
         &mut self,
         w: &super::Words,
+        l: f64,
         scale: f64,
     ) -> Result<(), super::expr::Fail> {
         let get = |k: &str| w.vals.get(k).copied();
-        let (p, pcol) = get("P").ok_or((1, "G10 L1 needs P (the tool number)".to_string()))?;
+        let (p, pcol) = get("P").ok_or((1, format!("G10 L{l} needs P (the tool number)")))?;
         if p.fract() != 0.0 || p < 0.0 {
-            return Err((pcol, format!("G10 L1 P{p}: expected a tool number")));
+            return Err((pcol, format!("G10 L{l} P{p}: expected a tool number")));
         }
-        for k in ["X", "Z"] {
-            if let Some((v, col)) = get(k).filter(|v| v.0 != 0.0) {
-                return Err((col, format!("G10 L1 {k}{v}: a tool length offset, not simulated by vpcut (its tools have none): set it in the tool table at 0")));
-            }
-        }
-        if !["R", "Q", "X", "Z", "I", "J"]
-            .iter()
-            .any(|k| w.vals.contains_key(*k))
+        if l == 1.0
+            && !["R", "Q", "X", "Z", "I", "J"]
+                .iter()
+                .any(|k| w.vals.contains_key(*k))
         {
             return Err((1, "G10 L1 without offsets has no effect (rs274)".into()));
         }
         let entry = self.cfg.noses.tool.entry(p as u32).or_insert((0.0, 0));
         if let Some((r, col)) = get("R") {
             if r < 0.0 {
-                return Err((col, format!("G10 L1 R{r}: a nose radius is not negative")));
+                return Err((col, format!("G10 L{l} R{r}: a nose radius is not negative")));
             }
             entry.0 = r * scale;
         }

@@ -419,9 +419,9 @@ fn one_block_g76_of_haas_and_0t() {
 fn linuxcnc_tapered_g33_k_is_along_the_path() {
     // (program in G8, K, radial rise, z travel)
     let cases: [(&str, f64, f64, f64); 3] = [
-        ("G8 G0 X10 Z2\nG33 X12 Z-18 K2\n", 2.0, 2.0, 20.0),
-        ("G8 G0 X10 Z2\nG33 X9 Z-8 K1.5\n", 1.5, 1.0, 10.0),
-        ("G8 G0 X10 Z2\nG33 Z-8 K1.5\n", 1.5, 0.0, 10.0),
+        ("G8 G0 X10 Z2 M3\nG33 X12 Z-18 K2\n", 2.0, 2.0, 20.0),
+        ("G8 G0 X10 Z2 M3\nG33 X9 Z-8 K1.5\n", 1.5, 1.0, 10.0),
+        ("G8 G0 X10 Z2 M3\nG33 Z-8 K1.5\n", 1.5, 0.0, 10.0),
     ];
     for (text, k, rise, travel) in cases {
         let t = run(text, Dialect::Linuxcnc);

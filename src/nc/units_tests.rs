@@ -865,7 +865,7 @@ fn rows() -> Vec<Row> {
         Row {
             what: "LinuxCNC G33 K: the pitch",
             dialects: L,
-            template: "G8 G0 X15 Z5\nG33 Z-20 K{v}\n",
+            template: "G8 G0 X15 Z5 M3\nG33 Z-20 K{v}\n",
             word: "K",
             plain: ("2", ""),
             point: ("2.", ""),
@@ -875,7 +875,7 @@ fn rows() -> Vec<Row> {
         Row {
             what: "LinuxCNC G76 P: the pitch",
             dialects: L,
-            template: "G8 G0 X15 Z5\nG76 P{v} Z-20 I-1 J0.4 K1.5\n",
+            template: "G8 G0 X15 Z5 M3\nG76 P{v} Z-20 I-1 J0.4 K1.5\n",
             word: "P",
             plain: ("2", ""),
             point: ("2.", ""),
@@ -885,7 +885,7 @@ fn rows() -> Vec<Row> {
         Row {
             what: "LinuxCNC G76 I: the crest from the drive line",
             dialects: L,
-            template: "G8 G0 X15 Z5\nG76 P2 Z-20 I{v} J0.4 K1.5\n",
+            template: "G8 G0 X15 Z5 M3\nG76 P2 Z-20 I{v} J0.4 K1.5\n",
             word: "I",
             plain: ("-1", ""),
             point: ("-1.", ""),
@@ -895,7 +895,7 @@ fn rows() -> Vec<Row> {
         Row {
             what: "LinuxCNC G76 J: the first cut",
             dialects: L,
-            template: "G8 G0 X15 Z5\nG76 P2 Z-20 I-1 J{v} K1.5\n",
+            template: "G8 G0 X15 Z5 M3\nG76 P2 Z-20 I-1 J{v} K1.5\n",
             word: "J",
             plain: ("1", ""),
             point: ("0.4", ""),
@@ -905,7 +905,7 @@ fn rows() -> Vec<Row> {
         Row {
             what: "LinuxCNC G76 K: the thread depth",
             dialects: L,
-            template: "G8 G0 X15 Z5\nG76 P2 Z-20 I-1 J0.4 K{v}\n",
+            template: "G8 G0 X15 Z5 M3\nG76 P2 Z-20 I-1 J0.4 K{v}\n",
             word: "K",
             plain: ("2", ""),
             point: ("1.5", ""),
@@ -916,7 +916,7 @@ fn rows() -> Vec<Row> {
         Row {
             what: "LinuxCNC G76 E: the taper length",
             dialects: L,
-            template: "G8 G0 X15 Z5\nG76 P2 Z-20 I-1 J0.4 K1.5 E{v} L1\n",
+            template: "G8 G0 X15 Z5 M3\nG76 P2 Z-20 I-1 J0.4 K1.5 E{v} L1\n",
             word: "E",
             plain: ("2", ""),
             point: ("2.", ""),
@@ -926,7 +926,7 @@ fn rows() -> Vec<Row> {
         Row {
             what: "LinuxCNC G76 Z: the thread's end",
             dialects: L,
-            template: "G8 G0 X15 Z5\nG76 P2 Z{v} I-1 J0.4 K1.5\n",
+            template: "G8 G0 X15 Z5 M3\nG76 P2 Z{v} I-1 J0.4 K1.5\n",
             word: "Z",
             plain: ("-20", ""),
             point: ("-20.", ""),

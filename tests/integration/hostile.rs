@@ -324,7 +324,7 @@ fn runaway_moves_stop_at_the_move_limit() {
     let siemens = "G0 X40 Z5\nLOOP:\nG33 Z-70 K6\nG0 X42\nZ5\nX40\nGOTOB LOOP\n";
     let e = nc(S, siemens).unwrap_err();
     assert!(e.message.contains(&want) && e.line >= 3, "{e}");
-    let lcnc = "G0 X40 Z5\no1 while [1]\nG33 Z-70 K6\nG0 X42\nZ5\nX40\no1 endwhile\n";
+    let lcnc = "G0 X40 Z5 M3\no1 while [1]\nG33 Z-70 K6\nG0 X42\nZ5\nX40\no1 endwhile\n";
     let e = nc(L, lcnc).unwrap_err();
     assert!(e.message.contains(&want) && e.line >= 3, "{e}");
     // A smaller limit, as a job could set it: the block that passes it is named.
@@ -338,7 +338,7 @@ fn runaway_moves_stop_at_the_move_limit() {
     // One block of too many moves: LinuxCNC G76 spring passes.
     fails(
         &[L],
-        "G7\nG0 X22 Z5\nG76 P2 Z-20 I-1 J0.4 K1.5 H1000000000\n",
+        "G7 M3\nG0 X22 Z5\nG76 P2 Z-20 I-1 J0.4 K1.5 H1000000000\n",
         3,
         Some(27),
         "more spring passes",

@@ -261,10 +261,13 @@ fn every_move_of_g33_and_g76_matches_linuxcnc() {
 /// One motion of rs274's canon output, in mm: traverse or feed, start and end (X a radius),
 /// and for a synchronised feed the distance per revolution along the path.
 #[derive(Debug)]
-struct CanonMove {
-    rapid: bool,
-    from: [f64; 2],
-    to: [f64; 2],
+pub(crate) struct CanonMove {
+    pub(crate) rapid: bool,
+    pub(crate) from: [f64; 2],
+    pub(crate) to: [f64; 2],
+    /// An arc's centre (X a radius, z) and whether it turns clockwise (G2: rs274's
+    /// rotation -1 in the XZ plane).
+    pub(crate) arc: Option<([f64; 2], bool)>,
     path_lead: Option<f64>,
     /// Revolutions of the spindle since the synchronised motion began (the phase at the
     /// move's start): 0 after a traverse; continuous over back-to-back synchronised feeds.
@@ -276,7 +279,7 @@ struct CanonMove {
 
 /// Every non-zero motion of a canon file. Lengths are divided by `scale` (the program's
 /// scaling, see `random/gen.py`) and inches are converted to mm.
-fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
+pub(crate) fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
     let mut out = Vec::new();
     let (mut x, mut z) = (0.0, 0.0);
     let mut mm = 1.0;
@@ -301,14 +304,18 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
             let v = args();
             g92 = [v[0], v[2]];
         } else if line.contains("ARC_FEED(") {
-            // In the XZ plane: first end Z, second end X.
+            // In the XZ plane: first end Z, second end X, then the centre's Z and X, and
+            // the rotation (-1 for G2).
             let v = args();
             let xb = (v[1] + g5x[0] + g92[0]) * mm / scale;
             let zb = (v[0] + g5x[1] + g92[1]) * mm / scale;
+            let xc = (v[3] + g5x[0] + g92[0]) * mm / scale;
+            let zc = (v[2] + g5x[1] + g92[1]) * mm / scale;
             out.push(CanonMove {
                 rapid: false,
                 from: [x, z],
                 to: [xb, zb],
+                arc: Some(([xc, zc], v[4] < 0.0)),
                 path_lead: None,
                 revs: 0.0,
                 cw,
@@ -335,6 +342,7 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                     rapid: false,
                     from: [x, z],
                     to: [xb, zb],
+                    arc: None,
                     path_lead: Some(p),
                     revs: 0.0,
                     cw,
@@ -343,6 +351,7 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                     rapid: false,
                     from: [xb, zb],
                     to: [x, z],
+                    arc: None,
                     path_lead: Some(p),
                     revs: path / p,
                     cw: !cw,
@@ -373,6 +382,7 @@ fn canon_moves(text: &str, scale: f64) -> Vec<CanonMove> {
                     rapid,
                     from: [x, z],
                     to: [xb, zb],
+                    arc: None,
                     path_lead,
                     revs,
                     cw,
@@ -510,7 +520,8 @@ fn random_g76_and_g33_match_linuxcnc_move_for_move() {
 /// 5e-5 mm, 1.27e-3 mm in inch), every synchronised move a thread move with rs274's
 /// distance per revolution along the path (6 decimals) and the z lead that makes. Moves of
 /// no length are left out on both sides (rs274 prints every traverse, even after G92 made
-/// it one of no length).
+/// it one of no length), and vpcut's moves shorter than two print steps where they match
+/// none of rs274's (they print as no move).
 #[test]
 fn corpus_matches_linuxcnc_move_for_move() {
     let dir = root().join("tests/data/nc/linuxcnc");
@@ -546,16 +557,8 @@ fn corpus_matches_linuxcnc_move_for_move() {
             .iter()
             .filter(|w| (w.to[0] - w.from[0]).hypot(w.to[1] - w.from[1]) > 0.6e-4 * unit)
             .collect();
-        if moves.len() != want.len() {
-            failures.push(format!(
-                "{name}: {} moves, rs274 {}",
-                moves.len(),
-                want.len()
-            ));
-            continue;
-        }
         let tol = 0.51e-4 * unit;
-        for (k, (m, w)) in moves.iter().zip(&want).enumerate() {
+        let same = |m: &vpcut::Move, w: &CanonMove| -> bool {
             let got = [m.x_start / 2.0, m.z_start, m.x_dia / 2.0, m.z];
             let exp = [w.from[0], w.from[1], w.to[0], w.to[1]];
             let mut bad = (0..4).any(|c| (got[c] - exp[c]).abs() > tol);
@@ -569,9 +572,23 @@ fn corpus_matches_linuxcnc_move_for_move() {
                 }
                 None => bad |= m.kind == MoveKind::Thread,
             }
-            if bad {
-                failures.push(format!("{name} move {k}: {m:?}\n   vs rs274 {w:?}"));
-                break;
+            !bad
+        };
+        // A move of vpcut's shorter than two print steps may print as none (a G7x cycle
+        // makes such moves): it is passed over where it matches nothing.
+        let tiny =
+            |m: &vpcut::Move| ((m.x_dia - m.x_start) / 2.0).hypot(m.z - m.z_start) < 2e-4 * unit;
+        let (mut i, mut j) = (0, 0);
+        while i < moves.len() || j < want.len() {
+            match (moves.get(i), want.get(j)) {
+                (Some(m), Some(w)) if same(m, w) => (i, j) = (i + 1, j + 1),
+                (Some(m), _) if tiny(m) => i += 1,
+                (m, w) => {
+                    failures.push(format!(
+                        "{name} move {i}: {m:?}\n   vs rs274's move {j}: {w:?}"
+                    ));
+                    break;
+                }
             }
         }
     }

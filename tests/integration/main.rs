@@ -30,6 +30,8 @@ mod hostile;
 mod html;
 /// Same answer whatever the thread count; left and right hands mirror each other.
 mod invariance;
+/// Issue 27: LinuxCNC's G70/G71/G72 against rs274 reference output.
+mod lcnc_g7x;
 /// LinuxCNC conformance against rs274 reference output.
 mod linuxcnc;
 /// Thread milling: thread counts, sampling bound, job errors.

@@ -223,7 +223,7 @@ fn tapping_blocks_are_warned_and_the_thread_is_simulated() {
         ),
         (
             "linuxcnc",
-            "G7 G0 X60 Z3\nG33 Z-20 K2\nG0 X0 Z5\nG33.1 Z-10 K1.5\nM2\n",
+            "G7 G0 X60 Z3 M3\nG33 Z-20 K2\nG0 X0 Z5\nG33.1 Z-10 K1.5\nM2\n",
             &[4],
         ),
         (
