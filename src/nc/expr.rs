@@ -291,8 +291,9 @@ impl Interp<'_> {
             };
             return self.get(c, n, at + 1);
         }
-        if self.cfg.s840 {
-            // A Siemens 840D user variable (its name may go on with digits).
+        if self.cfg.s840 || self.has_user_vars() {
+            // A Siemens 840D user variable (its name may go on with digits); on the 802D a
+            // GUD it assigned or a cycle's PROC parameter.
             let save = c.i;
             let mut full = name.clone();
             while c.i < c.s.len() && (c.s[c.i].is_ascii_alphanumeric() || c.s[c.i] == b'_') {

@@ -51,6 +51,18 @@ impl Interp<'_> {
         Ok(Some(step))
     }
 
+    /// The 802D's `PROC NAME(params)` (a cycle's first block, reached by a call with
+    /// arguments): bound as on the 840D. `None`: no PROC, the cursor unmoved.
+    pub(super) fn proc_802(&mut self, c: &mut Cursor) -> Result<Option<Step>, Fail> {
+        let save = c.i;
+        if c.name_with_digits() == "PROC" {
+            self.proc(c)?;
+            return Ok(Some(Step::Next));
+        }
+        c.i = save;
+        Ok(None)
+    }
+
     /// A structure keyword (the cursor after it).
     fn structure(
         &mut self,

@@ -244,6 +244,11 @@ impl Interp<'_> {
         Ok(out)
     }
 
+    /// Whether any user variable (a GUD, or one of the running program) exists.
+    pub(super) fn has_user_vars(&self) -> bool {
+        !self.vars.s840.gud.is_empty() || self.scope().is_some_and(|s| !s.is_empty())
+    }
+
     /// The user variable `name` of the running program, if defined.
     pub(super) fn user_var(&self, name: &str) -> Option<&UserVar> {
         self.scope()
