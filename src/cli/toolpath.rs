@@ -63,6 +63,12 @@ pub(crate) struct ToolpathArgs {
     /// option for several, searched in order; relative to the program's folder).
     #[arg(long, value_name = "DIR")]
     pub(crate) subroutine_path: Vec<String>,
+    /// Siemens: a definition file of the machine read before the program (GUD `DEF` lines,
+    /// macro `DEFINE .. AS` lines, or a cycle `.SPF` that starts with `PROC NAME`); repeat
+    /// the option for several; relative to the program's folder (the job's `[program]
+    /// definitions`)
+    #[arg(long, value_name = "FILE")]
+    pub(crate) definitions: Vec<String>,
 }
 
 /// `standard` or `calculator` of `--decimal-point`.
@@ -139,6 +145,7 @@ pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     opts.settings.power_on.inch = args.units.as_deref() == Some("inch");
     opts.settings.main = args.main.clone();
     opts.settings.subroutine_path = args.subroutine_path.clone();
+    opts.settings.definitions = args.definitions.clone();
     let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts).map_err(|mut e| {
         name_files(&mut e, &inputs);
         e

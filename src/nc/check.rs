@@ -566,6 +566,29 @@ impl Line<'_> {
                     return Ok(());
                 }
                 if !SIEMENS_FUNCTIONS.contains(&w.as_str()) {
+                    while self
+                        .s
+                        .get(self.i)
+                        .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_')
+                    {
+                        self.i += 1;
+                    }
+                    let save = self.i;
+                    if self.peek() != Some(b'(') {
+                        // A global user variable of the machine or a cycle's parameter
+                        // (`TEST`, `DIA[2]`): the run knows them, or stops at the block.
+                        self.i = save;
+                        if self.eat("[") {
+                            self.s_expr()?;
+                            while self.eat(",") {
+                                self.s_expr()?;
+                            }
+                            if !self.eat("]") {
+                                return self.unexpected("`]`");
+                            }
+                        }
+                        return Ok(());
+                    }
                     return self.error(at + 1, format!("unknown name `{w}` in an expression"), Some("R parameters are R<n>; functions: SIN COS TAN ASIN ACOS ATAN2 SQRT ABS POT TRUNC ROUND LN EXP"));
                 }
                 if !self.eat("(") {
@@ -658,14 +681,7 @@ fn siemens_block(
                 name.push_str(&String::from_utf8_lossy(&l.s[l.i..k]));
                 l.i = k;
                 skip_arguments(l)?;
-                if !find(&name) {
-                    l.out.push((
-                        at + 1,
-                        Severity::Warning,
-                        format!("cycle `{name}` not found (in this file or as {name}.SPF beside it)"),
-                        Some("a cycle of the machine: the run skips it with a warning, its moves are missing from the toolpath".into()),
-                    ));
-                }
+                let _ = find(&name);
                 continue;
             }
         }
@@ -811,20 +827,25 @@ fn siemens_block(
                     // `NAME(a, "b", ..)`: a cycle called with arguments (strings among
                     // them); the run binds them, or warns when the cycle is not found.
                     skip_arguments(l)?;
-                    if !find(&full) {
-                        l.out.push((
-                            at + 1,
-                            Severity::Warning,
-                            format!("cycle `{full}` not found (in this file or as {full}.SPF beside it)"),
-                            Some("a cycle of the machine: the run skips it with a warning, its moves are missing from the toolpath".into()),
-                        ));
-                    }
+                    // Found, it is checked too; not found, the run warns when it reaches it.
+                    let _ = find(&full);
                     continue;
                 }
                 calls.push((full, at + 1));
                 if l.eat("P") && l.number().is_none() {
                     return l.unexpected("a repeat count after P");
                 }
+            }
+            // `NAME = value` with a two-letter name: a global user variable (the run warns
+            // when no definition file defines it).
+            other
+                if other.len() > 1 && {
+                    l.ws();
+                    l.s.get(l.i) == Some(&b'=') && l.s.get(l.i + 1) != Some(&b'=')
+                } =>
+            {
+                l.i += 1;
+                l.s_expr()?;
             }
             other => {
                 l.unknown(at + 1, format!("unknown address `{other}`"), strict);
@@ -911,20 +932,24 @@ pub(super) fn program_facts(prog: &Program, system: codes::GcodeSystem) -> (Vec<
 /// Check every block of `prog` and its written-out control flow (`mill`: a FANUC milling
 /// program's codes and addresses). `find` says whether a called program exists (in the
 /// file or beside it). Diagnostics come in line order.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn check_program(
     prog: &Program,
     dialect: Dialect,
     mill: bool,
     system: codes::GcodeSystem,
     strict: bool,
+    macros: &std::collections::HashMap<String, String>,
     find: &mut dyn FnMut(&str) -> bool,
 ) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     let mut loops: Vec<(u32, usize, usize)> = Vec::new(); // (n, line, col) of open WHILEs
     for (idx, (line, orig, _)) in prog.blocks.iter().enumerate() {
         let mut found = Vec::new();
+        // Siemens macros of the definition files are read as the run reads them.
+        let text = super::siemens_defs::expand(orig, macros);
         let mut l = Line {
-            c: Cursor::line(orig, dialect),
+            c: Cursor::line(&text, dialect),
             mill,
             system,
             out: &mut found,
