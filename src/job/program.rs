@@ -181,8 +181,7 @@ pub(super) fn program(
         }
     }
     settings.subroutine_path = pr.subroutine_path.clone();
-    if !pr.definitions.is_empty()
-        && !matches!(dialect, Dialect::Siemens802d | Dialect::Siemens840d)
+    if !pr.definitions.is_empty() && !matches!(dialect, Dialect::Siemens802d | Dialect::Siemens840d)
     {
         return Err(cx.err(
             "program.definitions",

@@ -673,7 +673,11 @@ fn siemens_block(
         // a cycle call.
         {
             let mut k = l.i;
-            while l.s.get(k).is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_') {
+            while l
+                .s
+                .get(k)
+                .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_')
+            {
                 k += 1;
             }
             let known = name == "CYCLE" && matches!(&l.s[l.i..k], b"97" | b"99" | b"84");

@@ -256,7 +256,8 @@ impl Interp<'_> {
                     c.i = end;
                     let e = String::from_utf8_lossy(&c.s[st..end]);
                     let sign = if neg { "-" } else { "" };
-                    v = format!("{v:e}").replace('e', "x") // the mantissa's own exponent
+                    v = format!("{v:e}")
+                        .replace('e', "x") // the mantissa's own exponent
                         .split_once('x')
                         .and_then(|(m, k)| {
                             let k: i64 = k.parse().ok()?;

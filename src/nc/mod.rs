@@ -73,6 +73,7 @@ mod spindle_tests;
 mod state;
 #[cfg(test)]
 mod tests;
+mod troughs;
 mod units;
 #[cfg(test)]
 mod units_tests;

@@ -97,7 +97,10 @@ fn check(progs: &[Prog], strict: bool, out: &mut Vec<Diagnostic>) {
                                 Severity::Warning
                             },
                             format!("G{code}: {why}"),
-                            Some("docs/coverage/okuma.md lists what the okuma dialect simulates".into()),
+                            Some(
+                                "docs/coverage/okuma.md lists what the okuma dialect simulates"
+                                    .into(),
+                            ),
                         )),
                         Some(GCode::Refused(why)) => out.push(at(
                             Severity::Error,

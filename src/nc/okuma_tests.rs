@@ -335,9 +335,19 @@ fn driven_tool_functions_make_no_turning_move() {
         (100.0, 50.0),
     ];
     assert_eq!(xz, want);
-    assert_eq!(t.moves.iter().filter(|m| m.kind == MoveKind::Thread).count(), 1);
+    assert_eq!(
+        t.moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .count(),
+        1
+    );
     let w: Vec<&str> = t.warnings.iter().map(|d| d.message.as_str()).collect();
-    assert_eq!(w.iter().filter(|m| m.contains("driven tool")).count(), 3, "{w:?}");
+    assert_eq!(
+        w.iter().filter(|m| m.contains("driven tool")).count(),
+        3,
+        "{w:?}"
+    );
     // Strict, each is an error.
     let strict = Options {
         strict: true,

@@ -53,7 +53,9 @@ impl Interp<'_> {
                 file: name.clone(),
                 line: 0,
                 col: 0,
-                message: format!("definition file `{name}` not found (the job's [program] definitions)"),
+                message: format!(
+                    "definition file `{name}` not found (the job's [program] definitions)"
+                ),
                 snippet: String::new(),
                 stack: Vec::new(),
                 hint: Some("definition files are named relative to the program's folder".into()),
@@ -245,7 +247,8 @@ mod tests {
 
     const GUD: &str = "%_N_UGUD_DEF\n;$PATH=/_N_DEF_DIR\nN10 DEF NCK REAL TEST=2\nN11 REDEF TEST INIRE\nDEF CHAN INT NN[3]=(1,2,3), KK\nDef Chan String[8] WHEEL[2]=REP(\"K;1\")\nDEF CHAN AXIS OSC=(Z)\nDEF NCK REAL BIG[2]=REP(NOVAL)\nM30\n";
     const MAC: &str = "DEFINE DEPTH AS 1.5\nDEFINE NOVAL AS 1EX300\nDEFINE HOME AS G0 X100 Z50\n";
-    const CYC: &str = "PROC MYCYC(REAL DIA, STRING[8] NAME, INT NUM) SAVE\nG1 X=DIA+NUM F0.1\nM17\n";
+    const CYC: &str =
+        "PROC MYCYC(REAL DIA, STRING[8] NAME, INT NUM) SAVE\nG1 X=DIA+NUM F0.1\nM17\n";
 
     #[test]
     fn gud_macros_and_cycles_come_from_the_definition_files() {
@@ -283,7 +286,10 @@ mod tests {
         // A line that defines nothing is a warning naming its file and line.
         let odd = [("G.DEF", "DEF CHAN REAL AA\nG0 X10\n")];
         let t = run_defs("M30\n", Dialect::Siemens840d, &odd, &["G.DEF"]).unwrap();
-        assert_eq!((t.warnings[0].file.as_str(), t.warnings[0].line), ("G.DEF", 2));
+        assert_eq!(
+            (t.warnings[0].file.as_str(), t.warnings[0].line),
+            ("G.DEF", 2)
+        );
     }
 
     #[test]
@@ -306,6 +312,10 @@ mod tests {
         assert_eq!(t.moves[0].speed.rpm, Some(800.0));
         let w: Vec<&str> = t.warnings.iter().map(|d| d.message.as_str()).collect();
         assert_eq!(w.len(), 2, "{w:?}");
-        assert!(w.iter().all(|m| m.contains("spindle 3 is not the work spindle")), "{w:?}");
+        assert!(
+            w.iter()
+                .all(|m| m.contains("spindle 3 is not the work spindle")),
+            "{w:?}"
+        );
     }
 }
