@@ -700,10 +700,26 @@ impl Interp<'_> {
             }
             return Ok(Step::Next);
         }
-        for k in ["I", "K", "D"] {
-            if let Some(&(_, col)) = w.vals.get(k) {
-                return Err((col, format!("G{g} {k}: the one-block (0T) G74/G75 is not simulated by vpcut; write the two-block form `G{g} R(e)` / `G{g} X Z P Q F`")));
+        // The one-block form (FANUC 0T, Haas: `G75 X Z I K D F`): I the X amount (G75: the
+        // peck, in radius; G74: the step between plunges), K the Z amount (G74: the peck;
+        // G75: the step), as P and Q of the two-block form; D (0T: the relief at the bottom,
+        // Haas: the clearance of the return) moves nothing vpcut removes material with.
+        let one_block = ["I", "K"].iter().any(|k| w.vals.contains_key(*k));
+        if let Some(&(dv, col)) = w.vals.get("D") {
+            if dv != 0.0 {
+                self.out.notes.push((
+                    col,
+                    format!("G{g} D: the relief at the bottom (FANUC 0T) or the return clearance (Haas) is not simulated"),
+                    "the pecks and steps are; the tool's last moves at each plunge's bottom are left out".into(),
+                ));
             }
+        }
+        if one_block && (w.vals.contains_key("P") || w.vals.contains_key("Q")) {
+            let col = w.vals.get("I").or(w.vals.get("K")).map_or(1, |v| v.1);
+            return Err((
+                col,
+                format!("G{g}: I/K (the one-block form) and P/Q (the two-block form) in one block"),
+            ));
         }
         if let Some(&(r, col)) = w.vals.get("R") {
             if r != 0.0 {
@@ -720,10 +736,33 @@ impl Interp<'_> {
         let (x0, z0) = (self.x, self.z);
         // In G-code systems B/C under G91, X/Z are incremental too.
         let (x1, z1) = self.cycle_end(w);
-        // P (di) and Q (dk) never take a decimal point: the least input increment.
+        // P (di) and Q (dk) never take a decimal point: the least input increment. The
+        // one-block I/K: in program units with a point, else in the increment. Without a
+        // peck (no I in G75, no K in G74) the plunge is one feed to the bottom.
         let what = format!("G{g}");
-        let di = self.increment_word(w, "P", &what)?.unwrap_or(0.0);
-        let dk = self.increment_word(w, "Q", &what)?.unwrap_or(0.0);
+        let (di, dk) = if one_block {
+            let full = |v: Option<f64>, len: f64| v.filter(|x| *x > 0.0).unwrap_or(len);
+            let (x1, z1) = self.cycle_end(w);
+            let (ix, kz) = (
+                self.increment_or_units(w, "I").map(f64::abs),
+                self.increment_or_units(w, "K").map(f64::abs),
+            );
+            if g == 75 {
+                (full(ix, (x1 - x0).abs() / 2.0), kz.unwrap_or(0.0))
+            } else {
+                (ix.unwrap_or(0.0), full(kz, (z1 - z0).abs()))
+            }
+        } else {
+            // The peck word left out: one plunge to the bottom (no pecking).
+            let (x1, z1) = self.cycle_end(w);
+            let p = self.increment_word(w, "P", &what)?;
+            let q = self.increment_word(w, "Q", &what)?;
+            if g == 75 {
+                (p.unwrap_or((x1 - x0).abs() / 2.0), q.unwrap_or(0.0))
+            } else {
+                (p.unwrap_or(0.0), q.unwrap_or((z1 - z0).abs()))
+            }
+        };
         let e = self.thread.cycles.peck_return.unwrap_or(0.0);
         self.need_feed(w)?;
         // (c, d): c the peck axis, d the step axis; radius for X.
