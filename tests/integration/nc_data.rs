@@ -46,7 +46,8 @@ fn mill_settings() -> MillSettings {
 
 /// The machine settings a program is written for, from its `.moves` header's
 /// `# settings: key = value, ...` line (the `[program]` keys of a job: `decimal_point`,
-/// `input_increment`, `units`, `feed_mode`, `x_mode`, `main`), over `base`.
+/// `input_increment`, `units`, `feed_mode`, `x_mode`, `main`, and `definitions` as names
+/// separated by spaces), over `base`.
 fn header_settings(header: &str, mut base: Settings) -> Settings {
     for line in header.lines() {
         let Some(rest) = line
@@ -68,6 +69,9 @@ fn header_settings(header: &str, mut base: Settings) -> Settings {
                 "feed_mode" => base.power_on.per_minute = v == "per-minute",
                 "x_mode" => base.power_on.diameter = Some(v == "diameter"),
                 "main" => base.main = Some(v.to_string()),
+                "definitions" => {
+                    base.definitions = v.split_whitespace().map(str::to_string).collect()
+                }
                 _ => panic!("unknown setting `{k}` in a .moves header"),
             }
         }
