@@ -61,9 +61,12 @@ fn g_code(g: u32) -> Option<GCode> {
 /// The M codes vpcut knows: run (machine functions with no effect on the path, or modes the
 /// thread cycles read).
 fn m_known(m: u32) -> bool {
+    // The M option's driven-tool functions move nothing of the turning tool: M12/M13/M14
+    // the M-tool spindle (stop, forward, reverse), M109/M110 the C-axis connection,
+    // M146/M147 its clamp (5238-E, M code table of the M option).
     matches!(
         m,
-        0..=5 | 8 | 9 | 22 | 23 | 30 | 32..=34 | 40..=44 | 73..=75
+        0..=5 | 8 | 9 | 12..=14 | 22 | 23 | 30 | 32..=34 | 40..=44 | 73..=75 | 109 | 110 | 146 | 147
     )
 }
 
