@@ -70,6 +70,12 @@ pub(crate) struct ToolpathArgs {
     /// Without it G41/G42 compensate with radius 0: the programmed path.
     #[arg(long, value_name = "T:R:TIP", value_parser = parse_nose)]
     pub(crate) nose: Vec<(u32, (f64, u8))>,
+    /// Siemens: a definition file of the machine read before the program (GUD `DEF` lines,
+    /// macro `DEFINE .. AS` lines, or a cycle `.SPF` that starts with `PROC NAME`); repeat
+    /// the option for several; relative to the program's folder (the job's `[program]
+    /// definitions`)
+    #[arg(long, value_name = "FILE")]
+    pub(crate) definitions: Vec<String>,
 }
 
 /// `T:R:TIP` of `--nose`.
@@ -163,6 +169,7 @@ pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     opts.settings.main = args.main.clone();
     opts.settings.noses.tool = args.nose.iter().copied().collect();
     opts.settings.subroutine_path = args.subroutine_path.clone();
+    opts.settings.definitions = args.definitions.clone();
     let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts).map_err(|mut e| {
         name_files(&mut e, &inputs);
         e

@@ -443,6 +443,7 @@ impl Job {
             x_mode: None,
             main: None,
             subroutine_path: Vec::new(),
+            definitions: Vec::new(),
         };
         let cx = Ctx::empty(file);
         let program = program::lathe_program(&pr, None, &cx, true)?;

@@ -183,6 +183,25 @@ pub(super) fn program(
         }
     }
     settings.subroutine_path = pr.subroutine_path.clone();
+    if !pr.definitions.is_empty() && !matches!(dialect, Dialect::Siemens802d | Dialect::Siemens840d)
+    {
+        return Err(cx.err(
+            "program.definitions",
+            format!(
+                "Siemens data (GUD and macro definition files, the machine's cycles): {} programs have none",
+                pr.dialect
+            ),
+        ));
+    }
+    for (k, d) in pr.definitions.iter().enumerate() {
+        if d.trim().is_empty() {
+            return Err(cx.err(
+                "program.definitions",
+                format!("expected file names, entry {} is empty", k + 1),
+            ));
+        }
+    }
+    settings.definitions = pr.definitions.clone();
     if !matches!(dialect, Dialect::Fanuc | Dialect::Gsk980) {
         // Siemens and LinuxCNC read every number in program units and a file is one program
         // (its subprograms are called by name).

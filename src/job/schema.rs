@@ -72,6 +72,9 @@ pub(super) struct RawProgram {
     /// LinuxCNC: folders searched for `o<name> call` files (the INI's SUBROUTINE_PATH).
     #[serde(default)]
     pub(super) subroutine_path: Vec<String>,
+    /// Siemens: the machine's definition files (GUD, macro and cycle files).
+    #[serde(default)]
+    pub(super) definitions: Vec<String>,
 }
 
 #[derive(Deserialize)]

@@ -566,6 +566,29 @@ impl Line<'_> {
                     return Ok(());
                 }
                 if !SIEMENS_FUNCTIONS.contains(&w.as_str()) {
+                    while self
+                        .s
+                        .get(self.i)
+                        .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_')
+                    {
+                        self.i += 1;
+                    }
+                    let save = self.i;
+                    if self.peek() != Some(b'(') {
+                        // A global user variable of the machine or a cycle's parameter
+                        // (`TEST`, `DIA[2]`): the run knows them, or stops at the block.
+                        self.i = save;
+                        if self.eat("[") {
+                            self.s_expr()?;
+                            while self.eat(",") {
+                                self.s_expr()?;
+                            }
+                            if !self.eat("]") {
+                                return self.unexpected("`]`");
+                            }
+                        }
+                        return Ok(());
+                    }
                     return self.error(at + 1, format!("unknown name `{w}` in an expression"), Some("R parameters are R<n>; functions: SIN COS TAN ASIN ACOS ATAN2 SQRT ABS POT TRUNC ROUND LN EXP"));
                 }
                 if !self.eat("(") {
@@ -591,8 +614,14 @@ fn siemens_block(
     strict: bool,
     jumps: &mut Vec<(String, String, usize)>,
     calls: &mut Vec<(String, usize)>,
+    find: &mut dyn FnMut(&str) -> bool,
 ) -> Result<(), Stop> {
     l.ws();
+    if l.peek() == Some(b'%') {
+        // `%_N_NAME_MPF`: the transfer format's header (the run skips it).
+        l.i = l.s.len();
+        return Ok(());
+    }
     if l.eat("/") && l.s.get(l.i).is_some_and(u8::is_ascii_digit) {
         l.i += 1; // a block-skip level, /1../9
     }
@@ -612,6 +641,15 @@ fn siemens_block(
     if rest.is_empty() || !l.eat(":") {
         l.i = save;
     }
+    // `PROC NAME(params)`: a cycle's first block (its parameters are bound by the run).
+    {
+        let save = l.i;
+        if l.letters() == "PROC" {
+            l.i = l.s.len();
+            return Ok(());
+        }
+        l.i = save;
+    }
     // G74/G75 (reference and fixed point approach): the axes named with any value
     // (`G75 X1=0 Z1=0`, `FP=1`); the run reads the block (`siemens::fixed_point`).
     l.ws();
@@ -627,11 +665,57 @@ fn siemens_block(
     while !l.at_end() {
         let at = l.i;
         let Some(c) = l.peek() else { break };
-        if !c.is_ascii_alphabetic() {
+        if !c.is_ascii_alphabetic() && c != b'_' {
             return l.unexpected("a word");
         }
-        let name = l.letters();
+        let mut name = l.letters();
+        // A name that goes on with digits and opens an argument list (`MS100("zond", 1)`):
+        // a cycle call.
+        {
+            let mut k = l.i;
+            while l
+                .s
+                .get(k)
+                .is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_')
+            {
+                k += 1;
+            }
+            let known = name == "CYCLE" && matches!(&l.s[l.i..k], b"97" | b"99" | b"84");
+            if k > l.i && name.len() > 1 && l.s.get(k) == Some(&b'(') && !known {
+                name.push_str(&String::from_utf8_lossy(&l.s[l.i..k]));
+                l.i = k;
+                skip_arguments(l)?;
+                let _ = find(&name);
+                continue;
+            }
+        }
         match name.as_str() {
+            // A tool by name: the 840D's tool management.
+            "T" if {
+                l.ws();
+                l.s[l.i..].starts_with(b"=\"")
+            } =>
+            {
+                return l.error(
+                    at + 1,
+                    "a tool by name (`T=\"name\"`) is the 840D's tool management, not the 802D's",
+                    Some("run the program with --dialect siemens-840d (dialect = \"siemens-840d\" in the job)"),
+                );
+            }
+            // `M3=4`, `S3=1500`: the function or speed of spindle 3 (the run reads it).
+            "M" | "S"
+                if {
+                    let mut k = l.i;
+                    while l.s.get(k).is_some_and(u8::is_ascii_digit) {
+                        k += 1;
+                    }
+                    k > l.i && l.s.get(k) == Some(&b'=')
+                } =>
+            {
+                l.number();
+                let _ = l.eat("=");
+                l.s_expr()?;
+            }
             "IF" => {
                 l.s_expr()?;
                 let kw = l.letters();
@@ -712,6 +796,10 @@ fn siemens_block(
             // Tool radius compensation's approach and retraction (`nose`; KONTC/KONTT are
             // refused by the run).
             "NORM" | "KONT" | "KONTC" | "KONTT" => {}
+            // Diameter and radius programming (802D sl and 840D), run.
+            "DIAMON" | "DIAMOF" => {}
+            // A message to the operator, a preprocessing stop: no motion.
+            "MSG" | "STOPRE" => l.i = l.s.len(),
             // G96's spindle speed limit (rev/min), read by the run.
             "LIMS" => {
                 l.ws();
@@ -729,10 +817,42 @@ fn siemens_block(
                     full.push(l.s[l.i] as char);
                     l.i += 1;
                 }
+                l.ws();
+                if l.s.get(l.i) == Some(&b'=') && l.s.get(l.i + 1) != Some(&b'=') {
+                    // `NAME = value`: a global user variable (GUD) of the machine; the run
+                    // warns that the program does not define it.
+                    l.i += 1;
+                    l.ws();
+                    if l.peek() == Some(b'"') {
+                        skip_quoted(l);
+                    } else {
+                        l.s_expr()?;
+                    }
+                    continue;
+                }
+                if l.peek() == Some(b'(') {
+                    // `NAME(a, "b", ..)`: a cycle called with arguments (strings among
+                    // them); the run binds them, or warns when the cycle is not found.
+                    skip_arguments(l)?;
+                    // Found, it is checked too; not found, the run warns when it reaches it.
+                    let _ = find(&full);
+                    continue;
+                }
                 calls.push((full, at + 1));
                 if l.eat("P") && l.number().is_none() {
                     return l.unexpected("a repeat count after P");
                 }
+            }
+            // `NAME = value` with a two-letter name: a global user variable (the run warns
+            // when no definition file defines it).
+            other
+                if other.len() > 1 && {
+                    l.ws();
+                    l.s.get(l.i) == Some(&b'=') && l.s.get(l.i + 1) != Some(&b'=')
+                } =>
+            {
+                l.i += 1;
+                l.s_expr()?;
             }
             other => {
                 l.unknown(at + 1, format!("unknown address `{other}`"), strict);
@@ -746,6 +866,40 @@ fn siemens_block(
         }
     }
     Ok(())
+}
+
+/// Past a string literal `"..."` (the cursor on its opening quote).
+fn skip_quoted(l: &mut Line) {
+    l.i += 1;
+    while l.i < l.s.len() && l.s[l.i] != b'"' {
+        l.i += 1;
+    }
+    l.i = (l.i + 1).min(l.s.len());
+}
+
+/// Past a call's argument list `( .. )` (the cursor on `(`): expressions, strings and empty
+/// places, nested brackets.
+fn skip_arguments(l: &mut Line) -> Result<(), Stop> {
+    let mut depth = 0usize;
+    while l.i < l.s.len() {
+        match l.s[l.i] {
+            b'"' => {
+                skip_quoted(l);
+                continue;
+            }
+            b'(' => depth += 1,
+            b')' => {
+                depth -= 1;
+                if depth == 0 {
+                    l.i += 1;
+                    return Ok(());
+                }
+            }
+            _ => {}
+        }
+        l.i += 1;
+    }
+    l.unexpected("`)` closing the call's arguments")
 }
 
 fn label_name(l: &mut Line) -> String {
@@ -785,20 +939,24 @@ pub(super) fn program_facts(prog: &Program, system: codes::GcodeSystem) -> (Vec<
 /// Check every block of `prog` and its written-out control flow (`mill`: a FANUC milling
 /// program's codes and addresses). `find` says whether a called program exists (in the
 /// file or beside it). Diagnostics come in line order.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn check_program(
     prog: &Program,
     dialect: Dialect,
     mill: bool,
     system: codes::GcodeSystem,
     strict: bool,
+    macros: &std::collections::HashMap<String, String>,
     find: &mut dyn FnMut(&str) -> bool,
 ) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     let mut loops: Vec<(u32, usize, usize)> = Vec::new(); // (n, line, col) of open WHILEs
     for (idx, (line, orig, _)) in prog.blocks.iter().enumerate() {
         let mut found = Vec::new();
+        // Siemens macros of the definition files are read as the run reads them.
+        let text = super::siemens_defs::expand(orig, macros);
         let mut l = Line {
-            c: Cursor::line(orig, dialect),
+            c: Cursor::line(&text, dialect),
             mill,
             system,
             out: &mut found,
@@ -820,7 +978,7 @@ pub(super) fn check_program(
             Dialect::Siemens802d => {
                 let mut jumps = Vec::new();
                 let mut calls = Vec::new();
-                let _ = siemens_block(&mut l, strict, &mut jumps, &mut calls);
+                let _ = siemens_block(&mut l, strict, &mut jumps, &mut calls, find);
                 for (kw, target, col) in jumps {
                     match prog.labels.get(&target) {
                         None => found.push((

@@ -114,8 +114,8 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
         },
         Dialect::Siemens840d => match (g, whole) {
             // Rigid tapping (thread moves on the spindle axis), the 840D's frame
-            // suppression G53 (this block in machine coordinates, `siemens`), G153/G500.
-            (331 | 332 | 53 | 500, true) => Verdict::Run,
+            // suppression G500 (G53 as the 802D's).
+            (331 | 332 | 500, true) => Verdict::Run,
             (153, true) => refused("frame and tool offset suppression"),
             _ => g_code(Dialect::Siemens802d, code),
         },
@@ -129,7 +129,10 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (500 | 601 | 602 | 603 | 700 | 710, true) => Verdict::Run,
             // Reference and fixed point approach (`siemens::fixed_point`).
             (74 | 75, true) => Verdict::Run,
-            (53 | 153 | 158 | 159, true) => refused("frame or machine coordinates"),
+            // G53: this block in machine coordinates (802D sl "G53, G153 suppression of
+            // settable frames"; `siemens`).
+            (53, true) => Verdict::Run,
+            (153 | 158 | 159, true) => refused("frame or machine coordinates"),
             (110..=112, true) => refused("polar coordinates"),
             (331 | 332, true) => refused("tapping"),
             _ => Verdict::Unknown(format!(

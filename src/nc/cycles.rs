@@ -9,6 +9,7 @@
 //! says which move the control makes where).
 
 use super::expr::Fail;
+use super::troughs;
 use super::{Interp, Move, MoveKind, Program, Step, Words};
 
 /// The modal data the cycles' first blocks set.
@@ -40,29 +41,29 @@ type Ab = (f64, f64);
 
 /// One move of the finishing shape, in the cycle's frame, and the move it came from.
 #[derive(Clone, Debug)]
-struct Seg {
+pub(super) struct Seg {
     p: Ab,
     q: Ab,
     /// An arc's centre and radius in the cycle's frame.
     arc: Option<(Ab, f64)>,
-    mv: Move,
+    pub(super) mv: Move,
 }
 
 /// The cycle's frame: G71 steps in radius and cuts along Z; G72 the other way round.
 #[derive(Clone, Copy)]
-struct Frame {
-    facing: bool,
+pub(super) struct Frame {
+    pub(super) facing: bool,
 }
 
 impl Frame {
-    fn ab(self, (x, z): (f64, f64)) -> Ab {
+    pub(super) fn ab(self, (x, z): (f64, f64)) -> Ab {
         if self.facing {
             (z, x / 2.0)
         } else {
             (x / 2.0, z)
         }
     }
-    fn xz(self, (a, b): Ab) -> (f64, f64) {
+    pub(super) fn xz(self, (a, b): Ab) -> (f64, f64) {
         if self.facing {
             (2.0 * b, a)
         } else {
@@ -500,6 +501,7 @@ impl Interp<'_> {
                 !(above && dir * (sg.q.1 - sg.p.1) < 0.0)
             })
             .collect();
+        let mut trough = None;
         for sg in &inside {
             if dir * (sg.q.1 - sg.p.1) < -1e-9 {
                 return Err((
@@ -510,22 +512,26 @@ impl Interp<'_> {
                     ),
                 ));
             }
-            if s * (sg.q.0 - sg.p.0) < -1e-9 || arc_turns(&sg.mv) {
-                let why = if type_ii {
-                    "a type II pocket, which vpcut does not simulate yet"
-                } else {
-                    "type I roughing alarms on it (FANUC PS0064, the finishing shape is not a monotonous change); a pocket needs type II (block P naming both X and Z, Haas R1), which vpcut does not simulate yet"
-                };
-                return Err((
-                    1,
-                    format!(
-                        "G{g}: the finishing shape turns back in {axis} at line {}: {why}",
-                        sg.mv.line
-                    ),
-                ));
+            if trough.is_none() && (s * (sg.q.0 - sg.p.0) < -1e-9 || arc_turns(&sg.mv)) {
+                trough = Some(sg.mv.line);
             }
         }
-        if type_ii {
+        if let Some(line) = trough {
+            // Troughs (`troughs`): FANUC type II and Haas (both types) rough them; FANUC type
+            // I alarms, so a shape without type II's mark is ambiguous: a warning.
+            let (message, hint) = if type_ii {
+                (
+                    format!("G{g}: type II roughing of a shape with troughs (line {line} goes back in {axis}): the troughs are roughed after the material above them, level by level"),
+                    "the material removed is the control's; the retract moves between passes are vpcut's (docs/job-format.md, \"Multiple repetitive cycles\")".to_string(),
+                )
+            } else {
+                (
+                    format!("G{g}: the finishing shape goes back in {axis} at line {line} (a trough) in type I roughing: roughed as a Haas does (troughs after the material above them); a FANUC 0i alarms here (PS0064)"),
+                    "for a FANUC, write block P with both X and Z (type II, `W0` where Z stays), which roughs troughs".to_string(),
+                )
+            };
+            self.out.notes.push((1, message, hint));
+        } else if type_ii {
             self.out.notes.push((
                 1,
                 format!("G{g}: type II roughing (block P names both X and Z, or Haas R1) of a shape without pockets, cut as type I"),
@@ -534,13 +540,6 @@ impl Interp<'_> {
         }
         let b0 = a_start.1;
         let mut at = start;
-        let mut go = |m: &mut Self, kind: MoveKind, to: Ab| {
-            let to = f.xz(to);
-            if to != at {
-                m.emit(prog, pc, kind, at, to, None);
-                at = to;
-            }
-        };
         let mut k = 1;
         loop {
             let level = a_start.0 - s * dd * k as f64;
@@ -550,15 +549,67 @@ impl Interp<'_> {
             if k > MAX_PASSES {
                 return Err((1, format!("G{g} would cut more than {MAX_PASSES} passes")));
             }
-            let b_end = pass_end(&segs, s, level).unwrap_or(end.1);
-            go(self, infeed, (level, b0));
-            go(self, MoveKind::Feed, (level, b_end));
-            go(self, MoveKind::Rapid, (level + s * e, b_end - dir * e));
-            go(self, MoveKind::Rapid, (level + s * e, b0));
+            let b_end = if trough.is_some() {
+                // The first stretch below the level, from the shape's start.
+                match troughs::stretches(f, &inside, s, level)
+                    .first()
+                    .filter(|t| t.2)
+                {
+                    Some(t) => t.1,
+                    None => break,
+                }
+            } else {
+                pass_end(&segs, s, level).unwrap_or(end.1)
+            };
+            step(self, (prog, pc, f), &mut at, infeed, (level, b0));
+            step(self, (prog, pc, f), &mut at, MoveKind::Feed, (level, b_end));
+            step(
+                self,
+                (prog, pc, f),
+                &mut at,
+                MoveKind::Rapid,
+                (level + s * e, b_end - dir * e),
+            );
+            step(
+                self,
+                (prog, pc, f),
+                &mut at,
+                MoveKind::Rapid,
+                (level + s * e, b0),
+            );
             k += 1;
         }
+        if trough.is_some() {
+            self.rough_troughs(
+                (prog, pc, f),
+                &mut at,
+                &inside,
+                (s, dir),
+                a_start.0,
+                (dd, e),
+                MAX_PASSES,
+            )?;
+            // Back to the start level before the last pass.
+            let a = f.ab(at);
+            if a.0 != a_start.0 {
+                step(
+                    self,
+                    (prog, pc, f),
+                    &mut at,
+                    MoveKind::Rapid,
+                    (a_start.0, a.1),
+                );
+            }
+            step(
+                self,
+                (prog, pc, f),
+                &mut at,
+                MoveKind::Rapid,
+                (a_start.0, b0),
+            );
+        }
         // The last pass along the shape moved by the allowance.
-        go(self, infeed, bottom);
+        step(self, (prog, pc, f), &mut at, infeed, bottom);
         self.x = at.0;
         self.z = at.1;
         for sg in &segs {
@@ -654,10 +705,26 @@ impl Interp<'_> {
             }
             return Ok(Step::Next);
         }
-        for k in ["I", "K", "D"] {
-            if let Some(&(_, col)) = w.vals.get(k) {
-                return Err((col, format!("G{g} {k}: the one-block (0T) G74/G75 is not simulated by vpcut; write the two-block form `G{g} R(e)` / `G{g} X Z P Q F`")));
+        // The one-block form (FANUC 0T, Haas: `G75 X Z I K D F`): I the X amount (G75: the
+        // peck, in radius; G74: the step between plunges), K the Z amount (G74: the peck;
+        // G75: the step), as P and Q of the two-block form; D (0T: the relief at the bottom,
+        // Haas: the clearance of the return) moves nothing vpcut removes material with.
+        let one_block = ["I", "K"].iter().any(|k| w.vals.contains_key(*k));
+        if let Some(&(dv, col)) = w.vals.get("D") {
+            if dv != 0.0 {
+                self.out.notes.push((
+                    col,
+                    format!("G{g} D: the relief at the bottom (FANUC 0T) or the return clearance (Haas) is not simulated"),
+                    "the pecks and steps are; the tool's last moves at each plunge's bottom are left out".into(),
+                ));
             }
+        }
+        if one_block && (w.vals.contains_key("P") || w.vals.contains_key("Q")) {
+            let col = w.vals.get("I").or(w.vals.get("K")).map_or(1, |v| v.1);
+            return Err((
+                col,
+                format!("G{g}: I/K (the one-block form) and P/Q (the two-block form) in one block"),
+            ));
         }
         if let Some(&(r, col)) = w.vals.get("R") {
             if r != 0.0 {
@@ -674,10 +741,33 @@ impl Interp<'_> {
         let (x0, z0) = (self.x, self.z);
         // In G-code systems B/C under G91, X/Z are incremental too.
         let (x1, z1) = self.cycle_end(w);
-        // P (di) and Q (dk) never take a decimal point: the least input increment.
+        // P (di) and Q (dk) never take a decimal point: the least input increment. The
+        // one-block I/K: in program units with a point, else in the increment. Without a
+        // peck (no I in G75, no K in G74) the plunge is one feed to the bottom.
         let what = format!("G{g}");
-        let di = self.increment_word(w, "P", &what)?.unwrap_or(0.0);
-        let dk = self.increment_word(w, "Q", &what)?.unwrap_or(0.0);
+        let (di, dk) = if one_block {
+            let full = |v: Option<f64>, len: f64| v.filter(|x| *x > 0.0).unwrap_or(len);
+            let (x1, z1) = self.cycle_end(w);
+            let (ix, kz) = (
+                self.increment_or_units(w, "I").map(f64::abs),
+                self.increment_or_units(w, "K").map(f64::abs),
+            );
+            if g == 75 {
+                (full(ix, (x1 - x0).abs() / 2.0), kz.unwrap_or(0.0))
+            } else {
+                (ix.unwrap_or(0.0), full(kz, (z1 - z0).abs()))
+            }
+        } else {
+            // The peck word left out: one plunge to the bottom (no pecking).
+            let (x1, z1) = self.cycle_end(w);
+            let p = self.increment_word(w, "P", &what)?;
+            let q = self.increment_word(w, "Q", &what)?;
+            if g == 75 {
+                (p.unwrap_or((x1 - x0).abs() / 2.0), q.unwrap_or(0.0))
+            } else {
+                (p.unwrap_or(0.0), q.unwrap_or((z1 - z0).abs()))
+            }
+        };
         let e = self.thread.cycles.peck_return.unwrap_or(0.0);
         self.need_feed(w)?;
         // (c, d): c the peck axis, d the step axis; radius for X.
@@ -757,6 +847,22 @@ impl Interp<'_> {
         go(self, MoveKind::Rapid, (c0, d0));
         (self.x, self.z) = (x0, z0);
         Ok(Step::Next)
+    }
+}
+
+/// A move of a cycle's block from `at` to `to` (in the cycle's frame), left out when it
+/// has no length; `at` follows.
+pub(super) fn step(
+    m: &mut Interp,
+    (prog, pc, f): (&Program, usize, Frame),
+    at: &mut (f64, f64),
+    kind: MoveKind,
+    to: Ab,
+) {
+    let to = f.xz(to);
+    if to != *at {
+        m.emit(prog, pc, kind, *at, to, None);
+        *at = to;
     }
 }
 

@@ -240,12 +240,39 @@ impl Interp<'_> {
     pub(super) fn literal(&self, c: &mut Cursor) -> Result<Option<f64>, Fail> {
         c.ws();
         let at = c.i + 1;
-        let Some(v) = c.number() else {
+        let Some(mut v) = c.number() else {
             return Ok(None);
         };
-        let max = match c.dialect {
-            Dialect::Siemens802d | Dialect::Siemens840d => SIEMENS_MAX_VALUE,
-            _ => FANUC_MAX_VALUE,
+        let siemens = matches!(c.dialect, Dialect::Siemens802d | Dialect::Siemens840d);
+        if siemens && c.s[c.i..].starts_with(b"EX") {
+            // The exponent of a Siemens REAL: `1.5EX-3`, `1EX300` (Programming Manual,
+            // "Variable types": REAL with exponent EX).
+            let save = c.i;
+            c.i += 2;
+            let neg = c.eat("-");
+            let _ = neg || c.eat("+");
+            match c.number_span() {
+                Some((st, end)) if c.s[st..end].iter().all(u8::is_ascii_digit) => {
+                    c.i = end;
+                    let e = String::from_utf8_lossy(&c.s[st..end]);
+                    let sign = if neg { "-" } else { "" };
+                    v = format!("{v:e}")
+                        .replace('e', "x") // the mantissa's own exponent
+                        .split_once('x')
+                        .and_then(|(m, k)| {
+                            let k: i64 = k.parse().ok()?;
+                            let e: i64 = format!("{sign}{e}").parse().ok()?;
+                            format!("{m}e{}", k + e).parse().ok()
+                        })
+                        .unwrap_or(f64::INFINITY);
+                }
+                _ => c.i = save,
+            }
+        }
+        let max = if siemens {
+            SIEMENS_MAX_VALUE
+        } else {
+            FANUC_MAX_VALUE
         };
         if v.abs() > max {
             let text = String::from_utf8_lossy(&c.s[at - 1..c.i]);
@@ -291,8 +318,9 @@ impl Interp<'_> {
             };
             return self.get(c, n, at + 1);
         }
-        if self.cfg.s840 {
-            // A Siemens 840D user variable (its name may go on with digits).
+        if self.cfg.s840 || self.has_user_vars() {
+            // A Siemens 840D user variable (its name may go on with digits); on the 802D a
+            // GUD it assigned or a cycle's PROC parameter.
             let save = c.i;
             let mut full = name.clone();
             while c.i < c.s.len() && (c.s[c.i].is_ascii_alphanumeric() || c.s[c.i] == b'_') {

@@ -72,6 +72,7 @@ mod real_tests;
 mod siemens;
 mod siemens_840d;
 mod siemens_cycles;
+mod siemens_defs;
 mod siemens_flow;
 #[cfg(test)]
 mod siemens_tests;
@@ -81,6 +82,7 @@ mod spindle_tests;
 mod state;
 #[cfg(test)]
 mod tests;
+mod troughs;
 mod units;
 #[cfg(test)]
 mod units_tests;
@@ -385,6 +387,9 @@ pub struct Settings {
     /// Tool nose radius compensation's radius and tip direction: by tool number (`tool`,
     /// the job's turning tools), and by offset number where the offset page says (`offset`).
     pub noses: NoseData,
+    /// Siemens: the machine's definition files (GUD and macro `.DEF` files, cycle `.SPF`
+    /// files), read through the loader before the program (`siemens_defs`).
+    pub definitions: Vec<String>,
 }
 
 /// Tool offsets by number: the shift (X as a diameter, Z) of the tool's point.
@@ -437,6 +442,7 @@ impl Default for Settings {
             g76: G76Params::default(),
             subroutine_path: Vec::new(),
             noses: NoseData::default(),
+            definitions: Vec::new(),
         }
     }
 }
@@ -663,10 +669,14 @@ pub fn interpret_with(
             others: Vec::new(),
         });
     }
+    let def_warnings = m.load_definitions(&opts.settings.definitions, &main.name)?;
     let skip = opts.settings.block_skip;
     let all: Vec<std::rc::Rc<Program>> = load_programs(main, dialect, skip)
         .into_iter()
-        .map(std::rc::Rc::new)
+        .map(|mut p| {
+            siemens_defs::expand_program(&mut p, &m.vars.s840.macros);
+            std::rc::Rc::new(p)
+        })
         .collect();
     // The main program: the one the job names, else the one the control would run (the
     // first that ends in M30/M02 and that no other calls).
@@ -700,8 +710,9 @@ pub fn interpret_with(
         to_check.push(p.clone());
     }
     // The static check, program by program; called programs are loaded as they are named.
-    let mut diagnostics: Vec<Diagnostic> = Vec::new();
+    let mut diagnostics: Vec<Diagnostic> = def_warnings;
     let milling = m.cfg.milling;
+    let macros = m.vars.s840.macros.clone();
     let mut checked: Vec<String> = Vec::new();
     while let Some(p) = to_check.pop() {
         if checked.contains(&p.name) {
@@ -721,6 +732,7 @@ pub fn interpret_with(
             milling,
             opts.settings.gcode_system,
             opts.strict,
+            &macros,
             &mut found,
         ));
     }
@@ -785,12 +797,20 @@ impl Interp<'_> {
                 ],
             };
         let src = candidates.iter().find_map(|c| (self.progs.loader)(c))?;
-        let mut loaded = load_programs(&src, self.cfg.dialect, self.cfg.block_skip).into_iter();
-        let first = std::rc::Rc::new(loaded.next().expect("one program"));
+        let macros = &self.vars.s840.macros;
+        let loaded: Vec<_> = load_programs(&src, self.cfg.dialect, self.cfg.block_skip)
+            .into_iter()
+            .map(|mut p| {
+                siemens_defs::expand_program(&mut p, macros);
+                std::rc::Rc::new(p)
+            })
+            .collect();
+        let mut loaded = loaded.into_iter();
+        let first = loaded.next().expect("one program");
         self.register(first.clone());
         self.progs.by_name.insert(name.to_string(), first.clone());
         for other in loaded {
-            self.register(std::rc::Rc::new(other));
+            self.register(other);
         }
         Some(first)
     }

@@ -380,3 +380,285 @@ fn a_shape_that_goes_back_above_the_first_pass_roughs_as_without_it() {
         "{alarms} shapes went back where a pass meets them"
     );
 }
+
+/// Issue 27: G71/G72 shapes with troughs (the shape goes back towards the start's level in
+/// the stepping axis, vertical walls included), type I and type II, G71 outside and inside
+/// and G72, random (seeded). The oracle is the shape as written, moved by the allowance,
+/// and a stock kept independently of the code under test: at each `b`, the material lies
+/// below the lowest point (on the start's side) that a feed move has passed there, and
+/// starts just below the start point's level. Then:
+///
+/// - no move (rapid, feed or the last pass) runs inside the moved shape;
+/// - no rapid runs into material (every rapid goes where a feed has already cut);
+/// - after the roughing passes, what is left over the moved shape is at most dd;
+/// - the last pass runs along the moved shape, vertex by vertex.
+#[test]
+fn g71_g72_troughs_rough_level_by_level_without_rapids_into_the_stock() {
+    let mut rng = Rng(2727);
+    let q = |v: f64| (v * 1000.0).round() / 1000.0;
+    let mut troughs = 0;
+    for case in 0..300 {
+        let facing = case % 3 == 2;
+        let outside = facing || case % 3 == 0;
+        let s = if outside { 1.0 } else { -1.0 };
+        let g = if facing { 72 } else { 71 };
+        let a_first = if facing {
+            rng.mm(-25.0, -15.0)
+        } else if outside {
+            rng.mm(8.0, 15.0)
+        } else {
+            rng.mm(25.0, 32.0)
+        };
+        let b0 = if facing {
+            rng.mm(40.0, 60.0)
+        } else {
+            rng.mm(1.0, 3.0)
+        };
+        let mut pts = vec![(q(a_first), q(b0))];
+        let n = 3 + (rng.next() % 5) as usize;
+        for k in 0..n {
+            let (a, b) = *pts.last().expect("one");
+            let db = if k > 0 && rng.next() % 4 == 0 {
+                0.0
+            } else {
+                rng.mm(1.0, 6.0)
+            };
+            // Up or down in a (towards the start's side or away from it), never below
+            // 4 mm under the first point (the inside of a tube, the centre).
+            let mut da = rng.mm(0.0, 4.0) * if rng.next() % 3 == 0 { -s } else { s };
+            if s * (a + da - a_first) < -4.0 {
+                da = -da;
+            }
+            if db == 0.0 && da == 0.0 {
+                da = s;
+            }
+            if k == 0 {
+                // From A' along the passes first (the start point's b is then in front of
+                // the allowance too).
+                da = 0.0;
+            }
+            pts.push((q(a + da), q(b - db)));
+        }
+        let top = pts
+            .iter()
+            .map(|p| s * p.0)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let a_start = q(s * (top + rng.mm(0.5, 4.0)));
+        let dd = q(rng.mm(0.3, 2.0));
+        let e = q(rng.mm(0.0, 1.0));
+        let du = q(s * rng.mm(0.0, 0.6));
+        let dw = q(rng.mm(0.0, 0.2));
+        let type_ii = rng.next() % 2 == 0;
+        let xz = |(a, b): (f64, f64)| if facing { (2.0 * b, a) } else { (2.0 * a, b) };
+        let start = xz((a_start, b0));
+        let depth_word = if facing { "W" } else { "U" };
+        let mut text = format!(
+            "G0 X{:.3} Z{:.3}\nG{g} {depth_word}{dd:.3} R{e:.3}\nG{g} P10 Q20 U{du:.3} W{dw:.3} F0.2\n",
+            start.0, start.1
+        );
+        let first = xz(pts[0]);
+        text.push_str(&match (facing, type_ii) {
+            (false, false) => format!("N10 G0 X{:.3}\n", first.0),
+            (true, false) => format!("N10 G0 Z{:.3}\n", first.1),
+            _ => format!("N10 G0 X{:.3} Z{:.3}\n", first.0, first.1),
+        });
+        for (i, &p) in pts.iter().enumerate().skip(1) {
+            let n = if i == pts.len() - 1 { "N20 " } else { "" };
+            let (x, z) = xz(p);
+            text.push_str(&format!("{n}G1 X{x:.3} Z{z:.3}\n"));
+        }
+        text.push_str("M30\n");
+        let src = Source {
+            name: "T.NC".into(),
+            text: text.clone(),
+        };
+        let opts = Options {
+            settings: Settings::in_mm(),
+            ..Options::default()
+        };
+        let t = interpret_with(&src, Dialect::Fanuc, &|_| None, &opts)
+            .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+        if t.warnings.iter().any(|w| w.message.contains("trough")) {
+            troughs += 1;
+        }
+        let shift = if facing {
+            (dw, du / 2.0)
+        } else {
+            (du / 2.0, dw)
+        };
+        let moved: Vec<(f64, f64)> = pts
+            .iter()
+            .map(|&(a, b)| (a + shift.0, b + shift.1))
+            .collect();
+        check_roughing(
+            &t.moves,
+            &moved,
+            (s, facing),
+            (a_start, b0, dd),
+            &format!("case {case}"),
+            &text,
+            true,
+        );
+    }
+    assert!(troughs > 100, "only {troughs} shapes had troughs");
+}
+
+/// The checks of the trough test on the moves of the cycle block (line 3): `moved` the
+/// shape moved by the allowance as a polyline in (a, b) (arcs sampled), `last` whether the
+/// last pass is checked vertex by vertex (a polyline shape only).
+fn check_roughing(
+    moves: &[Move],
+    moved: &[(f64, f64)],
+    (s, facing): (f64, bool),
+    (a_start, b0, dd): (f64, f64, f64),
+    what: &str,
+    text: &str,
+    last: bool,
+) {
+    let ab = |x: f64, z: f64| if facing { (z, x / 2.0) } else { (x / 2.0, z) };
+    let cycle: Vec<&Move> = moves.iter().filter(|m| m.line == 3).collect();
+    // The moves as (a, b) segments and their kinds.
+    let segs: Vec<(MoveKind, (f64, f64), (f64, f64))> = cycle
+        .iter()
+        .map(|m| (m.kind, ab(m.x_start, m.z_start), ab(m.x_dia, m.z)))
+        .collect();
+    // The last pass starts after the move to A' moved by the allowance.
+    let last_pass = 1 + segs
+        .iter()
+        .rposition(|m| (m.2 .0 - moved[0].0).abs() < 1e-9 && (m.2 .1 - moved[0].1).abs() < 1e-9)
+        .unwrap_or_else(|| panic!("{what}: no move to A'\n{text}"));
+    // Material: at b (past the start point's b, in front of which is air), below the
+    // least `s a` of the feeds so far and of the blank, just under the start's level.
+    let blank = s * a_start - 0.25 * dd.min(0.4);
+    let stock = |done: &[(MoveKind, (f64, f64), (f64, f64))], b: f64| -> f64 {
+        if b >= b0 - 1e-6 {
+            // The start point's b: in front of the part, no material.
+            return f64::NEG_INFINITY;
+        }
+        let mut h = blank;
+        for &(kind, p, r) in done {
+            if matches!(kind, MoveKind::Rapid | MoveKind::Arc) {
+                continue;
+            }
+            let (lo, hi) = (p.1.min(r.1), p.1.max(r.1));
+            if b < lo - 1e-9 || b > hi + 1e-9 {
+                continue;
+            }
+            let a = if (r.1 - p.1).abs() < 1e-12 {
+                if s * (p.0 - r.0) < 0.0 {
+                    p.0
+                } else {
+                    r.0
+                }
+            } else {
+                p.0 + (b - p.1) / (r.1 - p.1) * (r.0 - p.0)
+            };
+            h = h.min(s * a);
+        }
+        h
+    };
+    for (k, &(kind, p, r)) in segs.iter().enumerate() {
+        if kind == MoveKind::Arc {
+            // An arc of the last pass along the shape: not a straight line between its ends.
+            continue;
+        }
+        for i in 0..=40 {
+            let u = f64::from(i) / 40.0;
+            let (a, b) = (p.0 + u * (r.0 - p.0), p.1 + u * (r.1 - p.1));
+            if let Some(sa) = shape_at(&moved, s, b) {
+                assert!(
+                    s * (a - sa) >= -1e-9,
+                    "{what}: move {k} inside the allowance at b = {b}\n{text}"
+                );
+            }
+            if kind == MoveKind::Rapid {
+                let st = stock(&segs[..k], b);
+                assert!(
+                    s * a >= st - 1e-9,
+                    "{what}: rapid {k} into the stock at ({a}, {b}), stock {st}\n{text}"
+                );
+            }
+        }
+    }
+    // Left after the roughing: within dd of the moved shape.
+    let b_end = moved.last().expect("points").1;
+    for i in 1..300 {
+        let b = b0 + (b_end - b0) * f64::from(i) / 300.0;
+        let Some(sa) = shape_at(&moved, s, b) else {
+            continue;
+        };
+        let left = stock(&segs[..last_pass], b);
+        assert!(
+            left - s * sa <= dd + 1e-9,
+            "{what}: at b = {b} the roughing leaves {left} over {}\n{text}",
+            s * sa
+        );
+    }
+    // The last pass along the moved shape.
+    if !last {
+        return;
+    }
+    let fin = &segs[last_pass..];
+    for (k, w) in moved.windows(2).enumerate() {
+        let (_, p, r) = fin[k];
+        let ok = (p.0 - w[0].0).abs() < 1e-9
+            && (p.1 - w[0].1).abs() < 1e-9
+            && (r.0 - w[1].0).abs() < 1e-9
+            && (r.1 - w[1].1).abs() < 1e-9;
+        assert!(ok, "{what}: last pass move {k}: {:?}\n{text}", fin[k]);
+    }
+}
+
+/// A trough made by an arc (a Haas ST-20 style bolt, issue 27: `G03 X20. Z-35. R20.` from
+/// X16 Z-15 bulges outward to a peak at radius 11.79, so the shape goes back down to X20):
+/// type I, a warning; the same checks as the random troughs, against the arc sampled from
+/// its centre worked by hand: the chord from (z, r) = (-15, 8) to (-35, 10) has midpoint
+/// (-25, 9) and length sqrt(404); the centre lies sqrt(400 - 101) = sqrt(299) from it on the
+/// left of the travel (G03), along (-2, -20)/sqrt(404): (-26.7206, -8.2058), peak r = 11.7942.
+#[test]
+fn an_arc_trough_is_roughed_under_its_peak() {
+    let text = "G0 X26. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0 W0 F0.25\nN10 G00 X16.\nG01 Z0. F0.15\nG01 X16. Z-15.\nG03 X20. Z-35. R20.\nG01 Z-75.\nN20 G01 X26.\nM30\n";
+    let src = Source {
+        name: "T.NC".into(),
+        text: text.into(),
+    };
+    let t = interpret_with(&src, Dialect::Fanuc, &|_| None, &Options::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(t
+        .warnings
+        .iter()
+        .any(|w| w.message.contains("a trough") && w.message.contains("PS0064")));
+    let l = 404f64.sqrt();
+    let h = 299f64.sqrt();
+    let c = (-25.0 + h * -2.0 / l, 9.0 + h * -20.0 / l);
+    assert!(
+        (c.0 + 26.7206).abs() < 1e-4 && (c.1 + 8.2058).abs() < 1e-4,
+        "{c:?}"
+    );
+    let (t0, t1) = (
+        (8.0 - c.1).atan2(-15.0 - c.0),
+        (10.0 - c.1).atan2(-35.0 - c.0),
+    );
+    let mut shape = vec![(8.0, 2.0), (8.0, 0.0), (8.0, -15.0)];
+    for k in 1..=2000 {
+        let t = t0 + (t1 - t0) * f64::from(k) / 2000.0;
+        shape.push((c.1 + 20.0 * t.sin(), c.0 + 20.0 * t.cos()));
+    }
+    let peak = shape.iter().map(|p| p.0).fold(0.0, f64::max);
+    shape.extend([(10.0, -75.0), (13.0, -75.0)]);
+    assert!((peak - 11.7942).abs() < 1e-4, "{peak}");
+    check_roughing(
+        &t.moves,
+        &shape,
+        (1.0, false),
+        (13.0, 2.0, 1.0),
+        "the bolt",
+        text,
+        false,
+    );
+    // The trough under the peak is roughed: a feed at radius 10.0..11.0 (X20..22) past z -30.
+    let deep = t.moves.iter().filter(|m| {
+        m.line == 3 && m.kind == MoveKind::Feed && m.x_dia < 22.0 && m.x_dia > 19.9 && m.z < -40.0
+    });
+    assert!(deep.count() >= 1);
+}

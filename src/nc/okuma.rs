@@ -33,7 +33,15 @@ enum GCode {
     Run,
     /// Listed by the manual but refused (the reason).
     Refused(&'static str),
+    /// Skipped with a warning (an error with `--strict`): its block makes no move.
+    Skipped(&'static str),
 }
+
+/// The driven-tool functions of a lathe with the M option (milling, drilling and tapping
+/// on the face or side with the C axis: G100-G199, their fixed cycles G180-G189): none moves
+/// the turning or threading tool through the part, and their X/Z name a hole or a path of
+/// the driven tool, so their blocks make no move here (a warning names them).
+const DRIVEN_TOOL: &str = "a function of the driven tool and the C axis (M option, G100-G199): skipped, its block makes no turning move";
 
 /// The G codes (5238-E, "G code table"); `None` for a code the manual does not list.
 fn g_code(g: u32) -> Option<GCode> {
@@ -45,6 +53,7 @@ fn g_code(g: u32) -> Option<GCode> {
         72 => Refused("G72 (compound thread cutting cycle on an end face): face threads are not simulated"),
         73..=79 => Refused("the fixed cycles G73-G79 (grooving, drilling, tapping on the face) are not simulated yet"),
         80..=88 => Refused("the LAP cycles (G80-G88: contour definition G81/G82/G83, roughing G85/G86, finishing G87) are not simulated yet"),
+        100..=199 => Skipped(DRIVEN_TOOL),
         _ => return None,
     })
 }
@@ -52,9 +61,12 @@ fn g_code(g: u32) -> Option<GCode> {
 /// The M codes vpcut knows: run (machine functions with no effect on the path, or modes the
 /// thread cycles read).
 fn m_known(m: u32) -> bool {
+    // The M option's driven-tool functions move nothing of the turning tool: M12/M13/M14
+    // the M-tool spindle (stop, forward, reverse), M109/M110 the C-axis connection,
+    // M146/M147 its clamp (5238-E, M code table of the M option).
     matches!(
         m,
-        0..=5 | 8 | 9 | 22 | 23 | 30 | 32..=34 | 40..=44 | 73..=75
+        0..=5 | 8 | 9 | 12..=14 | 22 | 23 | 30 | 32..=34 | 40..=44 | 73..=75 | 109 | 110 | 146 | 147
     )
 }
 
@@ -81,6 +93,18 @@ fn check(progs: &[Prog], strict: bool, out: &mut Vec<Diagnostic>) {
                 if *letter == 'G' {
                     match g_code(code) {
                         Some(GCode::Run) => {}
+                        Some(GCode::Skipped(why)) => out.push(at(
+                            if strict {
+                                Severity::Error
+                            } else {
+                                Severity::Warning
+                            },
+                            format!("G{code}: {why}"),
+                            Some(
+                                "docs/coverage/okuma.md lists what the okuma dialect simulates"
+                                    .into(),
+                            ),
+                        )),
                         Some(GCode::Refused(why)) => out.push(at(
                             Severity::Error,
                             why.to_string(),
@@ -136,6 +160,9 @@ struct State {
     /// compensation number (the T code's third pair).
     nose: Option<super::CompSide>,
     nose_no: Option<u32>,
+    /// A driven-tool fixed cycle (G181-G189) is active until G180: its blocks (a hole's
+    /// X, Z, C) make no turning move.
+    driven: bool,
 }
 
 #[derive(Clone, Copy)]
@@ -213,6 +240,7 @@ pub(super) fn interpret(
             cycle: None,
             nose: None,
             nose_no: None,
+            driven: false,
         },
         common: HashMap::new(),
         moves: Vec::new(),
@@ -577,6 +605,21 @@ impl Run<'_> {
                 _ => {}
             }
         }
+        // Driven-tool functions (G100-G199, warned by the check) and the blocks of their
+        // modal fixed cycles make no turning move.
+        if let Some(g) = w
+            .iter()
+            .filter(|t| t.0 == 'G')
+            .map(|t| t.1 as u32)
+            .find(|g| (100..=199).contains(g))
+        {
+            self.st.driven = (181..=189).contains(&g);
+            return Ok(if end { Step::End } else { Step::Next });
+        }
+        if self.st.driven && !w.iter().any(|t| t.0 == 'G') {
+            return Ok(if end { Step::End } else { Step::Next });
+        }
+        self.st.driven = false;
         let cycle_block = g71 || thread_g.is_some() || self.st.cycle.is_some();
         for &(c, _, col) in w {
             let known = match c {

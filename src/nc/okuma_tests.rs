@@ -312,3 +312,50 @@ fn bad_programs_stop_at_their_line_and_column() {
     assert_eq!((e.line, e.col), (2, 5));
     assert!(e.message.contains("G91"), "{e}");
 }
+
+/// Driven-tool functions (M option, 5238-E section 9 "contour generation" and the M-tool
+/// spindle fixed cycles G181-G189): no turning move is made of their blocks, the modal
+/// cycle's later hole positions (`C90`) and its cancel G180 included; the threading after
+/// them runs. A warning names the code.
+#[test]
+fn driven_tool_functions_make_no_turning_move() {
+    let text = "$T.MIN%\nG00 X84 Z5\nM110\nG94\nG00 X50 Z5 C0\nG181 X50 Z-8 C0 K3 F100 E0.3\nC90\nC180\nG180\nG101 X40 Z-5 C30 F200\nG95 G00 X30 Z5\nG33 X28.5 Z-20 F1.5\nG00 X100 Z50\nM02\n";
+    let t = run(text);
+    let xz: Vec<(f64, f64)> = t.moves.iter().map(|m| (m.x_dia, m.z)).collect();
+    // X84 Z5, X50 Z5, then the G33 pass from (30, 5) (in to X28.5, the thread to Z-20, out
+    // to X30, back to Z5) and the last rapid: nothing of G181 (Z-8) or G101 (X40 Z-5).
+    let want = [
+        (84.0, 5.0),
+        (50.0, 5.0),
+        (30.0, 5.0),
+        (28.5, 5.0),
+        (28.5, -20.0),
+        (30.0, -20.0),
+        (30.0, 5.0),
+        (100.0, 50.0),
+    ];
+    assert_eq!(xz, want);
+    assert_eq!(
+        t.moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .count(),
+        1
+    );
+    let w: Vec<&str> = t.warnings.iter().map(|d| d.message.as_str()).collect();
+    assert_eq!(
+        w.iter().filter(|m| m.contains("driven tool")).count(),
+        3,
+        "{w:?}"
+    );
+    // Strict, each is an error.
+    let strict = Options {
+        strict: true,
+        ..Options::default()
+    };
+    let main = Source {
+        name: "T.MIN".into(),
+        text: text.into(),
+    };
+    assert!(interpret_with(&main, Dialect::Okuma, &|_| None, &strict).is_err());
+}

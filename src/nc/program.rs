@@ -42,8 +42,15 @@ pub(super) struct Program {
 fn strip_comment(line: &str, dialect: Dialect) -> String {
     let mut out = String::new();
     let mut depth = 0;
+    let mut quoted = false;
     for c in line.chars() {
         match (dialect, c) {
+            // A Siemens string (`MSG("A;B")`, `SET(";")`) may hold a `;`.
+            (Dialect::Siemens802d, '"') => {
+                quoted = !quoted;
+                out.push(c);
+            }
+            (Dialect::Siemens802d, _) if quoted => out.push(c.to_ascii_uppercase()),
             (Dialect::Siemens802d, ';') => break,
             (Dialect::Fanuc, ';') if depth == 0 => break,
             (Dialect::Fanuc, '(') => depth += 1,

@@ -18,9 +18,14 @@ impl Interp<'_> {
         text: &str,
     ) -> Result<Step, Fail> {
         let mut c = Cursor::new(text, self.cfg.dialect);
+        c.ws();
+        if c.peek() == Some(b'%') {
+            // `%_N_NAME_MPF` (and `%_N_NAME_SPF`): the header of the transfer format, the
+            // program's name as the control stores it (802D and 840D alike).
+            return Ok(Step::Next);
+        }
         // Skip N and a label.
         // A block number (not the first letter of a name such as NEXT_PASS).
-        c.ws();
         if c.s.get(c.i) == Some(&b'N') && c.s.get(c.i + 1).is_some_and(u8::is_ascii_digit) {
             c.i += 1;
             let _ = c.number();
@@ -38,6 +43,8 @@ impl Interp<'_> {
             if let Some(step) = self.s840_statement(prog, pc, &mut c)? {
                 return Ok(step);
             }
+        } else if let Some(step) = self.proc_802(&mut c)? {
+            return Ok(step);
         }
         let s840 = self.cfg.s840;
         let mut w = Words::default();
@@ -63,13 +70,13 @@ impl Interp<'_> {
                 self.apply(&w, prog, pc)?;
                 return self.cycle84(&mut c, prog, pc, at + 1);
             }
-            if s840 && self.user_var(&name).is_some() {
+            if self.user_var(&name).is_some() {
                 self.assign_user(&mut c, &name)?;
                 continue;
             }
-            // `NAME=` with a name that is no address: a GUD of the machine (840D).
-            if s840
-                && name.len() > 1
+            // `NAME=` with a name that is no address: a GUD of the machine (840D; the 802D
+            // reads it the same way, issue 27: a warning naming it).
+            if name.len() > 1
                 && !codes::siemens_address(&name)
                 && !codes::siemens_keyword(&name)
                 && {
@@ -89,7 +96,9 @@ impl Interp<'_> {
                 name = short;
             }
             match name.as_str() {
-                "DIAMON" | "DIAMOF" | "DIAM90" if s840 => {
+                // DIAMON/DIAMOF: the 802D sl has them too (802D sl programming manual,
+                // "Dimensions: diameter and radius programming"); DIAM90 is the 840D's.
+                "DIAMON" | "DIAMOF" | "DIAM90" if s840 || name != "DIAM90" => {
                     self.modal.diameter_mode = name != "DIAMOF";
                     self.vars.s840.diam90 = name == "DIAM90";
                 }
@@ -111,7 +120,10 @@ impl Interp<'_> {
                     let _ = c.eat("=");
                     self.modal.speed_max = Some(self.expr(&mut c)?);
                 }
-                "G" if s840 && c.peek() == Some(b'5') && c.s[c.i..].starts_with(b"53") => {
+                "G" if c.peek() == Some(b'5')
+                    && c.s[c.i..].starts_with(b"53")
+                    && !c.s.get(c.i + 2).is_some_and(u8::is_ascii_digit) =>
+                {
                     let _ = c.number();
                     machine = true;
                 }
@@ -163,7 +175,23 @@ impl Interp<'_> {
                             c.i + 1,
                             format!("expected a value after `{addr}`, found {}", c.here()),
                         ))?;
-                        if neg {
+                        if !neg && matches!(addr, "M" | "S") && c.peek() == Some(b'=') {
+                            // `M3=4`, `S3=1500`: the function or speed of spindle 3 (Fundamentals,
+                            // "Spindle" with several spindles). Spindle 1 is the work spindle
+                            // vpcut models (the master spindle of a lathe's channel).
+                            c.i += 1;
+                            let value = self.expr(&mut c)?;
+                            if v == 1.0 {
+                                value
+                            } else {
+                                self.out.notes.push((
+                                    at + 1,
+                                    format!("`{addr}{v}=`: spindle {v} is not the work spindle (vpcut models spindle 1); ignored"),
+                                    "a grinding wheel, a driven tool or a second spindle: nothing of the turning tool's path".into(),
+                                ));
+                                continue;
+                            }
+                        } else if neg {
                             -v
                         } else {
                             v
@@ -191,6 +219,8 @@ impl Interp<'_> {
                     )?;
                     break;
                 }
+                // A message to the operator, a preprocessing stop: no motion (802D too).
+                "MSG" | "STOPRE" => break,
                 kw if codes::siemens_keyword(kw) => {
                     // A statement vpcut does not simulate: skip the rest of the block.
                     self.unknown(at + 1, format!("`{kw}` is not simulated"))?;
@@ -199,9 +229,10 @@ impl Interp<'_> {
                 call if call.len() > 2 => {
                     // A subprogram called by name, with an optional repeat `P n`; on the
                     // 840D with arguments `NAME(a, b)` for its PROC, in a scope of its own.
-                    if s840 && c.peek() == Some(b'(') {
+                    if c.peek() == Some(b'(') {
                         // A cycle that is nowhere to be found (a manufacturer's cycle of
-                        // the machine, `_APPROACH_WITH_A_AXIS(..)`): a warning naming it.
+                        // the machine, `_APPROACH_WITH_A_AXIS(..)`): a warning naming it
+                        // (802D and 840D).
                         if self.find_program(call).is_none() {
                             self.unknown(
                                 at + 1,
@@ -216,7 +247,8 @@ impl Interp<'_> {
                         times = c.number().unwrap_or(1.0).max(1.0) as u32;
                     }
                     self.apply(&w, prog, pc)?;
-                    if s840 {
+                    if s840 || self.vars.s840.args.is_some() {
+                        // (A cycle called with arguments on the 802D binds them by its PROC too.)
                         self.new_scope();
                         return Ok(Step::Call(call.to_string(), times, Some(Vec::new())));
                     }
@@ -244,9 +276,9 @@ impl Interp<'_> {
                 // G500: no settable work offset (the zero frame).
                 self.frames.work = 8;
             }
-            if machine {
-                return self.machine_block(w, prog, pc);
-            }
+        }
+        if machine {
+            return self.machine_block(w, prog, pc);
         }
         self.apply(&w, prog, pc)
     }

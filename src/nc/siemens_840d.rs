@@ -51,6 +51,18 @@ impl Interp<'_> {
         Ok(Some(step))
     }
 
+    /// The 802D's `PROC NAME(params)` (a cycle's first block, reached by a call with
+    /// arguments): bound as on the 840D. `None`: no PROC, the cursor unmoved.
+    pub(super) fn proc_802(&mut self, c: &mut Cursor) -> Result<Option<Step>, Fail> {
+        let save = c.i;
+        if c.name_with_digits() == "PROC" {
+            self.proc(c)?;
+            return Ok(Some(Step::Next));
+        }
+        c.i = save;
+        Ok(None)
+    }
+
     /// A structure keyword (the cursor after it).
     fn structure(
         &mut self,
@@ -192,6 +204,17 @@ impl Interp<'_> {
                     "INT" => VarType::Int,
                     "BOOL" => VarType::Bool,
                     "CHAR" => VarType::Char,
+                    "STRING" => {
+                        // STRING[n]: a name or text (a wheel's, a tool's) the cycle shows or
+                        // passes on; no number vpcut computes with.
+                        if c.eat("[") {
+                            let _ = c.number();
+                            if !c.eat("]") {
+                                return c.err("expected `]` after the STRING length");
+                            }
+                        }
+                        VarType::Str
+                    }
                     "VAR" => {
                         return Err((
                             at,
@@ -202,7 +225,7 @@ impl Interp<'_> {
                         return Err((
                             at,
                             format!(
-                            "PROC parameter type `{other}` is not modelled (REAL, INT, BOOL, CHAR)"
+                            "PROC parameter type `{other}` is not modelled (REAL, INT, BOOL, CHAR, STRING)"
                         ),
                         ))
                     }
@@ -258,6 +281,16 @@ impl Interp<'_> {
         if !c.eat(")") {
             loop {
                 if matches!(c.peek(), Some(b',') | Some(b')')) {
+                    args.push(0.0);
+                } else if c.peek() == Some(b'"') {
+                    // A string argument (for a STRING parameter): no number.
+                    c.i += 1;
+                    while c.peek().is_some_and(|b| b != b'"') {
+                        c.i += 1;
+                    }
+                    if !c.eat("\"") {
+                        return c.err("expected `\"` closing the string");
+                    }
                     args.push(0.0);
                 } else {
                     args.push(self.expr(c)?);

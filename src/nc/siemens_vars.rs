@@ -48,9 +48,13 @@ pub(super) struct S840State {
     pub(super) tool_names: Vec<String>,
     /// DIAM90 is active (diameters in G90; G91 X, in radius there, is refused).
     pub(super) diam90: bool,
-    /// Global user data (GUD) the program assigns without a DEF: the machine's definition
-    /// files define them (issue 27, `TEST=1`); REAL scalars seen by every program level.
+    /// Global user data (GUD): defined by the machine's definition files (`[program]
+    /// definitions`, `siemens_defs`), or assigned by the program without a DEF (issue 27,
+    /// `TEST=1`: a REAL scalar); seen by every program level.
     pub(super) gud: HashMap<String, UserVar>,
+    /// Macros of the definition files (`DEFINE NAME AS text`): a block's names are replaced
+    /// by their text as it is loaded (`siemens_defs::expand`).
+    pub(super) macros: HashMap<String, String>,
 }
 
 impl UserVar {
@@ -90,16 +94,45 @@ impl Interp<'_> {
         self.vars.s840.scopes.push(HashMap::new());
     }
 
-    /// `DEF type name[dims][=init], ..` (the cursor after `DEF`).
+    /// `DEF type name[dims][=init], ..` (the cursor after `DEF`): local variables of the
+    /// running program.
     pub(super) fn def(&mut self, c: &mut Cursor) -> Result<(), Fail> {
+        for (name, var) in self.def_vars(c, false)? {
+            self.scope_mut().insert(name, var);
+        }
+        Ok(())
+    }
+
+    /// A GUD definition file's `DEF [NCK|CHAN] type name[dims][=init], ..` (the cursor after
+    /// `DEF`): global user data every program level sees. `AXIS` and `FRAME` data are
+    /// skipped (nothing of them is modelled).
+    pub(super) fn def_global(&mut self, c: &mut Cursor) -> Result<(), Fail> {
+        for (name, var) in self.def_vars(c, true)? {
+            self.vars.s840.gud.insert(name, var);
+        }
+        Ok(())
+    }
+
+    /// The variables a `DEF` defines (`global`: in a definition file, with its storage
+    /// class `NCK`/`CHAN`; `AXIS`/`FRAME` data give none).
+    fn def_vars(&mut self, c: &mut Cursor, global: bool) -> Result<Vec<(String, UserVar)>, Fail> {
         c.ws();
-        let at = c.col();
-        let ty_name = c.ident();
+        let mut at = c.col();
+        let mut ty_name = c.ident();
         if matches!(ty_name.as_str(), "NCK" | "CHAN") {
-            return Err((
-                at,
-                format!("DEF {ty_name}: global user data (GUD) lives in the control's definition files; vpcut models program-local variables (DEF without {ty_name})"),
-            ));
+            if !global {
+                return Err((
+                    at,
+                    format!("DEF {ty_name}: global user data (GUD) lives in the control's definition files (give them to vpcut as [program] definitions); vpcut models program-local variables (DEF without {ty_name})"),
+                ));
+            }
+            c.ws();
+            at = c.col();
+            ty_name = c.ident();
+        }
+        if global && matches!(ty_name.as_str(), "AXIS" | "FRAME") {
+            c.i = c.s.len();
+            return Ok(Vec::new());
         }
         if ty_name == "LLI" || ty_name == "PHU" {
             return Err((
@@ -136,6 +169,7 @@ impl Interp<'_> {
                 return Err((at, format!("`{ty_name}` is not a type of DEF (REAL, INT, BOOL, CHAR, STRING, AXIS, FRAME)")));
             }
         };
+        let mut out = Vec::new();
         loop {
             c.ws();
             let at = c.col();
@@ -176,7 +210,9 @@ impl Interp<'_> {
                 values: vec![0.0; n],
             };
             if c.eat("=") {
-                if ty == VarType::Str {
+                if global && matches!(ty, VarType::Str | VarType::Char) {
+                    skip_string_init(c)?;
+                } else if ty == VarType::Str {
                     skip_string(c)?;
                 } else {
                     let vals = self.init_values(c, n, array)?;
@@ -188,7 +224,7 @@ impl Interp<'_> {
                     }
                 }
             }
-            self.scope_mut().insert(name, var);
+            out.push((name, var));
             if !c.eat(",") {
                 break;
             }
@@ -196,7 +232,7 @@ impl Interp<'_> {
         if !c.done() {
             return c.err(format!("unexpected {} after DEF", c.here()));
         }
-        Ok(())
+        Ok(out)
     }
 
     /// The initial values: one value (every element of an array), `(a, b, ..)`,
@@ -242,6 +278,11 @@ impl Interp<'_> {
             return c.err("expected `,` or `)` in the list of initial values");
         }
         Ok(out)
+    }
+
+    /// Whether any user variable (a GUD, or one of the running program) exists.
+    pub(super) fn has_user_vars(&self) -> bool {
+        !self.vars.s840.gud.is_empty() || self.scope().is_some_and(|s| !s.is_empty())
     }
 
     /// The user variable `name` of the running program, if defined.
@@ -367,6 +408,38 @@ fn size(v: f64, at: usize) -> Result<usize, Fail> {
         ));
     }
     Ok(v as usize)
+}
+
+/// A STRING array's initial values in a GUD file: `"text"`, `("a", "b", ..)`, `REP("a")`
+/// or `SET(..)`, skipped (strings are no numbers vpcut computes with).
+fn skip_string_init(c: &mut Cursor) -> Result<(), Fail> {
+    c.ws();
+    let _ = c.eat("REP") || c.eat("SET");
+    c.ws();
+    if c.peek() != Some(b'(') {
+        return skip_string(c);
+    }
+    let mut depth = 0usize;
+    while let Some(b) = c.s.get(c.i).copied() {
+        c.i += 1;
+        match b {
+            b'"' => {
+                while c.s.get(c.i).is_some_and(|&q| q != b'"') {
+                    c.i += 1;
+                }
+                c.i += 1;
+            }
+            b'(' => depth += 1,
+            b')' => {
+                depth -= 1;
+                if depth == 0 {
+                    return Ok(());
+                }
+            }
+            _ => {}
+        }
+    }
+    c.err("expected `)` closing the initial values")
 }
 
 /// A string value: `"text"` or a concatenation `"a" << B` (not evaluated: strings are

@@ -300,14 +300,16 @@ fn siemens_labels_loops_and_calls_are_checked_before_running() {
     )
     .unwrap_err();
     assert!(e.message.contains("label `NOWHERE` not found"), "{e}");
-    // Statements vpcut does not simulate are skipped with a warning.
+    // Statements vpcut does not simulate are skipped with a warning; a message to the
+    // operator moves nothing and is no warning.
     let t = run_opts(
-        "MSG(\"ROUGHING\")\nG0 X10 Z5\nM30\n",
+        "MSG(\"ROUGHING\")\nROT Z45\nG0 X10 Z5\nM30\n",
         Dialect::Siemens802d,
         false,
     )
     .unwrap();
     assert_eq!(t.warnings.len(), 1);
+    assert!(t.warnings[0].message.contains("`ROT`"), "{:?}", t.warnings);
     assert_eq!(t.moves.len(), 1);
 }
 

@@ -46,8 +46,9 @@ fn mill_settings() -> MillSettings {
 
 /// The machine settings a program is written for, from its `.moves` header's
 /// `# settings: key = value, ...` line (the `[program]` keys of a job: `decimal_point`,
-/// `input_increment`, `units`, `feed_mode`, `x_mode`, `main`; and `nose`, the turning
-/// tools' nose radii and tip directions), over `base`.
+/// `input_increment`, `units`, `feed_mode`, `x_mode`, `main`; `nose`, the turning tools'
+/// nose radii and tip directions; and `definitions` as names separated by spaces), over
+/// `base`.
 fn header_settings(header: &str, mut base: Settings) -> Settings {
     for line in header.lines() {
         let Some(rest) = line
@@ -78,6 +79,9 @@ fn header_settings(header: &str, mut base: Settings) -> Settings {
                         let nose = (f[1].parse().expect(t), f[2].parse().expect(t));
                         base.noses.tool.insert(tool, nose);
                     }
+                }
+                "definitions" => {
+                    base.definitions = v.split_whitespace().map(str::to_string).collect()
                 }
                 _ => panic!("unknown setting `{k}` in a .moves header"),
             }
