@@ -405,7 +405,7 @@ impl Job {
             subroutine_path: Vec::new(),
         };
         let cx = Ctx::empty(file);
-        let program = program::lathe_program(&pr, None, &cx, true)?;
+        let program = program::lathe_program(&pr, None, &self.blank, &cx, true)?;
         let load = |name: &str| (name == file).then(|| text.to_string());
         let job = Job {
             passes: Vec::new(),

@@ -69,6 +69,8 @@ mod streaming;
 mod taps;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;
+/// A new user's trials: shop programs from a drawing's words, their findings as classes.
+mod trials;
 /// No false PASS: randomized clean cuts pass, short defects fail on their turn and flank.
 mod trust;
 /// The whole lathe program cuts the stock: turned profiles against hand derivations, rapids
