@@ -446,7 +446,7 @@ impl Job {
             definitions: Vec::new(),
         };
         let cx = Ctx::empty(file);
-        let program = program::lathe_program(&pr, None, &cx, true)?;
+        let program = program::lathe_program(&pr, None, &self.blank, &cx, true)?;
         let load = |name: &str| (name == file).then(|| text.to_string());
         let job = Job {
             passes: Vec::new(),

@@ -263,6 +263,7 @@ pub(super) fn resolve(
         Some(pr) => Some(Pending::Lathe(program::lathe_program(
             pr,
             Some(&raw.machine),
+            &blank,
             cx,
             strict,
         )?)),

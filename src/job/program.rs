@@ -11,14 +11,33 @@ use crate::nc::{
     DecimalPoint, Dialect, G76Params, GcodeSystem, InputIncrement, NoseOffset, Settings,
     ToolOffsets,
 };
+use crate::model::setup::Blank;
 use crate::toolpath::Program;
 use std::collections::BTreeMap;
 
+/// Where a lathe's reference points are when the job does not say: clear of the blank,
+/// `HOME_CLEARANCE` mm over its diameter and in front of its face. A lathe's reference
+/// point (its machine zero on most) lies far from the part; the job's frame puts the work
+/// zero, and with no work offset the machine zero too, on the part's axis at its face, so
+/// the machine zero would send every `G28 U0 W0` through the part.
+pub(crate) const HOME_CLEARANCE: f64 = 100.0;
+
+/// The reference point a lathe job without `[program] reference_point` (or
+/// `second_reference_point`) assumes: (diameter, z) clear of `blank` ([`HOME_CLEARANCE`]).
+pub(crate) fn assumed_home(blank: &Blank) -> (f64, f64) {
+    (
+        blank.diameter + HOME_CLEARANCE,
+        blank.z_front + HOME_CLEARANCE,
+    )
+}
+
 /// A lathe job's `[program]`, with what `[machine]` says about the control (`None`: the
-/// defaults): the tool offsets and G76's parameters.
+/// defaults): the tool offsets and G76's parameters; the reference points not given are
+/// taken clear of `blank` ([`assumed_home`]).
 pub(super) fn lathe_program(
     pr: &RawProgram,
     machine: Option<&RawMachine>,
+    blank: &Blank,
     cx: &Ctx,
     strict: bool,
 ) -> Result<Program, JobError> {
@@ -76,18 +95,20 @@ pub(super) fn lathe_program(
             }
         });
     }
-    if let Some(p) = &pr.second_reference_point {
-        settings.second_reference_point = Some((
+    settings.second_reference_point = Some(match &pr.second_reference_point {
+        Some(p) => (
             cx.finite("program.second_reference_point.x", p.x)?,
             cx.finite("program.second_reference_point.z", p.z)?,
-        ));
-    }
-    if let Some(p) = &pr.reference_point {
-        settings.reference_point = Some((
+        ),
+        None => assumed_home(blank),
+    });
+    settings.reference_point = Some(match &pr.reference_point {
+        Some(p) => (
             cx.finite("program.reference_point.x", p.x)?,
             cx.finite("program.reference_point.z", p.z)?,
-        ));
-    }
+        ),
+        None => assumed_home(blank),
+    });
     for (name, off) in &pr.work_offsets {
         let key = format!("program.work_offsets.{name}");
         let i = work_index(name)

@@ -13,6 +13,8 @@ mod coverage;
 mod crashes;
 /// Issue 28: cycle times against derivations by hand.
 mod cycle_time;
+/// The docs against the code: every job key documented, README's commands run.
+mod docs;
 /// `[thread] designation` and `class`: scenes rewritten with designations, contradictions.
 mod designations;
 /// The gauges' verdict (GO/NOT GO, functional diameter) against hand derivations, and its
@@ -73,6 +75,8 @@ mod taper;
 mod taps;
 /// Project hygiene: module docs, scenes and goldens in one-to-one correspondence.
 mod tidy;
+/// A new user's trials: shop programs from a drawing's words, their findings as classes.
+mod trials;
 /// No false PASS: randomized clean cuts pass, short defects fail on their turn and flank.
 mod trust;
 /// The whole lathe program cuts the stock: turned profiles against hand derivations, rapids
