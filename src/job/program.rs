@@ -7,11 +7,11 @@
 use super::ctx::Ctx;
 use super::schema::{RawMachine, RawProgram};
 use super::JobError;
+use crate::model::setup::Blank;
 use crate::nc::{
     DecimalPoint, Dialect, G76Params, GcodeSystem, InputIncrement, NoseOffset, Settings,
     ToolOffsets,
 };
-use crate::model::setup::Blank;
 use crate::toolpath::Program;
 use std::collections::BTreeMap;
 

@@ -449,28 +449,61 @@ fn g28_returns_via_the_intermediate_point() {
 fn one_block_g74_g75_are_the_two_block_cycles() {
     let standard = Settings::default();
     let cases = [
-        ("G0 X52. Z-10.\n", "G75 X30. Z-20. I1.5 K3. F0.1", "G75 X30. Z-20. P1500 Q3000 F0.1"),
-        ("G0 X52. Z-10.\n", "G75 X30. I2. F0.1", "G75 X30. P2000 F0.1"),
-        ("G0 X1.5 Z-2.\n", "G75 X0. I0.127 F0.05", "G75 X0. P127 F0.05"),
+        (
+            "G0 X52. Z-10.\n",
+            "G75 X30. Z-20. I1.5 K3. F0.1",
+            "G75 X30. Z-20. P1500 Q3000 F0.1",
+        ),
+        (
+            "G0 X52. Z-10.\n",
+            "G75 X30. I2. F0.1",
+            "G75 X30. P2000 F0.1",
+        ),
+        (
+            "G0 X1.5 Z-2.\n",
+            "G75 X0. I0.127 F0.05",
+            "G75 X0. P127 F0.05",
+        ),
         ("G0 X0. Z2.\n", "G74 Z-20. K5. F0.1", "G74 Z-20. Q5000 F0.1"),
-        ("G0 X40. Z2.\n", "G74 X20. Z-8. I2.5 K1. F0.1", "G74 X20. Z-8. P2500 Q1000 F0.1"),
-        ("G0 X40. Z2.\n", "G74 X20. Z-8. I2500 K1000 F0.1", "G74 X20. Z-8. P2500 Q1000 F0.1"),
+        (
+            "G0 X40. Z2.\n",
+            "G74 X20. Z-8. I2.5 K1. F0.1",
+            "G74 X20. Z-8. P2500 Q1000 F0.1",
+        ),
+        (
+            "G0 X40. Z2.\n",
+            "G74 X20. Z-8. I2500 K1000 F0.1",
+            "G74 X20. Z-8. P2500 Q1000 F0.1",
+        ),
     ];
     for (head, one, two) in cases {
         let a = run_with(&format!("{head}{one}\nM30\n"), Dialect::Fanuc, &standard)
             .unwrap_or_else(|e| panic!("{one}: {e}"));
-        let b = run_with(&format!("{head}G7{} R0\n{two}\nM30\n", &two[2..3]), Dialect::Fanuc, &standard)
-            .unwrap_or_else(|e| panic!("{two}: {e}"));
+        let b = run_with(
+            &format!("{head}G7{} R0\n{two}\nM30\n", &two[2..3]),
+            Dialect::Fanuc,
+            &standard,
+        )
+        .unwrap_or_else(|e| panic!("{two}: {e}"));
         assert_eq!(path(&a), path(&b), "{one}");
         assert!(a.len() > 2, "{one}");
     }
     // A G75 without I: one plunge to X0 (a cut-off), then back.
-    let t = run_with("G0 X20. Z-5.\nG75 X0. F0.05\nM30\n", Dialect::Fanuc, &standard).unwrap();
+    let t = run_with(
+        "G0 X20. Z-5.\nG75 X0. F0.05\nM30\n",
+        Dialect::Fanuc,
+        &standard,
+    )
+    .unwrap();
     let feeds: Vec<_> = t.iter().filter(|m| m.kind == MoveKind::Feed).collect();
     assert_eq!(feeds.len(), 1);
     assert!(close(feeds[0].x_dia, 0.0));
     // Both forms in one block: an error.
-    let e = run_with("G0 X20. Z-5.\nG75 X0. I1. P500 F0.05\n", Dialect::Fanuc, &standard)
-        .unwrap_err();
+    let e = run_with(
+        "G0 X20. Z-5.\nG75 X0. I1. P500 F0.05\n",
+        Dialect::Fanuc,
+        &standard,
+    )
+    .unwrap_err();
     assert!(e.message.contains("one block"), "{e}");
 }

@@ -130,6 +130,17 @@ impl Interp<'_> {
                 ),
             ));
         }
+        // rs274 runs G70 under G41/G42: its rapids to each pass's start with compensation
+        // off for the move, the rest compensated as ordinary moves. vpcut's compensation
+        // does not model a move made with it off for the move, so a tool of nonzero radius
+        // is refused rather than run differently (a radius of 0 makes the moves as
+        // programmed, as rs274's).
+        if g70 && self.nose_on() {
+            return Err((
+                1,
+                "G70 under cutter compensation (G41/G42) with a tool of nonzero radius is not simulated: cancel it with G40 before the G70, or give the tool radius 0 and offset the contour (rs274 runs it with compensation off for each pass's rapid to its start)".into(),
+            ));
+        }
         if self.lc.st.plane != 180 {
             return Err((
                 1,

@@ -595,8 +595,9 @@ fn indirect_o_word_calls() {
 /// Tool table words (rs274 2.9.0~pre1's canon): G10 L1/L10/L11, G43.1 and G43.2 send
 /// offsets to the machine (`USE_TOOL_LENGTH_OFFSET`) and the tip follows the program (G43.1
 /// X1 Z2 makes no move; the next G0 X10 Z5 goes to X10 Z5); G42.1 D0 moves as programmed;
-/// a radius set with G10 L1 R makes rs274 offset a G42 path (X10.4 Z0.077 for X10 Z0 with
-/// R0.4), which vpcut refuses; G42.1 without D is rs274's "G42.1 with no D word".
+/// a radius set with G10 L1 R makes rs274 offset a G42 path (rs274 2.9.0~pre1: X10 Z0 from
+/// X10 Z5 with R0.4 and orientation 0 is fed to X10.4 Z0), as vpcut does (`nose`); G42.1
+/// without D is rs274's "G42.1 with no D word".
 #[test]
 fn tool_table_words_leave_the_tip_on_the_program() {
     let m = run("G18 G21 G8 F100\nG0 X10 Z5\nG43.1 X1 Z2\nG0 X12 Z5\nG1 Z0\nG49\n").unwrap();
@@ -605,13 +606,36 @@ fn tool_table_words_leave_the_tip_on_the_program() {
     let m = run("G18 G21 G8 F100\nG10 L1 P3 X1 Z2 R0\nT3 M6 G43\nG10 L10 P3 Z4\nG43.2 H4\nG0 X10 Z5\nG42.1 D0 L2\nG1 X12 Z0\nG40\n").unwrap();
     let ends: Vec<(f64, f64)> = m.iter().map(|m| (m.x_dia / 2.0, m.z)).collect();
     assert_eq!(ends, [(10.0, 5.0), (12.0, 0.0)]);
-    let e = run("G18 G21 G8 F100\nG10 L1 P3 R0.4\nT3 M6\nG0 X10 Z5\nG42\nG1 X10 Z0\n").unwrap_err();
+    let m = run("G18 G21 G8 F100\nG10 L1 P3 R0.4\nT3 M6\nG0 X10 Z5\nG42\nG1 X10 Z0\n").unwrap();
+    let ends: Vec<(f64, f64)> = m.iter().map(|m| (m.x_dia / 2.0, m.z)).collect();
+    assert_eq!(ends.len(), 2, "{ends:?}");
     assert!(
-        e.message.contains("nonzero radius is not simulated") && e.line == 5,
-        "{e}"
+        (ends[1].0 - 10.4).abs() < 1e-9 && ends[1].1.abs() < 1e-9,
+        "{ends:?}"
     );
     let e = run("G18 G21 G8 F100\nG0 X10 Z5\nG42.1\n").unwrap_err();
     assert!(e.message.contains("G42.1 with no D word"), "{e}");
     let e = run("G18 G21 G8 F100\nG0 X10 Z5\nG41.1 D0.8 L2\n").unwrap_err();
     assert!(e.message.contains("not simulated"), "{e}");
+}
+
+/// G70 under G42 (rs274 2.9.0~pre1 runs it, each pass's rapid to its start made with
+/// compensation off): with a tool of radius 0 the moves are the contour's; with a nonzero
+/// radius (G10 L1 R0.8) vpcut refuses it at the G70 block rather than compensate it
+/// otherwise than rs274.
+#[test]
+fn g70_under_compensation_runs_at_radius_zero_and_is_refused_otherwise() {
+    let body = "T1 M6 S800 M3 F0.25\nG0 X52 Z3\nG42\nG70 Q100 X52 Z3 P1\nG40\nG0 X80 Z50\nM2\no100 sub\nG0 X0 Z2\nG1 Z0\nG1 X16\nG1 Z-20\nG1 X50\nG1 Z-70\no100 endsub\n";
+    let m = run(&format!("G18 G21 G7 G95 G40 G90\n{body}")).unwrap();
+    assert!(
+        m.iter()
+            .any(|m| (m.x_dia - 16.0).abs() < 1e-9 && (m.z + 20.0).abs() < 1e-9),
+        "the contour's corner X16 Z-20 is made as programmed"
+    );
+    let e = run(&format!(
+        "G18 G21 G7 G95 G40 G90\nG10 L1 P1 R0.8 Q3\n{body}"
+    ))
+    .unwrap_err();
+    assert_eq!(e.line, 6, "{e}");
+    assert!(e.message.contains("G70 under cutter compensation"), "{e}");
 }

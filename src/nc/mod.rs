@@ -26,6 +26,7 @@
 //! - `state`: the interpreter's state (`Interp`), grouped: run settings, programs, modal
 //!   state, frames, threading state, FANUC/Siemens variables, output;
 //! - `check`: the static check of every block before anything runs (all problems at once);
+//! - `error`: the error that stops a run (`NcError`), with the diagnostics found before it;
 //! - `mill/`: FANUC machining-centre programs (`Settings::mill`): the public milling nouns
 //!   (`mill/mod.rs`), the blocks into programmed moves (`mill/blocks.rs`) and cutter radius
 //!   compensation of the programmed moves as a pure pass (`mill/comp.rs`);
@@ -42,6 +43,7 @@ mod codes;
 mod cycle_tests;
 mod cycles;
 mod detect;
+mod error;
 mod expr;
 mod fanuc;
 mod lcnc_contour;
@@ -87,6 +89,7 @@ mod units;
 #[cfg(test)]
 mod units_tests;
 
+pub use error::NcError;
 pub use mill::{CompSide, MillArc, MillKind, MillMove, MillSettings, Plane};
 pub use nose::{Nose, NoseData, NoseOffset, NoseRule};
 
@@ -99,7 +102,6 @@ pub use units::{DecimalPoint, InputIncrement, PowerOn};
 pub use crate::diag::{Diagnostic, Severity};
 use crate::model::helix::Spindle;
 use std::collections::HashMap;
-use std::fmt;
 
 /// Controller dialect.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -460,96 +462,6 @@ impl Settings {
         }
     }
 }
-
-/// A program that cannot be run: the error that stopped it (its fields), and every other
-/// diagnostic found before stopping (`others`: the static check reports all the problems
-/// of all programs at once; a run-time error comes alone, with the warnings before it).
-#[derive(Clone, Debug, PartialEq)]
-pub struct NcError {
-    /// File.
-    pub file: String,
-    /// 1-based line.
-    pub line: usize,
-    /// 1-based column (0 = the whole block).
-    pub col: usize,
-    /// What is wrong.
-    pub message: String,
-    /// The block's text.
-    pub snippet: String,
-    /// Callers, innermost first ("MYAAA.MPF:14").
-    pub stack: Vec<String>,
-    /// What to do about it.
-    pub hint: Option<String>,
-    /// The other errors and the warnings, in file and line order.
-    pub others: Vec<Diagnostic>,
-}
-
-impl NcError {
-    /// This error as a diagnostic.
-    pub fn diagnostic(&self) -> Diagnostic {
-        Diagnostic {
-            severity: Severity::Error,
-            file: self.file.clone(),
-            line: self.line,
-            col: self.col,
-            message: self.message.clone(),
-            hint: self.hint.clone(),
-            snippet: self.snippet.clone(),
-            stack: self.stack.clone(),
-        }
-    }
-
-    /// Every diagnostic, this error first.
-    pub fn all(&self) -> Vec<Diagnostic> {
-        let mut v = vec![self.diagnostic()];
-        v.extend(self.others.iter().cloned());
-        v
-    }
-
-    pub(super) fn from_diagnostics(mut all: Vec<Diagnostic>) -> NcError {
-        let k = all
-            .iter()
-            .position(|d| d.severity == Severity::Error)
-            .expect("called with at least one error");
-        let d = all.remove(k);
-        NcError {
-            file: d.file,
-            line: d.line,
-            col: d.col,
-            message: d.message,
-            snippet: d.snippet,
-            stack: d.stack,
-            hint: d.hint,
-            others: all,
-        }
-    }
-}
-
-impl fmt::Display for NcError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut all = self.all();
-        all.sort_by(|a, b| (&a.file, a.line, a.col).cmp(&(&b.file, b.line, b.col)));
-        for (i, d) in all.iter().enumerate() {
-            if i > 0 {
-                write!(f, "\n\n")?;
-            }
-            write!(f, "{d}")?;
-        }
-        let errors = all.iter().filter(|d| d.severity == Severity::Error).count();
-        let warnings = all.len() - errors;
-        if all.len() > 1 {
-            write!(
-                f,
-                "\n\n{errors} error{}, {warnings} warning{}",
-                if errors == 1 { "" } else { "s" },
-                if warnings == 1 { "" } else { "s" }
-            )?;
-        }
-        Ok(())
-    }
-}
-
-impl std::error::Error for NcError {}
 
 /// Limits that turn runaway programs into errors.
 #[derive(Clone, Copy, Debug, PartialEq)]

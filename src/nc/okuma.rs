@@ -601,7 +601,7 @@ impl Run<'_> {
                 },
                 'S' if !w.iter().any(|t| t.0 == 'G' && t.1 == 50.0) => self.st.speed = Some(v),
                 'F' => self.st.feed = Some(v),
-                'T' => self.tool(v, col)?,
+                'T' => self.tool(v, col, &b.orig)?,
                 _ => {}
             }
         }
@@ -677,8 +677,9 @@ impl Run<'_> {
     }
 
     /// `T`: four digits (offset number, tool number) or six (offset, tool, nose radius
-    /// number), 5238-E "T code".
-    fn tool(&mut self, v: f64, col: usize) -> Result<(), Fail> {
+    /// number), 5238-E "T code"; `line` the block as written, whose T word at `col` (from
+    /// 0) names the tool in messages (`T001111`, not `T1111`).
+    fn tool(&mut self, v: f64, col: usize, line: &str) -> Result<(), Fail> {
         if v < 0.0 || v.fract() != 0.0 {
             return Err((
                 col,
@@ -696,10 +697,18 @@ impl Run<'_> {
             return Err((col, "the job's tool offsets are not applied to Okuma programs yet: leave [machine] offsets out and program the tool's point".into()));
         }
         self.st.tool = Some(tool as u32);
-        self.st.tool_word = Some(std::sync::Arc::from(super::tool_word(
-            super::Dialect::Okuma,
-            v,
-        )));
+        let written: String = line
+            .chars()
+            .skip(col)
+            .take_while(|c| c.is_ascii_alphanumeric())
+            .collect();
+        let word = match written.strip_prefix(['T', 't']) {
+            Some(d) if !d.is_empty() && d.chars().all(|c| c.is_ascii_digit()) => {
+                format!("T{d}")
+            }
+            _ => super::tool_word(super::Dialect::Okuma, v),
+        };
+        self.st.tool_word = Some(std::sync::Arc::from(word));
         Ok(())
     }
 

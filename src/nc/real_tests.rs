@@ -194,10 +194,7 @@ fn linuxcnc_offsets_homes_and_machine_coordinates() {
 #[test]
 fn linuxcnc_codes_refused_by_name() {
     let cases: [(&str, &str); 5] = [
-        (
-            "G10 L1 P1 Z2\n",
-            "G10 L1 (tool table or other data) is not simulated",
-        ),
+        ("G10 L3 P1 Z2\n", "G10 L3 (other data) is not simulated"),
         ("G91 G53 G0 X1\n", "G53 needs absolute coordinates"),
         ("G92\n", "G92 needs X or Z"),
         ("#5221=3\n", "assigning #5221 (offsets) is not simulated"),

@@ -35,7 +35,7 @@ fn a_g76_started_under_the_crest_rapids_through_it_at_its_block() {
     let h = hits[0];
     assert_eq!((h.file.as_deref(), h.line), (Some("crash.nc"), Some(9)));
     assert!((h.value.unwrap() - 1.0).abs() < 1e-6, "{h:?}");
-    assert!(h.message.contains("T3"), "{}", h.message);
+    assert!(h.message.contains("T0303"), "{}", h.message);
     let z = h.z_mm.unwrap();
     assert!((-39.5 - 0.1667..=0.0).contains(&z), "{z}");
 
@@ -577,6 +577,6 @@ fn a_threading_inserts_plunge_and_radial_entry_are_crashes_at_their_blocks() {
     assert_eq!(got, [(Some(5), 0.5), (Some(7), 2.0)], "{:#?}", r.findings);
     assert!(hits[0]
         .message
-        .contains("a feed move of the threading insert T3"));
+        .contains("a feed move of the threading insert T0303"));
     assert!(hits[1].message.contains("synchronised entry"));
 }

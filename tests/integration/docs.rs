@@ -213,7 +213,10 @@ fn readme_commands_run_as_written() {
                 assert!(out.join(f).exists(), "{f} written");
             }
         } else {
-            assert!(stdout.contains("read back") && stdout.contains("PASS"), "{stdout}");
+            assert!(
+                stdout.contains("read back") && stdout.contains("PASS"),
+                "{stdout}"
+            );
         }
     }
     std::fs::remove_dir_all(&out).ok();

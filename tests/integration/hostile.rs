@@ -27,8 +27,11 @@ const G: Dialect = Dialect::Gsk980;
 const S: Dialect = Dialect::Siemens802d;
 const L: Dialect = Dialect::Linuxcnc;
 
-/// The longest any one hostile case may take (a runaway loop must stop at a limit).
-const BOUND: Duration = Duration::from_secs(8);
+/// The longest any one hostile case may take: a hang guard (a runaway loop must stop at a
+/// limit, not run until the test harness is killed), not a speed target. A runaway case
+/// runs up to the default move or block limit, some seconds on one core, and CI runs the
+/// tests side by side, so the guard is generous; speed is the benchmarks' subject.
+const BOUND: Duration = Duration::from_secs(60);
 
 /// Interpret `text` as `P.NC` with `limits`: no panic, within [`BOUND`].
 fn nc_with(dialect: Dialect, text: &str, limits: Limits) -> Result<Toolpath, NcError> {
@@ -642,7 +645,7 @@ fn vpcut_limited(dir: &std::path::Path, args: &str) -> (Option<i32>, String) {
         .output()
         .unwrap();
     assert!(
-        t.elapsed() < Duration::from_secs(30),
+        t.elapsed() < Duration::from_secs(120),
         "{args}: {:?}",
         t.elapsed()
     );

@@ -13,10 +13,10 @@ mod coverage;
 mod crashes;
 /// Issue 28: cycle times against derivations by hand.
 mod cycle_time;
-/// The docs against the code: every job key documented, README's commands run.
-mod docs;
 /// `[thread] designation` and `class`: scenes rewritten with designations, contradictions.
 mod designations;
+/// The docs against the code: every job key documented, README's commands run.
+mod docs;
 /// The gauges' verdict (GO/NOT GO, functional diameter) against hand derivations, and its
 /// independence of where the cut starts.
 mod gauging;

@@ -70,7 +70,10 @@ fn going_home_without_a_reference_point_stays_clear_of_the_part() {
     for case in 0..24 {
         let d = rng.range(10.0, 80.0).round();
         let zf = rng.range(-5.0, 5.0).round();
-        let (x0, z0) = (d + rng.range(2.0, 20.0).round(), zf + rng.range(1.0, 20.0).round());
+        let (x0, z0) = (
+            d + rng.range(2.0, 20.0).round(),
+            zf + rng.range(1.0, 20.0).round(),
+        );
         let (xa, za, zt) = (d + 2.0, zf + 4.0, zf - 10.0);
         let xt = d - 1.3;
         let second = case % 2 == 1;
@@ -106,8 +109,8 @@ fn going_home_without_a_reference_point_stays_clear_of_the_part() {
         // The rapids: to the home and back to the thread's start, in to the thread, out,
         // and home again (the program's first move, from wherever the machine was, is not
         // counted).
-        let rapid = path_length(&[(x0, z0), h, (xa, za), (xt, za)])
-            + path_length(&[(xt, zt), (xa, zt), h]);
+        let rapid =
+            path_length(&[(x0, z0), h, (xa, za), (xt, za)]) + path_length(&[(xt, zt), (xa, zt), h]);
         let ct = j.cycle_time.as_ref().expect("a lathe program's cycle time");
         let want = rapid / 10000.0 * 60.0;
         assert!(
