@@ -503,6 +503,9 @@ fn g71_g72_troughs_rough_level_by_level_without_rapids_into_the_stock() {
     assert!(troughs > 100, "only {troughs} shapes had troughs");
 }
 
+/// A move as its kind and its two ends in the cycle's (a, b) frame.
+type Seg = (MoveKind, (f64, f64), (f64, f64));
+
 /// The checks of the trough test on the moves of the cycle block (line 3): `moved` the
 /// shape moved by the allowance as a polyline in (a, b) (arcs sampled), `last` whether the
 /// last pass is checked vertex by vertex (a polyline shape only).
@@ -518,7 +521,7 @@ fn check_roughing(
     let ab = |x: f64, z: f64| if facing { (z, x / 2.0) } else { (x / 2.0, z) };
     let cycle: Vec<&Move> = moves.iter().filter(|m| m.line == 3).collect();
     // The moves as (a, b) segments and their kinds.
-    let segs: Vec<(MoveKind, (f64, f64), (f64, f64))> = cycle
+    let segs: Vec<Seg> = cycle
         .iter()
         .map(|m| (m.kind, ab(m.x_start, m.z_start), ab(m.x_dia, m.z)))
         .collect();
@@ -530,7 +533,7 @@ fn check_roughing(
     // Material: at b (past the start point's b, in front of which is air), below the
     // least `s a` of the feeds so far and of the blank, just under the start's level.
     let blank = s * a_start - 0.25 * dd.min(0.4);
-    let stock = |done: &[(MoveKind, (f64, f64), (f64, f64))], b: f64| -> f64 {
+    let stock = |done: &[Seg], b: f64| -> f64 {
         if b >= b0 - 1e-6 {
             // The start point's b: in front of the part, no material.
             return f64::NEG_INFINITY;
@@ -565,7 +568,7 @@ fn check_roughing(
         for i in 0..=40 {
             let u = f64::from(i) / 40.0;
             let (a, b) = (p.0 + u * (r.0 - p.0), p.1 + u * (r.1 - p.1));
-            if let Some(sa) = shape_at(&moved, s, b) {
+            if let Some(sa) = shape_at(moved, s, b) {
                 assert!(
                     s * (a - sa) >= -1e-9,
                     "{what}: move {k} inside the allowance at b = {b}\n{text}"
@@ -584,7 +587,7 @@ fn check_roughing(
     let b_end = moved.last().expect("points").1;
     for i in 1..300 {
         let b = b0 + (b_end - b0) * f64::from(i) / 300.0;
-        let Some(sa) = shape_at(&moved, s, b) else {
+        let Some(sa) = shape_at(moved, s, b) else {
             continue;
         };
         let left = stock(&segs[..last_pass], b);
