@@ -159,8 +159,8 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             _ if matches!(c, 711 | 712 | 721 | 722) => Verdict::Run,
             // G33.1, rigid tapping: thread moves in and out (`motion::lc_rigid_tap`).
             _ if c == 331 => Verdict::Run,
-            // G41.1/G42.1 with D0 (as compensation of zero radius), G43.1/G43.2 (tool length
-            // offsets: the tool's tip follows the program; `linuxcnc::lc_compensation`).
+            // G41.1/G42.1 (compensation with the block's D and L: `nose::nose_word`),
+            // G43.1/G43.2 (tool length offsets: the tool's tip follows the program).
             _ if matches!(c, 411 | 421 | 431 | 432) => Verdict::Run,
             (38, false) => refused("probing"),
             (73 | 74 | 81..=89, true) => refused("canned cycle"),

@@ -594,7 +594,8 @@ fn indirect_o_word_calls() {
 
 /// Tool table words (rs274 2.9.0~pre1's canon): G10 L1/L10/L11, G43.1 and G43.2 send
 /// offsets to the machine (`USE_TOOL_LENGTH_OFFSET`) and the tip follows the program (G43.1
-/// X1 Z2 makes no move; the next G0 X10 Z5 goes to X10 Z5); G42.1 D0 moves as programmed;
+/// X1 Z2 makes no move; the next G0 X10 Z5 goes to X10 Z5); G42.1 D0 moves as programmed,
+/// G41.1 D0.8 L2 compensates with radius 0.4 and orientation 2 (rs274's canon);
 /// a radius set with G10 L1 R makes rs274 offset a G42 path (rs274 2.9.0~pre1: X10 Z0 from
 /// X10 Z5 with R0.4 and orientation 0 is fed to X10.4 Z0), as vpcut does (`nose`); G42.1
 /// without D is rs274's "G42.1 with no D word".
@@ -615,8 +616,14 @@ fn tool_table_words_leave_the_tip_on_the_program() {
     );
     let e = run("G18 G21 G8 F100\nG0 X10 Z5\nG42.1\n").unwrap_err();
     assert!(e.message.contains("G42.1 with no D word"), "{e}");
-    let e = run("G18 G21 G8 F100\nG0 X10 Z5\nG41.1 D0.8 L2\n").unwrap_err();
-    assert!(e.message.contains("not simulated"), "{e}");
+    // G41.1 D0.8 L2: radius 0.4, orientation 2 (rs274: X10 Z0 from X10 Z5 is fed to
+    // X9.2 Z-0.4).
+    let m = run("G18 G21 G8 F100\nG0 X10 Z5\nG41.1 D0.8 L2\nG1 X10 Z0\n").unwrap();
+    let end = (m[1].x_dia / 2.0, m[1].z);
+    assert!(
+        (end.0 - 9.2).abs() < 1e-9 && (end.1 + 0.4).abs() < 1e-9,
+        "{end:?}"
+    );
 }
 
 /// G70 under G42 (rs274 2.9.0~pre1 runs it, each pass's rapid to its start made with

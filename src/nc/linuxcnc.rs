@@ -604,7 +604,6 @@ impl Interp<'_> {
             }
         }
         self.lc_modal(&w);
-        self.lc_compensation(&w)?;
         let dyn_offset = [431, 432].map(|c| super::motion::DECIMAL_G + c);
         if w.g.iter().any(|g| dyn_offset.contains(g)) {
             // G43.1 X Z / G43.2: the words are tool length offsets, no move; the tool's
@@ -630,34 +629,6 @@ impl Interp<'_> {
             return self.in_cycle(|m| m.lcnc_g76(&w, prog, pc));
         }
         self.apply(&w, prog, pc)
-    }
-
-    /// Dynamic cutter radius compensation: G41.1/G42.1 with D0 make the moves as
-    /// programmed, as rs274 does with a zero diameter; a nonzero D is refused (G41/G42 with
-    /// the tool table's radius are `nose`'s). G41.1/G42.1 need D (rs274: "G42.1 with no D
-    /// word").
-    fn lc_compensation(&self, w: &Words) -> Result<(), Fail> {
-        use super::motion::DECIMAL_G;
-        for &g in &w.g {
-            let dynamic = g == DECIMAL_G + 411 || g == DECIMAL_G + 421;
-            if dynamic {
-                let name = if g == DECIMAL_G + 411 {
-                    "G41.1"
-                } else {
-                    "G42.1"
-                };
-                let Some(&(d, col)) = w.vals.get("D") else {
-                    return Err((1, format!("{name} with no D word")));
-                };
-                if d != 0.0 {
-                    return Err((
-                        col,
-                        format!("{name} D{d}: cutter radius compensation with a tool of nonzero diameter is not simulated (vpcut's tools have zero nose radius; D0 runs)"),
-                    ));
-                }
-            }
-        }
-        Ok(())
     }
 
     /// `o[expression] call`: the subroutine whose number the expression gives (rs274: a
@@ -743,10 +714,9 @@ impl Interp<'_> {
     /// G10 L2 (set a work offset to X/Z) and G10 L20 (set it so that the current point reads
     /// X/Z), `P0` the active system, `P1..P9` G54..G59.3; axes not named keep their offset.
     /// `xs` turns an X word into a diameter, `scale` program units into mm. G10 L1/L10/L11
-    /// (tool table entries) are kept as the tool's radius only: the tool's tip follows the
-    /// program whatever its length offsets (rs274 sends them to the machine with
-    /// `USE_TOOL_LENGTH_OFFSET`; its canon's points are the tip's), and the radius decides
-    /// whether G41/G42 may run (`lc_compensation`).
+    /// (tool table entries) set the tool's nose radius and orientation (`nose::lc_g10_tool`):
+    /// the tool's tip follows the program whatever its length offsets (rs274 sends them to
+    /// the machine with `USE_TOOL_LENGTH_OFFSET`; its canon's points are the tip's).
     pub(super) fn lc_g10(&mut self, w: &Words, xs: f64, scale: f64) -> Result<(), Fail> {
         let val = |k: &str| w.vals.get(k).map(|v| v.0);
         let l = val("L").ok_or((1, "G10 needs L (L2 or L20 set work offsets)".to_string()))?;

@@ -174,6 +174,12 @@ impl Interp<'_> {
                 54..=59 => self.frames.work = (g - 54) as usize,
                 // Tool nose radius compensation (`nose`); SINUMERIK's corner modes.
                 40..=42 => self.nose_word(g, w)?,
+                // LinuxCNC's dynamic compensation G41.1/G42.1 D L.
+                g if self.cfg.dialect == Dialect::Linuxcnc
+                    && (g == DECIMAL_G + 411 || g == DECIMAL_G + 421) =>
+                {
+                    self.nose_word(g, w)?
+                }
                 450 | 451 if self.cfg.dialect == Dialect::Siemens802d => self.nose_word(g, w)?,
                 96 => self.modal.css = true,
                 97 => {

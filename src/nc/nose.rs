@@ -562,6 +562,15 @@ pub(super) fn compensate(moves: &[Move]) -> Result<Vec<Move>, (usize, String)> {
                 (entry, entry.tangent(e.b).perp() * s, None, corner_entry)
             }
         };
+        // rs274 finds an arc the nose does not fit inside converting the arc's own block,
+        // before the corner after it.
+        if nz.rule == NoseRule::Linuxcnc && start_c.is_some() {
+            if let Some(Offset::Circle(_, r_tool)) = el.circle.map(|_| el.offset(s, r)) {
+                if r_tool <= 1e-9 {
+                    return Err((i, alarm(nz.rule, Alarm::ArcRadius)));
+                }
+            }
+        }
         let joint = match next {
             Next::Comp(j) if start_c.is_none() && !corner_entry => {
                 // Type A start-up (FANUC, SINUMERIK NORM): perpendicular to the next
@@ -740,11 +749,66 @@ impl Interp<'_> {
     /// compensation state the moves are made under. LinuxCNC's `D` names the tool table
     /// entry whose radius and orientation compensate (rs274 `convert_cutter_compensation_on`:
     /// a whole number, not negative; without it the tool in the spindle), and turning it on
-    /// while it is on is rs274's error.
+    /// while it is on is rs274's error. LinuxCNC's G41.1/G42.1 (`DECIMAL_G + 411/421`)
+    /// compensate with the block's radius `D / 2` (program units; a negative D swaps the
+    /// side) and orientation `L` (0 without it), as rs274's
+    /// `convert_cutter_compensation_on`.
     pub(super) fn nose_word(&mut self, g: u32, w: &super::Words) -> Result<(), super::expr::Fail> {
+        use super::motion::DECIMAL_G;
         use super::Dialect;
+        if g == DECIMAL_G + 411 || g == DECIMAL_G + 421 {
+            let name = if g == DECIMAL_G + 411 {
+                "G41.1"
+            } else {
+                "G42.1"
+            };
+            if self.modal.nose.is_some() {
+                return Err((
+                    1,
+                    "Cannot turn cutter radius comp on when on (rs274): G40 first".into(),
+                ));
+            }
+            let Some(&(d, _)) = w.vals.get("D") else {
+                return Err((1, format!("{name} with no D word")));
+            };
+            let tip = match w.vals.get("L") {
+                None => 0,
+                Some(&(l, col)) => {
+                    if l.fract() != 0.0 || !(0.0..=9.0).contains(&l) {
+                        return Err((
+                            col,
+                            format!(
+                                "{name} L{l}: expected a tool orientation, a whole number 0 to 9"
+                            ),
+                        ));
+                    }
+                    l as u8
+                }
+            };
+            let mut side = if g == DECIMAL_G + 411 {
+                CompSide::Left
+            } else {
+                CompSide::Right
+            };
+            if d < 0.0 {
+                side = match side {
+                    CompSide::Left => CompSide::Right,
+                    CompSide::Right => CompSide::Left,
+                };
+            }
+            let scale = if self.modal.inch { 25.4 } else { 1.0 };
+            self.modal.nose = Some((side, None));
+            self.modal.nose_dynamic = Some((
+                d.abs() / 2.0 * scale,
+                crate::model::tool::linuxcnc_orientation(tip),
+            ));
+            return Ok(());
+        }
         match g {
-            40 => self.modal.nose = None,
+            40 => {
+                self.modal.nose = None;
+                self.modal.nose_dynamic = None;
+            }
             41 | 42 => {
                 let side = if g == 41 {
                     CompSide::Left
@@ -783,7 +847,10 @@ impl Interp<'_> {
         use super::Dialect;
         let (side, d) = self.modal.nose?;
         let (radius, tip) = match self.cfg.dialect {
-            Dialect::Linuxcnc => self.cfg.noses.of(d.or(self.modal.tool), None),
+            Dialect::Linuxcnc => match self.modal.nose_dynamic {
+                Some(dynamic) => dynamic,
+                None => self.cfg.noses.of(d.or(self.modal.tool), None),
+            },
             _ => self.cfg.noses.of(self.modal.tool, self.modal.offset),
         };
         let rule = match self.cfg.dialect {

@@ -113,6 +113,9 @@ pub(super) struct Modal {
     pub(super) spindle: Spindle,
     /// Tool nose radius compensation (`nose`): G41/G42 and LinuxCNC's `D`; `None` (G40).
     pub(super) nose: Option<(super::CompSide, Option<u32>)>,
+    /// LinuxCNC G41.1/G42.1: the radius (mm) and tip direction the block gave (`D` / 2,
+    /// orientation `L`), used instead of the tool table's.
+    pub(super) nose_dynamic: Option<(f64, u8)>,
     /// SINUMERIK G450 (transition circles at outer corners; G451: intersections).
     pub(super) nose_arc: bool,
     /// SINUMERIK KONT (else NORM): the approach and retraction of compensation.
@@ -286,6 +289,7 @@ impl<'l> Interp<'l> {
                 tool_word: None,
                 spindle: Spindle::Cw,
                 nose: None,
+                nose_dynamic: None,
                 nose_arc: true,
                 nose_kont: false,
             },
