@@ -880,6 +880,9 @@ impl Interp<'_> {
                     ),
                 ));
             }
+            if face_threads(&mut m.out.moves[before..]) {
+                face_thread_warning(warnings, fail(&stack, 0, String::new()));
+            }
             for mv in &m.out.moves[before..] {
                 if let Some(msg) = lead_problem(mv) {
                     return Err(fail(&stack, 0, msg));
@@ -986,6 +989,47 @@ fn main_m99(warnings: &mut Vec<Diagnostic>, at: NcError) {
     d.message = "M99 ends the main program: a FANUC-style control goes back to its start and runs it again, without end; vpcut runs it once".into();
     d.hint = Some("end the main program with M30 (or M02); if this is a subprogram, the file's main program is chosen by `main` in [program] (the one that ends in M30 and is called by no other, by default)".into());
     warnings.push(d);
+}
+
+/// Thread moves along X only (a face thread or scroll: FANUC/GSK G32 and LinuxCNC/Siemens
+/// G33 without Z travel, which the controls run) become feed moves at their lead per
+/// revolution: vpcut's threads run along Z, so the face is cut as a facing move cuts it
+/// (the spiral's own groove is not modelled). Returns whether there was one.
+fn face_threads(moves: &mut [Move]) -> bool {
+    let mut any = false;
+    for mv in moves.iter_mut() {
+        let lead = mv.lead.filter(|f| *f > 0.0 && f.is_finite());
+        if mv.kind == MoveKind::Thread && mv.z == mv.z_start && mv.x_dia != mv.x_start {
+            if let Some(f) = lead {
+                mv.kind = MoveKind::Feed;
+                mv.lead = None;
+                mv.lead_change = None;
+                mv.sync_angle_deg = None;
+                mv.chained = false;
+                mv.feed = Some(Feed {
+                    value: f,
+                    per_rev: true,
+                });
+                any = true;
+            }
+        }
+    }
+    any
+}
+
+/// The warning at a block whose thread moves run along X only (`face_threads`).
+fn face_thread_warning(warnings: &mut Vec<Diagnostic>, at: NcError) {
+    let mut d = at.diagnostic();
+    d.severity = Severity::Warning;
+    d.message = "a thread move along X only (a face thread or scroll): run as a feed move at its lead per revolution; vpcut simulates threads along Z, so the face is cut as a facing move would cut it (the spiral groove is not modelled)".into();
+    d.hint =
+        Some("a thread on a face is not compared with the drawing; the threads along Z are".into());
+    let seen = warnings
+        .iter()
+        .any(|w| (&w.file, w.line, &w.message) == (&d.file, d.line, &d.message));
+    if !seen {
+        warnings.push(d);
+    }
 }
 
 /// Why a thread move cannot be cut as programmed, if it cannot: a lead that is not positive

@@ -377,8 +377,43 @@ fn a_lead_reaching_zero_is_an_error_at_its_block() {
     // 18 mm would leave sqrt(16 - 18) = imaginary as well; 15 mm leaves lead 1.
     let m = run("G0 X30 Z0\nG34 Z-15 F4 K-0.5\n", Dialect::Fanuc).unwrap();
     assert_eq!(m.len(), 2);
-    let e = run("G0 X30 Z0\nG33 X40 Z0 K2\n", Dialect::Siemens802d).unwrap_err();
-    assert!(e.message.contains("face thread"), "{e}");
+    // A thread move along X only (a face thread, which the controls cut) runs as a feed
+    // move at its lead per revolution, with a warning at its block.
+    for (text, d) in [
+        ("G0 X30 Z0\nG33 X40 Z0 K2\n", Dialect::Siemens802d),
+        ("G0 X30 Z0\nG32 X40 F2.\n", Dialect::Fanuc),
+        (
+            "G18 G7 G21\nG0 X30 Z0 M3 S100\nG33 X40 K2\n",
+            Dialect::Linuxcnc,
+        ),
+    ] {
+        let src = Source {
+            name: "t.nc".into(),
+            text: text.into(),
+        };
+        let t = interpret_with(
+            &src,
+            d,
+            &|_| None,
+            &Options {
+                settings: Settings::in_mm(),
+                ..Options::default()
+            },
+        )
+        .unwrap_or_else(|e| panic!("{text}: {e}"));
+        let last = t.moves.last().unwrap();
+        assert_eq!(last.kind, MoveKind::Feed, "{text}: {last:?}");
+        assert_eq!((last.x_dia, last.z, last.lead), (40.0, 0.0, None), "{text}");
+        let f = last.feed.unwrap();
+        assert!(f.per_rev && f.value == 2.0, "{text}: {f:?}");
+        assert!(
+            t.warnings
+                .iter()
+                .any(|w| w.message.contains("face thread") && w.line == text.lines().count()),
+            "{text}: {:?}",
+            t.warnings
+        );
+    }
 }
 
 /// The fast number reader gives the same f64 as `str::parse` (correct rounding).
