@@ -84,8 +84,8 @@ pub use model::tolerance::{RootZone, SizeLimits, TaperGauge, ThreadClass, UnitSy
 pub use model::tool::{linuxcnc_orientation, tip_direction};
 pub use model::tool::{Body, DepthLimits, Edge, Reference, Tap, Tool};
 pub use nc::{
-    decode_program, interpret, interpret_with, path_lead, to_csv, ArcGeometry, CompSide,
-    DecimalPoint, Diagnostic, Dialect, Dwell, DwellTime, Feed, G76Params, GcodeSystem,
+    decode_program, interpret, interpret_partial, interpret_with, path_lead, to_csv, ArcGeometry,
+    CompSide, DecimalPoint, Diagnostic, Dialect, Dwell, DwellTime, Feed, G76Params, GcodeSystem,
     InputIncrement, Limits, MillArc, MillKind, MillMove, MillSettings, Move, MoveKind, NcError,
     Nose, NoseData, NoseOffset, NoseRule, Options as NcOptions, Plane, PowerOn, Settings, Severity,
     Source, SpindleSpeed, ToolOffsets, Toolpath,

@@ -170,10 +170,20 @@ pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     opts.settings.noses.tool = args.nose.iter().copied().collect();
     opts.settings.subroutine_path = args.subroutine_path.clone();
     opts.settings.definitions = args.definitions.clone();
-    let toolpath = vpcut::interpret_with(&main, dialect, &load, &opts).map_err(|mut e| {
-        name_files(&mut e, &inputs);
-        e
-    })?;
+    let toolpath = match vpcut::interpret_with(&main, dialect, &load, &opts) {
+        Ok(t) => t,
+        Err(mut e) => {
+            // The moves the control makes before its alarm are printed all the same, then
+            // the error (exit code 2).
+            let mut moves = vpcut::interpret_partial(&main, dialect, &load, &opts);
+            if !moves.is_empty() {
+                inputs.name_move_files(&mut moves);
+                print_moves(&moves, args.json)?;
+            }
+            name_files(&mut e, &inputs);
+            return Err(e.into());
+        }
+    };
     for w in &toolpath.warnings {
         let mut w = w.clone();
         name_file(&mut w, &inputs);
@@ -183,7 +193,13 @@ pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
     // Moves name their program (`O2`); rows name the file that holds it.
     inputs.name_move_files(&mut moves);
     let _ = args.csv;
-    if args.json {
+    print_moves(&moves, args.json)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The moves on standard output: CSV, or JSON with `json`.
+fn print_moves(moves: &[vpcut::Move], json: bool) -> anyhow::Result<()> {
+    if json {
         let rows: Vec<serde_json::Value> = moves
             .iter()
             .map(|m| {
@@ -205,7 +221,7 @@ pub(crate) fn toolpath(args: ToolpathArgs) -> anyhow::Result<ExitCode> {
         s.push('\n');
         term::out(&s);
     } else {
-        term::out(&vpcut::to_csv(&moves));
+        term::out(&vpcut::to_csv(moves));
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }

@@ -544,6 +544,36 @@ pub fn interpret_with(
     loader: &dyn Fn(&str) -> Option<Source>,
     opts: &Options,
 ) -> Result<Toolpath, NcError> {
+    run_program(main, dialect, loader, opts, None)
+}
+
+/// The moves a program makes before the error that stops it, as a control makes them before
+/// its alarm (for showing the toolpath of a program [`interpret_with`] refuses): the static
+/// check's errors do not stop this run, its first run-time error does. Empty for Okuma
+/// programs and where the program cannot start (a file that cannot be read, no main
+/// program).
+pub fn interpret_partial(
+    main: &Source,
+    dialect: Dialect,
+    loader: &dyn Fn(&str) -> Option<Source>,
+    opts: &Options,
+) -> Vec<Move> {
+    let mut made = Vec::new();
+    match run_program(main, dialect, loader, opts, Some(&mut made)) {
+        Ok(t) => t.moves,
+        Err(_) => made,
+    }
+}
+
+/// `interpret_with`; with `partial`, the static check's errors do not stop the run, and the
+/// moves made before a run-time error are left in `partial`.
+fn run_program(
+    main: &Source,
+    dialect: Dialect,
+    loader: &dyn Fn(&str) -> Option<Source>,
+    opts: &Options,
+    mut partial: Option<&mut Vec<Move>>,
+) -> Result<Toolpath, NcError> {
     if dialect == Dialect::Okuma {
         return okuma::interpret(main, loader, opts);
     }
@@ -649,14 +679,24 @@ pub fn interpret_with(
         ));
     }
     diagnostics.sort_by(|a, b| (&a.file, a.line, a.col).cmp(&(&b.file, b.line, b.col)));
-    if diagnostics.iter().any(|d| d.severity == Severity::Error) {
+    if partial.is_none() && diagnostics.iter().any(|d| d.severity == Severity::Error) {
         return Err(NcError::from_diagnostics(diagnostics));
     }
+    m.cfg.stop_at = diagnostics
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .map(|d| (d.file.clone(), d.line))
+        .collect();
+    diagnostics.retain(|d| d.severity != Severity::Error);
     let mut warnings = diagnostics;
     if let Some((system, line, why)) = detected {
         warnings.insert(0, detect::system_warning(main, system, line, &why));
     }
     let moves = m.run(prog, &mut warnings).map_err(|mut e| {
+        if let Some(made) = partial.as_deref_mut() {
+            let before = std::mem::take(&mut m.out.moves);
+            *made = nose::apply(&m, before.clone(), &warnings).unwrap_or(before);
+        }
         e.others = warnings.clone();
         e
     })?;
@@ -807,6 +847,10 @@ impl Interp<'_> {
                 snippet: orig.clone(),
                 stack: callers(stack),
             };
+            if !m.cfg.stop_at.is_empty() && m.cfg.stop_at.contains(&(cur.name.clone(), *line)) {
+                // A partial run stops at a block the check refused.
+                return Err(fail(&stack, 0, "a block the check refused".into()));
+            }
             if m.out.blocks > m.cfg.limits.max_blocks {
                 return Err(fail(
                     &stack,

@@ -42,6 +42,9 @@ pub(super) struct Config {
     pub(super) gsk: bool,
     /// Siemens 840D: the 802D syntax and its additions (`siemens_840d`).
     pub(super) s840: bool,
+    /// The blocks (program, line) the static check refused, where a partial run
+    /// (`interpret_partial`) stops.
+    pub(super) stop_at: std::collections::HashSet<(String, usize)>,
     /// FANUC lathe G-code system (codes are translated to system A when read).
     pub(super) system: GcodeSystem,
     /// Unknown words and codes are errors.
@@ -250,6 +253,7 @@ impl<'l> Interp<'l> {
                 dialect,
                 gsk,
                 s840: false,
+                stop_at: Default::default(),
                 system: opts.settings.gcode_system,
                 strict: opts.strict,
                 block_skip: opts.settings.block_skip,

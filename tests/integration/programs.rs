@@ -577,3 +577,65 @@ fn toolpath_machine_setting_flags() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A program that stops with an error after its thread (a run-time alarm, or a block the
+/// static check refuses): `vpcut toolpath` still prints the moves made before it, as the
+/// control makes them before its alarm, then the error at its block, exit code 2. Oracle:
+/// the same program without the faulty block, whose whole toolpath the partial one equals.
+#[test]
+fn toolpath_prints_the_moves_before_an_error() {
+    let dir = std::env::temp_dir().join(format!("vpcut-partial-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fanuc =
+        "O0001\nG0 X32. Z5.\nG97 S500 M03\nG92 X29.2 Z-20. F2.\nX28.6\nX28.2\nG0 X40. Z40.\n";
+    let lcnc = "G18 G7 G21\nG0 X32 Z5 M3 S500\nG33 Z-20 K2\nG0 X34\nZ5\n";
+    let siemens = "G0 X32 Z5\nM3 S500\nG33 Z-20 K2\nG0 X34\nZ5\n";
+    // (dialect, the program's good part, the faulty block, the end, what the error says)
+    let cases = [
+        ("fanuc", fanuc, "G70 P3 Q9", "M30", "no block N3"),
+        ("fanuc", fanuc, "#1=1/0", "M30", "division by zero"),
+        ("fanuc", fanuc, "G0 X#3000", "M30", ""),
+        ("linuxcnc", lcnc, "G0 X[1/0]", "M2", ""),
+        ("linuxcnc", lcnc, "o100 call", "M2", ""),
+        ("siemens-802d", siemens, "R1=1/0", "M30", ""),
+        ("siemens-802d", siemens, "GOTOF NOWHERE", "M30", "NOWHERE"),
+        // Refused by the check before anything runs: the run stops there too.
+        ("fanuc", fanuc, "MO1", "M30", "unknown word"),
+        ("fanuc", fanuc, "G52 X10. Z5.", "M30", "G52"),
+        ("linuxcnc", lcnc, "G38.2 Z-5 F10", "M2", "G38.2"),
+    ];
+    let run = |name: &str, text: &str, dialect: &str| {
+        let file = dir.join(name);
+        std::fs::write(&file, text).unwrap();
+        std::process::Command::new(env!("CARGO_BIN_EXE_vpcut"))
+            .args(["toolpath", file.to_str().unwrap(), "--dialect", dialect])
+            .current_dir(&dir)
+            .output()
+            .unwrap()
+    };
+    for (k, (dialect, good, bad, end, says)) in cases.iter().enumerate() {
+        let whole = run(&format!("P{k}.NC"), &format!("{good}{end}\n"), dialect);
+        assert!(
+            whole.status.success(),
+            "{dialect} {bad}: the good part runs"
+        );
+        // A move after the faulty block, which the control never makes.
+        let faulty = run(
+            &format!("P{k}.NC"),
+            &format!("{good}{bad}\nG0 X50 Z50\n{end}\n"),
+            dialect,
+        );
+        let err = String::from_utf8_lossy(&faulty.stderr);
+        assert_eq!(faulty.status.code(), Some(2), "{dialect} {bad}: {err}");
+        let line = good.lines().count() + 1;
+        assert!(
+            err.contains(&format!("P{k}.NC:{line}:")) && err.contains(says),
+            "{dialect} {bad}: the error at line {line}: {err}"
+        );
+        let got = String::from_utf8_lossy(&faulty.stdout);
+        let want = String::from_utf8_lossy(&whole.stdout);
+        assert!(got.contains(",thread,"), "{dialect} {bad}: {got}");
+        assert_eq!(got, want, "{dialect} {bad}: the moves before the error");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
