@@ -572,7 +572,7 @@ fn run_program(
     dialect: Dialect,
     loader: &dyn Fn(&str) -> Option<Source>,
     opts: &Options,
-    mut partial: Option<&mut Vec<Move>>,
+    partial: Option<&mut Vec<Move>>,
 ) -> Result<Toolpath, NcError> {
     if dialect == Dialect::Okuma {
         return okuma::interpret(main, loader, opts);
@@ -693,7 +693,7 @@ fn run_program(
         warnings.insert(0, detect::system_warning(main, system, line, &why));
     }
     let moves = m.run(prog, &mut warnings).map_err(|mut e| {
-        if let Some(made) = partial.as_deref_mut() {
+        if let Some(made) = partial {
             let before = std::mem::take(&mut m.out.moves);
             *made = nose::apply(&m, before.clone(), &warnings).unwrap_or(before);
         }
