@@ -834,6 +834,7 @@ impl Interp<'_> {
                     }
                 }
                 self.modal.nose = Some((side, d));
+                self.modal.nose_dynamic = None;
             }
             450 | 451 => self.modal.nose_arc = g == 450,
             _ => {}
