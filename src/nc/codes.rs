@@ -106,6 +106,11 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (90 | 94, true) => Verdict::Run,
             // GSK G33, the Z tapping cycle: `motion::gsk_tap`.
             (33, true) if dialect == Dialect::Gsk980 => Verdict::Run,
+            // The 980TDi/988TA's enhanced multiple thread cycle (G76's words plus infeed
+            // modes): skipping it would drop the thread, so it is refused by name.
+            (78, true) if dialect == Dialect::Gsk980 => {
+                refused("the 980TDi's enhanced multiple thread cutting cycle; write it as G76")
+            }
             _ => Verdict::Unknown(format!(
                 "G{} is not a {} code vpcut knows",
                 fmt(code),

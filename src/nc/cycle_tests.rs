@@ -507,3 +507,106 @@ fn one_block_g74_g75_are_the_two_block_cycles() {
     .unwrap_err();
     assert!(e.message.contains("one block"), "{e}");
 }
+
+/// GSK G92 and G76 run-out J/K (980TDi manual, G92 and G76: "J: the movement in the short
+/// axis in thread run-out ... K: the length in the long axis"; K omitted or 0 with J: K =
+/// J; J0: none; modal): over the last K of Z the thread also rises |J| in radius towards the
+/// start point, in one chained thread move, for external and internal threads, towards -Z
+/// and +Z. By hand for each random case: the split at `z_end - dir K`, the end at
+/// `x_end + side 2 |J|` (side: towards the start X), then the rapids home. The modal J/K
+/// carry to the next X-only block; J0 cancels; G76's passes end alike.
+#[test]
+fn gsk_cycle_runout_j_k_rises_over_the_last_k() {
+    let mut seed = 0x9e37_79b9_u64;
+    let mut rnd = |lo: f64, hi: f64| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        lo + (hi - lo) * (seed % 10_000) as f64 / 10_000.0
+    };
+    for case in 0..40 {
+        let external = case % 2 == 0;
+        let toward_minus = case % 4 < 2;
+        let x_end = (rnd(20.0, 60.0) * 10.0).round() / 10.0;
+        let x0 = if external { x_end + 6.0 } else { x_end - 6.0 };
+        let z0: f64 = if toward_minus { 5.0 } else { -45.0 };
+        let z_end: f64 = if toward_minus { -30.0 } else { -5.0 };
+        let j = (rnd(0.5, 3.0) * 10.0).round() / 10.0;
+        let k = if case % 3 == 0 {
+            None
+        } else {
+            Some((rnd(1.0, 6.0) * 10.0).round() / 10.0)
+        };
+        let words = match k {
+            Some(k) => format!("J{j:.1} K{k:.1}"),
+            None => format!("J{j:.1}"),
+        };
+        let text = format!(
+            "G0 X{x0:.1} Z{z0:.1}\nG92 X{x_end:.1} Z{z_end:.1} F2.0 {words}\nX{:.1}\nJ0 X{x_end:.1}\nG0 X{x0:.1}\nM30\n",
+            if external { x_end + 0.4 } else { x_end - 0.4 }
+        );
+        let moves = run(&text, Dialect::Gsk980).unwrap_or_else(|e| panic!("{text}: {e}"));
+        let kk = k.unwrap_or(j);
+        let dir = (z_end - z0).signum();
+        let side = if external { 1.0 } else { -1.0 };
+        let split = z_end - dir * kk;
+        for (pass, x) in [(0usize, x_end), (1, x_end + side * 0.4)] {
+            let threads: Vec<&Move> = moves
+                .iter()
+                .filter(|m| m.kind == MoveKind::Thread && m.line == 2 + pass)
+                .collect();
+            assert_eq!(
+                threads.len(),
+                2,
+                "case {case} pass {pass}: {text}\n{threads:?}"
+            );
+            assert!(
+                close(threads[0].z, split) && close(threads[0].x_dia, x),
+                "case {case}: {threads:?}"
+            );
+            assert!(
+                close(threads[1].z, z_end) && close(threads[1].x_dia, x + side * 2.0 * j),
+                "case {case}: {threads:?}"
+            );
+            assert!(
+                threads[1].chained,
+                "case {case}: the run-out continues the thread"
+            );
+        }
+        // J0: the third pass runs straight to the end.
+        let last: Vec<&Move> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread && m.line == 4)
+            .collect();
+        assert_eq!(last.len(), 1, "case {case}: {last:?}");
+        assert!(close(last[0].z, z_end) && close(last[0].x_dia, x_end));
+    }
+    // G76 (two blocks): J/K in either block; every pass ends in the run-out. X80 Z10 to
+    // X60.64 Z-62, J2 K3: each pass splits at Z-59 + its flank shift and rises 4 in diameter.
+    for text in [
+        "G0 X80 Z10\nG76 P020060 Q0.15 R0.1 J2 K3\nG76 X60.64 Z-62 P3.68 Q1.8 F6\nM30\n",
+        "G0 X80 Z10\nG76 P020060 Q0.15 R0.1\nG76 X60.64 Z-62 P3.68 Q1.8 F6 J2 K3\nM30\n",
+    ] {
+        let moves = run(text, Dialect::Gsk980).unwrap();
+        let threads: Vec<&Move> = moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Thread)
+            .collect();
+        assert!(
+            threads.len() >= 8 && threads.len() % 2 == 0,
+            "{text}: {threads:?}"
+        );
+        for p in threads.chunks(2) {
+            assert!(close(p[0].z - p[1].z, 3.0), "{text}: {p:?}");
+            assert!(close(p[1].x_dia - p[0].x_dia, 4.0), "{text}: {p:?}");
+        }
+        // The first pass at x_end + 2 (k - d1) = 60.64 + 2 (3.68 - 1.8) = 64.4.
+        assert!(close(threads[0].x_dia, 64.4), "{:?}", threads[0]);
+    }
+    // FANUC's G76 reads K as the one-block form's thread height, as before.
+    assert!(run(
+        "G0 X80 Z10\nG76 X60.64 Z-62 K3.68 D1.8 F6\nM30\n",
+        Dialect::Fanuc
+    )
+    .is_ok());
+}

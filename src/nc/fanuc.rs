@@ -414,12 +414,19 @@ impl Interp<'_> {
             if let Some(r) = self.length(w, "R") {
                 self.thread.g76.d = r;
             }
+            // GSK's run-out J/K given with the first block: modal, for the passes.
+            if self.cfg.gsk && (w.vals.contains_key("J") || w.vals.contains_key("K")) {
+                self.gsk_cycle_runout(w);
+            }
             self.thread.g76.given = true;
             return Ok(Step::Next);
         }
         let (x0, z0) = (self.x, self.z);
         let (x_end, z_end) = self.cycle_end(w);
-        if w.vals.contains_key("K") || w.vals.contains_key("D") {
+        // GSK's second block takes J/K (the run-out) beside P and Q: K there is no thread
+        // height, and GSK has no one-block G76.
+        let gsk_two_block = self.cfg.gsk && w.vals.contains_key("P") && w.vals.contains_key("Q");
+        if !gsk_two_block && (w.vals.contains_key("K") || w.vals.contains_key("D")) {
             return self.g76_one_block(w, prog, pc, (x0, z0), (x_end, z_end));
         }
         // i: taper, radius at the start minus radius at the end (as G92's R).
@@ -444,7 +451,7 @@ impl Interp<'_> {
         if !s.given {
             self.g76_defaults_note(lead);
         }
-        let chamfer = self.thread_chamfer(lead, z_end - z0, w)?;
+        let chamfer = self.thread_pullout(lead, z_end - z0, w)?;
         let stop = (k - s.d).max(0.0);
         let mut depths = Vec::new();
         let mut prev = 0.0;
@@ -624,7 +631,7 @@ impl Interp<'_> {
                 (x + 2.0 * taper, z0 + shift),
                 (x, z_end + shift),
                 sync,
-                chamfer,
+                (chamfer, chamfer),
             );
         }
         Ok(Step::Next)
@@ -693,7 +700,7 @@ impl Interp<'_> {
             Some(r) => r,
             None => self.thread.g92.map_or(0.0, |g| g.2),
         };
-        let chamfer = self.thread_chamfer(lead, z_target - z0, w)?;
+        let chamfer = self.thread_pullout(lead, z_target - z0, w)?;
         self.thread.g92 = Some((z_target, lead, taper));
         let q = self.start_angle(w, "G92")?;
         let sync = Sync {
@@ -789,6 +796,47 @@ impl Interp<'_> {
     /// The chamfer (pull-out) length in mm of a threading cycle with lead `lead` over the
     /// Z travel `travel`: 0 when chamfering is off (M24) or no length is set; an error when
     /// it would not be shorter than the thread.
+    /// A threading cycle's pull-out `(length along Z, radial rise)`: GSK's run-out J/K where
+    /// the block or an earlier cycle block gave one (980TDi manual, G92 and G76: "J: the
+    /// movement in the short axis in thread run-out ... K: the length in the long axis";
+    /// K omitted or 0 with J != 0: K = J; J0 cancels; the rise goes the way the tool
+    /// retracts, towards the start point; modal until programmed again), else the thread
+    /// chamfer (`thread_chamfer`: 45 deg, `rise = length`).
+    fn thread_pullout(&mut self, lead: f64, travel: f64, w: &Words) -> Result<(f64, f64), Fail> {
+        if self.cfg.gsk {
+            self.gsk_cycle_runout(w);
+            if let Some((k, j)) = self.thread.cycle_runout {
+                if j == 0.0 {
+                    return Ok((0.0, 0.0));
+                }
+                if k >= travel.abs() {
+                    let col = w.vals.get("K").or(w.vals.get("J")).map_or(1, |v| v.1);
+                    return Err((
+                        col,
+                        format!("thread run-out K = {k} mm is not shorter than the thread's Z travel {}", travel.abs()),
+                    ));
+                }
+                return Ok((k, j));
+            }
+        }
+        let c = self.thread_chamfer(lead, travel, w)?;
+        Ok((c, c))
+    }
+
+    /// GSK G92/G76 J/K words into the modal run-out `(K, |J|)` (`thread_pullout`).
+    fn gsk_cycle_runout(&mut self, w: &Words) {
+        let j = self.length(w, "J");
+        let k = self.length(w, "K");
+        if j.is_some() || k.is_some() {
+            let j = j
+                .or(self.thread.cycle_runout.map(|r| r.1))
+                .unwrap_or(0.0)
+                .abs();
+            let k = k.map(f64::abs).filter(|&k| k != 0.0).unwrap_or(j);
+            self.thread.cycle_runout = Some((k, j));
+        }
+    }
+
     fn thread_chamfer(&self, lead: f64, travel: f64, w: &Words) -> Result<f64, Fail> {
         if !self.thread.chamfer_on || self.thread.chamfer <= 0.0 {
             return Ok(0.0);

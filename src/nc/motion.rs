@@ -1055,11 +1055,12 @@ impl Interp<'_> {
 
     /// One pass of a threading cycle: rapid from `home` to the start (Z first, then X),
     /// thread to `end`, rapid out to home's X and back to home's Z (zero-length rapids are
-    /// left out), with a thread chamfer (pull-out) of `chamfer` mm (0 = none; less than
-    /// the Z travel): the thread runs to `chamfer` before `end`'s Z, then a second thread
-    /// move, continuing the same sync (lead and spindle phase, no new index wait: see
-    /// `Sync::after`), goes out by `chamfer` in radius (45 deg) towards home's X while Z
-    /// runs on to `end`'s Z. The rapid retract then starts from there.
+    /// left out), with a thread pull-out `(chamfer, rise)` in mm (`chamfer` 0 = none; less
+    /// than the Z travel): the thread runs to `chamfer` before `end`'s Z, then a second
+    /// thread move, continuing the same sync (lead and spindle phase, no new index wait: see
+    /// `Sync::after`), goes out by `rise` in radius towards home's X while Z runs on to
+    /// `end`'s Z (FANUC's chamfer: `rise = chamfer`, 45 deg; GSK's run-out J/K: `rise` J over
+    /// `chamfer` K). The rapid retract then starts from there.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn cycle_pass_chamfered(
         &mut self,
@@ -1069,7 +1070,7 @@ impl Interp<'_> {
         start: (f64, f64),
         end: (f64, f64),
         sync: Sync,
-        chamfer: f64,
+        (chamfer, rise): (f64, f64),
     ) {
         let path = [home, (home.0, start.1), start];
         for w in path.windows(2) {
@@ -1085,7 +1086,7 @@ impl Interp<'_> {
                 start.1 + u * (end.1 - start.1),
             );
             let side = if home.0 >= end.0 { 1.0 } else { -1.0 };
-            let out = (split.0 + side * 2.0 * chamfer, end.1);
+            let out = (split.0 + side * 2.0 * rise, end.1);
             self.emit(prog, pc, MoveKind::Thread, start, split, Some(sync));
             // Constant lead: always defined (a lead that is not positive is refused below,
             // at the block, as every thread move's is).

@@ -155,6 +155,8 @@ pub(super) struct ThreadState {
     /// GSK modal thread run-out: J (short axis, signed, radius) and K (long axis, `None` =
     /// as long as |J|), in mm.
     pub(super) runout: (Option<f64>, Option<f64>),
+    /// GSK G92/G76 run-out `(K, |J|)` in mm (`fanuc::thread_pullout`), modal.
+    pub(super) cycle_runout: Option<(f64, f64)>,
     /// Spindle angle (deg) where the last thread block's move ended, and its Z direction,
     /// while the next thread block would continue it without a re-sync; `None` once
     /// anything else moved.
@@ -322,6 +324,7 @@ impl<'l> Interp<'l> {
                 chamfer_on: true,
                 cycle90: None,
                 runout: (None, None),
+                cycle_runout: None,
                 chain_end: None,
                 cycles: Default::default(),
                 tap: Default::default(),
