@@ -189,6 +189,15 @@ impl Line<'_> {
             self.f_primary()?;
             match self.peek() {
                 Some(b'+' | b'-' | b'*' | b'/') => self.i += 1,
+                // GSK's statement macros compare with symbols too (`IF[#1<10]`, `==`, `<>`).
+                Some(b'<' | b'>' | b'=') if self.c.dialect == Dialect::Gsk980 => {
+                    if !["==", "<>", "<=", ">=", "<", ">"]
+                        .iter()
+                        .any(|op| self.eat(op))
+                    {
+                        return self.unexpected("an operator or `]`");
+                    }
+                }
                 Some(c) if c.is_ascii_alphabetic() => {
                     let at = self.i;
                     let w = self.letters();

@@ -140,6 +140,22 @@ impl Interp<'_> {
                 ("<", |a, b| a < b),
                 (">", |a, b| a > b),
             ],
+            // GSK's statement macros take the symbols too (980TDi manual 3.28:
+            // `IF[#100<100]GOTO10`, `IF[#100==100]THEN`, `IF[3<>2]GOTO2`).
+            _ if self.cfg.gsk => &[
+                ("EQ", |a, b| a == b),
+                ("NE", |a, b| a != b),
+                ("LE", |a, b| a <= b),
+                ("GE", |a, b| a >= b),
+                ("LT", |a, b| a < b),
+                ("GT", |a, b| a > b),
+                ("==", |a, b| a == b),
+                ("<>", |a, b| a != b),
+                ("<=", |a, b| a <= b),
+                (">=", |a, b| a >= b),
+                ("<", |a, b| a < b),
+                (">", |a, b| a > b),
+            ],
             Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc | Dialect::Okuma => &[
                 ("EQ", |a, b| a == b),
                 ("NE", |a, b| a != b),
@@ -154,8 +170,8 @@ impl Interp<'_> {
                 let w = self.add(c)?;
                 // Null equals only null under EQ/NE; elsewhere it is 0.
                 let result = match *op {
-                    "EQ" | "NE" if v.is_nan() || w.is_nan() => {
-                        (v.is_nan() && w.is_nan()) == (*op == "EQ")
+                    "EQ" | "NE" | "==" | "<>" if v.is_nan() || w.is_nan() => {
+                        (v.is_nan() && w.is_nan()) == (*op == "EQ" || *op == "==")
                     }
                     _ => f(z(v), z(w)),
                 };

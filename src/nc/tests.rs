@@ -475,3 +475,32 @@ fn atan_of_two_brackets_is_atan2() {
     let moves = run("#1=ATAN[1]/[2]\nG0 X#1 Z0\n", Dialect::Fanuc).unwrap();
     assert!((moves[0].x_dia - 1f64.atan2(2.0).to_degrees()).abs() < 1e-12);
 }
+
+/// GSK statement macros compare with symbols as well as words (980TDi manual 3.28:
+/// `IF[#100<100]GOTO10`, `IF[#100==100]THEN`, `IF[3<>2]GOTO2`): for every pair of values
+/// and operator the jump is taken exactly when the comparison holds (Rust's own `<`, `==`,
+/// ... the oracle), and the word form (LT, EQ, ...) agrees. FANUC alarms on the symbols.
+#[test]
+fn gsk_macros_compare_with_symbols() {
+    type Cmp = fn(f64, f64) -> bool;
+    let ops: [(&str, &str, Cmp); 6] = [
+        ("==", "EQ", |a, b| a == b),
+        ("<>", "NE", |a, b| a != b),
+        ("<=", "LE", |a, b| a <= b),
+        (">=", "GE", |a, b| a >= b),
+        ("<", "LT", |a, b| a < b),
+        (">", "GT", |a, b| a > b),
+    ];
+    for (a, b) in [(1.0, 2.0), (2.0, 2.0), (3.0, -1.5), (-0.5, 0.25)] {
+        for (sym, word, f) in ops {
+            for op in [sym, word] {
+                let text = format!("#1={a}\n#2={b}\nIF[#1{op}#2]GOTO10\nG0 X1.\nN10 G0 X2.\nM30\n");
+                let m = run(&text, Dialect::Gsk980).unwrap_or_else(|e| panic!("{text}: {e}"));
+                let jumped = m.len() == 1;
+                assert_eq!(jumped, f(a, b), "{text}");
+            }
+        }
+    }
+    let e = run("#1=1\nIF[#1<2]GOTO10\nN10 M30\n", Dialect::Fanuc).unwrap_err();
+    assert_eq!(e.line, 2, "{e}");
+}
