@@ -106,6 +106,9 @@ pub(super) fn g_code(dialect: Dialect, code: f64) -> Verdict {
             (90 | 94, true) => Verdict::Run,
             // GSK G33, the Z tapping cycle: `motion::gsk_tap`.
             (33, true) if dialect == Dialect::Gsk980 => Verdict::Run,
+            // The 980TDi's G92.1 (the threading cycle with the spindle under position
+            // control, M14/M15): the same path as G92, which the block runs.
+            (92, false) if dialect == Dialect::Gsk980 && c == 921 => Verdict::Run,
             // The 980TDi/988TA's enhanced multiple thread cycle (G76's words plus infeed
             // modes): skipping it would drop the thread, so it is refused by name.
             (78, true) if dialect == Dialect::Gsk980 => {
@@ -189,6 +192,7 @@ pub(super) fn m_code(dialect: Dialect, code: f64) -> Verdict {
         Dialect::Fanuc | Dialect::Gsk980 | Dialect::Okuma => {
             // M29: rigid tapping mode (`fanuc::tap_modes`).
             matches!(m, 0..=5 | 8 | 9 | 13 | 14 | 19 | 23 | 24 | 29 | 30 | 41..=44 | 98 | 99)
+                || (dialect == Dialect::Gsk980 && m == 15)
         }
         Dialect::Siemens802d | Dialect::Siemens840d => {
             if m == 98 || m == 99 {

@@ -746,6 +746,9 @@ impl Interp<'_> {
                 self.thread.chain_end = None;
             }
             match mc {
+                // GSK 980TDc/TDi M14/M15: the spindle under position / speed control (the
+                // TDi's G92.1 runs between them), not a direction; M13 no direction either.
+                13..=15 if self.cfg.gsk => {}
                 3 | 13 => self.modal.spindle = Spindle::Cw,
                 4 | 14 => self.modal.spindle = Spindle::Ccw,
                 5 | 8 | 9 | 0 | 1 => {}
