@@ -761,9 +761,11 @@ impl Interp<'_> {
                     let mut d = e.diagnostic();
                     d.severity = Severity::Warning;
                     d.hint = Some(hint);
-                    let seen = warnings.iter().any(|w| {
-                        (&w.file, w.line, w.col, &w.message) == (&d.file, d.line, d.col, &d.message)
-                    });
+                    // Once a line: the check's warning (at its word) and the run's (at
+                    // the block) are one.
+                    let seen = warnings
+                        .iter()
+                        .any(|w| (&w.file, w.line, &w.message) == (&d.file, d.line, &d.message));
                     if !seen {
                         warnings.push(d);
                     }
@@ -775,9 +777,11 @@ impl Interp<'_> {
                     let mut d = fail(&stack, col + offset, message).diagnostic();
                     d.severity = Severity::Warning;
                     d.hint = Some(hint);
-                    let seen = warnings.iter().any(|w| {
-                        (&w.file, w.line, w.col, &w.message) == (&d.file, d.line, d.col, &d.message)
-                    });
+                    // Once a line: the check's warning (at its word) and the run's (at
+                    // the block) are one.
+                    let seen = warnings
+                        .iter()
+                        .any(|w| (&w.file, w.line, &w.message) == (&d.file, d.line, &d.message));
                     if !seen {
                         warnings.push(d);
                     }

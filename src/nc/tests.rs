@@ -504,3 +504,40 @@ fn gsk_macros_compare_with_symbols() {
     let e = run("#1=1\nIF[#1<2]GOTO10\nN10 M30\n", Dialect::Fanuc).unwrap_err();
     assert_eq!(e.line, 2, "{e}");
 }
+
+/// An unknown M code is one warning at its word, not a second one at its block from the
+/// run: every dialect, every line with one.
+#[test]
+fn an_unknown_code_is_warned_once() {
+    for (d, text) in [
+        (Dialect::Fanuc, "G0 X30. Z5.\nN100 M77\nG0 X40. M78\nM30\n"),
+        (Dialect::Gsk980, "G0 X30. Z5.\nN100 M77\nG0 X40. M78\nM30\n"),
+        (
+            Dialect::Siemens802d,
+            "G0 X30 Z5\nN100 M77\nG0 X40 M78\nM30\n",
+        ),
+    ] {
+        let src = Source {
+            name: "T.NC".into(),
+            text: text.into(),
+        };
+        let t = interpret_with(
+            &src,
+            d,
+            &|_| None,
+            &Options {
+                settings: Settings::in_mm(),
+                ..Options::default()
+            },
+        )
+        .unwrap_or_else(|e| panic!("{d:?}: {e}"));
+        for (line, code) in [(2, "M77"), (3, "M78")] {
+            let n = t
+                .warnings
+                .iter()
+                .filter(|w| w.line == line && w.message.contains(code))
+                .count();
+            assert_eq!(n, 1, "{d:?} line {line}: {:#?}", t.warnings);
+        }
+    }
+}
