@@ -58,6 +58,26 @@ pub(super) fn z(v: f64) -> f64 {
 /// A comparison operator.
 type Compare = fn(f64, f64) -> bool;
 
+/// FANUC/GSK/LinuxCNC/Okuma comparisons.
+const WORD_COMPARISONS: &[(&str, Compare)] = &[
+    ("EQ", |a, b| a == b),
+    ("NE", |a, b| a != b),
+    ("LE", |a, b| a <= b),
+    ("GE", |a, b| a >= b),
+    ("LT", |a, b| a < b),
+    ("GT", |a, b| a > b),
+];
+
+/// Siemens comparisons (GSK's too); two-character symbols before their prefixes.
+const SYMBOL_COMPARISONS: &[(&str, Compare)] = &[
+    ("==", |a, b| a == b),
+    ("<>", |a, b| a != b),
+    ("<=", |a, b| a <= b),
+    (">=", |a, b| a >= b),
+    ("<", |a, b| a < b),
+    (">", |a, b| a > b),
+];
+
 impl Interp<'_> {
     pub(super) fn register(&mut self, p: std::rc::Rc<Program>) {
         if let Some(a) = &p.alias {
@@ -131,46 +151,25 @@ impl Interp<'_> {
     }
     pub(super) fn cmp(&self, c: &mut Cursor) -> Result<f64, Fail> {
         let v = self.add(c)?;
-        let ops: &[(&str, Compare)] = match c.dialect {
-            Dialect::Siemens802d | Dialect::Siemens840d => &[
-                ("==", |a, b| a == b),
-                ("<>", |a, b| a != b),
-                ("<=", |a, b| a <= b),
-                (">=", |a, b| a >= b),
-                ("<", |a, b| a < b),
-                (">", |a, b| a > b),
-            ],
-            // GSK's statement macros take the symbols too (980TDi manual 3.28:
-            // `IF[#100<100]GOTO10`, `IF[#100==100]THEN`, `IF[3<>2]GOTO2`).
-            _ if self.cfg.gsk => &[
-                ("EQ", |a, b| a == b),
-                ("NE", |a, b| a != b),
-                ("LE", |a, b| a <= b),
-                ("GE", |a, b| a >= b),
-                ("LT", |a, b| a < b),
-                ("GT", |a, b| a > b),
-                ("==", |a, b| a == b),
-                ("<>", |a, b| a != b),
-                ("<=", |a, b| a <= b),
-                (">=", |a, b| a >= b),
-                ("<", |a, b| a < b),
-                (">", |a, b| a > b),
-            ],
-            Dialect::Fanuc | Dialect::Gsk980 | Dialect::Linuxcnc | Dialect::Okuma => &[
-                ("EQ", |a, b| a == b),
-                ("NE", |a, b| a != b),
-                ("LE", |a, b| a <= b),
-                ("GE", |a, b| a >= b),
-                ("LT", |a, b| a < b),
-                ("GT", |a, b| a > b),
-            ],
+        // Siemens compares with symbols, the others with words; GSK's statement macros
+        // take both (980TDi manual 3.28: `IF[#100<100]GOTO10`, `IF[3<>2]GOTO2`).
+        let tables: &[&[(&str, Compare)]] = match c.dialect {
+            Dialect::Siemens802d | Dialect::Siemens840d => &[SYMBOL_COMPARISONS],
+            _ if self.cfg.gsk => &[WORD_COMPARISONS, SYMBOL_COMPARISONS],
+            _ => &[WORD_COMPARISONS],
         };
-        for (op, f) in ops {
+        for (op, f) in tables.iter().flat_map(|t| t.iter()) {
             if c.eat(op) {
                 let w = self.add(c)?;
                 // Null equals only null under EQ/NE; elsewhere it is 0.
                 let result = match *op {
-                    "EQ" | "NE" | "==" | "<>" if v.is_nan() || w.is_nan() => {
+                    "EQ" | "NE" | "==" | "<>"
+                        if (v.is_nan() || w.is_nan())
+                            && !matches!(
+                                c.dialect,
+                                Dialect::Siemens802d | Dialect::Siemens840d
+                            ) =>
+                    {
                         (v.is_nan() && w.is_nan()) == (*op == "EQ" || *op == "==")
                     }
                     _ => f(z(v), z(w)),

@@ -9,7 +9,8 @@ fn threads(moves: &[Move]) -> Vec<&Move> {
         .collect()
 }
 
-fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
+/// The toolpath of `text` (as `T.NC`) in `dialect`, numbers in mm.
+fn toolpath(text: &str, dialect: Dialect) -> Result<Toolpath, NcError> {
     let src = Source {
         name: "T.NC".into(),
         text: text.into(),
@@ -23,7 +24,10 @@ fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
             ..Options::default()
         },
     )
-    .map(|t| t.moves)
+}
+
+fn run(text: &str, dialect: Dialect) -> Result<Vec<Move>, NcError> {
+    toolpath(text, dialect).map(|t| t.moves)
 }
 
 /// `controllers.md` 2.3's worked schedule: k = 1.30, dd = 0.45, dmin = 0.10, d = 0.05
@@ -387,20 +391,7 @@ fn a_lead_reaching_zero_is_an_error_at_its_block() {
             Dialect::Linuxcnc,
         ),
     ] {
-        let src = Source {
-            name: "t.nc".into(),
-            text: text.into(),
-        };
-        let t = interpret_with(
-            &src,
-            d,
-            &|_| None,
-            &Options {
-                settings: Settings::in_mm(),
-                ..Options::default()
-            },
-        )
-        .unwrap_or_else(|e| panic!("{text}: {e}"));
+        let t = toolpath(text, d).unwrap_or_else(|e| panic!("{text}: {e}"));
         let last = t.moves.last().unwrap();
         assert_eq!(last.kind, MoveKind::Feed, "{text}: {last:?}");
         assert_eq!((last.x_dia, last.z, last.lead), (40.0, 0.0, None), "{text}");
@@ -517,20 +508,7 @@ fn an_unknown_code_is_warned_once() {
             "G0 X30 Z5\nN100 M77\nG0 X40 M78\nM30\n",
         ),
     ] {
-        let src = Source {
-            name: "T.NC".into(),
-            text: text.into(),
-        };
-        let t = interpret_with(
-            &src,
-            d,
-            &|_| None,
-            &Options {
-                settings: Settings::in_mm(),
-                ..Options::default()
-            },
-        )
-        .unwrap_or_else(|e| panic!("{d:?}: {e}"));
+        let t = toolpath(text, d).unwrap_or_else(|e| panic!("{d:?}: {e}"));
         for (line, code) in [(2, "M77"), (3, "M78")] {
             let n = t
                 .warnings
